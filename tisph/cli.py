@@ -1,0 +1,50 @@
+"""Flags every scene shares. Each maps onto one config key, so a flag and a TOML key never disagree."""
+import argparse
+
+# flag dest -> config path
+FLAG_KEYS = {
+    "dx": "numerics.dx",
+    "end_time": "run.end_time",
+    "max_steps": "run.max_steps",
+    "out": "output.dir",
+    "arch": "run.arch",
+    "fps": "output.fps",
+    "frame_interval": "output.frame_interval",
+}
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message):  # exit code 2 with a one-line message, as argparse does, plus usage
+        self.print_usage()
+        self.exit(2, f"{self.prog}: error: {message}\n")
+
+
+def make_parser(scene, description=""):
+    p = _Parser(prog=f"python -m tisph.scenes.{scene}", description=description,
+                formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("--config", metavar="FILE", help="TOML case file (see scenes/*.toml); flags override it")
+    p.add_argument("--dx", type=float, help="initial particle spacing in m")
+    p.add_argument("--end-time", type=float, help="simulated time to stop at, in s")
+    p.add_argument("--max-steps", type=int, help="stop after this many time steps (0: no limit)")
+    p.add_argument("--out", metavar="DIR", help=f"output folder (default renders/{scene}/)")
+    p.add_argument("--arch", choices=("cpu", "gpu", "auto"),
+                   help="Taichi backend: cpu, gpu (CUDA, Vulkan or Metal), auto")
+    p.add_argument("--no-render", action="store_true", help="write no PNG frames and no MP4")
+    p.add_argument("--fps", type=int, help="movie playback frames per second")
+    p.add_argument("--frame-interval", type=float, help="simulated seconds between frames")
+    p.add_argument("--quiet", action="store_true", help="no progress bar and no messages but errors")
+    return p
+
+
+def overrides_from_args(args):
+    """Config overrides (dotted path -> value) for the flags that were given."""
+    ov = {}
+    for dest, path in FLAG_KEYS.items():
+        v = getattr(args, dest, None)
+        if v is not None:
+            ov[path] = v
+    if getattr(args, "no_render", False):
+        ov["output.render"] = False
+    if getattr(args, "quiet", False):
+        ov["output.quiet"] = True
+    return ov

@@ -1,0 +1,310 @@
+"""Case configuration: defaults, TOML loading, validation, and the compile-time Physics switches.
+
+A scene's defaults (a nested dict) are the schema: a TOML file or a CLI flag may only set keys
+that exist there, with a value of the same type, inside the range a rule allows. Everything is
+checked in Python before Taichi compiles anything, so a typo is a one-line message, not a
+traceback.
+"""
+from __future__ import annotations
+
+import copy
+import difflib
+import math
+import sys
+from dataclasses import dataclass, asdict
+
+if sys.version_info >= (3, 11):
+    import tomllib
+else:  # pragma: no cover - exercised on 3.9/3.10 only
+    import tomli as tomllib
+
+
+class ConfigError(ValueError):
+    """Bad input: names the field, the value, and what is allowed."""
+
+    def __init__(self, field, value, allowed, hint=""):
+        self.field, self.value, self.allowed = field, value, allowed
+        msg = f"config error: {field} = {value!r} is not allowed; expected {allowed}"
+        if hint:
+            msg += f" ({hint})"
+        super().__init__(msg)
+
+
+# Keys every scene shares. Scenes add [geometry] and [materials.*] and may change these values.
+SHARED_DEFAULTS = {
+    "run": {
+        "end_time": 1.0,      # simulated seconds
+        "max_steps": 0,       # 0: no limit
+        "arch": "cpu",        # cpu | gpu | auto
+        "precision": "f32",   # f32 | f64
+    },
+    "numerics": {
+        "dx": 0.03,                  # initial particle spacing (m)
+        "h_factor": 1.3,             # smoothing length h = h_factor * dx
+        "kernel": "cubic",           # cubic (paper 000 eq. 5) | wendland (paper 002 eq. 6)
+        "wall": "dynamic",           # dynamic (DBC) | repulsive (paper 000 eq. 6)
+        "wall_layers": 3,            # layers of dynamic boundary particles
+        "wall_strength": 0.0,        # repulsive D (m^2/s^2); 0: auto = 5 g H (Monaghan 1994)
+        "cfl": 0.2,
+        "dt_max": 1e-3,              # user cap on the time step (s)
+        "c0": 0.0,                   # sound speed (m/s); 0: auto = c0_factor * u_max
+        "c0_factor": 10.0,
+        "u_max": 0.0,                # expected peak flow speed (m/s); 0: the scene's estimate
+        "artificial_viscosity": 0.1, # Monaghan alpha; 0 compiles the term out
+        "laminar_viscosity": False,  # paper 002 eq. 10 with the materials' viscosity
+        "xsph": 0.0,                 # XSPH epsilon (paper 000 eq. 10); 0 compiles it out
+        "density_diffusion": "none", # none | molteni | fourtakas
+        "delta": 0.1,                # density diffusion coefficient
+        "shepard_every": 0,          # Shepard density filter every N steps (paper 002 eq. 14); 0 off
+        "density_band": 0.3,         # stop when |rho/rho0 - 1| exceeds this (instability)
+    },
+    "output": {
+        "dir": "",                   # "" -> renders/<scene>
+        "render": True,
+        "fps": 25,                   # movie playback frames per second
+        "frame_interval": 0.02,      # simulated seconds between frames
+        "probe_interval": 0.005,     # simulated seconds between probe samples
+        "width": 640,                # frame width in pixels (height follows the domain)
+        "quiet": False,
+        "speed_scale": 0.0,          # colour bar top (m/s); 0: u_max
+    },
+}
+
+CHOICES = {
+    "run.arch": ("cpu", "gpu", "auto"),
+    "run.precision": ("f32", "f64"),
+    "numerics.kernel": ("cubic", "wendland"),
+    "numerics.wall": ("dynamic", "repulsive"),
+    "numerics.density_diffusion": ("none", "molteni", "fourtakas"),
+}
+
+# (low, high, low_inclusive, high_inclusive); None is unbounded.
+RANGES = {
+    "run.end_time": (0.0, None, False, True),
+    "run.max_steps": (0, None, True, True),
+    "numerics.dx": (0.0, None, False, True),
+    "numerics.h_factor": (1.0, 2.5, True, True),
+    "numerics.wall_layers": (1, 6, True, True),
+    "numerics.wall_strength": (0.0, None, True, True),
+    "numerics.cfl": (0.0, 1.0, False, True),
+    "numerics.dt_max": (0.0, None, False, True),
+    "numerics.c0": (0.0, None, True, True),
+    "numerics.c0_factor": (1.0, None, True, True),
+    "numerics.u_max": (0.0, None, True, True),
+    "numerics.artificial_viscosity": (0.0, 2.0, True, True),
+    "numerics.xsph": (0.0, 0.5, True, True),
+    "numerics.delta": (0.0, 1.0, True, True),
+    "numerics.shepard_every": (0, None, True, True),
+    "numerics.density_band": (0.0, 1.0, False, True),
+    "output.fps": (1, 240, True, True),
+    "output.frame_interval": (0.0, None, False, True),
+    "output.probe_interval": (0.0, None, False, True),
+    "output.width": (64, 4096, True, True),
+    "output.speed_scale": (0.0, None, True, True),
+}
+
+# Rules that apply to every material, whatever its name.
+MATERIAL_RANGES = {
+    "rho0": (0.0, None, False, True),
+    "viscosity": (0.0, None, True, True),
+}
+
+
+def _describe_range(lo, hi, lo_inc, hi_inc):
+    parts = []
+    if lo is not None:
+        parts.append(f"{'>=' if lo_inc else '>'} {lo}")
+    if hi is not None:
+        parts.append(f"{'<=' if hi_inc else '<'} {hi}")
+    return "a number " + " and ".join(parts)
+
+
+def _check_range(path, value, rng):
+    lo, hi, lo_inc, hi_inc = rng
+    bad = (isinstance(value, float) and not math.isfinite(value))
+    if lo is not None and (value < lo or (value == lo and not lo_inc)):
+        bad = True
+    if hi is not None and (value > hi or (value == hi and not hi_inc)):
+        bad = True
+    if bad:
+        raise ConfigError(path, value, _describe_range(*rng))
+
+
+def _type_name(v):
+    return {bool: "true or false", int: "an integer", float: "a number", str: "a string",
+            list: "a list", dict: "a table"}.get(type(v), type(v).__name__)
+
+
+def _coerce(path, default, value):
+    """Value of the same type as the default (an int is accepted where a float is expected)."""
+    if isinstance(default, bool):
+        if not isinstance(value, bool):
+            raise ConfigError(path, value, "true or false")
+        return value
+    if isinstance(default, int):
+        if isinstance(value, bool) or not isinstance(value, int):
+            if isinstance(value, float) and value.is_integer():
+                return int(value)
+            raise ConfigError(path, value, "an integer")
+        return value
+    if isinstance(default, float):
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            raise ConfigError(path, value, "a number")
+        return float(value)
+    if isinstance(default, str):
+        if not isinstance(value, str):
+            raise ConfigError(path, value, "a string")
+        return value
+    if isinstance(default, list):
+        if not isinstance(value, list):
+            raise ConfigError(path, value, "a list")
+        return value
+    raise ConfigError(path, value, _type_name(default))
+
+
+def merge(base: dict, override: dict, prefix: str = "") -> dict:
+    """Return base updated by override; unknown keys are refused with the closest valid name."""
+    out = copy.deepcopy(base)
+    for key, value in override.items():
+        path = f"{prefix}{key}"
+        if key not in base:
+            close = difflib.get_close_matches(key, list(base.keys()), n=1, cutoff=0.5)
+            hint = f"did you mean '{prefix}{close[0]}'?" if close else ""
+            raise ConfigError(path, value, "one of: " + ", ".join(sorted(f"{prefix}{k}" for k in base)),
+                              hint or "unknown key")
+        if isinstance(base[key], dict):
+            if not isinstance(value, dict):
+                raise ConfigError(path, value, "a table")
+            out[key] = merge(base[key], value, path + ".")
+        else:
+            out[key] = _coerce(path, base[key], value)
+    return out
+
+
+def validate(cfg: dict, extra_ranges: dict | None = None, extra_choices: dict | None = None) -> dict:
+    """Check choices and ranges of every key that has a rule."""
+    ranges = dict(RANGES, **(extra_ranges or {}))
+    choices = dict(CHOICES, **(extra_choices or {}))
+
+    def walk(d, prefix):
+        for k, v in d.items():
+            path = f"{prefix}{k}"
+            if isinstance(v, dict):
+                walk(v, path + ".")
+                continue
+            if path in choices and v not in choices[path]:
+                raise ConfigError(path, v, "one of " + ", ".join(repr(c) for c in choices[path]))
+            if path in ranges:
+                _check_range(path, v, ranges[path])
+            if prefix.startswith("materials.") and k in MATERIAL_RANGES:
+                _check_range(path, v, MATERIAL_RANGES[k])
+    walk(cfg, "")
+    return cfg
+
+
+def read_toml(path) -> dict:
+    try:
+        with open(path, "rb") as f:
+            return tomllib.load(f)
+    except FileNotFoundError:
+        raise ConfigError("--config", str(path), "an existing TOML file") from None
+    except tomllib.TOMLDecodeError as e:
+        raise ConfigError("--config", str(path), "valid TOML", str(e)) from None
+
+
+def set_path(d: dict, path: str, value):
+    keys = path.split(".")
+    for k in keys[:-1]:
+        d = d.setdefault(k, {})
+    d[keys[-1]] = value
+
+
+def get_path(d: dict, path: str):
+    for k in path.split("."):
+        d = d[k]
+    return d
+
+
+def build_config(scene_defaults: dict, toml_path=None, overrides: dict | None = None,
+                 extra_ranges=None, extra_choices=None) -> dict:
+    """Defaults <- TOML file <- CLI overrides (dotted paths), validated."""
+    base = merge(SHARED_DEFAULTS, {}) if not scene_defaults else _deep_union(SHARED_DEFAULTS, scene_defaults)
+    cfg = base
+    if toml_path:
+        cfg = merge(cfg, read_toml(toml_path))
+    if overrides:
+        ov: dict = {}
+        for path, value in overrides.items():
+            set_path(ov, path, value)
+        cfg = merge(cfg, ov)
+    return validate(cfg, extra_ranges, extra_choices)
+
+
+def _deep_union(a: dict, b: dict) -> dict:
+    """Scene defaults extend and override the shared ones (no strictness here: we wrote both)."""
+    out = copy.deepcopy(a)
+    for k, v in b.items():
+        if isinstance(v, dict) and isinstance(out.get(k), dict):
+            out[k] = _deep_union(out[k], v)
+        else:
+            out[k] = copy.deepcopy(v)
+    return out
+
+
+def dump_toml(d: dict) -> str:
+    """The resolved config as TOML text (scalars, lists and nested tables only)."""
+    lines: list[str] = []
+
+    def fmt(v):
+        if isinstance(v, bool):
+            return "true" if v else "false"
+        if isinstance(v, (int, float)):
+            return repr(v)
+        if isinstance(v, str):
+            return '"' + v.replace("\\", "\\\\").replace('"', '\\"') + '"'
+        if isinstance(v, list):
+            return "[" + ", ".join(fmt(x) for x in v) + "]"
+        raise TypeError(type(v))
+
+    def table(prefix, t):
+        scalars = {k: v for k, v in t.items() if not isinstance(v, dict)}
+        if scalars and prefix:
+            lines.append(f"[{prefix}]")
+        for k, v in scalars.items():
+            lines.append(f"{k} = {fmt(v)}")
+        if scalars:
+            lines.append("")
+        for k, v in t.items():
+            if isinstance(v, dict):
+                table(f"{prefix}.{k}" if prefix else k, v)
+
+    table("", d)
+    return "\n".join(lines)
+
+
+@dataclass(frozen=True)
+class Physics:
+    """Which terms exist. Read with ti.static: a term that is off is never compiled."""
+    kernel: str = "cubic"
+    wall: str = "dynamic"
+    artificial_viscosity: bool = True
+    laminar_viscosity: bool = False
+    xsph: bool = False
+    density_diffusion: str = "none"
+    shepard: bool = False
+
+    def as_dict(self):
+        return asdict(self)
+
+
+def physics_from_config(cfg: dict) -> Physics:
+    n = cfg["numerics"]
+    return Physics(
+        kernel=n["kernel"],
+        wall=n["wall"],
+        artificial_viscosity=n["artificial_viscosity"] > 0.0,
+        laminar_viscosity=bool(n["laminar_viscosity"]),
+        xsph=n["xsph"] > 0.0,
+        density_diffusion=n["density_diffusion"],
+        shepard=n["shepard_every"] > 0,
+    )

@@ -1,0 +1,44 @@
+"""Taichi initialisation, once per process (or again when the arch or precision changes)."""
+import contextlib
+import io
+import os
+
+import taichi as ti
+
+_current = None
+
+
+def init(arch="cpu", precision="f32", quiet=True):
+    """Initialise Taichi; returns the name of the arch actually used.
+
+    arch: cpu | gpu (CUDA, Vulkan or Metal, whichever Taichi finds; CPU if none) | auto.
+    """
+    global _current
+    key = (arch, precision)
+    if _current is not None and _current[0] == key:
+        return _current[1]
+    # Not ti.gpu: that list includes OpenGL/GLES, whose probe segfaults on a headless machine.
+    gpus = [ti.cuda, ti.vulkan, ti.metal]
+    a = {"cpu": ti.cpu, "gpu": gpus, "auto": gpus}[arch]
+    fp = {"f32": ti.f32, "f64": ti.f64}[precision]
+    # auto falls back to the CPU silently; gpu says so (the runner logs it too)
+    level = ti.ERROR if arch == "auto" else (ti.WARN if quiet else ti.INFO)
+    kwargs = dict(default_fp=fp, log_level=level, random_seed=0)
+    threads = os.environ.get("TISPH_THREADS")
+    if threads:
+        kwargs["cpu_max_num_threads"] = int(threads)
+    banner = io.StringIO()
+    with contextlib.redirect_stdout(banner):  # "[Taichi] Starting on arch=..." -> run.log
+        ti.init(arch=a, **kwargs)
+    used = str(ti.lang.impl.current_cfg().arch).split(".")[-1]
+    _current = (key, used)
+    return used
+
+
+def describe():
+    """One line for logs: Taichi version and the backend in use."""
+    return f"taichi {ti.__version__}, arch {current_arch()}"
+
+
+def current_arch():
+    return _current[1] if _current else None

@@ -1,0 +1,1 @@
+"""One module per scene, each runnable as python -m tisph.scenes.NAME."""

@@ -1,0 +1,26 @@
+import taichi as ti
+
+
+@ti.func
+def monaghan_mu(h, v_ij, r, r2):
+    """mu_ij = h v_ij.r_ij / (r^2 + 0.01 h^2) for approaching pairs, else 0 (Monaghan 1992)."""
+    vr = v_ij.dot(r)
+    mu = 0.0
+    if vr < 0.0:
+        mu = h * vr / (r2 + 0.01 * h * h)
+    return mu
+
+
+@ti.func
+def artificial_viscosity(m_j, alpha, c0, mu, rho_i, rho_j, gw):
+    """Monaghan artificial viscosity: -sum_j m_j Pi_ij grad W, Pi_ij = -alpha c0 mu_ij / rho_bar."""
+    return m_j * alpha * c0 * mu / (0.5 * (rho_i + rho_j)) * gw
+
+
+@ti.func
+def laminar_viscosity(m_j, mu_i, mu_j, rho_i, rho_j, v_ij, r, r2, gw, eta2):
+    """Laminar viscosity of paper 002 eq. 10 (Lo & Shao / Morris 1997):
+    sum_j m_j (mu_i + mu_j)/(rho_i rho_j) (r_ij . grad W)/(r^2 + eta^2) v_ij,
+    which is eq. 10's 4 nu / (rho_i + rho_j) term for one fluid, and uses each particle's own
+    dynamic viscosity so it carries over to water/sediment pairs."""
+    return m_j * (mu_i + mu_j) / (rho_i * rho_j) * r.dot(gw) / (r2 + eta2) * v_ij

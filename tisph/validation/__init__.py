@@ -1,0 +1,1 @@
+"""Reference data and exact solutions, each with its source."""
