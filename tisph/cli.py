@@ -10,6 +10,8 @@ FLAG_KEYS = {
     "arch": "run.arch",
     "fps": "output.fps",
     "frame_interval": "output.frame_interval",
+    "snapshot_every": "output.snapshot_every",
+    "checkpoint_every": "output.checkpoint_every",
 }
 
 
@@ -32,6 +34,12 @@ def make_parser(scene, description=""):
     p.add_argument("--no-render", action="store_true", help="write no PNG frames and no MP4")
     p.add_argument("--fps", type=int, help="movie playback frames per second")
     p.add_argument("--frame-interval", type=float, help="simulated seconds between frames")
+    p.add_argument("--snapshot-every", type=float, metavar="S",
+                   help="simulated seconds between HDF5 snapshots (default: the frame interval; 0: off)")
+    p.add_argument("--checkpoint-every", type=float, metavar="S",
+                   help="simulated seconds between checkpoints (SIGINT/SIGTERM always write one)")
+    p.add_argument("--restart", metavar="PATH", help="continue from a checkpoint.h5")
+    p.add_argument("--force", action="store_true", help="allow --restart with a changed config")
     p.add_argument("--quiet", action="store_true", help="no progress bar and no messages but errors")
     return p
 

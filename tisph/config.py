@@ -67,6 +67,8 @@ SHARED_DEFAULTS = {
         "width": 640,                # frame width in pixels (height follows the domain)
         "quiet": False,
         "speed_scale": 0.0,          # colour bar top (m/s); 0: u_max
+        "snapshot_every": -1.0,      # simulated s between HDF5 snapshots; -1: frame_interval; 0: off
+        "checkpoint_every": 0.0,     # simulated s between checkpoints; 0: only on SIGINT/SIGTERM
     },
 }
 
@@ -101,6 +103,8 @@ RANGES = {
     "output.probe_interval": (0.0, None, False, True),
     "output.width": (64, 4096, True, True),
     "output.speed_scale": (0.0, None, True, True),
+    "output.snapshot_every": (-1.0, None, True, True),
+    "output.checkpoint_every": (0.0, None, True, True),
 }
 
 # Rules that apply to every material, whatever its name.

@@ -7,6 +7,8 @@ import json
 import math
 import os
 import tempfile
+
+import numpy as np
 from contextlib import contextmanager
 
 
@@ -83,7 +85,7 @@ def write_csv(path, header, rows):
     w = csv.writer(buf, lineterminator="\n")
     w.writerow(header)
     for r in rows:
-        w.writerow([f"{v:.7g}" if isinstance(v, float) else v for v in r])
+        w.writerow([f"{float(v):.9g}" if isinstance(v, (float, np.floating)) else v for v in r])
     write_text(path, buf.getvalue())
 
 
@@ -94,3 +96,98 @@ def read_csv(path):
     header = rows[0]
     cols = {h: [float(r[k]) for r in rows[1:]] for k, h in enumerate(header)}
     return header, cols
+
+
+# ---------------------------------------------------------------------------- HDF5 snapshots
+SNAPSHOT_FIELDS = {  # solver member -> (dataset name, XDMF attribute type)
+    "x": ("position", None), "v": ("velocity", "Vector"), "rho": ("density", "Scalar"),
+    "p": ("pressure", "Scalar"), "m": ("mass", "Scalar"), "kind": ("kind", "Scalar"),
+    "mat": ("material", "Scalar"), "id": ("id", "Scalar"),
+}
+
+
+def _pad3(a):
+    """(N, 2) -> (N, 3) with z = 0: ParaView reads 3-component points and vectors."""
+    return np.column_stack([a, np.zeros(len(a), a.dtype)]) if a.ndim == 2 and a.shape[1] == 2 else a
+
+
+def write_snapshot(path, state: dict, attrs: dict):
+    """One HDF5 file: every particle field (ordered by particle id) plus run attributes."""
+    import h5py
+    try:
+        with atomic_path(path) as tmp:
+            with h5py.File(tmp, "w") as f:
+                for k, a in state.items():
+                    name = SNAPSHOT_FIELDS.get(k, (k, None))[0]
+                    f.create_dataset(name, data=_pad3(np.asarray(a)))
+                for k, v in attrs.items():
+                    f.attrs[k] = v
+    except OSError as e:
+        raise OutputError(f"cannot write {path!r}: {e}") from None
+
+
+def load(path):
+    """Read a snapshot or checkpoint: (arrays, attributes), arrays as NumPy, points (N, 2).
+
+    Raises OutputError with the file name when the file is missing, truncated or not HDF5.
+    """
+    import h5py
+    try:
+        with h5py.File(path, "r") as f:
+            arrays = {k: f[k][()] for k in f.keys() if isinstance(f[k], h5py.Dataset)}
+            groups = {k: {kk: f[k][kk][()] for kk in f[k].keys()} for k in f.keys() if isinstance(f[k], h5py.Group)}
+            attrs = {k: (v.decode() if isinstance(v, bytes) else v) for k, v in f.attrs.items()}
+    except FileNotFoundError:
+        raise OutputError(f"{path!r} does not exist") from None
+    except OSError as e:
+        raise OutputError(f"{path!r} is not a readable tisph HDF5 file ({e})") from None
+    for k in ("position", "velocity"):
+        if k in arrays and arrays[k].ndim == 2 and arrays[k].shape[1] == 3:
+            arrays[k] = arrays[k][:, :2]
+    arrays.update(groups)
+    return arrays, attrs
+
+
+def write_xdmf(path, snapshots):
+    """XDMF 3 temporal collection over the snapshot files, so ParaView and VisIt open the run.
+
+    snapshots: list of (time, relative h5 path, number of particles, {dataset: (shape, dtype)}).
+    """
+    grids = []
+    for t, rel, n, datasets in snapshots:
+        def item(name):
+            shape, dt = datasets[name]
+            kind = "Float" if np.dtype(dt).kind == "f" else "Int"
+            dims = " ".join(str(s) for s in shape)
+            return (f'<DataItem Dimensions="{dims}" NumberType="{kind}" Precision="{np.dtype(dt).itemsize}" '
+                    f'Format="HDF">{rel}:/{name}</DataItem>')
+        attrs = []
+        for name, (shape, dt) in datasets.items():
+            if name == "position":
+                continue
+            atype = "Vector" if len(shape) == 2 and shape[1] == 3 else "Scalar"
+            attrs.append(f'      <Attribute Name="{name}" AttributeType="{atype}" Center="Node">\n'
+                         f'        {item(name)}\n      </Attribute>')
+        grids.append(
+            f'    <Grid Name="t{t:.6f}" GridType="Uniform">\n'
+            f'      <Time Value="{t:.9g}"/>\n'
+            f'      <Topology TopologyType="Polyvertex" NumberOfElements="{n}" NodesPerElement="1"/>\n'
+            f'      <Geometry GeometryType="XYZ">\n        {item("position")}\n      </Geometry>\n'
+            + "\n".join(attrs) + "\n    </Grid>")
+    text = ('<?xml version="1.0" ?>\n<Xdmf Version="3.0">\n  <Domain>\n'
+            '  <Grid Name="particles" GridType="Collection" CollectionType="Temporal">\n'
+            + "\n".join(grids) + "\n  </Grid>\n  </Domain>\n</Xdmf>\n")
+    write_text(path, text)
+
+
+def clean_stale_parts(folder):
+    """Remove temporary files a killed run left behind (never a complete file)."""
+    if not os.path.isdir(folder):
+        return
+    for root, _, files in os.walk(folder):
+        for f in files:
+            if f.startswith(".") and ".part" in f:
+                try:
+                    os.unlink(os.path.join(root, f))
+                except OSError:
+                    pass

@@ -13,6 +13,7 @@ import math
 import os
 import sys
 import time
+import time as time_mod
 import warnings
 from typing import Callable
 
@@ -44,6 +45,7 @@ class Case:
     probe: Callable = None            # probe(state: dict) -> tuple of floats
     metrics: Callable = None          # metrics(columns: dict of np arrays) -> dict
     final_metrics: Callable = None    # final_metrics(state: dict of np arrays) -> dict
+    container: tuple = None           # (x0, y0, x1, y1) the walls enclose; fluid outside crossed a wall
     notes: list = dataclasses.field(default_factory=list)
 
 
@@ -82,6 +84,21 @@ class Log:
             pass
 
 
+def build_case(scene, cfg, log):
+    """scene.build(cfg), with its warnings and the sound-speed check logged."""
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        case = scene.build(cfg)
+        c0 = case.params["c0"]
+        if c0 < 10.0 * case.u_max * (1 - 1e-9):
+            warnings.warn(f"sound speed c0 = {c0:.3g} m/s is below 10 x the expected peak speed "
+                          f"{case.u_max:.3g} m/s: density errors above 1 % are likely")
+    for w in caught:
+        log(f"warning: {w.message}", always=True)
+    case.warnings = [str(w.message) for w in caught]
+    return case
+
+
 def describe_instability(solver, code, idx):
     from .solver import BAD_TEXT
     what, cause = BAD_TEXT.get(code, ("unknown", ""))
@@ -97,130 +114,341 @@ def describe_instability(solver, code, idx):
             f"Likely cause: {cause}.")
 
 
-def run_case(case: Case, cfg: dict, out: str, log: Log, scene_name: str):
-    """The time loop. Returns the summary dict (status 'ok' or 'unstable')."""
-    from . import runtime
-    from .solver import Solver
+# Keys a restart may change: when and how to stop, and what to write.
+RESTART_FREE = ("run.end_time", "run.max_steps", "run.arch", "output")
 
-    run, outc = cfg["run"], cfg["output"]
-    render = outc["render"]
-    arch = runtime.current_arch()
-    t_build = time.perf_counter()
-    solver = Solver(case.physics, case.particles, case.materials, case.domain, case.params)
-    solver.prime()
-    compile_s = time.perf_counter() - t_build
-    log(f"{solver.n} particles ({case.particles.count(FLUID)} fluid), h = {solver.h:.4g} m, "
-        f"c0 = {solver.c0:.4g} m/s, first dt = {solver.dt:.3g} s, set-up and compile {compile_s:.1f} s")
 
-    renderer = movie = None
-    frames_dir = os.path.join(out, "frames")
-    if render:
-        from .render import Renderer, MovieWriter
-        ensure_dir(frames_dir)
-        speed = outc["speed_scale"] if outc["speed_scale"] > 0 else case.u_max
-        renderer = Renderer(solver, case.view, outc["width"], speed, title=scene_name)
-        movie = MovieWriter(os.path.join(out, f"{scene_name}.mp4"), outc["fps"])
+def _strip(cfg):
+    import copy
+    c = copy.deepcopy(cfg)
+    for k in RESTART_FREE:
+        parts = k.split(".")
+        d = c
+        for p in parts[:-1]:
+            d = d.get(p, {})
+        d.pop(parts[-1], None)
+    return c
 
-    probes = []
-    frame_no = 0
 
-    def sample():
-        st = solver.state(("x", "v", "kind", "rho", "p"))
-        probes.append((solver.time,) + tuple(case.probe(st)) if case.probe else (solver.time,))
+def config_changes(a, b, prefix=""):
+    """Dotted keys whose values differ between two resolved configs."""
+    out = []
+    for k in sorted(set(a) | set(b)):
+        va, vb = a.get(k), b.get(k)
+        if isinstance(va, dict) and isinstance(vb, dict):
+            out += config_changes(va, vb, f"{prefix}{k}.")
+        elif va != vb:
+            out.append(f"{prefix}{k}: {va!r} -> {vb!r}")
+    return out
 
-    def frame():
-        nonlocal frame_no
+
+class Run:
+    """One simulation run: the time loop and everything it writes."""
+
+    def __init__(self, case: Case, cfg: dict, out: str, log: Log, scene_name: str,
+                 restart=None, force=False):
+        self.case, self.cfg, self.out, self.log, self.name = case, cfg, out, log, scene_name
+        self.restart, self.force = restart, force
+        o = cfg["output"]
+        self.render = o["render"]
+        self.frame_dt = o["frame_interval"]
+        self.probe_dt = o["probe_interval"]
+        se = o["snapshot_every"]
+        self.snap_dt = self.frame_dt if se < 0 else se
+        self.ckpt_dt = o["checkpoint_every"]
+        self.probes, self.snapshots = [], []
+        self.frame_no = 0
+        self.crossed = 0
+        self._xdmf_at = 0.0
+        self._xdmf_dirty = False
+        self.next = dict(probe=0.0, frame=0.0, snapshot=0.0, checkpoint=self.ckpt_dt)
+        self.signal = None
+
+    # -------------------------------------------------------------- outputs
+    def sample(self):
+        st = self.solver.state(("x", "v", "kind", "rho", "p"))
+        if self.case.container is not None:
+            x0, y0, x1, y1 = self.case.container
+            x = st["x"][st["kind"] == FLUID]
+            out = (x[:, 0] < x0) | (x[:, 0] > x1) | (x[:, 1] < y0) | (x[:, 1] > y1)
+            self.crossed = max(self.crossed, int(out.sum()))
+        row = (self.solver.time,) + (tuple(float(v) for v in self.case.probe(st)) if self.case.probe else ())
+        self.probes.append(row)
+
+    def frame(self):
         from .render import write_png
-        img = renderer.frame(solver.time)
-        write_png(os.path.join(frames_dir, f"{frame_no:05d}.png"), img)
-        movie.append(img)
-        frame_no += 1
+        img = self.renderer.frame(self.solver.time)
+        write_png(os.path.join(self.out, "frames", f"{self.frame_no:05d}.png"), img)
+        self.movie.append(img)
+        self.frame_no += 1
 
-    t_end, max_steps = run["end_time"], run["max_steps"]
-    probe_dt, frame_dt = outc["probe_interval"], outc["frame_interval"]
-    next_probe, next_frame = probe_dt, frame_dt
-    sample()
-    if render:
-        frame()
+    def snapshot_attrs(self, time, step, dt):
+        return dict(scene=self.name, tisph_version=__version__, config=dump_toml(self.cfg),
+                    time=float(time), step=int(step), dt=float(dt))
 
-    bar = None
-    if not outc["quiet"]:
+    def snapshot(self, state=None, name=None, time=None, step=None):
+        from .io import write_snapshot, write_xdmf
+        s = self.solver
+        state = state if state is not None else s.state(s.snapshot_members)
+        time = s.time if time is None else time
+        step = s.steps if step is None else step
+        name = name or f"{len(self.snapshots):05d}.h5"
+        path = os.path.join(self.out, "snapshots", name)
+        write_snapshot(path, state, self.snapshot_attrs(time, step, s.dt))
+        if name[0].isdigit():
+            shapes = {}
+            for k, a in state.items():
+                from .io import SNAPSHOT_FIELDS
+                a = np.asarray(a)
+                shape = (a.shape[0], 3) if a.ndim == 2 else a.shape
+                shapes[SNAPSHOT_FIELDS.get(k, (k,))[0]] = (shape, a.dtype.str)
+            self.snapshots.append((float(time), f"snapshots/{name}", s.n, shapes))
+            self._xdmf_dirty = True
+            # the XDMF lists every snapshot, so rewriting it each time is quadratic: at most every 2 s
+            if len(self.snapshots) <= 20 or time_mod.perf_counter() - self._xdmf_at > 2.0:
+                self.write_xdmf()
+
+    def write_xdmf(self):
+        from .io import write_xdmf
+        if self._xdmf_dirty:
+            write_xdmf(os.path.join(self.out, "snapshots.xdmf"),
+                       [(t, rel, n, {k: (v[0], np.dtype(v[1])) for k, v in sh.items()})
+                        for t, rel, n, sh in self.snapshots])
+            self._xdmf_dirty = False
+            self._xdmf_at = time_mod.perf_counter()
+
+    def checkpoint(self, path=None):
+        import h5py
+        from .io import atomic_path, OutputError
+        path = path or os.path.join(self.out, "checkpoint.h5")
+        arrays, scal = self.solver.raw_state()
         try:
-            from tqdm import tqdm
-            bar = tqdm(total=t_end, unit="sim s", disable=None, file=sys.stderr,
-                       bar_format="{l_bar}{bar}| {n:.3f}/{total:.3f} s [{elapsed}<{remaining}{postfix}]")
-        except ImportError:
-            bar = None
+            with atomic_path(path) as tmp:
+                with h5py.File(tmp, "w") as f:
+                    g = f.create_group("particles")
+                    for k, a in arrays.items():
+                        g.create_dataset(k, data=a)
+                    f.create_dataset("probes", data=np.array(self.probes, float).reshape(len(self.probes), -1))
+                    for k, v in scal.items():
+                        f.attrs[k] = v
+                    f.attrs.update(dict(kind="tisph checkpoint", scene=self.name, tisph_version=__version__,
+                                        config=dump_toml(self.cfg), frame_no=self.frame_no,
+                                        next=json.dumps(self.next), snapshots=json.dumps(self.snapshots)))
+        except OSError as e:
+            raise OutputError(f"cannot write checkpoint {path!r}: {e}") from None
+        self.log(f"checkpoint at step {self.solver.steps}, t = {self.solver.time:.6g} s: {path}", file_only=True)
+        return path
 
-    status, message = "ok", ""
-    step_s = 0.0
-    t0 = time.perf_counter()
-    last_bar = t0
+    def resume(self):
+        """Load self.restart into the solver and the run's own state."""
+        from .io import load, OutputError
+        from .config import ConfigError
+        arrays, attrs = load(self.restart)
+        if attrs.get("kind") != "tisph checkpoint" or "particles" not in arrays:
+            raise ConfigError("--restart", self.restart, "a checkpoint.h5 written by tisph")
+        if attrs.get("scene") != self.name:
+            raise ConfigError("--restart", self.restart, f"a checkpoint of scene {self.name!r}",
+                              f"it is a checkpoint of {attrs.get('scene')!r}")
+        from .config import tomllib as _toml
+        old = _toml.loads(attrs["config"])
+        changes = config_changes(_strip(old), _strip(self.cfg))
+        if changes and not self.force:
+            raise ConfigError("--restart", self.restart, "the config the checkpoint was written with "
+                              "(or pass --force)", "changed: " + "; ".join(changes))
+        if changes:
+            self.log("warning: restarting with a changed config: " + "; ".join(changes), always=True)
+        try:
+            self.solver.load_raw_state(arrays["particles"], attrs)
+        except ValueError as e:
+            raise ConfigError("--restart", self.restart, "a checkpoint of this case", str(e)) from None
+        self.probes = [tuple(r) for r in np.asarray(arrays["probes"]).tolist()]
+        self.frame_no = int(attrs["frame_no"])
+        self.next = json.loads(attrs["next"])
+        self.snapshots = [tuple(x) for x in json.loads(attrs["snapshots"])]
+        self.log(f"restarted from {self.restart} at step {self.solver.steps}, t = {self.solver.time:.6g} s")
+
+    def _due(self, key, interval):
+        """Whether an output is due now; schedules the next one on the interval grid."""
+        if interval <= 0 or self.solver.time < self.next[key] - 1e-12:
+            return False
+        k = math.floor(self.solver.time / interval + 1e-9) + 1
+        self.next[key] = k * interval
+        return True
+
+    # -------------------------------------------------------------- the loop
+    def execute(self):
+        from . import runtime
+        from .io import clean_stale_parts
+        from .solver import Solver
+        run, outc = self.cfg["run"], self.cfg["output"]
+        clean_stale_parts(self.out)
+        t_build = time.perf_counter()
+        s = self.solver = Solver(self.case.physics, self.case.particles, self.case.materials,
+                                 self.case.domain, self.case.params)
+        s.enable_backup()
+        if self.restart:
+            self.resume()
+        else:
+            s.prime()
+        compile_s = time.perf_counter() - t_build
+        self.log(f"{s.n} particles ({self.case.particles.count(FLUID)} fluid), h = {s.h:.4g} m, "
+                 f"c0 = {s.c0:.4g} m/s, dt = {s.dt:.3g} s, set-up and compile {compile_s:.1f} s")
+
+        self.renderer = self.movie = None
+        if self.render:
+            from .render import Renderer, MovieWriter
+            from .io import ensure_dir
+            ensure_dir(os.path.join(self.out, "frames"))
+            speed = outc["speed_scale"] if outc["speed_scale"] > 0 else self.case.u_max
+            self.renderer = Renderer(s, self.case.view, outc["width"], speed, title=self.name)
+            self.movie = MovieWriter(os.path.join(self.out, f"{self.name}.mp4"), outc["fps"])
+            if self.restart:  # the movie is rebuilt from the frames already on disk
+                import imageio.v2 as imageio
+                for k in range(self.frame_no):
+                    f = os.path.join(self.out, "frames", f"{k:05d}.png")
+                    if os.path.exists(f):
+                        self.movie.append(imageio.imread(f))
+        if self.snap_dt > 0:
+            from .io import ensure_dir
+            ensure_dir(os.path.join(self.out, "snapshots"))
+
+        def outputs():
+            if self._due("probe", self.probe_dt):
+                self.sample()
+            if self.render and self._due("frame", self.frame_dt):
+                self.frame()
+            if self._due("snapshot", self.snap_dt):
+                self.snapshot()
+            if self.ckpt_dt > 0 and self._due("checkpoint", self.ckpt_dt):
+                self.checkpoint()
+
+        if not self.restart:
+            outputs()
+        s.backup()
+
+        bar = None
+        t_end, max_steps = run["end_time"], run["max_steps"]
+        if not outc["quiet"]:
+            try:
+                from tqdm import tqdm
+                bar = tqdm(total=t_end, unit="sim s", disable=None, file=sys.stderr,
+                           bar_format="{l_bar}{bar}| {n:.3f}/{total:.3f} s [{elapsed}<{remaining}{postfix}]")
+            except ImportError:
+                bar = None
+
+        import signal as _signal
+        old = {}
+
+        def on_signal(signum, frame):
+            self.signal = signum
+        for sig in (_signal.SIGINT, _signal.SIGTERM):
+            try:
+                old[sig] = _signal.signal(sig, on_signal)
+            except ValueError:  # not the main thread
+                pass
+
+        status, message = "ok", ""
+        step_s, steps0 = 0.0, s.steps
+        t0 = last_bar = time.perf_counter()
+        try:
+            while s.time < t_end - 1e-12 and (max_steps == 0 or s.steps < max_steps):
+                ts = time.perf_counter()
+                s.step()
+                step_s += time.perf_counter() - ts
+                if s.steps % 10 == 0 or s.time >= min(self.next.values()) - 1e-12:
+                    bad = s.check()
+                    if bad:
+                        raise SimulationError(describe_instability(s, *bad))
+                    if s.steps % 10 == 0:
+                        s.backup()
+                outputs()
+                if self.signal is not None:
+                    raise KeyboardInterrupt
+                now = time.perf_counter()
+                if bar is not None and now - last_bar > 0.25:
+                    bar.n = min(s.time, t_end)
+                    bar.set_postfix_str(f"dt={s.dt:.2e} s, {s.n * (s.steps - steps0) / max(step_s, 1e-9):.3g} "
+                                        f"particle-steps/s", refresh=False)
+                    bar.refresh()
+                    last_bar = now
+            bad = s.check()
+            if bad:
+                raise SimulationError(describe_instability(s, *bad))
+            if not self.probes or self.probes[-1][0] < s.time:
+                self.sample()
+        except SimulationError as e:
+            status, message = "unstable", str(e)
+            self.log(message, always=True)
+            if self.snap_dt > 0:
+                self.snapshot(state=s.backup_state(s.snapshot_members), name="last_good.h5",
+                              time=s.bak_time, step=s.bak_steps)
+                self.log(f"wrote the last healthy state (step {s.bak_steps}, t = {s.bak_time:.6g} s) to "
+                         f"snapshots/last_good.h5", always=True)
+        except KeyboardInterrupt:
+            sig = self.signal if self.signal is not None else _signal.SIGINT
+            status = "interrupted"
+            path = self.checkpoint()
+            message = (f"stopped by {_signal.Signals(sig).name} at step {s.steps}, t = {s.time:.6g} s; "
+                       f"continue with --restart {path}")
+            self.log(message, always=True)
+        finally:
+            for sig, h in old.items():
+                _signal.signal(sig, h)
+            if bar is not None:
+                bar.n = min(s.time, t_end)
+                bar.close()
+            if self.movie is not None:
+                self.movie.close()
+        wall = time.perf_counter() - t0
+        return self.finish(status, message, wall, step_s, s.steps - steps0, compile_s)
+
+    def finish(self, status, message, wall, step_s, nsteps, compile_s):
+        s, case, cfg = self.solver, self.case, self.cfg
+        self.write_xdmf()
+        cols = ("t",) + tuple(case.probe_columns)
+        write_csv(os.path.join(self.out, "probes.csv"), cols, self.probes)
+        arr = {c: np.array([r[k] for r in self.probes], float) for k, c in enumerate(cols)}
+        metrics = case.metrics(arr) if case.metrics else {}
+        if case.final_metrics:
+            metrics.update(case.final_metrics(s.state(("x", "v", "kind", "rho", "p", "mat"))))
+        nb = int(np.sum(case.particles.kind != FLUID))
+        pps = (s.n * nsteps / step_s) if step_s > 0 else 0.0
+        summary = dict(
+            scene=self.name, status=status, message=message, tisph_version=__version__,
+            dx=float(cfg["numerics"]["dx"]), particles=int(s.n),
+            fluid_particles=int(case.particles.count(FLUID)), boundary_particles=nb,
+            steps=int(s.steps), sim_time=float(s.time), wall_time_s=wall, step_time_s=step_s,
+            compile_time_s=compile_s, particle_steps_per_s=pps,
+            wall_s_per_sim_s=(wall / s.time) if s.time > 0 else None,
+            arch=self.arch, leaked_particles=int(s.leaked), crossed_wall=int(self.crossed),
+            max_density_error=s.max_density_error, frames=self.frame_no,
+            snapshots=len(self.snapshots), c0=float(s.c0), h=float(s.h),
+            physics=case.physics.as_dict(), warnings=list(getattr(case, "warnings", [])),
+            metrics=metrics,
+        )
+        if self.restart:
+            summary["restarted_from"] = os.path.abspath(self.restart)
+        write_json(os.path.join(self.out, "summary.json"), summary)
+        self.log(f"{status}: {s.steps} steps to t = {s.time:.4g} s in {wall:.2f} s "
+                 f"({pps:.3g} particle-steps/s), leaked {s.leaked}, crossed a wall {self.crossed}, "
+                 f"max density error {s.max_density_error:.3%}")
+        if metrics:
+            self.log("metrics: " + json.dumps(metrics))
+        return summary
+
+
+def run_case(case, cfg, out, log, scene_name, restart=None, force=False):
+    from . import runtime
+    if case.particles.count(FLUID) == 0:
+        raise ConfigError("geometry", "no fluid particles", "a case with at least one fluid particle")
+    r = Run(case, cfg, out, log, scene_name, restart, force)
+    r.arch = runtime.current_arch()
     try:
-        while solver.time < t_end - 1e-12 and (max_steps == 0 or solver.steps < max_steps):
-            ts = time.perf_counter()
-            solver.step()
-            step_s += time.perf_counter() - ts
-            if solver.steps % 10 == 0 or solver.time >= next_probe:
-                bad = solver.check()
-                if bad:
-                    raise SimulationError(describe_instability(solver, *bad))
-            if solver.time >= next_probe - 1e-12:
-                sample()
-                next_probe += probe_dt * max(1, math.floor((solver.time - next_probe) / probe_dt) + 1)
-            if render and solver.time >= next_frame - 1e-12:
-                frame()
-                next_frame += frame_dt * max(1, math.floor((solver.time - next_frame) / frame_dt) + 1)
-            now = time.perf_counter()
-            if bar is not None and now - last_bar > 0.25:
-                bar.n = min(solver.time, t_end)
-                bar.set_postfix_str(f"dt={solver.dt:.2e} s, {solver.n * solver.steps / max(step_s, 1e-9):.3g} "
-                                    f"particle-steps/s", refresh=False)
-                bar.refresh()
-                last_bar = now
-        bad = solver.check()
-        if bad:
-            raise SimulationError(describe_instability(solver, *bad))
-        if probes[-1][0] < solver.time:
-            sample()
-    except SimulationError as e:
-        status, message = "unstable", str(e)
-        log(message, always=True)
-    except KeyboardInterrupt:
-        status, message = "interrupted", f"interrupted at step {solver.steps}, t = {solver.time:.6g} s"
-        log(message, always=True)
-    finally:
-        if bar is not None:
-            bar.n = min(solver.time, t_end)
-            bar.close()
-        if movie is not None:
-            movie.close()
-    wall = time.perf_counter() - t0
-
-    cols = ("t",) + tuple(case.probe_columns)
-    write_csv(os.path.join(out, "probes.csv"), cols, probes)
-    arr = {c: np.array([r[k] for r in probes], float) for k, c in enumerate(cols)}
-    metrics = case.metrics(arr) if case.metrics else {}
-    if case.final_metrics:
-        metrics.update(case.final_metrics(solver.state(("x", "v", "kind", "rho", "p", "mat"))))
-    nb = int(np.sum((case.particles.kind != FLUID)))
-    summary = dict(
-        scene=scene_name, status=status, message=message, tisph_version=__version__,
-        dx=float(cfg["numerics"]["dx"]), particles=int(solver.n),
-        fluid_particles=int(case.particles.count(FLUID)), boundary_particles=nb,
-        steps=int(solver.steps), sim_time=float(solver.time), wall_time_s=wall,
-        step_time_s=step_s, compile_time_s=compile_s,
-        particle_steps_per_s=(solver.n * solver.steps / step_s) if step_s > 0 else 0.0,
-        wall_s_per_sim_s=(wall / solver.time) if solver.time > 0 else None,
-        arch=arch, leaked_particles=int(solver.leaked), frames=frame_no,
-        c0=float(solver.c0), h=float(solver.h), physics=case.physics.as_dict(), metrics=metrics,
-    )
-    write_json(os.path.join(out, "summary.json"), summary)
-    log(f"{status}: {solver.steps} steps to t = {solver.time:.4g} s in {wall:.2f} s "
-        f"({summary['particle_steps_per_s']:.3g} particle-steps/s), leaked {solver.leaked}")
-    if metrics:
-        log("metrics: " + json.dumps(metrics))
-    return summary
+        return r.execute()
+    except BaseException:
+        if getattr(r, "movie", None) is not None:
+            r.movie.abort()
+        raise
 
 
 def run_scene(scene, argv=None):
@@ -249,28 +477,22 @@ def run_scene(scene, argv=None):
     log(f"# {runtime.describe()}, requested {cfg['run']['arch']}", file_only=True)
     if cfg["run"]["arch"] == "gpu" and arch in ("x64", "arm64"):
         log("warning: no GPU backend found, running on the CPU", always=True)
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
-        case = scene.build(cfg)
-        c0 = case.params["c0"]
-        if c0 < 10.0 * case.u_max * (1 - 1e-9):
-            warnings.warn(f"sound speed c0 = {c0:.3g} m/s is below 10 x the expected peak speed "
-                          f"{case.u_max:.3g} m/s: density errors above 1 % are likely")
-    for w in caught:
-        log(f"warning: {w.message}", always=True)
+    case = build_case(scene, cfg, log)
     try:
-        summary = run_case(case, cfg, out, log, name)
-    except OutputError as e:
-        print(f"{parser.prog}: {e}", file=sys.stderr)
+        summary = run_case(case, cfg, out, log, name, restart=args.restart, force=args.force)
+    except (OutputError, ConfigError) as e:
+        log(f"{parser.prog}: {e}", always=True)
         return 2
     finally:
         log.flush()
     if not cfg["output"]["quiet"]:
         print(f"wrote {out}/", file=sys.stderr)
-    return {"ok": 0, "unstable": 3, "interrupted": 130}[summary["status"]]
+    if summary["status"] == "interrupted":
+        return 143 if "SIGTERM" in summary["message"] else 130
+    return {"ok": 0, "unstable": 3}[summary["status"]]
 
 
-def simulate(scene, overrides=None, out=None, config=None):
+def simulate(scene, overrides=None, out=None, config=None, restart=None, force=False):
     """Run a scene from Python (tests, benchmarks): the same path as the CLI, no argv.
 
     Returns the summary dict; raises ConfigError on bad input.
@@ -285,8 +507,8 @@ def simulate(scene, overrides=None, out=None, config=None):
     log = Log(os.path.join(out, "run.log"), True)
     log("# resolved config\n" + dump_toml(cfg))
     runtime.init(cfg["run"]["arch"], cfg["run"]["precision"])
-    case = scene.build(cfg)
+    case = build_case(scene, cfg, log)
     try:
-        return run_case(case, cfg, out, log, scene.NAME)
+        return run_case(case, cfg, out, log, scene.NAME, restart=restart, force=force)
     finally:
         log.flush()

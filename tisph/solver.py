@@ -81,6 +81,8 @@ class Solver:
         if physics.xsph:
             members["xs"] = vec2          # XSPH correction, only when the term is on
         self.members = tuple(members)
+        self._member_types = dict(members)
+        self.bak = None
         self.p = ParticleFields(members, self.n)
         self.tmp = ParticleFields(members, self.n)
         # (source, sorted copy) pairs: the reorder copies every member in one compile-time loop
@@ -129,7 +131,7 @@ class Solver:
             setattr(self.prm[None], k, v)
 
         S = ti.types.struct(amax2=real, mumax=real, vmax2=real, bad_code=ti.i32, bad_idx=ti.i32,
-                            leaked=ti.i32, nact=ti.i32)
+                            leaked=ti.i32, nact=ti.i32, rhodev=real)
         self.stats = S.field(shape=())
 
         # Initial state.
@@ -161,6 +163,7 @@ class Solver:
         s.vmax2 = 0.0
         s.bad_code = 0
         s.bad_idx = 2**31 - 1
+        s.rhodev = 0.0
 
     @ti.func
     def cell_of(self, x):
@@ -362,12 +365,14 @@ class Solver:
                 ti.atomic_max(self.stats[None].mumax, acc.mu)
                 v2 = v.dot(v)
                 ti.atomic_max(self.stats[None].vmax2, v2)
+                dev = ti.abs(rho / self.mat_rho0[mi] - 1.0)
+                ti.atomic_max(self.stats[None].rhodev, dev)
                 code = BAD_NONE
                 if self.is_bad(a.dot(a)) or self.is_bad(rho):
                     code = BAD_NAN
                 elif v2 > prm.c0 * prm.c0:
                     code = BAD_SPEED
-                elif ti.abs(rho / self.mat_rho0[mi] - 1.0) > prm.band:
+                elif dev > prm.band:
                     code = BAD_DENSITY
                 if code != BAD_NONE:
                     ti.atomic_max(self.stats[None].bad_code, code)
@@ -442,6 +447,53 @@ class Solver:
         self._neighbour_stats(cnt, ids)
         return cnt, ids
 
+    # ------------------------------------------------------------------ checkpoints and backup
+    def raw_state(self):
+        """Everything needed to continue bit for bit: every member in the current sorted order."""
+        d = {k: getattr(self.p, k).to_numpy() for k in self.members}
+        st = self.stats[None]
+        scal = dict(time=self.time, steps=self.steps, dt=float(self.prm[None].dt), leaked=int(st.leaked),
+                    n=self.n, primed=int(self._primed), rhodev=float(st.rhodev))
+        return d, scal
+
+    def load_raw_state(self, arrays, scalars):
+        if int(scalars["n"]) != self.n:
+            raise ValueError(f"checkpoint holds {int(scalars['n'])} particles, this case builds {self.n}")
+        missing = [k for k in self.members if k not in arrays]
+        if missing:
+            raise ValueError(f"checkpoint lacks particle fields {missing} (built with other physics?)")
+        for k in self.members:
+            getattr(self.p, k).from_numpy(arrays[k])
+        self.time = float(scalars["time"])
+        self.steps = int(scalars["steps"])
+        self.prm[None].dt = float(scalars["dt"])
+        self.stats[None].leaked = int(scalars["leaked"])
+        self.stats[None].rhodev = float(scalars.get("rhodev", 0.0))
+        self._primed = bool(int(scalars["primed"]))
+
+    def enable_backup(self):
+        """Keep a device-side copy of the last healthy state (for the final snapshot of a run
+        that goes unstable); costs one copy of the particle fields per backup() call."""
+        if self.bak is None:
+            self.bak = ParticleFields(self._member_types, self.n)
+            self.bak_pairs = [(getattr(self.p, k), getattr(self.bak, k)) for k in self.members]
+            self.bak_time, self.bak_steps = self.time, self.steps
+
+    @ti.kernel
+    def _backup(self):
+        for i in range(self.n):
+            for fp, fb in ti.static(self.bak_pairs):
+                fb[i] = fp[i]
+
+    def backup(self):
+        self._backup()
+        self.bak_time, self.bak_steps = self.time, self.steps
+
+    def backup_state(self, names):
+        """The backed-up state, ordered by particle id."""
+        inv = np.argsort(self.bak.id.to_numpy())
+        return {k: getattr(self.bak, k).to_numpy()[inv] for k in names}
+
     # ------------------------------------------------------------------ Python API
     def prime(self):
         """Bin the particles and evaluate forces at t = 0 (a zero-length step) to get a^0, dt^0."""
@@ -472,8 +524,15 @@ class Solver:
         return None
 
     @property
+    def max_density_error(self):
+        """Largest |rho/rho0 - 1| of any fluid particle at any step so far."""
+        return float(self.stats[None].rhodev)
+
+    @property
     def leaked(self):
         return int(self.stats[None].leaked)
+
+    snapshot_members = ("x", "v", "rho", "p", "m", "kind", "mat", "id")
 
     def state(self, names=("x", "v", "rho", "p", "kind", "mat", "m")):
         """Particle arrays ordered by particle id (the order the scene built them in)."""

@@ -90,7 +90,8 @@ def build(cfg):
     view = ((-margin, -margin), (W + margin, min(Ht, max(H, 0.6 * Ht)) + margin))
     return Case(name=NAME, particles=ps, materials=materials, domain=domain, params=params,
                 physics=physics_from_config(cfg), view=view, u_max=u_max,
-                probe_columns=("front_x", "column_h"), probe=probe, metrics=metrics)
+                probe_columns=("front_x", "column_h"), probe=probe, metrics=metrics,
+                container=(0.0, 0.0, W, float("inf")))
 
 
 def main(argv=None):

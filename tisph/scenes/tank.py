@@ -96,7 +96,8 @@ def build(cfg):
     return Case(name=NAME, particles=ps, materials=materials, domain=domain,
                 params=common_params(cfg, c0, G, depth=H), physics=physics_from_config(cfg),
                 view=((-margin, -margin), (W + margin, Ht + margin)), u_max=u_max,
-                probe_columns=("speed_ratio",), probe=probe, metrics=metrics, final_metrics=final_metrics)
+                probe_columns=("speed_ratio",), probe=probe, metrics=metrics, final_metrics=final_metrics,
+                container=(0.0, 0.0, W, float("inf")))
 
 
 def main(argv=None):

@@ -1,0 +1,81 @@
+"""A table of bad inputs: each gives exit code 2 and one message naming the field, the value and
+what is allowed; none reaches Taichi or prints a traceback."""
+import pytest
+
+from tisph.runner import run_scene
+from tisph.scenes import dam_break, tank
+
+CASES = [
+    # (scene, argv, TOML text or None, words the message must contain)
+    (dam_break, ["--dx", "-0.01"], None, ["numerics.dx", "-0.01", "> 0"]),
+    (dam_break, ["--dx", "0"], None, ["numerics.dx", "> 0"]),
+    (dam_break, ["--end-time", "-1"], None, ["run.end_time", "> 0"]),
+    (dam_break, ["--max-steps", "-5"], None, ["run.max_steps", ">= 0"]),
+    (dam_break, ["--fps", "0"], None, ["output.fps", ">= 1"]),
+    (dam_break, ["--frame-interval", "0"], None, ["output.frame_interval", "> 0"]),
+    (dam_break, ["--snapshot-every", "-2"], None, ["output.snapshot_every", ">= -1"]),
+    (dam_break, ["--checkpoint-every", "-1"], None, ["output.checkpoint_every", ">= 0"]),
+    (dam_break, ["--config", "missing.toml"], None, ["--config", "missing.toml", "existing TOML"]),
+    (dam_break, [], "[numerics\ndx = 1", ["--config", "valid TOML"]),
+    (dam_break, [], "[numerix]\ndx = 0.1\n", ["numerix", "did you mean 'numerics'"]),
+    (dam_break, [], "[materials.water]\nviscosty = 1e-3\n", ["materials.water.viscosty", "materials.water.viscosity"]),
+    (dam_break, [], "[numerics]\ndx = \"0.1\"\n", ["numerics.dx", "'0.1'", "a number"]),
+    (dam_break, [], "[numerics]\nxsph = 0.6\n", ["numerics.xsph", "0.6", "<= 0.5"]),
+    (dam_break, [], "[numerics]\ndelta = -0.1\n", ["numerics.delta", ">= 0"]),
+    (dam_break, [], "[numerics]\nkernel = \"quintic\"\n", ["numerics.kernel", "quintic", "'wendland'"]),
+    (dam_break, [], "[numerics]\ndensity_diffusion = \"yes\"\n", ["numerics.density_diffusion", "'fourtakas'"]),
+    (dam_break, [], "[numerics]\nh_factor = 0.5\n", ["numerics.h_factor", ">= 1.0"]),
+    (dam_break, [], "[numerics]\nwall_layers = 0\n", ["numerics.wall_layers", ">= 1"]),
+    (dam_break, [], "[numerics]\ncfl = 0\n", ["numerics.cfl", "> 0"]),
+    (dam_break, [], "[numerics]\ndx = nan\n", ["numerics.dx", "nan"]),
+    (dam_break, [], "[geometry]\ncolumn_height = 5.0\n", ["geometry.column_height", "tank_height"]),
+    (dam_break, [], "[geometry]\ncolumn_width = -1.0\n", ["geometry.column_width", "> 0"]),
+    (dam_break, [], "[numerics]\ndx = 0.3\n", ["numerics.dx", "4 particles"]),
+    (dam_break, [], "[materials.water]\nrho0 = -1000.0\n", ["materials.water.rho0", "> 0"]),
+    (dam_break, [], "[materials.water]\nviscosity = -1.0\n", ["materials.water.viscosity", ">= 0"]),
+    (dam_break, [], "[materials.oil]\nrho0 = 900.0\n", ["materials.oil", "materials.water"]),
+    (dam_break, [], "[output]\nrender = \"yes\"\n", ["output.render", "true or false"]),
+    (dam_break, [], "[run]\nprecision = \"f16\"\n", ["run.precision", "'f32'"]),
+    (dam_break, [], "[run]\nmax_steps = 2.5\n", ["run.max_steps", "an integer"]),
+    (tank, [], "[geometry]\ndepth = 2.0\n", ["geometry.depth", "tank_height"]),
+]
+
+
+@pytest.mark.parametrize("scene, argv, toml, words", CASES,
+                         ids=[f"{c[0].NAME}:{' '.join(c[1]) or c[2].splitlines()[-1]}" for c in CASES])
+def test_bad_input(scene, argv, toml, words, tmp_path, capsys, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    args = list(argv)
+    if toml is not None:
+        (tmp_path / "case.toml").write_text(toml)
+        args += ["--config", "case.toml"]
+    code = run_scene(scene, args + ["--out", str(tmp_path / "o"), "--no-render", "--quiet"])
+    err = capsys.readouterr().err
+    assert code == 2
+    assert "Traceback" not in err
+    for w in words:
+        assert w in err, (w, err)
+
+
+def test_unwritable_output_folder(tmp_path, capsys):
+    f = tmp_path / "a_file"
+    f.write_text("x")
+    code = run_scene(dam_break, ["--out", str(f / "sub"), "--no-render", "--quiet"])
+    err = capsys.readouterr().err
+    assert code == 2 and "cannot create output folder" in err and str(f / "sub") in err
+
+
+def test_changed_config_refused_on_restart_unless_forced(tmp_path, capsys):
+    out = str(tmp_path / "o")
+    assert run_scene(dam_break, ["--dx", "0.06", "--end-time", "0.01", "--checkpoint-every", "0.01",
+                                 "--no-render", "--quiet", "--out", out]) == 0
+    ck = str(tmp_path / "o" / "checkpoint.h5")
+    cfg = tmp_path / "c.toml"
+    cfg.write_text("[numerics]\nartificial_viscosity = 0.2\n")
+    code = run_scene(dam_break, ["--dx", "0.06", "--config", str(cfg), "--end-time", "0.02", "--no-render",
+                                 "--quiet", "--out", out, "--restart", ck])
+    err = capsys.readouterr().err
+    assert code == 2 and "numerics.artificial_viscosity: 0.1 -> 0.2" in err and "--force" in err
+    code = run_scene(dam_break, ["--dx", "0.06", "--config", str(cfg), "--end-time", "0.02", "--no-render",
+                                 "--quiet", "--out", out, "--restart", ck, "--force"])
+    assert code == 0

@@ -1,0 +1,128 @@
+"""Stress suite: cases that break weaker solvers. `python -m tisph.stress [--quick] [--out DIR]`.
+
+Each case must end ok with no leak, or stop cleanly with a message (exit code 3 from the CLI),
+or be refused with a clear error. Writes OUT/stress.csv and OUT/stress.md with one row a case:
+case, outcome, leaks, max density error, wall time.
+"""
+import argparse
+import copy
+import os
+import sys
+import time
+import types
+
+import numpy as np
+
+from .config import ConfigError
+from .io import OutputError, ensure_dir, write_csv, write_text
+from .particles import ParticleSet, box_walls, FLUID, WALL, tait_B
+from .runner import Case, common_params, simulate, sound_speed
+from .scenes import dam_break, tank
+
+
+def _variant(base, name, build):
+    """A scene module with another build(cfg), so a case runs through the ordinary path."""
+    m = types.SimpleNamespace(NAME=name, DEFAULTS=copy.deepcopy(base.DEFAULTS),
+                              RANGES=getattr(base, "RANGES", {}), build=build)
+    return m
+
+
+def _single_particle(cfg):
+    """One water particle dropped 0.2 m onto the floor of a tank."""
+    dx = cfg["numerics"]["dx"]
+    rho0 = cfg["materials"]["water"]["rho0"]
+    c0, u = sound_speed(cfg, np.sqrt(2 * 9.81 * 0.3))
+    ps = ParticleSet()
+    ps.add([[0.25, 0.2]], FLUID, 0, rho0, rho0 * dx * dx)
+    ps.add(box_walls(0.0, 0.0, 0.5, 0.5, dx, cfg["numerics"]["wall_layers"]), WALL, 0, rho0, rho0 * dx * dx)
+    mats = [dict(name="water", rho0=rho0, viscosity=1e-3, B=tait_B(rho0, c0))]
+    from .config import physics_from_config
+    return Case(name="single_particle", particles=ps, materials=mats, domain=((-0.2, -0.2), (0.7, 0.8)),
+                params=common_params(cfg, c0, 9.81, 0.3), physics=physics_from_config(cfg),
+                view=((-0.1, -0.1), (0.6, 0.6)), u_max=u, container=(0.0, 0.0, 0.5, np.inf))
+
+
+def _empty(cfg):
+    case = tank.build(cfg)
+    keep = case.particles.kind != FLUID
+    ps = ParticleSet()
+    ps.add(case.particles.x[keep], WALL, 0, case.particles.rho[keep], case.particles.m[keep])
+    case.particles = ps
+    return case
+
+
+def cases(quick):
+    T = (lambda full, short: short if quick else full)
+    res = (0.06,) if quick else (0.06, 0.04, 0.03)
+    out = [("still tank, %g s" % T(20.0, 2.0), tank, {"run.end_time": T(20.0, 2.0)},
+            "no leak, peak speed < 1 % sqrt(gH), density within 1 %")]
+    for dx in res:
+        out.append((f"dam break to {T(5.0, 1.0):g} s, dx = {dx}", dam_break,
+                    {"numerics.dx": dx, "run.end_time": T(5.0, 1.0)}, "no leak, stays stable"))
+    out += [
+        ("dam break, sound speed 3x too low", dam_break,
+         {"numerics.dx": 0.06, "numerics.c0_factor": 10.0 / 3.0, "run.end_time": T(2.0, 0.6)},
+         "warned; stable or stops cleanly"),
+        ("long thin column (5 particles wide)", dam_break,
+         {"numerics.dx": 0.02, "geometry.column_width": 0.1, "geometry.column_height": 2.0,
+          "run.end_time": T(2.0, 0.5)}, "no leak, stays stable"),
+        ("single particle dropped on the floor", _variant(tank, "single_particle", _single_particle),
+         {"run.end_time": T(2.0, 1.0), "numerics.dx": 0.02}, "lands, no leak"),
+        ("empty fluid set", _variant(tank, "empty", _empty), {}, "refused with a clear error"),
+        ("water over a sediment layer (1950 kg/m3) at rest", None, {}, "pending: needs rheology (issue 5)"),
+    ]
+    return out
+
+
+def run(quick=False, out="renders/stress", log=print):
+    ensure_dir(out)
+    rows = []
+    for name, scene, ov, expect in cases(quick):
+        if scene is None:
+            rows.append((name, "not run", "", "", "", expect))
+            continue
+        o = {"output.render": False, "output.quiet": True, "output.snapshot_every": 0.0}
+        o.update(ov)
+        slug = "".join(c if c.isalnum() else "_" for c in name)[:40]
+        t0 = time.perf_counter()
+        try:
+            s = simulate(scene, o, out=os.path.join(out, slug))
+            outcome = s["status"] if s["status"] == "ok" else f"stopped cleanly ({s['status']}): {s['message'][:90]}"
+            if s.get("warnings"):
+                outcome += " [warned]"
+            leaks = s["leaked_particles"] + s["crossed_wall"]
+            rho = f"{s['max_density_error']:.2%}"
+            extra = s["metrics"].get("speed_ratio")
+            if extra is not None:
+                outcome += f", peak speed {extra:.2%} of sqrt(gH)"
+        except (ConfigError, OutputError) as e:
+            outcome, leaks, rho = f"clear error: {e}", "", ""
+        except Exception as e:  # a crash is a failed stress case, reported as such
+            outcome, leaks, rho = f"CRASH {type(e).__name__}: {e}", "", ""
+        wall = time.perf_counter() - t0
+        rows.append((name, outcome, leaks, rho, f"{wall:.1f}", expect))
+        log(f"{name}: {outcome} (leaks {leaks}, max density error {rho}, {wall:.1f} s)")
+    header = ("case", "outcome", "leaks", "max_density_error", "wall_time_s", "expected")
+    write_csv(os.path.join(out, "stress.csv"), header, rows)
+    md = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
+    md += ["| " + " | ".join(str(c) for c in r) + " |" for r in rows]
+    write_text(os.path.join(out, "stress.md"), "\n".join(md) + "\n")
+    return rows
+
+
+def main(argv=None):
+    p = argparse.ArgumentParser(prog="python -m tisph.stress", description=__doc__,
+                                formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("--quick", action="store_true", help="short versions of every case (about a minute)")
+    p.add_argument("--out", default="renders/stress", help="output folder (default renders/stress)")
+    a = p.parse_args(argv)
+    from . import runtime
+    runtime.init("cpu", "f32")
+    rows = run(a.quick, a.out)
+    print(open(os.path.join(a.out, "stress.md")).read())
+    bad = [r for r in rows if r[1].startswith("CRASH") or (isinstance(r[2], int) and r[2] > 0)]
+    return 1 if bad else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
