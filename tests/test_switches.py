@@ -21,8 +21,10 @@ def test_switched_off_terms_have_no_fields_and_change_the_result():
                  "numerics.density_diffusion": "fourtakas", "numerics.laminar_viscosity": True})
     assert off.physics.as_dict() == dict(kernel="cubic", wall="dynamic", artificial_viscosity=False,
                                          laminar_viscosity=False, xsph=False, density_diffusion="none",
-                                         shepard=False)
+                                         shepard=False, rheology=False, periodic_x=False, noslip=False)
     assert "xs" not in off.members and not hasattr(off.p, "xs") and not hasattr(off.tmp, "xs")
+    for s in (off, on):   # a Newtonian scene allocates nothing for rheology
+        assert "mu" not in s.members and not hasattr(s, "mat_rheo") and not hasattr(s, "mat_tau")
     assert "xs" in on.members and hasattr(on.p, "xs")
     for s in (off, on):
         for _ in range(300):

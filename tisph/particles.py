@@ -3,8 +3,10 @@ from __future__ import annotations
 
 import numpy as np
 
-FLUID, WALL, MOVING, OUT = 0, 1, 2, -1
-KIND_NAMES = {FLUID: "fluid", WALL: "fixed boundary", MOVING: "moving boundary", OUT: "out"}
+FLUID, WALL, MOVING = 0, 1, 2
+OUT, OUTFLOW = -1, -2   # parked: left the domain (a leak), or left through an open boundary
+KIND_NAMES = {FLUID: "fluid", WALL: "fixed boundary", MOVING: "moving boundary", OUT: "leaked",
+              OUTFLOW: "outflow"}
 
 
 class ParticleSet:
@@ -17,10 +19,16 @@ class ParticleSet:
         self.m = np.zeros(0)
         self.kind = np.zeros(0, dtype=np.int32)
         self.mat = np.zeros(0, dtype=np.int32)
+        self.wall_normal = np.zeros((0, 2))   # wall particles: unit normal into the fluid
+        self.wall_dist = np.zeros(0)          # and distance behind the wall surface (no-slip)
 
-    def add(self, x, kind, mat, rho, m, v=None):
+    def add(self, x, kind, mat, rho, m, v=None, normal=None, wall_dist=None):
         x = np.asarray(x, dtype=float).reshape(-1, 2)
         n = len(x)
+        nrm = np.zeros((n, 2)) if normal is None else np.broadcast_to(np.asarray(normal, float), (n, 2))
+        wd = np.zeros(n) if wall_dist is None else np.broadcast_to(np.asarray(wall_dist, float), (n,))
+        self.wall_normal = np.vstack([self.wall_normal, nrm])
+        self.wall_dist = np.concatenate([self.wall_dist, wd])
         self.x = np.vstack([self.x, x])
         self.v = np.vstack([self.v, np.zeros((n, 2)) if v is None else np.asarray(v, float).reshape(n, 2)])
         self.rho = np.concatenate([self.rho, np.broadcast_to(np.asarray(rho, float), (n,))])
@@ -71,6 +79,11 @@ def hydrostatic_density(depth, rho0, c0, g, gamma=7.0):
     """Density that gives p = rho0 g depth through the Tait equation, so a column starts at rest."""
     B = tait_B(rho0, c0, gamma)
     return rho0 * (1.0 + rho0 * g * np.maximum(depth, 0.0) / B) ** (1.0 / gamma)
+
+
+def density_from_pressure(p, rho0, c0, gamma=7.0):
+    """Inverse Tait: the density of a material at pressure p."""
+    return rho0 * (1.0 + np.asarray(p, float) / tait_B(rho0, c0, gamma)) ** (1.0 / gamma)
 
 
 def surface_above(xq, fluid_x, dx, reach):

@@ -7,7 +7,7 @@ import numpy as np
 import taichi as ti
 
 from .io import atomic_path, OutputError
-from .particles import FLUID, OUT
+from .particles import FLUID
 
 # Viridis, sampled at 9 points (matplotlib's data), interpolated linearly.
 _VIRIDIS = np.array([
@@ -54,7 +54,7 @@ class Renderer:
         p = self.solver.p
         for i in range(self.solver.n):
             k = p.kind[i]
-            if k != OUT:
+            if k >= 0:
                 col = ti.Vector(BOUNDARY)
                 if k == FLUID:
                     s = ti.min(p.v[i].norm() / vmax, 1.0)

@@ -23,7 +23,7 @@ from . import __version__
 from .cli import make_parser, overrides_from_args
 from .config import ConfigError, build_config, dump_toml, physics_from_config, Physics
 from .io import OutputError, ensure_dir, write_csv, write_json, write_text
-from .particles import FLUID, OUT, KIND_NAMES
+from .particles import FLUID, OUT, OUTFLOW, KIND_NAMES
 
 
 class SimulationError(RuntimeError):
@@ -46,6 +46,10 @@ class Case:
     metrics: Callable = None          # metrics(columns: dict of np arrays) -> dict
     final_metrics: Callable = None    # final_metrics(state: dict of np arrays) -> dict
     container: tuple = None           # (x0, y0, x1, y1) the walls enclose; fluid outside crossed a wall
+    outflow: tuple = ()               # open boundaries: boxes (x0, y0, x1, y1) fluid leaves through
+    events: list = dataclasses.field(default_factory=list)  # [(t, callback(state, t))] at exact times
+    finalize: Callable = None         # finalize(out, metrics) -> None: plots, extra files
+    stills: tuple = ()                # simulated times of named stills, stills/t0.040.png
     notes: list = dataclasses.field(default_factory=list)
 
 
@@ -163,10 +167,28 @@ class Run:
         self._xdmf_dirty = False
         self.next = dict(probe=0.0, frame=0.0, snapshot=0.0, checkpoint=self.ckpt_dt)
         self.signal = None
+        self.events = sorted(case.events, key=lambda e: e[0])
+        if self.render:
+            self.events += [(t, self._still) for t in case.stills]
+            self.events.sort(key=lambda e: e[0])
 
     # -------------------------------------------------------------- outputs
+    def _still(self, state, t):
+        from .render import write_png
+        from .io import ensure_dir
+        ensure_dir(os.path.join(self.out, "stills"))
+        write_png(os.path.join(self.out, "stills", f"t{t:.3f}.png"), self.renderer.frame(t))
+
+    def fire_events(self):
+        while self.events and self.solver.time >= self.events[0][0] - 1e-12:
+            t, cb = self.events.pop(0)
+            st = self.solver.state(("x", "v", "kind", "rho", "p", "m"))
+            st["t"] = self.solver.time
+            cb(st, self.solver.time)
+
     def sample(self):
-        st = self.solver.state(("x", "v", "kind", "rho", "p"))
+        st = self.solver.state(("x", "v", "kind", "rho", "p", "m"))
+        st["t"] = self.solver.time
         if self.case.container is not None:
             x0, y0, x1, y1 = self.case.container
             x = st["x"][st["kind"] == FLUID]
@@ -284,10 +306,11 @@ class Run:
         clean_stale_parts(self.out)
         t_build = time.perf_counter()
         s = self.solver = Solver(self.case.physics, self.case.particles, self.case.materials,
-                                 self.case.domain, self.case.params)
+                                 self.case.domain, self.case.params, outflow=self.case.outflow)
         s.enable_backup()
         if self.restart:
             self.resume()
+            self.events = [e for e in self.events if e[0] > s.time + 1e-12]
         else:
             s.prime()
         compile_s = time.perf_counter() - t_build
@@ -313,6 +336,7 @@ class Run:
             ensure_dir(os.path.join(self.out, "snapshots"))
 
         def outputs():
+            self.fire_events()
             if self._due("probe", self.probe_dt):
                 self.sample()
             if self.render and self._due("frame", self.frame_dt):
@@ -409,8 +433,19 @@ class Run:
         write_csv(os.path.join(self.out, "probes.csv"), cols, self.probes)
         arr = {c: np.array([r[k] for r in self.probes], float) for k, c in enumerate(cols)}
         metrics = case.metrics(arr) if case.metrics else {}
+        final = s.state(("x", "v", "kind", "rho", "p", "mat", "m"))
         if case.final_metrics:
-            metrics.update(case.final_metrics(s.state(("x", "v", "kind", "rho", "p", "mat"))))
+            metrics.update(case.final_metrics(final))
+        # mass balance, summed in float64 from the particles' own masses: fluid in the domain +
+        # fluid that left through open boundaries (+ leaked fluid) = the initial fluid mass
+        m_dev = case.particles.m.astype(final["m"].dtype)  # the masses as the solver stores them
+        m0 = float(np.sum(m_dev[case.particles.kind == FLUID], dtype=np.float64))
+        m_in = float(np.sum(final["m"][final["kind"] == FLUID], dtype=np.float64))
+        m_out = float(np.sum(final["m"][final["kind"] == OUTFLOW], dtype=np.float64))
+        m_leak = float(np.sum(final["m"][final["kind"] == OUT], dtype=np.float64))
+        mass = dict(initial_fluid_mass=m0, fluid_mass=m_in, outflow_mass=m_out, leaked_mass=m_leak,
+                    mass_balance_error=abs(m_in + m_out + m_leak - m0) / m0 if m0 > 0 else 0.0,
+                    outflow_particles=int(np.sum(final["kind"] == OUTFLOW)))
         nb = int(np.sum(case.particles.kind != FLUID))
         pps = (s.n * nsteps / step_s) if step_s > 0 else 0.0
         summary = dict(
@@ -424,10 +459,17 @@ class Run:
             max_density_error=s.max_density_error, frames=self.frame_no,
             snapshots=len(self.snapshots), c0=float(s.c0), h=float(s.h),
             physics=case.physics.as_dict(), warnings=list(getattr(case, "warnings", [])),
-            metrics=metrics,
+            mass=mass, metrics=metrics,
         )
         if self.restart:
             summary["restarted_from"] = os.path.abspath(self.restart)
+        if case.finalize:
+            try:
+                case.finalize(self.out, metrics)
+            except OutputError:
+                raise
+            except Exception as e:  # a failed plot must not lose the run's numbers
+                self.log(f"warning: could not write the scene's plots: {e}", always=True)
         write_json(os.path.join(self.out, "summary.json"), summary)
         self.log(f"{status}: {s.steps} steps to t = {s.time:.4g} s in {wall:.2f} s "
                  f"({pps:.3g} particle-steps/s), leaked {s.leaked}, crossed a wall {self.crossed}, "

@@ -19,13 +19,14 @@ import taichi as ti
 
 from .config import Physics
 from .kernels import get_kernel
-from .particles import FLUID, WALL, MOVING, OUT
+from .particles import FLUID, WALL, MOVING, OUT, OUTFLOW
 from .terms.continuity import continuity
 from .terms.pressure import tait, pressure_accel
 from .terms.viscosity import monaghan_mu, artificial_viscosity, laminar_viscosity
 from .terms.diffusion import density_diffusion, hydrostatic_density_difference
 from .terms.xsph import xsph
 from .terms.repulsive import lennard_jones
+from .terms.rheology import shear_rate, bingham, cross, harmonic_pair, NEWTONIAN, BINGHAM, CROSS, RHEOLOGY_CODES
 
 # Codes of the instability detector, most severe last.
 BAD_NONE, BAD_DENSITY, BAD_SPEED, BAD_DT, BAD_NAN = 0, 1, 2, 3, 4
@@ -58,11 +59,13 @@ class ParticleFields:
 
 @ti.data_oriented
 class Solver:
-    def __init__(self, physics: Physics, particles, materials, domain, params: dict):
+    def __init__(self, physics: Physics, particles, materials, domain, params: dict, outflow=()):
         """particles: ParticleSet; materials: list of dicts (name, rho0, viscosity, B);
         domain: ((xlo, ylo), (xhi, yhi)); params: dx, h, c0, alpha, xsph, delta, g, wall_D,
         wall_r0, cfl, dt_max, density_band."""
         self.physics = physics
+        # open boundaries: boxes (x0, y0, x1, y1); fluid entering one leaves the simulation
+        self.outflow = tuple(tuple(float(v) for v in z) for z in outflow)
         self.K = get_kernel(physics.kernel)
         self.n = len(particles)
         if self.n == 0:
@@ -71,15 +74,22 @@ class Solver:
         self.dx = float(params["dx"])
         self.h = float(params["h"])
         self.c0 = float(params["c0"])
+        self.params_cfl = float(params.get("cfl", 0.4))
         self.materials = materials
         real = ti.lang.impl.get_runtime().default_fp
         self.real = real
         vec2 = ti.types.vector(2, real)
 
         members = dict(x=vec2, v=vec2, a=vec2, rho=real, drho=real, m=real,
-                       kind=ti.i32, mat=ti.i32, id=ti.i32, ve=vec2, rhoe=real, p=real)
+                       kind=ti.i32, mat=ti.i32, id=ti.i32, ve=vec2, rhoe=real, p=real, ir=real)
+        # ir = 1 / rhoe, set once per particle so the pair loop divides by no density
         if physics.xsph:
             members["xs"] = vec2          # XSPH correction, only when the term is on
+        if physics.rheology:
+            members["mu"] = real          # effective viscosity, only with a non-Newtonian material
+        if physics.noslip:
+            members["wn"] = vec2          # wall normal (into the fluid) and distance behind the
+            members["wd"] = real          # wall surface, for the no-slip ghost velocity
         self.members = tuple(members)
         self._member_types = dict(members)
         self.bak = None
@@ -94,11 +104,23 @@ class Solver:
         # Cells of half the support and a 5 x 5 stencil: 25 h^2 of candidates instead of 36 h^2.
         self.cdiv = 2
         self.cell = self.support / self.cdiv
-        self.nx = max(1, int(math.ceil((hi[0] - lo[0]) / self.cell)))
+        self.cell_y = self.cell
         self.ny = max(1, int(math.ceil((hi[1] - lo[1]) / self.cell)))
+        if physics.periodic_x:
+            # the domain's x extent is one period; cells tile it exactly (slightly wider than needed)
+            self.period = float(hi[0] - lo[0])
+            self.nx = int(math.floor(self.period / self.cell))
+            if self.nx < 2 * self.cdiv + 1:
+                raise ValueError(f"periodic length {self.period:g} m is shorter than {2 * self.cdiv + 1} cells "
+                                 f"of {self.cell:g} m: lengthen the domain or reduce h")
+            self.cell_x = self.period / self.nx
+        else:
+            self.period = 0.0
+            self.nx = max(1, int(math.ceil((hi[0] - lo[0]) / self.cell)))
+            self.cell_x = self.cell
         self.ncells = self.nx * self.ny
         self.lo = (float(lo[0]), float(lo[1]))
-        self.hi = (float(lo[0] + self.nx * self.cell), float(lo[1] + self.ny * self.cell))
+        self.hi = (float(lo[0] + self.nx * self.cell_x), float(lo[1] + self.ny * self.cell_y))
         self.domain = (tuple(lo), tuple(hi))
         self.key = ti.field(ti.i32, self.n)
         self.order = ti.field(ti.i32, self.n)
@@ -109,11 +131,27 @@ class Solver:
         nmat = len(materials)
         self.mat_rho0 = ti.field(real, nmat)
         self.mat_B = ti.field(real, nmat)
-        self.mat_mu = ti.field(real, nmat)
+        self.mat_mu = ti.field(real, nmat)       # Newtonian mu, Bingham mu_B, Cross mu_inf
+        if physics.rheology:
+            self.mat_rheo = ti.field(ti.i32, nmat)
+            self.mat_tau = ti.field(real, nmat)      # Bingham yield stress
+            self.mat_m = ti.field(real, nmat)        # Papanastasiou regularisation (s)
+            self.mat_mumax = ti.field(real, nmat)    # cap on the effective viscosity
+            self.mat_mu0 = ti.field(real, nmat)      # Cross zero-shear viscosity
+            self.mat_K = ti.field(real, nmat)        # Cross time constant (s)
+            self.mat_m1 = ti.field(real, nmat)       # Cross exponent
         for k, mat in enumerate(materials):
             self.mat_rho0[k] = mat["rho0"]
             self.mat_B[k] = mat["B"]
             self.mat_mu[k] = mat.get("viscosity", 0.0)
+            if physics.rheology:
+                self.mat_rheo[k] = RHEOLOGY_CODES[mat.get("rheology", "newtonian")]
+                self.mat_tau[k] = mat.get("yield_stress", 0.0)
+                self.mat_m[k] = mat.get("regularisation", 1000.0)
+                self.mat_mumax[k] = self.mu_cap(mat)
+                self.mat_mu0[k] = mat.get("mu0", mat.get("viscosity", 0.0))
+                self.mat_K[k] = mat.get("K", 0.0)
+                self.mat_m1[k] = mat.get("m1", 1.0)
 
         # Runtime parameters: read by kernels from a field, so changing them needs no recompile.
         prm = dict(c0=real, alpha=real, eps=real, delta=real, g=vec2, wall_D=real, wall_r0=real,
@@ -131,7 +169,7 @@ class Solver:
             setattr(self.prm[None], k, v)
 
         S = ti.types.struct(amax2=real, mumax=real, vmax2=real, bad_code=ti.i32, bad_idx=ti.i32,
-                            leaked=ti.i32, nact=ti.i32, rhodev=real)
+                            leaked=ti.i32, nact=ti.i32, rhodev=real, outflow=ti.i32, numax=real)
         self.stats = S.field(shape=())
 
         # Initial state.
@@ -142,6 +180,13 @@ class Solver:
         self.p.kind.from_numpy(particles.kind.astype(np.int32))
         self.p.mat.from_numpy(particles.mat.astype(np.int32))
         self.p.id.from_numpy(np.arange(self.n, dtype=np.int32))
+        if physics.noslip:
+            fp = np.float64 if real == ti.f64 else np.float32
+            self.p.wn.from_numpy(particles.wall_normal.astype(fp))
+            self.p.wd.from_numpy(particles.wall_dist.astype(fp))
+        if physics.rheology:  # at rest: each material's zero-shear viscosity
+            self.p.mu.from_numpy(np.array([self._mu_at_rest(materials[k]) for k in particles.mat],
+                                          dtype=np.float64 if real == ti.f64 else np.float32))
         self._reset_stats()
         self.shepard_every = int(params.get("shepard_every", 0))
         self.steps = 0
@@ -156,6 +201,26 @@ class Solver:
         self.is_dbc = physics.wall == "dynamic"
 
     # ------------------------------------------------------------------ helpers
+    def mu_cap(self, mat):
+        """The effective-viscosity cap of a material: its mu_max, or with mu_max = 0 ("auto") the
+        viscosity whose explicit viscous step 0.125 h^2 rho / mu equals the acoustic step
+        cfl h / c0, so a plastic material costs no extra time steps. Below yield such a material
+        creeps at about (stress / mu_cap); a larger mu_max makes it stiffer and the run slower in
+        proportion."""
+        mm = mat.get("mu_max", 0.0)
+        if mm > 0:
+            return mm
+        return 0.125 * self.h * mat["rho0"] * self.c0 / self.params_cfl
+
+    def _mu_at_rest(self, mat):
+        r = mat.get("rheology", "newtonian")
+        mu = mat.get("viscosity", 0.0)
+        if r == "bingham":
+            mu = mu + mat.get("yield_stress", 0.0) * mat.get("regularisation", 1000.0)
+        elif r == "cross":
+            mu = mat.get("mu0", mu)
+        return min(mu, self.mu_cap(mat)) if r != "newtonian" else mu
+
     def _reset_stats(self):
         s = self.stats[None]
         s.amax2 = 0.0
@@ -167,12 +232,20 @@ class Solver:
 
     @ti.func
     def cell_of(self, x):
-        c = ti.floor((x - ti.Vector(self.lo)) / self.cell, ti.i32)
+        c = ti.floor((x - ti.Vector(self.lo)) / ti.Vector([self.cell_x, self.cell_y]), ti.i32)
         return ti.Vector([ti.max(0, ti.min(self.nx - 1, c[0])), ti.max(0, ti.min(self.ny - 1, c[1]))])
 
     @ti.func
     def inside(self, x):
         return self.lo[0] <= x[0] < self.hi[0] and self.lo[1] <= x[1] < self.hi[1]
+
+    @ti.func
+    def wrap(self, x):
+        """Periodic in x: back into [lo, lo + period)."""
+        y = x
+        if ti.static(self.physics.periodic_x):
+            y[0] = x[0] - self.period * ti.floor((x[0] - self.lo[0]) / self.period)
+        return y
 
     @ti.func
     def for_neighbours(self, src: ti.template(), i, xi, task: ti.template(), acc: ti.template()):
@@ -185,17 +258,32 @@ class Solver:
         the sorted particles: one range per row instead of one per cell.
         """
         c = self.cell_of(xi)
-        x0 = ti.max(c[0] - self.cdiv, 0)
-        x1 = ti.min(c[0] + self.cdiv, self.nx - 1)
-        for dy in ti.static(range(-self.cdiv, self.cdiv + 1)):
-            cy = c[1] + dy
-            if 0 <= cy < self.ny:
-                row = cy * self.nx
-                for j in range(self.start[row + x0], self.start[row + x1 + 1]):
-                    r = xi - src.x[j]
-                    r2 = r.dot(r)
-                    if r2 < self.support * self.support:
-                        task(i, j, r, r2, acc)
+        if ti.static(not self.physics.periodic_x):
+            x0 = ti.max(c[0] - self.cdiv, 0)
+            x1 = ti.min(c[0] + self.cdiv, self.nx - 1)
+            for dy in ti.static(range(-self.cdiv, self.cdiv + 1)):
+                cy = c[1] + dy
+                if 0 <= cy < self.ny:
+                    row = cy * self.nx
+                    for j in range(self.start[row + x0], self.start[row + x1 + 1]):
+                        r = xi - src.x[j]
+                        r2 = r.dot(r)
+                        if r2 < self.support * self.support:
+                            task(i, j, r, r2, acc)
+        else:
+            # periodic in x: cells wrap, so a row is no longer one range; r is the nearest image
+            for dy in ti.static(range(-self.cdiv, self.cdiv + 1)):
+                cy = c[1] + dy
+                if 0 <= cy < self.ny:
+                    row = cy * self.nx
+                    for dxo in ti.static(range(-self.cdiv, self.cdiv + 1)):
+                        cx = (c[0] + dxo + self.nx) % self.nx
+                        for j in range(self.start[row + cx], self.start[row + cx + 1]):
+                            r = xi - src.x[j]
+                            r[0] -= self.period * ti.round(r[0] / self.period)
+                            r2 = r.dot(r)
+                            if r2 < self.support * self.support:
+                                task(i, j, r, r2, acc)
 
     @ti.func
     def fluid_near(self, xi):
@@ -205,9 +293,13 @@ class Solver:
         for dy in ti.static(range(-self.cdiv, self.cdiv + 1)):
             cy = c[1] + dy
             if 0 <= cy < self.ny:
-                for cx in range(ti.max(c[0] - self.cdiv, 0), ti.min(c[0] + self.cdiv, self.nx - 1) + 1):
-                    if self.fcnt[cy * self.nx + cx] > 0:
-                        found = True
+                for dxo in range(-self.cdiv, self.cdiv + 1):
+                    cx = c[0] + dxo
+                    if ti.static(self.physics.periodic_x):
+                        cx = (cx + self.nx) % self.nx
+                    if 0 <= cx < self.nx:
+                        if self.fcnt[cy * self.nx + cx] > 0:
+                            found = True
         return found
 
     # ------------------------------------------------------------------ pair tasks
@@ -218,6 +310,7 @@ class Solver:
         kj = s.kind[j]
         prm = self.prm[None]
         rho_j = s.rhoe[j]
+        ir_j = s.ir[j]
         p_j = s.p[j]
         if ti.static(self.physics.wall == "repulsive"):
             if kj != FLUID:
@@ -225,23 +318,41 @@ class Solver:
                 # mirrors i's pressure plus the hydrostatic difference, completing the kernel
                 acc.a += lennard_jones(prm.wall_D, prm.wall_r0, r, r2)
                 rho_j = acc.rhoi
+                ir_j = acc.inv_rhoi
                 p_j = acc.pi - acc.rhoi * prm.g.dot(r)
         if True:
             rn = ti.sqrt(r2)
             q = rn * self.inv_h
             gw = self.g_scale * self.K.fshape(q) * r
             m_j = s.m[j]
-            vol_j = m_j / rho_j
+            vol_j = m_j * ir_j
             v_ij = acc.vi - s.ve[j]
             acc.drho += continuity(acc.rhoi, vol_j, v_ij, gw)
-            acc.a += pressure_accel(m_j, acc.pi, p_j, acc.inv_rhoi, 1.0 / rho_j, gw)
+            acc.a += pressure_accel(m_j, acc.pi, p_j, acc.inv_rhoi, ir_j, gw)
             if ti.static(self.physics.artificial_viscosity):
                 mu = monaghan_mu(self.h, v_ij, r, r2)
-                acc.a += artificial_viscosity(m_j, prm.alpha, prm.c0, mu, acc.rhoi, rho_j, gw)
+                acc.a += artificial_viscosity(m_j, prm.alpha, prm.c0, mu, acc.inv_rhoi, ir_j, gw)
                 acc.mu = ti.max(acc.mu, -mu)
+            v_visc = v_ij
+            if ti.static(self.physics.noslip):
+                if kj != FLUID:
+                    # Morris et al. (1997), paper 002 eq. 39: the wall particle carries the ghost
+                    # velocity u_B = -(d_B/d_A) u_A (relative to the wall), so the no-slip sits on
+                    # the wall surface; d_B/d_A capped at 1.5 as Morris does for close approach
+                    d_i = r.dot(s.wn[j]) - s.wd[j]
+                    ratio = ti.min(s.wd[j] / ti.max(d_i, 1e-6 * self.h), 1.5)
+                    v_visc = (1.0 + ratio) * v_ij
             if ti.static(self.physics.laminar_viscosity):
-                acc.a += laminar_viscosity(m_j, acc.mui, self.mat_mu[s.mat[j]], acc.rhoi, rho_j,
-                                           v_ij, r, r2, gw, self.eta2)
+                mu_j = acc.mui                      # a wall particle takes the fluid's viscosity
+                if kj == FLUID:
+                    if ti.static(self.physics.rheology):
+                        mu_j = s.mu[j]
+                    else:
+                        mu_j = self.mat_mu[s.mat[j]]
+                acc.a += laminar_viscosity(m_j, harmonic_pair(acc.mui, mu_j), acc.inv_rhoi, ir_j,
+                                           v_visc, r, r2, gw, self.eta2)
+            if ti.static(self.physics.rheology):
+                acc.gv += vol_j * (-v_visc).outer_product(gw)  # velocity gradient, for the shear rate
             if ti.static(self.physics.density_diffusion != "none"):
                 if kj == FLUID and s.mat[j] == acc.mat:
                     hyd = 0.0
@@ -252,7 +363,7 @@ class Solver:
             if ti.static(self.physics.xsph):
                 if kj == FLUID:
                     w = self.w_scale * self.K.shape(q)
-                    acc.xs += xsph(m_j, -v_ij, acc.rhoi, rho_j, w)
+                    acc.xs += xsph(m_j, -v_ij, acc.inv_rhoi, ir_j, w)
 
     @ti.func
     def boundary_pair(self, i, j, r, r2, acc: ti.template()):
@@ -260,7 +371,7 @@ class Solver:
         s = self.tmp
         if s.kind[j] == FLUID:
             gw = self.g_scale * self.K.fshape(ti.sqrt(r2) * self.inv_h) * r
-            acc.drho += continuity(acc.rhoi, s.m[j] / s.rhoe[j], acc.vi - s.ve[j], gw)
+            acc.drho += continuity(acc.rhoi, s.m[j] * s.ir[j], acc.vi - s.ve[j], gw)
 
     # ------------------------------------------------------------------ the step
     @ti.func
@@ -276,20 +387,30 @@ class Solver:
         for i in range(self.n):
             k = self.p.kind[i]
             key = ncell
-            if k != OUT:
+            if k >= 0:
                 if k == FLUID:
                     drift = self.p.v[i]
                     if ti.static(self.physics.xsph):
                         drift += prm.eps * self.p.xs[i]
-                    self.p.x[i] += dt * drift + 0.5 * dt * dt * self.p.a[i]
+                    self.p.x[i] = self.wrap(self.p.x[i] + dt * drift + 0.5 * dt * dt * self.p.a[i])
                     self.p.v[i] += 0.5 * dt * self.p.a[i]
                     self.p.rho[i] += 0.5 * dt * self.p.drho[i]
                 else:
                     if k == MOVING:
-                        self.p.x[i] += dt * self.p.v[i]
+                        self.p.x[i] = self.wrap(self.p.x[i] + dt * self.p.v[i])
                     if ti.static(self.is_dbc):
                         self.p.rho[i] += 0.5 * dt * self.p.drho[i]
-                if self.inside(self.p.x[i]):
+                gone = False
+                if ti.static(len(self.outflow) > 0):
+                    if k == FLUID:
+                        for z in ti.static(self.outflow):
+                            xx = self.p.x[i]
+                            if z[0] <= xx[0] <= z[2] and z[1] <= xx[1] <= z[3]:
+                                gone = True
+                if gone:
+                    self.p.kind[i] = OUTFLOW
+                    ti.atomic_add(self.stats[None].outflow, 1)
+                elif self.inside(self.p.x[i]):
                     c = self.cell_of(self.p.x[i])
                     key = c[1] * self.nx + c[0]
                     if self.p.kind[i] == FLUID:
@@ -332,7 +453,7 @@ class Solver:
                 if k == FLUID:
                     self.tmp.ve[a] = self.tmp.v[a] + 0.5 * dt * self.tmp.a[a]
                     self.tmp.rhoe[a] = self.tmp.rho[a] + 0.5 * dt * self.tmp.drho[a]
-                elif k != OUT:
+                elif k >= 0:
                     self.tmp.ve[a] = self.tmp.v[a]
                     re = self.tmp.rho[a]
                     if ti.static(self.is_dbc):
@@ -340,6 +461,7 @@ class Solver:
                     self.tmp.rhoe[a] = re
                 mt = self.tmp.mat[a]
                 self.tmp.p[a] = tait(self.tmp.rhoe[a], self.mat_rho0[mt], self.mat_B[mt])
+                self.tmp.ir[a] = 1.0 / self.tmp.rhoe[a]
         # 5. forces at the new positions, and the closing half kick
         for i in range(self.n):
             for fp, ft in ti.static(self.pairs):
@@ -347,10 +469,14 @@ class Solver:
             k = self.tmp.kind[i]
             if k == FLUID:
                 mi = self.tmp.mat[i]
+                mui = self.mat_mu[mi]
+                if ti.static(self.physics.rheology):
+                    mui = self.tmp.mu[i]
                 acc = ti.Struct(a=ti.Vector([0.0, 0.0]), drho=0.0, xs=ti.Vector([0.0, 0.0]), mu=0.0,
                                 vi=self.tmp.ve[i], rhoi=self.tmp.rhoe[i], pi=self.tmp.p[i],
-                                inv_rhoi=1.0 / self.tmp.rhoe[i], mui=self.mat_mu[mi], mat=mi,
-                                rho0_c02=self.mat_rho0[mi] / (prm.c0 * prm.c0))
+                                inv_rhoi=1.0 / self.tmp.rhoe[i], mui=mui, mat=mi,
+                                rho0_c02=self.mat_rho0[mi] / (prm.c0 * prm.c0),
+                                gv=ti.Matrix([[0.0, 0.0], [0.0, 0.0]]))
                 self.for_neighbours(self.tmp, i, self.tmp.x[i], self.fluid_pair, acc)
                 a = acc.a + prm.g
                 v = self.tmp.v[i] + 0.5 * dt * a
@@ -361,6 +487,18 @@ class Solver:
                 self.p.rho[i] = rho
                 if ti.static(self.physics.xsph):
                     self.p.xs[i] = acc.xs
+                if ti.static(self.physics.rheology):
+                    # effective viscosity for the next step (lagged by one dt, ~1e-4 s)
+                    gdot = shear_rate(acc.gv)
+                    mu_new = self.mat_mu[mi]
+                    rh = self.mat_rheo[mi]
+                    if rh == BINGHAM:
+                        mu_new = bingham(self.mat_mu[mi], self.mat_tau[mi], self.mat_m[mi], self.mat_mumax[mi], gdot)
+                    elif rh == CROSS:
+                        mu_new = cross(self.mat_mu0[mi], self.mat_mu[mi], self.mat_K[mi], self.mat_m1[mi],
+                                       self.mat_mumax[mi], gdot)
+                    self.p.mu[i] = mu_new
+                    ti.atomic_max(self.stats[None].numax, mu_new / rho)
                 ti.atomic_max(self.stats[None].amax2, a.dot(a))
                 ti.atomic_max(self.stats[None].mumax, acc.mu)
                 v2 = v.dot(v)
@@ -377,7 +515,7 @@ class Solver:
                 if code != BAD_NONE:
                     ti.atomic_max(self.stats[None].bad_code, code)
                     ti.atomic_min(self.stats[None].bad_idx, i)
-            elif k != OUT:
+            elif k >= 0:
                 if ti.static(self.is_dbc):
                     acc = ti.Struct(drho=0.0, vi=self.tmp.ve[i], rhoi=self.tmp.rhoe[i])
                     if self.fluid_near(self.tmp.x[i]):  # most wall particles have no fluid near
@@ -396,7 +534,13 @@ class Solver:
             if amax > 0.0:
                 dt_f = ti.sqrt(self.h / amax)
             dt_cv = self.h / (prm.c0 + st.mumax)
-            dt_new = ti.min(prm.cfl * ti.min(dt_f, dt_cv), prm.dt_visc, prm.dt_max)
+            dt_v = prm.dt_visc
+            if ti.static(self.physics.rheology):
+                # the viscous limit from the effective viscosity actually applied this step
+                if st.numax > 0.0:
+                    dt_v = ti.min(dt_v, 0.125 * self.h * self.h / st.numax)
+                self.stats[None].numax = 0.0
+            dt_new = ti.min(prm.cfl * ti.min(dt_f, dt_cv), dt_v, prm.dt_max)
             if dt_new < prm.dt_floor:
                 ti.atomic_max(self.stats[None].bad_code, BAD_DT)
             self.prm[None].dt = dt_new
@@ -426,7 +570,7 @@ class Solver:
     @ti.kernel
     def _neighbour_stats(self, cnt: ti.types.ndarray(), idsum: ti.types.ndarray()):
         for i in range(self.n):
-            if self.p.kind[i] != OUT:
+            if self.p.kind[i] >= 0:
                 acc = ti.Struct(n=0, ids=0)
                 self.for_neighbours(self.p, i, self.p.x[i], self.count_pair, acc)
                 cnt[self.p.id[i]] = acc.n
@@ -453,7 +597,7 @@ class Solver:
         d = {k: getattr(self.p, k).to_numpy() for k in self.members}
         st = self.stats[None]
         scal = dict(time=self.time, steps=self.steps, dt=float(self.prm[None].dt), leaked=int(st.leaked),
-                    n=self.n, primed=int(self._primed), rhodev=float(st.rhodev))
+                    n=self.n, primed=int(self._primed), rhodev=float(st.rhodev), outflow=int(st.outflow))
         return d, scal
 
     def load_raw_state(self, arrays, scalars):
@@ -469,6 +613,7 @@ class Solver:
         self.prm[None].dt = float(scalars["dt"])
         self.stats[None].leaked = int(scalars["leaked"])
         self.stats[None].rhodev = float(scalars.get("rhodev", 0.0))
+        self.stats[None].outflow = int(scalars.get("outflow", 0))
         self._primed = bool(int(scalars["primed"]))
 
     def enable_backup(self):
@@ -527,6 +672,10 @@ class Solver:
     def max_density_error(self):
         """Largest |rho/rho0 - 1| of any fluid particle at any step so far."""
         return float(self.stats[None].rhodev)
+
+    @property
+    def outflow_count(self):
+        return int(self.stats[None].outflow)
 
     @property
     def leaked(self):

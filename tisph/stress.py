@@ -69,7 +69,9 @@ def cases(quick):
         ("single particle dropped on the floor", _variant(tank, "single_particle", _single_particle),
          {"run.end_time": T(2.0, 1.0), "numerics.dx": 0.02}, "lands, no leak"),
         ("empty fluid set", _variant(tank, "empty", _empty), {}, "refused with a clear error"),
-        ("water over a sediment layer (1950 kg/m3) at rest", None, {}, "pending: needs rheology (issue 5)"),
+        ("water over a sediment layer (1950 kg/m3) at rest, %g s" % T(20.0, 2.0), tank,
+         {"geometry.sediment_depth": 0.2, "run.end_time": T(20.0, 2.0)},
+         "no leak, interface moves < dx, peak speed < 1 % sqrt(gH)"),
     ]
     return out
 
@@ -95,6 +97,9 @@ def run(quick=False, out="renders/stress", log=print):
             extra = s["metrics"].get("speed_ratio")
             if extra is not None:
                 outcome += f", peak speed {extra:.2%} of sqrt(gH)"
+            moved = s["metrics"].get("interface_displacement_over_dx")
+            if moved is not None:
+                outcome += f", interface moved {moved:.2f} dx"
         except (ConfigError, OutputError) as e:
             outcome, leaks, rho = f"clear error: {e}", "", ""
         except Exception as e:  # a crash is a failed stress case, reported as such

@@ -1,7 +1,10 @@
-"""Still water in a closed tank: the hydrostatic check every SPH code must pass.
+"""Still water in a closed tank, optionally over a sediment layer: the hydrostatic check every SPH
+code must pass, and (with sediment) the two-phase check of a stable density jump.
 
-Starts from the hydrostatic density, settles, and reports the pressure against rho g d layer by
-layer, the peak speed against sqrt(g H), the density error and any particle that left the tank.
+Starts from the hydrostatic density of each layer, settles, and reports the pressure against
+the hydrostatic profile row by row, the peak speed against sqrt(g H), the density error, any
+particle that left the tank and, with sediment, how far the interface moved and whether the
+pressure is continuous across it.
 """
 import math
 import sys
@@ -9,7 +12,8 @@ import sys
 import numpy as np
 
 from ..config import ConfigError, physics_from_config
-from ..particles import ParticleSet, block, box_walls, hydrostatic_density, surface_above, tait_B, FLUID, WALL
+from ..particles import (ParticleSet, block, box_walls, density_from_pressure, surface_above, tait_B,
+                         FLUID, WALL)
 from ..runner import Case, common_params, run_scene, sound_speed
 
 NAME = "tank"
@@ -19,11 +23,21 @@ DEFAULTS = {
     "run": {"end_time": 2.0},
     "numerics": {"dx": 0.02, "h_factor": 1.3, "artificial_viscosity": 0.1,
                  "density_diffusion": "fourtakas", "delta": 0.1},
-    "geometry": {"width": 0.5, "depth": 0.5, "tank_height": 0.7},
-    "materials": {"water": {"rho0": 1000.0, "viscosity": 1.0e-3}},
+    "geometry": {"width": 0.5, "depth": 0.5, "tank_height": 0.7,
+                 "sediment_depth": 0.0},   # > 0: a sediment layer at the bottom, water above it
+    "materials": {
+        "water": {"rho0": 1000.0, "viscosity": 1.0e-3},
+        # saturated sand as a Bingham fluid (paper 000 section 5: 1950 kg/m3, mu_B = 0.1 Pa s)
+        "sediment": {"rho0": 1950.0, "viscosity": 0.1, "rheology": "bingham", "yield_stress": 200.0,
+                     "regularisation": 100.0, "mu_max": 0.0},
+    },
     "output": {"frame_interval": 0.1, "probe_interval": 0.01, "render": False},
 }
-RANGES = {f"geometry.{k}": (0.0, None, False, True) for k in DEFAULTS["geometry"]}
+RANGES = {f"geometry.{k}": (0.0, None, k == "sediment_depth", True) for k in DEFAULTS["geometry"]}
+RANGES.update({"materials.sediment.yield_stress": (0.0, None, True, True),
+               "materials.sediment.regularisation": (0.0, None, False, True),
+               "materials.sediment.mu_max": (0.0, None, True, True)})
+CHOICES = {"materials.sediment.rheology": ("newtonian", "bingham", "cross")}
 
 
 def check(cfg):
@@ -33,13 +47,24 @@ def check(cfg):
     if min(g["width"], g["depth"]) / dx < 4:
         raise ConfigError("numerics.dx", dx, f"at most {min(g['width'], g['depth']) / 4:.4g} m "
                           "(4 particles across the water)")
+    if g["sediment_depth"] > 0 and not (2 * dx <= g["sediment_depth"] <= g["depth"] - 2 * dx):
+        raise ConfigError("geometry.sediment_depth", g["sediment_depth"],
+                          f"0 (none) or between 2 dx and geometry.depth - 2 dx ({2 * dx:g} to {g['depth'] - 2 * dx:g} m)")
 
 
-def layer_pressure_errors(x, p, dx, rho0, g=G, skip_top=2):
-    """Per particle row: (depth, mean p / (rho0 g depth) - 1), top `skip_top` rows left out.
+def hydrostatic_pressure(y, H, hs, rho_w, rho_s, g=G):
+    """Pressure of water (surface at H) over a sediment layer (top at hs) at rest."""
+    y = np.asarray(y, float)
+    pw = rho_w * g * np.maximum(H - y, 0.0)
+    return np.where(y >= hs, pw, rho_w * g * (H - hs) + rho_s * g * (hs - y))
+
+
+def layer_pressure_errors(x, p, dx, rho0, g=G, skip_top=2, expected=None):
+    """Per particle row: (depth, mean p / p_hydrostatic - 1), top `skip_top` rows left out.
 
     Rows are binned from the floor at spacing dx; depth is measured from the actual free surface
     (top row + dx/2), so a uniform settling of the column does not count as a pressure error.
+    expected(depth) gives the hydrostatic pressure (default rho0 g depth).
     """
     rows = np.floor(x[:, 1] / dx + 1e-6).astype(int)
     top = rows.max()
@@ -50,27 +75,40 @@ def layer_pressure_errors(x, p, dx, rho0, g=G, skip_top=2):
         if m.sum() < 2:
             continue
         d = ysurf - x[m, 1].mean()
-        out.append((d, p[m].mean() / (rho0 * g * d) - 1.0))
+        ref = expected(d) if expected else rho0 * g * d
+        out.append((d, p[m].mean() / ref - 1.0))
     return np.array(out).reshape(-1, 2)
 
 
 def build(cfg):
     geo, num = cfg["geometry"], cfg["numerics"]
-    dx, W, H, Ht = num["dx"], geo["width"], geo["depth"], geo["tank_height"]
-    water = cfg["materials"]["water"]
-    rho0 = water["rho0"]
+    dx, W, H, Ht, hs = num["dx"], geo["width"], geo["depth"], geo["tank_height"], geo["sediment_depth"]
+    mats = cfg["materials"]
+    rw, rs = mats["water"]["rho0"], mats["sediment"]["rho0"]
     c0, u_max = sound_speed(cfg, math.sqrt(2 * G * H))
     ps = ParticleSet()
-    fluid = block(0.0, 0.0, W, H, dx)
-    ps.add(fluid, FLUID, 0, hydrostatic_density(H - fluid[:, 1], rho0, c0, G), rho0 * dx * dx)
+    used = ["water"] + (["sediment"] if hs > 0 else [])
+    water = block(0.0, hs, W, H, dx)
+    ps.add(water, FLUID, 0, density_from_pressure(hydrostatic_pressure(water[:, 1], H, hs, rw, rs), rw, c0),
+           rw * dx * dx)
+    if hs > 0:
+        sed = block(0.0, 0.0, W, hs, dx)
+        ps.add(sed, FLUID, 1, density_from_pressure(hydrostatic_pressure(sed[:, 1], H, hs, rw, rs), rs, c0),
+               rs * dx * dx)
     walls = box_walls(0.0, 0.0, W, Ht, dx, num["wall_layers"])
     h = num["h_factor"] * dx
-    top = surface_above(walls[:, 0], fluid, dx, 2 * h)
-    ps.add(walls, WALL, 0, hydrostatic_density(top - walls[:, 1], rho0, c0, G), rho0 * dx * dx)
+    top = surface_above(walls[:, 0], np.vstack([water] + ([sed] if hs > 0 else [])), dx, 2 * h)
+    pw = np.where(top > walls[:, 1], hydrostatic_pressure(np.minimum(walls[:, 1], H), H, hs, rw, rs), 0.0)
+    pw = np.where(np.isfinite(top), pw, 0.0)
+    ps.add(walls, WALL, 0, density_from_pressure(pw, rw, c0), rw * dx * dx)
     pad = num["wall_layers"] * dx + 4 * h
     domain = ((-pad, -pad), (W + pad, Ht + pad))
-    materials = [dict(name="water", rho0=rho0, viscosity=water["viscosity"], B=tait_B(rho0, c0))]
+    materials = []
+    for name in ("water", "sediment"):
+        m = dict(mats[name])
+        materials.append(dict(m, name=name, B=tait_B(m["rho0"], c0)))
     vref = math.sqrt(G * H)
+    sed0 = {}
 
     def probe(st):
         fl = st["kind"] == FLUID
@@ -79,22 +117,47 @@ def build(cfg):
 
     def final_metrics(st):
         fl = st["kind"] == FLUID
-        errs = layer_pressure_errors(st["x"][fl], st["p"][fl], dx, rho0)
+        x, p, mat = st["x"][fl], st["p"][fl], st["mat"][fl]
+        ysurf_est = None
+        errs = layer_pressure_errors(x, p, dx, rw, expected=lambda d: hydrostatic_pressure(H - d, H, hs, rw, rs))
         v = st["v"][fl]
-        rho_h = hydrostatic_density(errs[:, 0], rho0, c0, G) if len(errs) else np.array([rho0])
-        below_floor = int(np.sum(st["x"][fl, 1] < 0.0))
-        outside = int(np.sum((st["x"][fl, 0] < 0) | (st["x"][fl, 0] > W))) + below_floor
-        return dict(pressure_error=float(np.abs(errs[:, 1]).max()) if len(errs) else float("nan"),
-                    speed_ratio=float(np.sqrt((v * v).sum(1)).max() / vref),
-                    density_error=float(np.abs(st["rho"][fl] / rho0 - 1.0).max()),
-                    crossed_wall=outside, layers_checked=int(len(errs)))
+        rho0 = np.where(mat == 0, rw, rs)
+        below_floor = int(np.sum(x[:, 1] < 0.0))
+        outside = int(np.sum((x[:, 0] < 0) | (x[:, 0] > W))) + below_floor
+        out = dict(pressure_error=float(np.abs(errs[:, 1]).max()) if len(errs) else float("nan"),
+                   speed_ratio=float(np.sqrt((v * v).sum(1)).max() / vref),
+                   density_error=float(np.abs(st["rho"][fl] / rho0 - 1.0).max()),
+                   crossed_wall=outside, layers_checked=int(len(errs)))
+        if hs > 0:
+            # interface: the top row of sediment, per column, against its start
+            ids_top = sed0["top_ids"]
+            y_now = st["x"][ids_top, 1]
+            out["interface_displacement"] = float(np.abs(y_now - sed0["top_y"]).max())
+            out["interface_displacement_over_dx"] = out["interface_displacement"] / dx
+            # pressure continuity: the jump between the last sediment row and the first water row
+            # against the hydrostatic jump over the same distance
+            s_top = (mat == 1) & (np.abs(x[:, 1] - (hs - 0.5 * dx)) < 0.5 * dx)
+            w_bot = (mat == 0) & (np.abs(x[:, 1] - (hs + 0.5 * dx)) < 0.5 * dx)
+            if s_top.any() and w_bot.any():
+                ys, yw = x[s_top, 1].mean(), x[w_bot, 1].mean()
+                jump = p[s_top].mean() - p[w_bot].mean()
+                expect = hydrostatic_pressure(ys, H, hs, rw, rs) - hydrostatic_pressure(yw, H, hs, rw, rs)
+                out["interface_pressure_jump_error"] = float(abs(jump - expect) / hydrostatic_pressure(hs, H, hs, rw, rs))
+        return out
+
+    if hs > 0:
+        idx = np.nonzero((ps.kind == FLUID) & (ps.mat == 1))[0]
+        ys = ps.x[idx, 1]
+        top_ids = idx[ys > ys.max() - 0.5 * dx]
+        sed0["top_ids"], sed0["top_y"] = top_ids, ps.x[top_ids, 1].copy()
 
     def metrics(cols):
         return dict(peak_speed_ratio_max=float(np.max(cols["speed_ratio"])))
 
     margin = num["wall_layers"] * dx + dx
     return Case(name=NAME, particles=ps, materials=materials, domain=domain,
-                params=common_params(cfg, c0, G, depth=H), physics=physics_from_config(cfg),
+                params=common_params(cfg, c0, G, depth=H),
+                physics=physics_from_config(cfg, materials_used=used),
                 view=((-margin, -margin), (W + margin, Ht + margin)), u_max=u_max,
                 probe_columns=("speed_ratio",), probe=probe, metrics=metrics, final_metrics=final_metrics,
                 container=(0.0, 0.0, W, float("inf")))
