@@ -102,7 +102,7 @@ def build(cfg):
     pw = np.where(np.isfinite(top), pw, 0.0)
     ps.add(walls, WALL, 0, density_from_pressure(pw, rw, c0), rw * dx * dx)
     pad = num["wall_layers"] * dx + 4 * h
-    domain = ((-pad, -pad), (W + pad, Ht + pad))
+    domain = ((-pad, -pad), (W + pad, 2.0 * Ht + pad))   # open top: room for spray to fall back
     materials = []
     for name in ("water", "sediment"):
         m = dict(mats[name])
