@@ -1,5 +1,4 @@
 """Dam break against Martin & Moyce (1952), at coarse resolutions."""
-import json
 import math
 
 import numpy as np

@@ -13,7 +13,6 @@ import pytest
 
 from tisph import io as tio
 from tisph.config import tomllib
-from tisph.io import OutputError
 from tisph.runner import simulate
 from tisph.scenes import dam_break
 

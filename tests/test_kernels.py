@@ -51,8 +51,7 @@ def test_gradient_moment_vanishes_by_symmetry(K):
 
 @pytest.mark.parametrize("K", KERNELS)
 def test_exact_normalisation(K):
-    # radial integral of W over the plane: 2 pi int_0^2h W r dr = 1
-    h = 1.0
+    # radial integral of W over the plane, in units of h: 2 pi int_0^2 sigma shape(q) q dq = 1
     q = np.linspace(0, 2, 200001)
     f = K.sigma * K.shape_np(q) * q
     integ = np.sum(0.5 * (f[1:] + f[:-1]) * np.diff(q)) * 2 * np.pi

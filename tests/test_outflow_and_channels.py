@@ -1,5 +1,4 @@
 """Open boundaries, the hatch, and the channel dam breaks against exact shallow-water solutions."""
-import json
 import math
 import os
 

@@ -86,6 +86,13 @@ def density_from_pressure(p, rho0, c0, gamma=7.0):
     return rho0 * (1.0 + np.asarray(p, float) / tait_B(rho0, c0, gamma)) ** (1.0 / gamma)
 
 
+def wall_density(walls, fluid_x, dx, h, rho0, c0, g):
+    """Hydrostatic start for wall particles: the density of the water column standing above them
+    (within a kernel support), rest density where no water is near."""
+    top = surface_above(walls[:, 0], fluid_x, dx, 2 * h)
+    return hydrostatic_density(top - walls[:, 1], rho0, c0, g)
+
+
 def surface_above(xq, fluid_x, dx, reach):
     """Free-surface height above each query x: the top of the fluid columns within `reach`.
 

@@ -21,7 +21,7 @@ import numpy as np
 
 from . import __version__
 from .cli import make_parser, overrides_from_args
-from .config import ConfigError, build_config, dump_toml, physics_from_config, Physics
+from .config import ConfigError, build_config, dump_toml, Physics
 from .io import OutputError, ensure_dir, write_csv, write_json, write_text
 from .particles import FLUID, OUT, OUTFLOW, KIND_NAMES
 
@@ -209,7 +209,7 @@ class Run:
                     time=float(time), step=int(step), dt=float(dt))
 
     def snapshot(self, state=None, name=None, time=None, step=None):
-        from .io import write_snapshot, write_xdmf
+        from .io import write_snapshot, SNAPSHOT_FIELDS
         s = self.solver
         state = state if state is not None else s.state(s.snapshot_members)
         time = s.time if time is None else time
@@ -220,7 +220,6 @@ class Run:
         if name[0].isdigit():
             shapes = {}
             for k, a in state.items():
-                from .io import SNAPSHOT_FIELDS
                 a = np.asarray(a)
                 shape = (a.shape[0], 3) if a.ndim == 2 else a.shape
                 shapes[SNAPSHOT_FIELDS.get(k, (k,))[0]] = (shape, a.dtype.str)
@@ -263,8 +262,7 @@ class Run:
 
     def resume(self):
         """Load self.restart into the solver and the run's own state."""
-        from .io import load, OutputError
-        from .config import ConfigError
+        from .io import load
         arrays, attrs = load(self.restart)
         if attrs.get("kind") != "tisph checkpoint" or "particles" not in arrays:
             raise ConfigError("--restart", self.restart, "a checkpoint.h5 written by tisph")
@@ -289,6 +287,14 @@ class Run:
         self.snapshots = [tuple(x) for x in json.loads(attrs["snapshots"])]
         self.log(f"restarted from {self.restart} at step {self.solver.steps}, t = {self.solver.time:.6g} s")
 
+    @property
+    def next_output(self):
+        """Time of the next output that is switched on (an off output never advances its entry)."""
+        on = {"probe": self.probe_dt, "frame": self.frame_dt if self.render else 0.0,
+              "snapshot": self.snap_dt, "checkpoint": self.ckpt_dt}
+        due = [self.next[k] for k, dt in on.items() if dt > 0]
+        return min(due) if due else float("inf")
+
     def _due(self, key, interval):
         """Whether an output is due now; schedules the next one on the interval grid."""
         if interval <= 0 or self.solver.time < self.next[key] - 1e-12:
@@ -299,7 +305,6 @@ class Run:
 
     # -------------------------------------------------------------- the loop
     def execute(self):
-        from . import runtime
         from .io import clean_stale_parts
         from .solver import Solver
         run, outc = self.cfg["run"], self.cfg["output"]
@@ -379,7 +384,7 @@ class Run:
                 ts = time.perf_counter()
                 s.step()
                 step_s += time.perf_counter() - ts
-                if s.steps % 10 == 0 or s.time >= min(self.next.values()) - 1e-12:
+                if s.steps % 10 == 0 or s.time >= self.next_output - 1e-12:
                     bad = s.check()
                     if bad:
                         raise SimulationError(describe_instability(s, *bad))
@@ -493,64 +498,59 @@ def run_case(case, cfg, out, log, scene_name, restart=None, force=False):
         raise
 
 
+def output_dir(scene, cfg):
+    return cfg["output"]["dir"] or os.path.join("renders", scene.NAME)
+
+
+def resolve(scene, config=None, overrides=None):
+    """The validated config of a scene: defaults <- TOML <- overrides, then the scene's checks."""
+    cfg = build_config(scene.DEFAULTS, config, overrides or {},
+                       getattr(scene, "RANGES", None), getattr(scene, "CHOICES", None))
+    if hasattr(scene, "check"):
+        scene.check(cfg)
+    return cfg
+
+
 def run_scene(scene, argv=None):
-    """Entry point of `python -m tisph.scenes.NAME`. Exit codes: 0 ok, 2 bad input, 3 unstable."""
-    name = scene.NAME
-    parser = make_parser(name, (scene.__doc__ or "").strip())
+    """Entry point of `python -m tisph.scenes.NAME`. Exit codes: 0 ok, 2 bad input, 3 unstable,
+    130/143 stopped by SIGINT/SIGTERM."""
+    parser = make_parser(scene.NAME, (scene.__doc__ or "").strip())
     args = parser.parse_args(argv)
     try:
-        cfg = build_config(scene.DEFAULTS, args.config, overrides_from_args(args),
-                           getattr(scene, "RANGES", None), getattr(scene, "CHOICES", None))
-        if hasattr(scene, "check"):
-            scene.check(cfg)
-    except ConfigError as e:
+        cfg = resolve(scene, args.config, overrides_from_args(args))
+        summary = simulate(scene, cfg=cfg, restart=args.restart, force=args.force, echo=True)
+    except (ConfigError, OutputError) as e:
         print(f"{parser.prog}: {e}", file=sys.stderr)
         return 2
-    out = cfg["output"]["dir"] or os.path.join("renders", name)
-    try:
-        ensure_dir(out)
-    except OutputError as e:
-        print(f"{parser.prog}: {e}", file=sys.stderr)
-        return 2
-    log = Log(os.path.join(out, "run.log"), cfg["output"]["quiet"])
-    log("# resolved config\n" + dump_toml(cfg), file_only=True)
-    from . import runtime
-    arch = runtime.init(cfg["run"]["arch"], cfg["run"]["precision"])
-    log(f"# {runtime.describe()}, requested {cfg['run']['arch']}", file_only=True)
-    if cfg["run"]["arch"] == "gpu" and arch in ("x64", "arm64"):
-        log("warning: no GPU backend found, running on the CPU", always=True)
-    case = build_case(scene, cfg, log)
-    try:
-        summary = run_case(case, cfg, out, log, name, restart=args.restart, force=args.force)
-    except (OutputError, ConfigError) as e:
-        log(f"{parser.prog}: {e}", always=True)
-        return 2
-    finally:
-        log.flush()
     if not cfg["output"]["quiet"]:
-        print(f"wrote {out}/", file=sys.stderr)
+        print(f"wrote {output_dir(scene, cfg)}/", file=sys.stderr)
     if summary["status"] == "interrupted":
         return 143 if "SIGTERM" in summary["message"] else 130
     return {"ok": 0, "unstable": 3}[summary["status"]]
 
 
-def simulate(scene, overrides=None, out=None, config=None, restart=None, force=False):
-    """Run a scene from Python (tests, benchmarks): the same path as the CLI, no argv.
+def simulate(scene, overrides=None, out=None, config=None, restart=None, force=False, cfg=None,
+             echo=False):
+    """Run a scene: the path the CLI takes, callable from Python (tests, benchmarks).
 
-    Returns the summary dict; raises ConfigError on bad input.
+    Returns the summary dict; raises ConfigError or OutputError on bad input. echo: print
+    messages as the CLI does (otherwise only to run.log and only warnings to stderr).
     """
     from . import runtime
-    cfg = build_config(scene.DEFAULTS, config, overrides or {},
-                       getattr(scene, "RANGES", None), getattr(scene, "CHOICES", None))
-    if hasattr(scene, "check"):
-        scene.check(cfg)
-    out = out or cfg["output"]["dir"] or os.path.join("renders", scene.NAME)
+    cfg = cfg if cfg is not None else resolve(scene, config, overrides)
+    out = out or output_dir(scene, cfg)
     ensure_dir(out)
-    log = Log(os.path.join(out, "run.log"), True)
-    log("# resolved config\n" + dump_toml(cfg))
-    runtime.init(cfg["run"]["arch"], cfg["run"]["precision"])
-    case = build_case(scene, cfg, log)
+    log = Log(os.path.join(out, "run.log"), cfg["output"]["quiet"] or not echo)
     try:
+        log("# resolved config\n" + dump_toml(cfg), file_only=True)
+        arch = runtime.init(cfg["run"]["arch"], cfg["run"]["precision"])
+        log(f"# {runtime.describe()}, requested {cfg['run']['arch']}", file_only=True)
+        if cfg["run"]["arch"] == "gpu" and arch in ("x64", "arm64"):
+            log("warning: no GPU backend found, running on the CPU", always=True)
+        case = build_case(scene, cfg, log)
         return run_case(case, cfg, out, log, scene.NAME, restart=restart, force=force)
+    except (ConfigError, OutputError) as e:
+        log(f"error: {e}", file_only=True)
+        raise
     finally:
         log.flush()

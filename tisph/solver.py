@@ -19,14 +19,14 @@ import taichi as ti
 
 from .config import Physics
 from .kernels import get_kernel
-from .particles import FLUID, WALL, MOVING, OUT, OUTFLOW
+from .particles import FLUID, MOVING, OUT, OUTFLOW
 from .terms.continuity import continuity
 from .terms.pressure import tait, pressure_accel
 from .terms.viscosity import monaghan_mu, artificial_viscosity, laminar_viscosity
 from .terms.diffusion import density_diffusion, hydrostatic_density_difference
 from .terms.xsph import xsph
 from .terms.repulsive import lennard_jones
-from .terms.rheology import shear_rate, bingham, cross, harmonic_pair, NEWTONIAN, BINGHAM, CROSS, RHEOLOGY_CODES
+from .terms.rheology import shear_rate, bingham, cross, harmonic_pair, BINGHAM, CROSS, RHEOLOGY_CODES
 
 # Codes of the instability detector, most severe last.
 BAD_NONE, BAD_DENSITY, BAD_SPEED, BAD_DT, BAD_NAN = 0, 1, 2, 3, 4
@@ -70,7 +70,6 @@ class Solver:
         self.n = len(particles)
         if self.n == 0:
             raise ValueError("no particles to simulate")
-        self.n_fluid0 = particles.count(FLUID)
         self.dx = float(params["dx"])
         self.h = float(params["h"])
         self.c0 = float(params["c0"])
@@ -168,8 +167,8 @@ class Solver:
         for k, v in self.params.items():
             setattr(self.prm[None], k, v)
 
-        S = ti.types.struct(amax2=real, mumax=real, vmax2=real, bad_code=ti.i32, bad_idx=ti.i32,
-                            leaked=ti.i32, nact=ti.i32, rhodev=real, outflow=ti.i32, numax=real)
+        S = ti.types.struct(amax2=real, mumax=real, bad_code=ti.i32, bad_idx=ti.i32,
+                            leaked=ti.i32, rhodev=real, numax=real)
         self.stats = S.field(shape=())
 
         # Initial state.
@@ -225,7 +224,6 @@ class Solver:
         s = self.stats[None]
         s.amax2 = 0.0
         s.mumax = 0.0
-        s.vmax2 = 0.0
         s.bad_code = 0
         s.bad_idx = 2**31 - 1
         s.rhodev = 0.0
@@ -320,50 +318,49 @@ class Solver:
                 rho_j = acc.rhoi
                 ir_j = acc.inv_rhoi
                 p_j = acc.pi - acc.rhoi * prm.g.dot(r)
-        if True:
-            rn = ti.sqrt(r2)
-            q = rn * self.inv_h
-            gw = self.g_scale * self.K.fshape(q) * r
-            m_j = s.m[j]
-            vol_j = m_j * ir_j
-            v_ij = acc.vi - s.ve[j]
-            acc.drho += continuity(acc.rhoi, vol_j, v_ij, gw)
-            acc.a += pressure_accel(m_j, acc.pi, p_j, acc.inv_rhoi, ir_j, gw)
-            if ti.static(self.physics.artificial_viscosity):
-                mu = monaghan_mu(self.h, v_ij, r, r2)
-                acc.a += artificial_viscosity(m_j, prm.alpha, prm.c0, mu, acc.inv_rhoi, ir_j, gw)
-                acc.mu = ti.max(acc.mu, -mu)
-            v_visc = v_ij
-            if ti.static(self.physics.noslip):
-                if kj != FLUID:
-                    # Morris et al. (1997), paper 002 eq. 39: the wall particle carries the ghost
-                    # velocity u_B = -(d_B/d_A) u_A (relative to the wall), so the no-slip sits on
-                    # the wall surface; d_B/d_A capped at 1.5 as Morris does for close approach
-                    d_i = r.dot(s.wn[j]) - s.wd[j]
-                    ratio = ti.min(s.wd[j] / ti.max(d_i, 1e-6 * self.h), 1.5)
-                    v_visc = (1.0 + ratio) * v_ij
-            if ti.static(self.physics.laminar_viscosity):
-                mu_j = acc.mui                      # a wall particle takes the fluid's viscosity
-                if kj == FLUID:
-                    if ti.static(self.physics.rheology):
-                        mu_j = s.mu[j]
-                    else:
-                        mu_j = self.mat_mu[s.mat[j]]
-                acc.a += laminar_viscosity(m_j, harmonic_pair(acc.mui, mu_j), acc.inv_rhoi, ir_j,
-                                           v_visc, r, r2, gw, self.eta2)
-            if ti.static(self.physics.rheology):
-                acc.gv += vol_j * (-v_visc).outer_product(gw)  # velocity gradient, for the shear rate
-            if ti.static(self.physics.density_diffusion != "none"):
-                if kj == FLUID and s.mat[j] == acc.mat:
-                    hyd = 0.0
-                    if ti.static(self.physics.density_diffusion == "fourtakas"):
-                        hyd = hydrostatic_density_difference(acc.rho0_c02, prm.g, r)
-                    acc.drho += density_diffusion(prm.delta, self.h, prm.c0, vol_j, acc.rhoi,
-                                                  rho_j, hyd, r, r2, gw)
-            if ti.static(self.physics.xsph):
-                if kj == FLUID:
-                    w = self.w_scale * self.K.shape(q)
-                    acc.xs += xsph(m_j, -v_ij, acc.inv_rhoi, ir_j, w)
+        rn = ti.sqrt(r2)
+        q = rn * self.inv_h
+        gw = self.g_scale * self.K.fshape(q) * r
+        m_j = s.m[j]
+        vol_j = m_j * ir_j
+        v_ij = acc.vi - s.ve[j]
+        acc.drho += continuity(acc.rhoi, vol_j, v_ij, gw)
+        acc.a += pressure_accel(m_j, acc.pi, p_j, acc.inv_rhoi, ir_j, gw)
+        if ti.static(self.physics.artificial_viscosity):
+            mu = monaghan_mu(self.h, v_ij, r, r2)
+            acc.a += artificial_viscosity(m_j, prm.alpha, prm.c0, mu, acc.inv_rhoi, ir_j, gw)
+            acc.mu = ti.max(acc.mu, -mu)
+        v_visc = v_ij
+        if ti.static(self.physics.noslip):
+            if kj != FLUID:
+                # Morris et al. (1997), paper 002 eq. 39: the wall particle carries the ghost
+                # velocity u_B = -(d_B/d_A) u_A (relative to the wall), so the no-slip sits on
+                # the wall surface; d_B/d_A capped at 1.5 as Morris does for close approach
+                d_i = r.dot(s.wn[j]) - s.wd[j]
+                ratio = ti.min(s.wd[j] / ti.max(d_i, 1e-6 * self.h), 1.5)
+                v_visc = (1.0 + ratio) * v_ij
+        if ti.static(self.physics.laminar_viscosity):
+            mu_j = acc.mui                      # a wall particle takes the fluid's viscosity
+            if kj == FLUID:
+                if ti.static(self.physics.rheology):
+                    mu_j = s.mu[j]
+                else:
+                    mu_j = self.mat_mu[s.mat[j]]
+            acc.a += laminar_viscosity(m_j, harmonic_pair(acc.mui, mu_j), acc.inv_rhoi, ir_j,
+                                       v_visc, r, r2, gw, self.eta2)
+        if ti.static(self.physics.rheology):
+            acc.gv += vol_j * (-v_visc).outer_product(gw)  # velocity gradient, for the shear rate
+        if ti.static(self.physics.density_diffusion != "none"):
+            if kj == FLUID and s.mat[j] == acc.mat:
+                hyd = 0.0
+                if ti.static(self.physics.density_diffusion == "fourtakas"):
+                    hyd = hydrostatic_density_difference(acc.rho0_c02, prm.g, r)
+                acc.drho += density_diffusion(prm.delta, self.h, prm.c0, vol_j, acc.rhoi,
+                                              rho_j, hyd, r, r2, gw)
+        if ti.static(self.physics.xsph):
+            if kj == FLUID:
+                w = self.w_scale * self.K.shape(q)
+                acc.xs += xsph(m_j, -v_ij, acc.inv_rhoi, ir_j, w)
 
     @ti.func
     def boundary_pair(self, i, j, r, r2, acc: ti.template()):
@@ -409,7 +406,6 @@ class Solver:
                                 gone = True
                 if gone:
                     self.p.kind[i] = OUTFLOW
-                    ti.atomic_add(self.stats[None].outflow, 1)
                 elif self.inside(self.p.x[i]):
                     c = self.cell_of(self.p.x[i])
                     key = c[1] * self.nx + c[0]
@@ -474,7 +470,7 @@ class Solver:
                     mui = self.tmp.mu[i]
                 acc = ti.Struct(a=ti.Vector([0.0, 0.0]), drho=0.0, xs=ti.Vector([0.0, 0.0]), mu=0.0,
                                 vi=self.tmp.ve[i], rhoi=self.tmp.rhoe[i], pi=self.tmp.p[i],
-                                inv_rhoi=1.0 / self.tmp.rhoe[i], mui=mui, mat=mi,
+                                inv_rhoi=self.tmp.ir[i], mui=mui, mat=mi,
                                 rho0_c02=self.mat_rho0[mi] / (prm.c0 * prm.c0),
                                 gv=ti.Matrix([[0.0, 0.0], [0.0, 0.0]]))
                 self.for_neighbours(self.tmp, i, self.tmp.x[i], self.fluid_pair, acc)
@@ -502,7 +498,6 @@ class Solver:
                 ti.atomic_max(self.stats[None].amax2, a.dot(a))
                 ti.atomic_max(self.stats[None].mumax, acc.mu)
                 v2 = v.dot(v)
-                ti.atomic_max(self.stats[None].vmax2, v2)
                 dev = ti.abs(rho / self.mat_rho0[mi] - 1.0)
                 ti.atomic_max(self.stats[None].rhodev, dev)
                 code = BAD_NONE
@@ -528,7 +523,6 @@ class Solver:
             self.fcnt[c] = 0
         for _ in range(1):
             st = self.stats[None]
-            self.stats[None].nact = self.start[ncell]
             amax = ti.sqrt(st.amax2)
             dt_f = 1e30
             if amax > 0.0:
@@ -597,7 +591,7 @@ class Solver:
         d = {k: getattr(self.p, k).to_numpy() for k in self.members}
         st = self.stats[None]
         scal = dict(time=self.time, steps=self.steps, dt=float(self.prm[None].dt), leaked=int(st.leaked),
-                    n=self.n, primed=int(self._primed), rhodev=float(st.rhodev), outflow=int(st.outflow))
+                    n=self.n, primed=int(self._primed), rhodev=float(st.rhodev))
         return d, scal
 
     def load_raw_state(self, arrays, scalars):
@@ -613,7 +607,6 @@ class Solver:
         self.prm[None].dt = float(scalars["dt"])
         self.stats[None].leaked = int(scalars["leaked"])
         self.stats[None].rhodev = float(scalars.get("rhodev", 0.0))
-        self.stats[None].outflow = int(scalars.get("outflow", 0))
         self._primed = bool(int(scalars["primed"]))
 
     def enable_backup(self):
@@ -672,10 +665,6 @@ class Solver:
     def max_density_error(self):
         """Largest |rho/rho0 - 1| of any fluid particle at any step so far."""
         return float(self.stats[None].rhodev)
-
-    @property
-    def outflow_count(self):
-        return int(self.stats[None].outflow)
 
     @property
     def leaked(self):

@@ -16,7 +16,7 @@ import sys
 import numpy as np
 
 from ..config import ConfigError, physics_from_config
-from ..particles import ParticleSet, block, hydrostatic_density, surface_above, tait_B, FLUID, WALL, OUTFLOW
+from ..particles import ParticleSet, block, hydrostatic_density, tait_B, wall_density, FLUID, WALL, OUTFLOW
 from ..profiles import depth_profile, plot_profiles, write_profile
 from ..runner import Case, common_params, run_scene, sound_speed
 from ..validation import martin_moyce, shallow_water
@@ -98,8 +98,7 @@ def build(cfg):
         outflow = ((W + T, -10.0, W + 10.0, Ht + 10.0), (-10.0, -10.0, W + 10.0, -T - 2 * dx))
     walls = np.vstack(parts)
     h = num["h_factor"] * dx
-    top = surface_above(walls[:, 0], fluid, dx, 2 * h)
-    ps.add(walls, WALL, 0, hydrostatic_density(top - walls[:, 1], rho0, c0, G), rho0 * dx * dx)
+    ps.add(walls, WALL, 0, wall_density(walls, fluid, dx, h, rho0, c0, G), rho0 * dx * dx)
 
     pad = 3 * T + 4 * h
     # the tank is open at the top: room above the walls for run-up spray to fly and fall back

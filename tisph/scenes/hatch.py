@@ -16,7 +16,7 @@ import sys
 import numpy as np
 
 from ..config import ConfigError, physics_from_config
-from ..particles import ParticleSet, block, hydrostatic_density, surface_above, tait_B, FLUID, WALL
+from ..particles import ParticleSet, block, hydrostatic_density, tait_B, wall_density, FLUID, WALL
 from ..profiles import surface_profile, write_profile, plot_profiles
 from ..runner import Case, common_params, run_scene, sound_speed
 
@@ -100,8 +100,7 @@ def build(cfg):
         parts.append(block(L, 0.0, L + T, b, dx))    # below an orifice
     walls = np.vstack([p for p in parts if len(p)])
     h = num["h_factor"] * dx
-    top = surface_above(walls[:, 0], fluid, dx, 2 * h)
-    ps.add(walls, WALL, 0, hydrostatic_density(top - walls[:, 1], rho0, c0, G), rho0 * dx * dx)
+    ps.add(walls, WALL, 0, wall_density(walls, fluid, dx, h, rho0, c0, G), rho0 * dx * dx)
 
     pad = T + 4 * h
     domain = ((-pad, -pad - 0.1), (x_end + pad + 0.05, Wh + pad))

@@ -118,7 +118,6 @@ def build(cfg):
     def final_metrics(st):
         fl = st["kind"] == FLUID
         x, p, mat = st["x"][fl], st["p"][fl], st["mat"][fl]
-        ysurf_est = None
         errs = layer_pressure_errors(x, p, dx, rw, expected=lambda d: hydrostatic_pressure(H - d, H, hs, rw, rs))
         v = st["v"][fl]
         rho0 = np.where(mat == 0, rw, rs)

@@ -6,7 +6,6 @@ Steady state (Bird, Stewart & Lightfoot; Chhabra & Richardson for the Bingham pl
 tau_y < G b a plug of half-width y0 = tau_y / G moves at u_p = G (b - y0)^2 / (2 mu_p); outside it
 u(y) = G (b^2 - y^2) / (2 mu_p) - tau_y (b - |y|) / mu_p. tau_y = 0 is the Newtonian parabola.
 """
-import math
 import os
 import sys
 
