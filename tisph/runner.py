@@ -103,14 +103,14 @@ def build_case(scene, cfg, log):
     return case
 
 
-def describe_instability(solver, code, idx):
+def describe_instability(solver, code, pid):
     from .solver import BAD_TEXT
     what, cause = BAD_TEXT.get(code, ("unknown", ""))
-    s = solver.sorted_state(("x", "v", "rho", "id", "kind", "mat"))
-    if 0 <= idx < solver.n:
-        x, v, rho, pid = s["x"][idx], s["v"][idx], s["rho"][idx], int(s["id"][idx])
-        rho0 = solver.materials[int(s["mat"][idx])]["rho0"]
-        where = (f"particle {pid} ({KIND_NAMES.get(int(s['kind'][idx]), '?')}) at x = ({x[0]:.4g}, {x[1]:.4g}) m, "
+    s = solver.state(("x", "v", "rho", "kind", "mat"))   # ordered by particle id
+    if 0 <= pid < solver.n:
+        x, v, rho = s["x"][pid], s["v"][pid], s["rho"][pid]
+        rho0 = solver.materials[int(s["mat"][pid])]["rho0"]
+        where = (f"particle {pid} ({KIND_NAMES.get(int(s['kind'][pid]), '?')}) at x = ({x[0]:.4g}, {x[1]:.4g}) m, "
                  f"|v| = {np.hypot(*v):.4g} m/s, rho = {rho:.6g} kg/m3 (rest {rho0:g})")
     else:
         where = f"time step dt = {solver.dt:.3g} s"

@@ -509,7 +509,9 @@ class Solver:
                     code = BAD_DENSITY
                 if code != BAD_NONE:
                     ti.atomic_max(self.stats[None].bad_code, code)
-                    ti.atomic_min(self.stats[None].bad_idx, i)
+                    # the particle's id, not its slot: slots change at every re-sort, and the
+                    # runner reads this up to 10 steps later
+                    ti.atomic_min(self.stats[None].bad_idx, self.tmp.id[i])
             elif k >= 0:
                 if ti.static(self.is_dbc):
                     acc = ti.Struct(drho=0.0, vi=self.tmp.ve[i], rhoi=self.tmp.rhoe[i])
@@ -655,7 +657,7 @@ class Solver:
         return float(self.prm[None].dt)
 
     def check(self):
-        """None if the state is healthy, else (code, particle index in sorted order)."""
+        """None if the state is healthy, else (code, id of the first particle that went bad)."""
         st = self.stats[None]
         if st.bad_code != BAD_NONE:
             return int(st.bad_code), int(st.bad_idx)
@@ -677,7 +679,3 @@ class Solver:
         ids = self.p.id.to_numpy()
         inv = np.argsort(ids)
         return {k: getattr(self.p, k).to_numpy()[inv] for k in names}
-
-    def sorted_state(self, names=("x", "v", "kind")):
-        """Particle arrays in the solver's current (cell-sorted) order."""
-        return {k: getattr(self.p, k).to_numpy() for k in names}
