@@ -90,3 +90,66 @@ def test_sediment_layer_under_water_stays_put(tmp_path):
 def test_newtonian_tank_compiles_no_rheology(tmp_path):
     s = simulate(tank, {"run.end_time": 0.01, "output.quiet": True}, out=str(tmp_path))
     assert s["physics"]["rheology"] is False
+
+
+def _heap_case(tau, unyielded="rest"):
+    """A block of Bingham material, 0.3 m wide and 0.15 m high, released on a floor in air."""
+    import types
+    from tisph.config import physics_from_config
+    from tisph.particles import ParticleSet, block, box_walls, hydrostatic_density, tait_B, FLUID, WALL
+    from tisph.runner import Case, common_params
+    defaults = {"run": {"end_time": 0.4},
+                "numerics": {"dx": 0.01, "artificial_viscosity": 0.1, "density_diffusion": "fourtakas"},
+                "materials": {"mud": {"rho0": 1950.0, "viscosity": 0.1, "rheology": "bingham",
+                                      "yield_stress": float(tau), "regularisation": 100.0, "mu_max": 0.0,
+                                      "unyielded": unyielded}},
+                "output": {"render": False, "snapshot_every": 0.0, "quiet": True}}
+
+    def build(cfg):
+        dx, W, H = cfg["numerics"]["dx"], 0.3, 0.15
+        c0 = 10 * math.sqrt(2 * 9.81 * H)
+        mat = cfg["materials"]["mud"]
+        ps = ParticleSet()
+        heap = block(0.0, 0.0, W, H, dx)
+        ps.add(heap, FLUID, 0, hydrostatic_density(H - heap[:, 1], mat["rho0"], c0, 9.81), mat["rho0"] * dx * dx)
+        walls = box_walls(0.0, 0.0, 1.0, 0.4, dx, 3)
+        ps.add(walls, WALL, 0, mat["rho0"], mat["rho0"] * dx * dx)
+        mats = [dict(mat, name="mud", B=tait_B(mat["rho0"], c0))]
+        return Case(name="heap", particles=ps, materials=mats, domain=((-0.1, -0.1), (1.1, 0.9)),
+                    params=common_params(cfg, c0, 9.81, H), physics=physics_from_config(cfg),
+                    view=((-0.05, -0.05), (1.05, 0.45)), u_max=c0 / 10,
+                    probe_columns=("runout",), probe=lambda st: (st["x"][st["kind"] == FLUID, 0].max() + 0.005,),
+                    container=(0.0, 0.0, 1.0, float("inf")))
+    return types.SimpleNamespace(NAME="heap", DEFAULTS=defaults, build=build)
+
+
+def test_bingham_heap_large_yield_stays_small_yield_slumps(tmp_path):
+    """A heap 0.15 m high presses on its base with about rho g H / 2 = 1.4 kPa of shear: with
+    tau_B = 5 Pa it slumps, with tau_B = 3000 Pa it stays put (paper 000's premise that sand
+    below its yield stress does not deform)."""
+    runout = {}
+    for tau in (5.0, 3000.0):
+        s = simulate(_heap_case(tau), out=str(tmp_path / f"tau{tau:g}"))
+        assert s["status"] == "ok", s["message"]
+        runout[tau] = s["metrics"].get("runout", None) or float(
+            open(tmp_path / f"tau{tau:g}" / "probes.csv").read().splitlines()[-1].split(",")[1])
+    dx = 0.01
+    assert runout[5.0] > 0.3 + 5 * dx, runout          # slumped: the toe moved over 5 particles
+    assert runout[3000.0] < 0.3 + 1 * dx, runout        # held: the toe moved under one particle
+
+
+def test_erodible_bed_command_runs_a_few_steps(tmp_path):
+    from tisph.runner import run_scene
+    from tisph.scenes import erodible_bed
+    out = tmp_path / "eb"
+    code = run_scene(erodible_bed, ["--max-steps", "30", "--out", str(out), "--quiet", "--frame-interval", "0.002"])
+    assert code == 0
+    import json
+    s = json.load(open(out / "summary.json"))
+    assert s["steps"] == 30 and s["leaked_particles"] == 0
+    assert (out / "frames" / "00000.png").exists()
+    assert (out / "probes.csv").read_text().splitlines()[0] == "t,front_x,eroded_area"
+    # two panels stacked: phase colours above, speed below
+    import imageio.v2 as imageio
+    img = imageio.imread(out / "frames" / "00000.png")
+    assert img.shape[0] > 0.5 * img.shape[1] * 0.44 / 2.52

@@ -29,3 +29,36 @@ def test_instability_is_detected_reported_and_saved(tmp_path, capsys):
     rho = arrays["density"][arrays["kind"] == 0]
     assert np.abs(rho / 1000 - 1).max() < 0.3
     assert (out / "probes.csv").read_text().count("\n") >= 2
+
+
+def test_wall_crossing_stops_the_run(tmp_path):
+    """A fluid particle past a wall's first row of particles is an instability: the run stops at
+    once, says which particle crossed where, and the last healthy state has every fluid particle
+    inside the walls."""
+    from tisph.runner import simulate
+    out = tmp_path / "o"
+    # a repulsive wall 1000x too weak and one particle thick: the column pushes through the floor
+    s = simulate(dam_break, {"numerics.dx": 0.06, "numerics.wall": "repulsive", "numerics.wall_strength": 0.001,
+                             "numerics.wall_layers": 1, "run.end_time": 0.6, "output.render": False,
+                             "output.quiet": True, "output.snapshot_every": 0.05}, out=str(out))
+    assert s["status"] == "unstable", s["message"]
+    assert "a fluid particle crossed a wall" in s["message"] and "penetrated the wall" in s["message"]
+    x = [float(v) for v in re.search(r"at x = \(([-0-9.e]+), ([-0-9.e]+)\)", s["message"]).groups()]
+    W, half = dam_break.DEFAULTS["geometry"]["tank_width"], 0.03   # dx / 2: the first wall row
+    assert x[0] < -half or x[0] > W + half or x[1] < -half
+    arrays, attrs = tio.load(out / "snapshots" / "last_good.h5")
+    p = arrays["position"][arrays["kind"] == 0]
+    assert p[:, 0].min() >= -half and p[:, 0].max() <= W + half and p[:, 1].min() >= -half
+
+
+def test_overtopping_is_told_apart_from_penetration(tmp_path):
+    """Sound speed 3x too low: the run-up jet goes over the 4 m wall and falls outside. The run
+    is warned about at the start and stops cleanly, naming the spill, not a penetration."""
+    from tisph.runner import simulate
+    s = simulate(dam_break, {"numerics.dx": 0.06, "numerics.c0_factor": 10.0 / 3.0, "run.end_time": 2.0,
+                             "output.render": False, "output.quiet": True, "output.snapshot_every": 0.0},
+                 out=str(tmp_path / "o"))
+    assert any("sound speed" in w for w in s["warnings"])
+    assert s["status"] == "unstable" and "went over a side wall" in s["message"], s["message"]
+    x = float(re.search(r"at x = \(([-0-9.e]+),", s["message"]).group(1))
+    assert x > dam_break.DEFAULTS["geometry"]["tank_width"] + 0.06

@@ -111,6 +111,17 @@ RANGES = {
 MATERIAL_RANGES = {
     "rho0": (0.0, None, False, True),
     "viscosity": (0.0, None, True, True),
+    "yield_stress": (0.0, None, True, True),
+    "regularisation": (0.0, None, False, True),
+    "mu_max": (0.0, None, True, True),
+    "mu0": (0.0, None, True, True),
+    "K": (0.0, None, True, True),
+    "m1": (0.0, None, False, True),
+}
+MATERIAL_CHOICES = {
+    "rheology": ("newtonian", "bingham", "cross"),
+    # unyielded Bingham material: "creep" at stress / mu_max, or "rest" (rigid plug on a fixed bed)
+    "unyielded": ("creep", "rest"),
 }
 
 
@@ -202,6 +213,8 @@ def validate(cfg: dict, extra_ranges: dict | None = None, extra_choices: dict | 
                 _check_range(path, v, ranges[path])
             if prefix.startswith("materials.") and k in MATERIAL_RANGES:
                 _check_range(path, v, MATERIAL_RANGES[k])
+            if prefix.startswith("materials.") and k in MATERIAL_CHOICES and v not in MATERIAL_CHOICES[k]:
+                raise ConfigError(path, v, "one of " + ", ".join(repr(c) for c in MATERIAL_CHOICES[k]))
     walk(cfg, "")
     return cfg
 
@@ -299,12 +312,17 @@ class Physics:
     rheology: bool = False      # some material is Bingham or Cross: effective-viscosity field
     periodic_x: bool = False
     noslip: bool = False        # Morris no-slip walls in the viscous terms (paper 002 eq. 39)
+    paddle: str = "none"        # none | piston | flap: MOVING particles follow a prescribed motion
+    damping: tuple = ()         # (x0, x1, rate 1/s): absorbing zone, damping grows as ((x-x0)/(x1-x0))^2
+    sps: bool = False           # SPS (Smagorinsky) turbulence in Newtonian materials (paper 002 eq. 10)
+    drag: bool = False          # fluid-sediment drag between different materials (paper 002 eq. 16)
 
     def as_dict(self):
         return asdict(self)
 
 
-def physics_from_config(cfg: dict, periodic_x=False, noslip=False, materials_used=None) -> Physics:
+def physics_from_config(cfg: dict, periodic_x=False, noslip=False, materials_used=None,
+                        paddle="none", damping=(), sps=False, drag=False) -> Physics:
     """The switches of a case. materials_used: names of the materials its particles carry (all
     configured materials if None); rheology is compiled only if one of them is non-Newtonian."""
     n = cfg["numerics"]
@@ -315,6 +333,10 @@ def physics_from_config(cfg: dict, periodic_x=False, noslip=False, materials_use
         rheology=rheo,
         periodic_x=periodic_x,
         noslip=noslip,
+        paddle=paddle,
+        damping=tuple(float(v) for v in damping),
+        sps=sps,
+        drag=drag,
         kernel=n["kernel"],
         wall=n["wall"],
         artificial_viscosity=n["artificial_viscosity"] > 0.0,

@@ -16,6 +16,9 @@ _VIRIDIS = np.array([
     [0.993, 0.906, 0.144]])
 BACKGROUND = (1.0, 1.0, 1.0)
 BOUNDARY = (0.55, 0.55, 0.55)
+WATER = (0.36, 0.62, 0.90)
+SAND = (0.86, 0.70, 0.42)
+MODES = {"speed": 0, "phase": 1, "flat": 2, "pressure": 3}
 
 
 def colormap(values):
@@ -28,11 +31,16 @@ def colormap(values):
 
 @ti.data_oriented
 class Renderer:
-    """Draws a solver's particles, coloured by speed (fluid) and grey (boundaries)."""
+    """Draws a solver's particles, grey boundaries, fluid in one or more stacked panels:
+    "speed" colours every fluid by speed; "phase" draws materials that have a colour (sediment)
+    in it, darker where they move, and the rest (water) by speed; "flat" gives every material
+    its plain colour (water blue, sediment sand); "pressure" colours every fluid by its pressure
+    (0 to pressure_scale)."""
 
     BAR = 96  # colour-bar strip width in pixels
 
-    def __init__(self, solver, view, width=640, speed_scale=1.0, title=""):
+    def __init__(self, solver, view, width=640, speed_scale=1.0, title="", modes=("speed",),
+                 mat_colors=None, pressure_scale=0.0):
         (x0, y0), (x1, y1) = view
         self.solver = solver
         self.view = ((float(x0), float(y0)), (float(x1), float(y1)))
@@ -46,9 +54,22 @@ class Renderer:
         self.img = ti.Vector.field(3, ti.f32, shape=(W, H))
         self.lut = ti.Vector.field(3, ti.f32, shape=256)
         self.lut.from_numpy(colormap(np.linspace(0, 1, 256)).astype(np.float32))
+        for m in modes:
+            if m not in MODES:
+                raise ValueError(f"render mode {m!r}: expected one of {sorted(MODES)}")
+        self.modes = tuple(modes)
+        self.pressure_scale = float(pressure_scale) if pressure_scale > 0 else 1000.0 * 9.81 * (y1 - y0)
+        nmat = len(solver.materials)
+        cols = list(mat_colors or [None] * nmat)
+        self.mcol = ti.Vector.field(3, ti.f32, shape=nmat)
+        self.has_col = ti.field(ti.i32, shape=nmat)
+        for k in range(nmat):
+            c = cols[k] if k < len(cols) else None
+            self.has_col[k] = int(c is not None)
+            self.mcol[k] = c if c is not None else (WATER if k == 0 else SAND)
 
     @ti.kernel
-    def _draw(self, vmax: ti.f32):
+    def _draw(self, vmax: ti.f32, mode: ti.i32, pmax: ti.f32):
         for I in ti.grouped(self.img):
             self.img[I] = ti.Vector(BACKGROUND)
         p = self.solver.p
@@ -59,6 +80,14 @@ class Renderer:
                 if k == FLUID:
                     s = ti.min(p.v[i].norm() / vmax, 1.0)
                     col = self.lut[ti.cast(s * 255.0, ti.i32)]
+                    mt = p.mat[i]
+                    if mode == 2:
+                        col = self.mcol[mt]
+                    elif mode == 3:
+                        sp = ti.min(ti.max(p.p[i] / pmax, 0.0), 1.0)
+                        col = self.lut[ti.cast(sp * 255.0, ti.i32)]
+                    elif mode == 1 and self.has_col[mt] == 1:
+                        col = self.mcol[mt] * (1.0 - 0.45 * s)
                 cx = (p.x[i][0] - self.view[0][0]) * self.scale
                 cy = (p.x[i][1] - self.view[0][1]) * self.scale
                 r = self.radius
@@ -72,11 +101,15 @@ class Renderer:
 
     def frame(self, t):
         """RGB uint8 image (rows top to bottom) of the current state, annotated."""
-        self._draw(self.speed_scale)
-        core = (np.clip(self.img.to_numpy(), 0, 1) * 255).astype(np.uint8)
-        core = np.ascontiguousarray(np.flipud(core.transpose(1, 0, 2)))
-        bar = np.full((self.H, self.BAR, 3), 255, np.uint8)
-        top, bot = int(0.15 * self.H), int(0.85 * self.H)
+        panels = []
+        for m in self.modes:
+            self._draw(self.speed_scale, MODES[m], self.pressure_scale)
+            core = (np.clip(self.img.to_numpy(), 0, 1) * 255).astype(np.uint8)
+            panels.append(np.flipud(core.transpose(1, 0, 2)))
+        core = np.ascontiguousarray(np.concatenate(panels, axis=0))
+        Ht = core.shape[0]
+        bar = np.full((Ht, self.BAR, 3), 255, np.uint8)
+        top, bot = int(0.15 * Ht), int(0.85 * Ht)
         if bot - top > 4:
             ramp = colormap(np.linspace(1, 0, bot - top))
             bar[top:bot, 12:32] = (ramp[:, None, :] * 255).astype(np.uint8)
@@ -99,6 +132,8 @@ class Renderer:
         d.text((bx, top - 4), f"{self.speed_scale:.2g}", fill=(0, 0, 0), font=font)
         d.text((bx, bot - 10), "0", fill=(0, 0, 0), font=font)
         d.text((self.W + 6, top - 26), "|u| m/s", fill=(0, 0, 0), font=font)
+        if "pressure" in self.modes:   # the same bar reads 0 to pressure_scale in the pressure panel
+            d.text((self.W + 6, bot + 8), f"p: 0-{self.pressure_scale / 1000:.2g} kPa", fill=(0, 0, 0), font=font)
         return np.asarray(im)
 
 

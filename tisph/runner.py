@@ -45,12 +45,18 @@ class Case:
     probe: Callable = None            # probe(state: dict) -> tuple of floats
     metrics: Callable = None          # metrics(columns: dict of np arrays) -> dict
     final_metrics: Callable = None    # final_metrics(state: dict of np arrays) -> dict
-    container: tuple = None           # (x0, y0, x1, y1) the walls enclose; fluid outside crossed a wall
+    container: tuple = None           # (x0, y0, x1, y1[, wall top]) the walls enclose: fluid outside
+                                      # (below the wall top) crossed a wall, and the run stops
     outflow: tuple = ()               # open boundaries: boxes (x0, y0, x1, y1) fluid leaves through
     events: list = dataclasses.field(default_factory=list)  # [(t, callback(state, t))] at exact times
     finalize: Callable = None         # finalize(out, metrics) -> None: plots, extra files
     stills: tuple = ()                # simulated times of named stills, stills/t0.040.png
     notes: list = dataclasses.field(default_factory=list)
+    render_modes: tuple = ("speed",)  # stacked panels: speed | phase | flat (see render.Renderer)
+    mat_colors: tuple = None          # per material: an RGB colour (sediment) or None (by speed)
+    control: Callable = None          # control(solver) every control_every steps (a driving force)
+    control_every: int = 10
+    pressure_scale: float = 0.0       # top of the "pressure" render mode's colour bar (Pa)
 
 
 def sound_speed(cfg, u_max):
@@ -177,22 +183,23 @@ class Run:
         from .render import write_png
         from .io import ensure_dir
         ensure_dir(os.path.join(self.out, "stills"))
-        write_png(os.path.join(self.out, "stills", f"t{t:.3f}.png"), self.renderer.frame(t))
+        write_png(os.path.join(self.out, "stills", f"t{t:.3f}.png"), self.renderer.frame(state["t"]))
 
     def fire_events(self):
         while self.events and self.solver.time >= self.events[0][0] - 1e-12:
             t, cb = self.events.pop(0)
-            st = self.solver.state(("x", "v", "kind", "rho", "p", "m"))
-            st["t"] = self.solver.time
-            cb(st, self.solver.time)
+            st = self.solver.state(("x", "v", "kind", "rho", "p", "m", "mat"))
+            st["t"] = self.solver.time    # the actual time, at or just after the scheduled t
+            st["out"] = self.out
+            cb(st, t)
 
     def sample(self):
-        st = self.solver.state(("x", "v", "kind", "rho", "p", "m"))
+        st = self.solver.state(("x", "v", "kind", "rho", "p", "m", "mat"))
         st["t"] = self.solver.time
-        if self.case.container is not None:
-            x0, y0, x1, y1 = self.case.container
+        if self.solver.container is not None:
+            x0, y0, x1, y1, top = self.solver.container   # with the solver's tolerance
             x = st["x"][st["kind"] == FLUID]
-            out = (x[:, 0] < x0) | (x[:, 0] > x1) | (x[:, 1] < y0) | (x[:, 1] > y1)
+            out = (x[:, 1] < y0) | (x[:, 1] > y1) | ((x[:, 1] < top) & ((x[:, 0] < x0) | (x[:, 0] > x1)))
             self.crossed = max(self.crossed, int(out.sum()))
         row = (self.solver.time,) + (tuple(float(v) for v in self.case.probe(st)) if self.case.probe else ())
         self.probes.append(row)
@@ -311,7 +318,8 @@ class Run:
         clean_stale_parts(self.out)
         t_build = time.perf_counter()
         s = self.solver = Solver(self.case.physics, self.case.particles, self.case.materials,
-                                 self.case.domain, self.case.params, outflow=self.case.outflow)
+                                 self.case.domain, self.case.params, outflow=self.case.outflow,
+                                 container=self.case.container)
         s.enable_backup()
         if self.restart:
             self.resume()
@@ -328,7 +336,9 @@ class Run:
             from .io import ensure_dir
             ensure_dir(os.path.join(self.out, "frames"))
             speed = outc["speed_scale"] if outc["speed_scale"] > 0 else self.case.u_max
-            self.renderer = Renderer(s, self.case.view, outc["width"], speed, title=self.name)
+            self.renderer = Renderer(s, self.case.view, outc["width"], speed, title=self.name,
+                                     modes=self.case.render_modes, mat_colors=self.case.mat_colors,
+                                     pressure_scale=self.case.pressure_scale)
             self.movie = MovieWriter(os.path.join(self.out, f"{self.name}.mp4"), outc["fps"])
             if self.restart:  # the movie is rebuilt from the frames already on disk
                 import imageio.v2 as imageio
@@ -383,6 +393,8 @@ class Run:
             while s.time < t_end - 1e-12 and (max_steps == 0 or s.steps < max_steps):
                 ts = time.perf_counter()
                 s.step()
+                if self.case.control is not None and s.steps % self.case.control_every == 0:
+                    self.case.control(s)
                 step_s += time.perf_counter() - ts
                 if s.steps % 10 == 0 or s.time >= self.next_output - 1e-12:
                     bad = s.check()

@@ -26,11 +26,21 @@ from .terms.viscosity import monaghan_mu, artificial_viscosity, laminar_viscosit
 from .terms.diffusion import density_diffusion, hydrostatic_density_difference
 from .terms.xsph import xsph
 from .terms.repulsive import lennard_jones
+from .terms.sps import sps_stress, sps_accel
+from .terms.drag import drag_accel
 from .terms.rheology import shear_rate, bingham, cross, harmonic_pair, BINGHAM, CROSS, RHEOLOGY_CODES
 
 # Codes of the instability detector, most severe last.
-BAD_NONE, BAD_DENSITY, BAD_SPEED, BAD_DT, BAD_NAN = 0, 1, 2, 3, 4
+BAD_NONE, BAD_DENSITY, BAD_SPEED, BAD_SPILL, BAD_WALL, BAD_LEAK, BAD_DT, BAD_NAN = 0, 1, 2, 3, 4, 5, 6, 7
 BAD_TEXT = {
+    BAD_SPILL: ("a fluid particle went over a side wall and out of the tank",
+                "a jet or splash overtopped the walls: raise the walls, or the sound speed is too low "
+                "and the run-up too violent"),
+    BAD_WALL: ("a fluid particle crossed a wall",
+               "particles penetrated the wall: wall force too weak (numerics.wall_strength), walls too "
+               "thin (numerics.wall_layers), sound speed too low for the impact, or time step too large"),
+    BAD_LEAK: ("a fluid particle left the simulation domain",
+               "particles penetrated the wall or were thrown out of the domain"),
     BAD_DENSITY: ("density left the allowed band around rest density",
                   "particles compressed against a wall or torn apart: time step too large for this "
                   "sound speed, or sound speed too low for the flow"),
@@ -59,13 +69,23 @@ class ParticleFields:
 
 @ti.data_oriented
 class Solver:
-    def __init__(self, physics: Physics, particles, materials, domain, params: dict, outflow=()):
+    def __init__(self, physics: Physics, particles, materials, domain, params: dict, outflow=(),
+                 container=None):
         """particles: ParticleSet; materials: list of dicts (name, rho0, viscosity, B);
         domain: ((xlo, ylo), (xhi, yhi)); params: dx, h, c0, alpha, xsph, delta, g, wall_D,
         wall_r0, cfl, dt_max, density_band."""
         self.physics = physics
         # open boundaries: boxes (x0, y0, x1, y1); fluid entering one leaves the simulation
         self.outflow = tuple(tuple(float(v) for v in z) for z in outflow)
+        # the box the walls enclose (x0, y0, x1, y1): fluid outside it crossed a wall, a stop
+        # A particle counts as crossed once it is past the first row of wall particles (dx/2
+        # behind the surface): a fluid particle touching the surface is not a penetration.
+        tol = 0.5 * float(params["dx"])
+        # An optional fifth value is the height of the side walls: above it fluid may overtop.
+        self.container = None if container is None else tuple(
+            float(min(max(v + sgn * tol, -1e30), 1e30))
+            for v, sgn in zip(tuple(container) + (float("inf"),) * (5 - len(container)), (-1, -1, 1, 1, 0)))
+        self.has_container = self.container is not None
         self.K = get_kernel(physics.kernel)
         self.n = len(particles)
         if self.n == 0:
@@ -86,6 +106,10 @@ class Solver:
             members["xs"] = vec2          # XSPH correction, only when the term is on
         if physics.rheology:
             members["mu"] = real          # effective viscosity, only with a non-Newtonian material
+        if physics.sps:
+            members["sps"] = ti.types.vector(3, real)   # SPS stress / rho (xx, xy, yy), one dt behind
+        if physics.paddle != "none":
+            members["x0"] = vec2          # a paddle particle's position at zero displacement
         if physics.noslip:
             members["wn"] = vec2          # wall normal (into the fluid) and distance behind the
             members["wd"] = real          # wall surface, for the no-slip ghost velocity
@@ -139,6 +163,7 @@ class Solver:
             self.mat_mu0 = ti.field(real, nmat)      # Cross zero-shear viscosity
             self.mat_K = ti.field(real, nmat)        # Cross time constant (s)
             self.mat_m1 = ti.field(real, nmat)       # Cross exponent
+            self.mat_rest = ti.field(ti.i32, nmat)   # 1: unyielded Bingham material is held at rest
         for k, mat in enumerate(materials):
             self.mat_rho0[k] = mat["rho0"]
             self.mat_B[k] = mat["B"]
@@ -151,10 +176,13 @@ class Solver:
                 self.mat_mu0[k] = mat.get("mu0", mat.get("viscosity", 0.0))
                 self.mat_K[k] = mat.get("K", 0.0)
                 self.mat_m1[k] = mat.get("m1", 1.0)
+                self.mat_rest[k] = int(mat.get("unyielded", "creep") == "rest")
 
         # Runtime parameters: read by kernels from a field, so changing them needs no recompile.
         prm = dict(c0=real, alpha=real, eps=real, delta=real, g=vec2, wall_D=real, wall_r0=real,
-                   cfl=real, dt_max=real, dt_visc=real, band=real, dt=real, dt_floor=real)
+                   cfl=real, dt_max=real, dt_visc=real, band=real, dt=real, dt_floor=real,
+                   pd=real, pv=real, pivot=vec2,   # paddle: displacement (m or rad) and its rate
+                   drag_K=real)
         self.prm = ti.types.struct(**prm).field(shape=())
         nu_max = max((m.get("viscosity", 0.0) / m["rho0"] for m in materials), default=0.0)
         dt_visc = 0.125 * self.h ** 2 / nu_max if (physics.laminar_viscosity and nu_max > 0) else 1e30
@@ -163,7 +191,9 @@ class Solver:
                            wall_D=params.get("wall_D", 0.0), wall_r0=params.get("wall_r0", self.dx),
                            cfl=params.get("cfl", 0.2), dt_max=params.get("dt_max", 1e-3),
                            dt_visc=dt_visc, band=params.get("density_band", 0.1), dt=0.0,
-                           dt_floor=params.get("dt_floor", 1e-9))
+                           dt_floor=params.get("dt_floor", 1e-9), pd=0.0, pv=0.0,
+                           pivot=tuple(params.get("pivot", (0.0, 0.0))), drag_K=params.get("drag_K", 0.0))
+        self.motion = params.get("motion")   # motion(t) -> (displacement, rate), for the paddle
         for k, v in self.params.items():
             setattr(self.prm[None], k, v)
 
@@ -179,6 +209,8 @@ class Solver:
         self.p.kind.from_numpy(particles.kind.astype(np.int32))
         self.p.mat.from_numpy(particles.mat.astype(np.int32))
         self.p.id.from_numpy(np.arange(self.n, dtype=np.int32))
+        if physics.paddle != "none":
+            self.p.x0.from_numpy(particles.x.astype(np.float64 if real == ti.f64 else np.float32))
         if physics.noslip:
             fp = np.float64 if real == ti.f64 else np.float32
             self.p.wn.from_numpy(particles.wall_normal.astype(fp))
@@ -259,7 +291,7 @@ class Solver:
         if ti.static(not self.physics.periodic_x):
             x0 = ti.max(c[0] - self.cdiv, 0)
             x1 = ti.min(c[0] + self.cdiv, self.nx - 1)
-            for dy in ti.static(range(-self.cdiv, self.cdiv + 1)):
+            for dy in range(-self.cdiv, self.cdiv + 1):  # runtime: one copy of the pair tasks (compiles 4x faster)
                 cy = c[1] + dy
                 if 0 <= cy < self.ny:
                     row = cy * self.nx
@@ -270,11 +302,12 @@ class Solver:
                             task(i, j, r, r2, acc)
         else:
             # periodic in x: cells wrap, so a row is no longer one range; r is the nearest image
-            for dy in ti.static(range(-self.cdiv, self.cdiv + 1)):
+            for dy in range(-self.cdiv, self.cdiv + 1):
                 cy = c[1] + dy
                 if 0 <= cy < self.ny:
                     row = cy * self.nx
-                    for dxo in ti.static(range(-self.cdiv, self.cdiv + 1)):
+                    # a runtime loop: unrolled, the 25 copies of every pair task took ~45 s to compile
+                    for dxo in range(-self.cdiv, self.cdiv + 1):
                         cx = (c[0] + dxo + self.nx) % self.nx
                         for j in range(self.start[row + cx], self.start[row + cx + 1]):
                             r = xi - src.x[j]
@@ -348,8 +381,17 @@ class Solver:
                     mu_j = self.mat_mu[s.mat[j]]
             acc.a += laminar_viscosity(m_j, harmonic_pair(acc.mui, mu_j), acc.inv_rhoi, ir_j,
                                        v_visc, r, r2, gw, self.eta2)
-        if ti.static(self.physics.rheology):
-            acc.gv += vol_j * (-v_visc).outer_product(gw)  # velocity gradient, for the shear rate
+        if ti.static(self.physics.rheology or self.physics.sps):
+            acc.gv += vol_j * (-v_visc).outer_product(gw)  # velocity gradient: shear rate, SPS stress
+        if ti.static(self.physics.sps):
+            t_j = acc.sps_i                      # a wall particle mirrors i's SPS stress
+            if kj == FLUID:
+                t_j = s.sps[j]
+            acc.a += sps_accel(m_j, acc.sps_i, acc.inv_rhoi, t_j, ir_j, gw)
+        if ti.static(self.physics.drag):
+            if kj == FLUID and s.mat[j] != acc.mat:
+                w = self.w_scale * self.K.shape(q)
+                acc.a += drag_accel(prm.drag_K, acc.inv_rhoi, vol_j, w, acc.vi, s.ve[j])
         if ti.static(self.physics.density_diffusion != "none"):
             if kj == FLUID and s.mat[j] == acc.mat:
                 hyd = 0.0
@@ -394,7 +436,19 @@ class Solver:
                     self.p.rho[i] += 0.5 * dt * self.p.drho[i]
                 else:
                     if k == MOVING:
-                        self.p.x[i] = self.wrap(self.p.x[i] + dt * self.p.v[i])
+                        if ti.static(self.physics.paddle == "piston"):
+                            # prescribed: x = x0 + X(t_new), v = X'(t_new)
+                            self.p.x[i] = self.p.x0[i] + ti.Vector([prm.pd, 0.0])
+                            self.p.v[i] = ti.Vector([prm.pv, 0.0])
+                        elif ti.static(self.physics.paddle == "flap"):
+                            # rotation by theta(t_new) about the hinge; v = omega x (x - hinge)
+                            rel = self.p.x0[i] - prm.pivot
+                            cs, sn = ti.cos(prm.pd), ti.sin(prm.pd)
+                            rr = ti.Vector([cs * rel[0] + sn * rel[1], -sn * rel[0] + cs * rel[1]])
+                            self.p.x[i] = prm.pivot + rr
+                            self.p.v[i] = prm.pv * ti.Vector([rr[1], -rr[0]])
+                        else:
+                            self.p.x[i] = self.wrap(self.p.x[i] + dt * self.p.v[i])
                     if ti.static(self.is_dbc):
                         self.p.rho[i] += 0.5 * dt * self.p.drho[i]
                 gone = False
@@ -404,6 +458,18 @@ class Solver:
                             xx = self.p.x[i]
                             if z[0] <= xx[0] <= z[2] and z[1] <= xx[1] <= z[3]:
                                 gone = True
+                if ti.static(self.has_container):
+                    if k == FLUID and not gone:
+                        xx = self.p.x[i]
+                        b = self.container
+                        if xx[1] < b[1] or xx[1] > b[3] or (xx[1] < b[4] and (xx[0] < b[0] or xx[0] > b[2])):
+                            code = BAD_WALL
+                            # checked every step, a particle pushed through a side wall is caught
+                            # within dx of it; one found further out came over the top
+                            if xx[1] >= b[1] and (xx[0] < b[0] - self.dx or xx[0] > b[2] + self.dx):
+                                code = BAD_SPILL
+                            ti.atomic_max(self.stats[None].bad_code, code)
+                            ti.atomic_min(self.stats[None].bad_idx, self.p.id[i])
                 if gone:
                     self.p.kind[i] = OUTFLOW
                 elif self.inside(self.p.x[i]):
@@ -412,6 +478,9 @@ class Solver:
                     if self.p.kind[i] == FLUID:
                         ti.atomic_add(self.fcnt[key], 1)
                 else:
+                    if k == FLUID:
+                        ti.atomic_max(self.stats[None].bad_code, BAD_LEAK)
+                        ti.atomic_min(self.stats[None].bad_idx, self.p.id[i])
                     self.p.kind[i] = OUT
                     ti.atomic_add(self.stats[None].leaked, 1)
             self.key[i] = key
@@ -472,10 +541,17 @@ class Solver:
                                 vi=self.tmp.ve[i], rhoi=self.tmp.rhoe[i], pi=self.tmp.p[i],
                                 inv_rhoi=self.tmp.ir[i], mui=mui, mat=mi,
                                 rho0_c02=self.mat_rho0[mi] / (prm.c0 * prm.c0),
-                                gv=ti.Matrix([[0.0, 0.0], [0.0, 0.0]]))
+                                gv=ti.Matrix([[0.0, 0.0], [0.0, 0.0]]), sps_i=ti.Vector([0.0, 0.0, 0.0]))
+                if ti.static(self.physics.sps):
+                    acc.sps_i = self.tmp.sps[i]
                 self.for_neighbours(self.tmp, i, self.tmp.x[i], self.fluid_pair, acc)
                 a = acc.a + prm.g
                 v = self.tmp.v[i] + 0.5 * dt * a
+                if ti.static(len(self.physics.damping) == 3):
+                    # absorbing zone: implicit relaxation of the velocity, ramped in quadratically
+                    zd = self.physics.damping
+                    s = ti.min(ti.max((self.tmp.x[i][0] - zd[0]) / (zd[1] - zd[0]), 0.0), 1.0)
+                    v = v / (1.0 + dt * zd[2] * s * s)
                 rho = self.tmp.rho[i] + 0.5 * dt * acc.drho
                 self.p.a[i] = a
                 self.p.drho[i] = acc.drho
@@ -483,6 +559,17 @@ class Solver:
                 self.p.rho[i] = rho
                 if ti.static(self.physics.xsph):
                     self.p.xs[i] = acc.xs
+                if ti.static(self.physics.sps):
+                    # SPS stress for the next step, Newtonian materials only (the fluid phase)
+                    tau = ti.Vector([0.0, 0.0, 0.0])
+                    nut = 0.0
+                    newtonian = True
+                    if ti.static(self.physics.rheology):
+                        newtonian = self.mat_rheo[mi] == 0
+                    if newtonian:
+                        tau, nut = sps_stress(acc.gv, self.dx)
+                    self.p.sps[i] = tau
+                    ti.atomic_max(self.stats[None].numax, nut + self.mat_mu[mi] / rho)
                 if ti.static(self.physics.rheology):
                     # effective viscosity for the next step (lagged by one dt, ~1e-4 s)
                     gdot = shear_rate(acc.gv)
@@ -490,6 +577,12 @@ class Solver:
                     rh = self.mat_rheo[mi]
                     if rh == BINGHAM:
                         mu_new = bingham(self.mat_mu[mi], self.mat_tau[mi], self.mat_m[mi], self.mat_mumax[mi], gdot)
+                        if self.mat_rest[mi] == 1 and self.mat_mumax[mi] * gdot < self.mat_tau[mi]:
+                            # unyielded: the stress the capped viscosity carries is below the yield
+                            # stress, so Bingham says the material moves as a rigid body; a bed on
+                            # a fixed floor rests. Without this it creeps at stress / mu_max.
+                            v = ti.Vector([0.0, 0.0])
+                            self.p.v[i] = v
                     elif rh == CROSS:
                         mu_new = cross(self.mat_mu0[mi], self.mat_mu[mi], self.mat_K[mi], self.mat_m1[mi],
                                        self.mat_mumax[mi], gdot)
@@ -531,8 +624,8 @@ class Solver:
                 dt_f = ti.sqrt(self.h / amax)
             dt_cv = self.h / (prm.c0 + st.mumax)
             dt_v = prm.dt_visc
-            if ti.static(self.physics.rheology):
-                # the viscous limit from the effective viscosity actually applied this step
+            if ti.static(self.physics.rheology or self.physics.sps):
+                # the viscous limit from the (effective, eddy) viscosity actually applied this step
                 if st.numax > 0.0:
                     dt_v = ti.min(dt_v, 0.125 * self.h * self.h / st.numax)
                 self.stats[None].numax = 0.0
@@ -641,10 +734,19 @@ class Solver:
         self._step()
         self._primed = True
 
+    def set_paddle(self, t):
+        """Paddle displacement and rate at time t, into the kernel's parameters."""
+        if self.motion is not None:
+            d, r = self.motion(t)
+            self.prm[None].pd = d
+            self.prm[None].pv = r
+
     def step(self):
         """Advance one time step; returns the dt taken."""
         if not self._primed:
             self.prime()
+        if self.motion is not None:
+            self.set_paddle(self.time + self.dt)  # the kernel moves the paddle to t + dt
         dt = float(self._step())
         self.steps += 1
         self.time += dt
@@ -673,6 +775,17 @@ class Solver:
         return int(self.stats[None].leaked)
 
     snapshot_members = ("x", "v", "rho", "p", "m", "kind", "mat", "id")
+
+    def field_bytes(self):
+        """Bytes the particle and grid fields take on the device (from their shapes and types)."""
+        per = 0
+        for k, t in self._member_types.items():
+            n = getattr(t, "n", 1)
+            dt = getattr(t, "dtype", t)
+            per += n * (8 if dt in (ti.f64, ti.i64) else 4)
+        copies = 2 + (self.bak is not None)          # particles, the sorted copy, the backup
+        grid = 3 * (self.ncells + 2) * 4 + 2 * self.n * 4   # counts/starts, keys/order
+        return per * self.n * copies + grid
 
     def state(self, names=("x", "v", "rho", "p", "kind", "mat", "m")):
         """Particle arrays ordered by particle id (the order the scene built them in)."""

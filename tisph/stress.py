@@ -103,7 +103,8 @@ def run(quick=False, out="renders/stress", log=print):
         except (ConfigError, OutputError) as e:
             outcome, leaks, rho = f"clear error: {e}", "", ""
         except Exception as e:  # a crash is a failed stress case, reported as such
-            outcome, leaks, rho = f"CRASH {type(e).__name__}: {e}", "", ""
+            first = (str(e).strip().splitlines() or [""])[0][:120]
+            outcome, leaks, rho = f"CRASH {type(e).__name__}: {first}", "", ""
         wall = time.perf_counter() - t0
         rows.append((name, outcome, leaks, rho, f"{wall:.1f}", expect))
         log(f"{name}: {outcome} (leaks {leaks}, max density error {rho}, {wall:.1f} s)")

@@ -116,7 +116,7 @@ def build(cfg):
     margin = T + dx
     common = dict(name=NAME, particles=ps, materials=materials, domain=domain, params=params,
                   physics=physics_from_config(cfg), u_max=u_max, outflow=outflow,
-                  container=(0.0, 0.0, W, float("inf")))
+                  container=(0.0, 0.0, W, float("inf"), Ht))
     if not channel:
         def probe(st):
             x = st["x"][st["kind"] == FLUID]
@@ -165,7 +165,8 @@ def _channel_case(cfg, common, front, a, H, W, hd, dx, margin):
         out_m = float(st["m"][st["kind"] == OUTFLOW].sum())
         return front(st), bore, plat, out_m
 
-    def on_profile(st, t):
+    def on_profile(st, t_sched):
+        t = st["t"]
         xs, hs = depth_profile(st, 0.0, W, width)
         profiles.append((t, xs, hs, shallow_water.depth(xs - a, t, H, hd, G)))
 

@@ -159,7 +159,7 @@ def build(cfg):
                 physics=physics_from_config(cfg, materials_used=used),
                 view=((-margin, -margin), (W + margin, Ht + margin)), u_max=u_max,
                 probe_columns=("speed_ratio",), probe=probe, metrics=metrics, final_metrics=final_metrics,
-                container=(0.0, 0.0, W, float("inf")))
+                container=(0.0, 0.0, W, float("inf"), Ht))
 
 
 def main(argv=None):

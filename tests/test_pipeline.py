@@ -1,0 +1,192 @@
+"""Pipeline-scour physics: SPS stress, fluid-sediment drag (momentum conserved), the scene runs."""
+import json
+
+import numpy as np
+import pytest
+import taichi as ti
+
+from tisph.config import Physics
+from tisph.particles import ParticleSet, block, FLUID, tait_B
+from tisph.runner import run_scene
+from tisph.solver import Solver
+from tisph.terms.sps import sps_stress, CS, CI
+
+
+def test_sps_stress_of_a_simple_shear():
+    out = ti.Vector.field(3, ti.f32, shape=())
+    nu = ti.field(ti.f32, shape=())
+
+    @ti.kernel
+    def k(g: ti.f32, dl: ti.f32):
+        t, n = sps_stress(ti.Matrix([[0.0, g], [0.0, 0.0]]), dl)
+        out[None] = t
+        nu[None] = n
+
+    g, dl = 3.0, 0.01
+    k(g, dl)
+    nut = (CS * dl) ** 2 * g                       # |S| = g for u = g y
+    assert nu[None] == pytest.approx(nut, rel=1e-5)
+    t = out[None].to_numpy()
+    iso = 2.0 / 3.0 * CI * dl * dl * g * g
+    assert t[1] == pytest.approx(nut * g, rel=1e-5)   # tau_xy / rho = 2 nu_t S_xy
+    assert t[0] == pytest.approx(-iso, rel=1e-4) and t[2] == pytest.approx(-iso, rel=1e-4)
+
+
+def _two_phase_box(drag_K):
+    """Water and sand blocks side by side, periodic in x, no gravity, random velocities."""
+    dx = 0.01
+    rng = np.random.default_rng(1)
+    ps = ParticleSet()
+    w = block(0.0, 0.0, 0.2, 0.1, dx)
+    s = block(0.0, 0.1, 0.2, 0.2, dx)
+    ps.add(w, FLUID, 0, 1000.0, 1000.0 * dx * dx, v=rng.normal(0, 0.05, (len(w), 2)) + [0.2, 0.0])
+    ps.add(s, FLUID, 1, 1950.0, 1950.0 * dx * dx, v=rng.normal(0, 0.05, (len(s), 2)))
+    c0 = 10.0
+    mats = [dict(name="water", rho0=1000.0, viscosity=1e-3, B=tait_B(1000.0, c0)),
+            dict(name="sand", rho0=1950.0, viscosity=0.07, B=tait_B(1950.0, c0))]
+    phys = Physics(kernel="wendland", artificial_viscosity=True, laminar_viscosity=True, periodic_x=True,
+                   sps=True, drag=drag_K > 0)
+    params = dict(dx=dx, h=1.3 * dx, c0=c0, alpha=0.05, g=(0.0, 0.0), cfl=0.4, dt_max=1e-3, density_band=0.5,
+                  drag_K=drag_K)
+    return Solver(phys, ps, mats, ((0.0, -1.0), (0.2, 1.2)), params), ps
+
+
+def test_drag_conserves_momentum_and_couples_the_phases():
+    K = 0.75 * 0.6 * 1000.0 * 0.4 / 0.00036
+    out = {}
+    for k in (0.0, K):
+        s, ps = _two_phase_box(k)
+        m = ps.m
+        p0 = (m[:, None] * ps.v).sum(0)
+        scale = (m * np.hypot(*ps.v.T)).sum()
+        for _ in range(200):
+            s.step()
+        st = s.state(("v", "mat", "m", "x"))
+        p1 = (st["m"][:, None].astype(float) * st["v"]).sum(0)
+        # every pair force is equal and opposite: momentum moves only by float32 round-off
+        assert np.abs(p1 - p0).max() < 1e-4 * scale, (k, p1, p0)
+        near = np.abs(st["x"][:, 1] - 0.1) < 0.01            # the rows either side of the interface
+        du = st["v"][near & (st["mat"] == 0), 0].mean() - st["v"][near & (st["mat"] == 1), 0].mean()
+        out[k] = du
+    assert abs(out[K]) < 0.5 * abs(out[0.0]), out    # drag pulls the phases together at the interface
+
+
+def test_pipeline_scour_command_runs_and_writes_its_files(tmp_path):
+    from tisph.scenes import pipeline_scour
+    out = tmp_path / "ps"
+    code = run_scene(pipeline_scour, ["--dx", "0.0125", "--end-time", "0.1", "--out", str(out), "--quiet",
+                                      "--frame-interval", "0.05"])
+    assert code == 0
+    s = json.load(open(out / "summary.json"))
+    assert s["status"] == "ok" and s["leaked_particles"] == 0
+    assert s["physics"]["sps"] and s["physics"]["drag"] and s["physics"]["noslip"] and s["physics"]["periodic_x"]
+    assert (out / "probes.csv").read_text().splitlines()[0] == \
+        "t,scour_depth_over_D,transport_rate_phi,max_bed_shear,u_mean,body_force"
+    assert (out / "scour_profile.csv").exists() and (out / "frames" / "00000.png").exists()
+    m = s["metrics"]
+    assert np.isfinite(m["scour_depth_over_D"]) and abs(m["mean_velocity_end"] - 0.4) < 0.1
+
+
+# ---------------------------------------------------------------------------- DEM contacts
+KN, KS, ETA_N, ETA_S, MU = 1.0e6, 1.0e5, 20.0, 40.0, 0.57     # paper 002 Table 3
+M = 1950.0 * 0.01 ** 2                                        # a sediment particle at dx = 0.01
+
+
+def _collide(v0, steps=4000, dt=2e-6):
+    """Two grains meet head-on at +-v0 (no other force); returns the separation speed ratio."""
+    from tisph.terms.dem import contact_force
+    out = ti.field(ti.f64, shape=2)
+
+    @ti.kernel
+    def run(v0: ti.f64, dt: ti.f64, n: ti.i32):
+        xa, xb = 0.0, 0.01 + 1e-6          # just apart; contact diameter 0.01
+        va, vb = v0, -v0
+        for _ in range(1):
+            for k in range(n):
+                f, es, on = contact_force(KN, KS, ETA_N, ETA_S, MU, 0.01, ti.Vector([xa - xb, 0.0]),
+                                          ti.Vector([va - vb, 0.0]), 0.0, dt)
+                va += dt * f[0] / M
+                vb -= dt * f[0] / M
+                xa += dt * va
+                xb += dt * vb
+        out[0] = va
+        out[1] = vb
+
+    ti_run = run
+    ti_run(v0, dt, steps)
+    return (out[1] - out[0]) / (2 * v0)
+
+
+def test_dem_head_on_restitution_matches_the_damped_oscillator():
+    from tisph.terms.dem import restitution
+    e = _collide(0.05)
+    assert e == pytest.approx(restitution(M / 2, KN, ETA_N), rel=0.02)
+    assert 0.85 < e < 0.95
+
+
+def test_dem_sliding_obeys_the_coulomb_limit():
+    from tisph.terms.dem import contact_force
+    res = ti.field(ti.f64, shape=3)
+
+    @ti.kernel
+    def slide(n: ti.i32, dt: ti.f64):
+        es = 0.0
+        fmax = 0.0
+        f = ti.Vector([0.0, 0.0])
+        for _ in range(1):
+            for k in range(n):   # pressed 0.1 mm into a fixed grain, sliding at 1 cm/s
+                f, es, on = contact_force(KN, KS, ETA_N, ETA_S, MU, 0.01, ti.Vector([0.0, 0.0099]),
+                                          ti.Vector([0.01, 0.0]), es, dt)
+                fmax = ti.max(fmax, ti.abs(f[0]))
+        res[0] = f[0]
+        res[1] = f[1]
+        res[2] = fmax
+
+    slide(20000, 1e-5)
+    fn = KN * 1e-4
+    assert res[1] == pytest.approx(fn, rel=1e-6)                 # normal: spring only, no normal motion
+    assert res[0] == pytest.approx(-MU * fn, rel=1e-6)           # sliding: the friction limit, against the slip
+    assert res[2] <= MU * fn * (1 + 1e-9)
+
+
+def _dem_bed(shift):
+    """A bed of DEM sand on a floor, periodic in x, everything shifted by `shift` in x."""
+    dx = 0.01
+    ps = ParticleSet()
+    bed = block(0.0, 0.0, 0.2, 0.06, dx)
+    bed[:, 0] = (bed[:, 0] + shift) % 0.2
+    floor = block(0.0, -0.03, 0.2, 0.0, dx)
+    floor[:, 0] = (floor[:, 0] + shift) % 0.2
+    from tisph.particles import WALL
+    ps.add(bed, FLUID, 0, 1950.0, M)
+    ps.add(floor, WALL, 0, 1950.0, M)
+    c0 = 5.0
+    mats = [dict(name="sand", rho0=1950.0, viscosity=0.1, B=tait_B(1950.0, c0), dem=True)]
+    phys = Physics(kernel="wendland", artificial_viscosity=True, periodic_x=True, dem=True)
+    params = dict(dx=dx, h=1.3 * dx, c0=c0, alpha=0.1, g=(0.0, -9.81), cfl=0.4, dt_max=2e-5, density_band=0.5,
+                  kn=KN, ks=KS, eta_n=ETA_N, eta_s=ETA_S, mu_c=MU, dc=dx)
+    return Solver(phys, ps, mats, ((0.0, -0.1), (0.2, 0.3)), params)
+
+
+def test_dem_contacts_are_symmetric_and_survive_reordering():
+    """Shifting the periodic bed by 0.37 of its length changes every particle's cell and so the
+    order the solver sorts them in, but not the physics: each particle's contact list (partner
+    ids and tangential springs) must come out the same, and i lists j exactly when j lists i."""
+    runs = []
+    for shift in (0.0, 0.074):
+        s = _dem_bed(shift)
+        for _ in range(300):
+            s.step()
+        assert s.check() is None
+        st = s.state(("cid", "ces", "kind"))
+        runs.append({i: {int(c): float(e) for c, e in zip(st["cid"][i], st["ces"][i]) if c >= 0}
+                     for i in range(len(st["kind"])) if st["kind"][i] == FLUID})
+    a, b = runs
+    n_contacts = sum(len(v) for v in a.values())
+    assert n_contacts > 50                                   # the bed's weight closes contacts
+    assert any(abs(e) > 0 for v in a.values() for e in v.values())   # and the tangential springs work
+    for i, lst in a.items():
+        for j, e in lst.items():
+            assert a[j][i] == pytest.approx(e, abs=1e-6)     # the pair agrees on its spring
+    same = sum(1 for i in a for j in a[i] if j in b[i])
+    assert same >= 0.95 * n_contacts                         # history kept through a different order

@@ -1,0 +1,322 @@
+"""Benchmark: run time against error, throughput and scaling, and a PySPH comparison.
+
+    python -m tisph.bench [--quick] [--peer pysph] [--out renders/bench] [--only CASE ...]
+
+Every validation case runs at a ladder of resolutions; each run records particles, steps, wall
+time, Taichi compile time (the first call, separately), particle-steps/s and its error against
+its reference. Writes OUT/bench.csv, OUT/bench.md (tables, observed convergence orders, the
+scaling table, the specialisation ratio, a kernel profile and, with --peer, the PySPH
+comparison) and OUT/bench.png (run time against error, log-log).
+Timings are for this machine and this run; compare them as ratios within one run.
+"""
+import argparse
+import dataclasses
+import json
+import math
+import os
+import resource
+import subprocess
+import sys
+import time
+
+import numpy as np
+
+from .io import ensure_dir, write_csv, write_text, atomic_path
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(HERE)
+
+
+@dataclasses.dataclass
+class BenchCase:
+    name: str
+    scene: str                 # module under tisph (scenes.x or validation.x)
+    metric: str                # the error metric in summary.json
+    reference: str
+    ladder: tuple              # dx values, full run
+    quick: tuple               # dx values, --quick
+    overrides: dict = dataclasses.field(default_factory=dict)
+    config: str = ""           # a case file under scenes/
+    quick_overrides: dict = dataclasses.field(default_factory=dict)
+
+
+CASES = [
+    BenchCase("hydrostatic tank", "scenes.tank", "pressure_error", "rho g d below the top two rows",
+              (0.04, 0.02, 0.01), (0.05, 0.04, 0.025), {"run.end_time": 1.5, "geometry.depth": 0.4}),
+    BenchCase("Poiseuille, Newtonian", "validation.poiseuille", "velocity_l2_error", "steady parabola",
+              (0.01, 0.005, 0.0025), (0.01, 0.00667, 0.005),
+              {"materials.fluid.yield_stress": 0.0, "geometry.length": 0.08}),
+    BenchCase("Poiseuille, Bingham 10 Pa", "validation.poiseuille", "velocity_l2_error", "exact Bingham profile",
+              (0.01, 0.005, 0.0025), (0.01, 0.00667, 0.005), {"geometry.length": 0.08}),
+    BenchCase("dam break (Martin & Moyce)", "scenes.dam_break", "front_rms_error", "Martin & Moyce 1952 front",
+              (0.06, 0.04, 0.03, 0.02), (0.08, 0.06, 0.04), {}),
+    BenchCase("wet-bed dam break, alpha 0.4", "scenes.dam_break", "bore_speed_error", "Stoker bore speed",
+              (0.025, 0.0167, 0.0125), (0.03, 0.025, 0.02), {}, config="dam_break_alpha04.toml",
+              quick_overrides={"run.end_time": 1.6, "geometry.profile_times": []}),
+    BenchCase("flume, piston (Biesel)", "scenes.flume", "wave_height_error", "Biesel H/S, 2 wavelengths out",
+              (0.025, 0.02, 0.0125), (0.03, 0.025), {}),
+]
+
+
+def _scene(mod):
+    import importlib
+    return importlib.import_module(f"tisph.{mod}")
+
+
+def run_one(case, dx, out, quick):
+    from .runner import simulate
+    ov = {"output.render": False, "output.quiet": True, "output.snapshot_every": 0.0, "numerics.dx": dx}
+    ov.update(case.overrides)
+    if quick:
+        ov.update(case.quick_overrides)
+    cfgfile = os.path.join(ROOT, "scenes", case.config) if case.config else None
+    slug = "".join(c if c.isalnum() else "_" for c in case.name)[:30] + f"_dx{dx:g}"
+    t0 = time.perf_counter()
+    s = simulate(_scene(case.scene), ov, out=os.path.join(out, "runs", slug), config=cfgfile)
+    wall = time.perf_counter() - t0
+    err = s["metrics"].get(case.metric, float("nan"))
+    return dict(case=case.name, dx=dx, particles=s["particles"], steps=s["steps"], sim_time=s["sim_time"],
+                wall_time_s=round(wall, 3), compile_time_s=round(s["compile_time_s"], 3),
+                step_time_s=round(s["step_time_s"], 3),
+                particle_steps_per_s=round(s["particle_steps_per_s"]), metric=case.metric,
+                error=float(err) if err is not None else float("nan"), status=s["status"])
+
+
+def convergence_order(dxs, errs):
+    """Slope of log(error) against log(dx), least squares over the finite points (NaN if < 2)."""
+    d, e = np.asarray(dxs, float), np.asarray(errs, float)
+    m = np.isfinite(e) & (e > 0)
+    if m.sum() < 2:
+        return float("nan")
+    return float(np.polyfit(np.log(d[m]), np.log(e[m]), 1)[0])
+
+
+# ---------------------------------------------------------------------------- scaling
+def _scaling_child(n, steps):
+    """One scaling point, in its own process so its peak RSS is its own."""
+    from . import runtime
+    from .runner import build_case, Log, resolve
+    from .scenes import tank
+    from .solver import Solver
+    runtime.init("cpu", "f32")
+    dx = 0.01
+    side = math.sqrt(n) * dx
+    cfg = resolve(tank, overrides={"numerics.dx": dx, "geometry.width": side, "geometry.depth": side,
+                                   "geometry.tank_height": side * 1.05, "output.quiet": True})
+    case = build_case(tank, cfg, Log(os.devnull, True))
+    s = Solver(case.physics, case.particles, case.materials, case.domain, case.params)
+    s.prime()
+    s.step()
+    t0 = time.perf_counter()
+    for _ in range(steps):
+        s.step()
+    s.dt  # a field read: waits for the last kernel
+    el = time.perf_counter() - t0
+    rss = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
+    print(json.dumps(dict(particles=s.n, steps=steps, seconds=round(el, 3),
+                          particle_steps_per_s=round(s.n * steps / el),
+                          field_bytes_per_particle=round(s.field_bytes() / s.n, 1),
+                          peak_rss_mb=round(rss / 2**20, 1))))
+
+
+def scaling(sizes, steps=100):
+    """Particle-steps/s and memory of the hydrostatic tank at about the given particle counts,
+    each in a fresh process. The RSS cost of a particle is the slope of peak RSS against
+    particle count between consecutive sizes (the Taichi runtime's own footprint cancels)."""
+    env = dict(os.environ, PYTHONPATH=ROOT + os.pathsep + os.environ.get("PYTHONPATH", ""))
+    rows = []
+    for n in sizes:
+        r = subprocess.run([sys.executable, "-c", f"from tisph.bench import _scaling_child; _scaling_child({n}, {steps})"],
+                           capture_output=True, text=True, env=env, timeout=3600)
+        if r.returncode != 0:
+            raise RuntimeError(f"scaling run with {n} particles failed: {r.stderr[-1500:]}")
+        row = json.loads(r.stdout.strip().splitlines()[-1])
+        if rows:
+            p = rows[-1]
+            row["rss_bytes_per_particle"] = round((row["peak_rss_mb"] - p["peak_rss_mb"]) * 2**20 /
+                                                  (row["particles"] - p["particles"]), 1)
+        else:
+            row["rss_bytes_per_particle"] = float("nan")
+        rows.append(row)
+    return rows
+
+
+def specialisation(quick, steps=None):
+    """The dam break as shipped against the same case compiled with the rheology, laminar
+    viscosity, XSPH and no-slip terms switched on at zero strength."""
+    from .runner import build_case, Log, resolve
+    from .scenes import dam_break
+    from .solver import Solver
+    cfg = resolve(dam_break, overrides={"numerics.dx": 0.03, "output.quiet": True})
+    case = build_case(dam_break, cfg, Log(os.devnull, True))
+    out = {}
+    steps = steps or (300 if quick else 1500)
+    for label, phys in (("as shipped", case.physics),
+                        ("rheology + laminar + XSPH + no-slip at zero strength",
+                         dataclasses.replace(case.physics, rheology=True, laminar_viscosity=True, xsph=True,
+                                             noslip=True))):
+        mats = [dict(m, viscosity=0.0) for m in case.materials]
+        s = Solver(phys, case.particles, mats, case.domain, dict(case.params, xsph=0.0))
+        s.prime()
+        for _ in range(20):
+            s.step()
+        t0 = time.perf_counter()
+        for _ in range(steps):
+            s.step()
+        s.dt
+        out[label] = s.n * steps / (time.perf_counter() - t0)
+    return out
+
+
+PROFILE_SNIPPET = r"""
+import os, sys, io, contextlib
+os.environ["ENABLE_TAICHI_HEADER_PRINT"] = "0"
+import taichi as ti
+ti.init(arch=ti.cpu, kernel_profiler=True, default_fp=ti.f32, log_level=ti.WARN)
+from tisph.runner import build_case, Log, resolve
+from tisph.scenes import dam_break
+from tisph.solver import Solver
+cfg = resolve(dam_break, overrides={"numerics.dx": 0.03, "output.quiet": True})
+case = build_case(dam_break, cfg, Log(os.devnull, True))
+s = Solver(case.physics, case.particles, case.materials, case.domain, case.params)
+s.prime()
+for _ in range(50):
+    s.step()
+ti.profiler.clear_kernel_profiler_info()
+for _ in range(500):
+    s.step()
+s.dt
+buf = io.StringIO()
+with contextlib.redirect_stdout(buf):
+    ti.profiler.print_kernel_profiler_info("count")
+print(buf.getvalue())
+"""
+
+
+def kernel_profile():
+    env = dict(os.environ, PYTHONPATH=ROOT + os.pathsep + os.environ.get("PYTHONPATH", ""))
+    try:
+        r = subprocess.run([sys.executable, "-c", PROFILE_SNIPPET], capture_output=True, text=True, env=env,
+                           timeout=600)
+        return (r.stdout or r.stderr).strip()
+    except Exception as e:  # the profile is informative; the bench goes on without it
+        return f"(kernel profile failed: {e})"
+
+
+# ---------------------------------------------------------------------------- PySPH
+def peer_pysph(out, log, venv=None):
+    from . import peer
+    return peer.compare(out, log, venv)
+
+
+# ---------------------------------------------------------------------------- report
+def plot(rows, path):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, ax = plt.subplots(figsize=(7.5, 5))
+    for name in dict.fromkeys(r["case"] for r in rows):
+        rr = [r for r in rows if r["case"] == name and np.isfinite(r["error"]) and r["error"] > 0]
+        if not rr:
+            continue
+        ax.loglog([r["wall_time_s"] for r in rr], [r["error"] for r in rr], "o-", label=name)
+    ax.set_xlabel("wall time (s)")
+    ax.set_ylabel("error against the reference")
+    ax.grid(alpha=0.3, which="both")
+    ax.legend(fontsize=7)
+    ax.set_title("tisph: run time against error (each point one resolution)", fontsize=10)
+    fig.tight_layout()
+    with atomic_path(path) as tmp:
+        fig.savefig(tmp, dpi=110, format="png")
+    plt.close(fig)
+
+
+def _table(header, rows):
+    md = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
+    md += ["| " + " | ".join(str(c) for c in r) + " |" for r in rows]
+    return "\n".join(md)
+
+
+def main(argv=None):
+    p = argparse.ArgumentParser(prog="python -m tisph.bench", description=__doc__,
+                                formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("--quick", action="store_true", help="coarse ladders and short runs (about 5 minutes)")
+    p.add_argument("--peer", choices=["pysph"], help="also run PySPH's dam_break_2d and compare")
+    p.add_argument("--peer-venv", help="PySPH's virtual environment (default OUT/pysph-venv; made if absent)")
+    p.add_argument("--out", default=os.path.join("renders", "bench"))
+    p.add_argument("--only", nargs="*", help="run only the cases whose name contains one of these words")
+    p.add_argument("--no-scaling", action="store_true", help="skip the scaling, specialisation and profile parts")
+    p.add_argument("--dry-run", action="store_true",
+                   help="exercise every code path in seconds: one tiny case, tiny scaling, no profile (for tests)")
+    a = p.parse_args(argv)
+    from . import runtime
+    runtime.init("cpu", "f32")
+    ensure_dir(a.out)
+    log = lambda m: print(m, file=sys.stderr, flush=True)
+    rows = []
+    cases = [c for c in CASES if not a.only or any(w.lower() in c.name.lower() for w in a.only)]
+    if a.dry_run:
+        cases = [dataclasses.replace(CASES[0], quick=CASES[0].quick[:2], quick_overrides={"run.end_time": 0.2})]
+        a.quick = True
+    for c in cases:
+        for dx in (c.quick if a.quick else c.ladder):
+            r = run_one(c, dx, a.out, a.quick)
+            rows.append(r)
+            log(f"{c.name}, dx {dx:g}: {r['particles']} particles, {r['steps']} steps, {r['wall_time_s']:.1f} s "
+                f"(compile {r['compile_time_s']:.1f} s), {r['particle_steps_per_s']:.3g} p-steps/s, "
+                f"{c.metric} = {r['error']:.4g}")
+    cols = ("case", "dx", "particles", "steps", "sim_time", "wall_time_s", "compile_time_s", "step_time_s",
+            "particle_steps_per_s", "metric", "error", "status")
+    write_csv(os.path.join(a.out, "bench.csv"), cols, [tuple(r[k] for k in cols) for r in rows])
+    md = ["# tisph benchmark", "",
+          f"{'Quick' if a.quick else 'Full'} run, {time.strftime('%Y-%m-%d %H:%M')}, CPU backend, f32, "
+          f"{os.cpu_count()} threads. Wall time includes set-up and compilation; compile is the first call.", "",
+          "## Run time against error", "",
+          _table(("case", "dx", "particles", "steps", "wall s", "compile s", "particle-steps/s", "error", "metric"),
+                 [(r["case"], f"{r['dx']:g}", r["particles"], r["steps"], f"{r['wall_time_s']:.1f}",
+                   f"{r['compile_time_s']:.1f}", f"{r['particle_steps_per_s']:.3g}", f"{r['error']:.4g}",
+                   r["metric"]) for r in rows]), "",
+          "Observed convergence order (slope of log error against log dx; positive means the error falls "
+          "with dx):", ""]
+    orders = []
+    for c in cases:
+        rr = [r for r in rows if r["case"] == c.name]
+        orders.append((c.name, c.reference, f"{convergence_order([r['dx'] for r in rr], [r['error'] for r in rr]):.2f}"))
+    md += [_table(("case", "reference", "order"), orders), ""]
+    try:
+        plot(rows, os.path.join(a.out, "bench.png"))
+        md += ["![run time against error](bench.png)", ""]
+    except Exception as e:
+        log(f"warning: no plot: {e}")
+    if not a.no_scaling:
+        sizes = (2e3,) if a.dry_run else (1e4, 4e4) if a.quick else (1e4, 4e4, 1.6e5, 6.4e5)
+        sc = scaling([int(n) for n in sizes], steps=5 if a.dry_run else 50 if a.quick else 100)
+        for r in sc:
+            log(f"scaling: {r}")
+        md += ["## Scaling (hydrostatic tank, dx 0.01, fixed steps)", "",
+               _table(("particles", "steps", "s", "particle-steps/s", "field bytes/particle", "peak RSS MB",
+                       "RSS bytes/particle (slope)"),
+                      [(r["particles"], r["steps"], r["seconds"], f"{r['particle_steps_per_s']:.3g}",
+                        r["field_bytes_per_particle"], r["peak_rss_mb"], r["rss_bytes_per_particle"])
+                       for r in sc]), ""]
+        write_csv(os.path.join(a.out, "scaling.csv"), tuple(sc[0]), [tuple(r.values()) for r in sc])
+        sp = specialisation(a.quick, 20 if a.dry_run else None)
+        (k0, v0), (k1, v1) = sp.items()
+        log(f"specialisation: {sp}")
+        md += ["## Specialisation (dam break, dx 0.03)", "",
+               _table(("build", "particle-steps/s", "ratio"),
+                      [(k0, f"{v0:.3g}", "1"), (k1, f"{v1:.3g}", f"{v0 / v1:.2f}x slower")]),
+               "", "SPS turbulence and DEM contacts do not exist yet (the pipeline-scour issue); they are not in "
+               "the second build.", ""]
+        prof = "(skipped in a dry run)" if a.dry_run else kernel_profile()
+        md += ["## Kernel profile (dam break dx 0.03, 500 steps, Taichi kernel profiler)", "", "```", prof, "```",
+               "", "One time step is one fused kernel (`_step`), so the profile is per kernel, not per loop.", ""]
+    if a.peer == "pysph":
+        md += peer_pysph(a.out, log, a.peer_venv)
+    write_text(os.path.join(a.out, "bench.md"), "\n".join(md) + "\n")
+    print("\n".join(md))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

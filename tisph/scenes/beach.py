@@ -1,0 +1,287 @@
+"""Sand beach in front of a wave maker (paper 000 section 5, Table 5, Figs. 17-28): a piston
+paddle at the left makes waves that shoal and break on a sloping sand beach and reshape the bed.
+
+Water 1000 kg/m3 (Newtonian, 0.001 Pa s); sand a Bingham fluid, 1950 kg/m3, mu_B = 0.1 Pa s,
+tau_B = 200 Pa (scenes/beach.toml) or 1000 Pa (scenes/beach_tau1000.toml); dx = 0.04 m as in
+Table 5. The table's time step (2e-5 s) is what an explicit step with the full Bingham viscosity
+needs; here the effective viscosity is capped where its explicit viscous step would fall below
+the acoustic one, and sand whose stress stays below the yield stress is held at rest (a rigid
+plug on a fixed bed, materials.sand.unyielded = "rest") instead of creeping at stress / cap.
+
+Geometry (the paper gives none; chosen for plunging breakers on the slope): still water 0.4 m
+deep over a flat sand layer 0.12 m thick, which rises at 1:6 from x = 3 m to above the
+waterline; the sand lies on a rigid ramp (a Bingham bed with tau_B = 200 Pa cannot hold a thick
+1:6 slope by itself: the static shear stress of 0.12 m of submerged sand on 1:6 is 180 Pa).
+Waves: period 1.6 s, stroke 0.16 m, so kh = 0.86 at the paddle and Biesel gives H = 0.14 m
+(H/h = 0.34); the surf-similarity number tan(a)/sqrt(H/L0) = 0.9 makes plunging breakers.
+
+Outputs besides the usual: bed_profile.csv (sand surface along x at every frame), probes.csv
+with ripple_length, ripple_height, bed_change_rms (of the bed change over the active zone),
+bed_profile.png, stills at t = 0, 0.7, 2, 4, 8, 16 s and streamline panels of the water velocity
+at the same times (stills/streamlines_t*.png).
+"""
+import math
+import os
+import sys
+
+import numpy as np
+
+from ..config import ConfigError, physics_from_config
+from ..io import atomic_path, write_csv
+from ..particles import ParticleSet, block, density_from_pressure, tait_B, FLUID, WALL, MOVING
+from ..render import SAND
+from ..ripples import orbital_diameter, ripple_stats
+from ..runner import Case, common_params, run_scene, sound_speed
+from .. import wavemaker as wm
+from . import flume
+
+NAME = "beach"
+G = 9.81
+
+DEFAULTS = {
+    "run": {"end_time": 16.0},
+    "numerics": {"dx": 0.04, "h_factor": 1.3, "artificial_viscosity": 0.05,
+                 "density_diffusion": "fourtakas", "delta": 0.1},
+    "geometry": {"length": 8.0,            # paddle (x = 0) to the end wall (m)
+                 "depth": 0.4,             # still water over the flat sand (m)
+                 "sand_thickness": 0.12,   # sand layer over the floor and the ramp (m)
+                 "toe_x": 3.0,             # where the beach starts to rise (m)
+                 "slope": 6.0,             # 1 : slope (horizontal run per unit rise)
+                 "wall_height": 1.0},
+    "paddle": dict(flume.PADDLE_DEFAULTS, stroke=0.16, period=1.6, ramp_periods=1.0),
+    "materials": {
+        "water": {"rho0": 1000.0, "viscosity": 1.0e-3},
+        "sand": {"rho0": 1950.0, "viscosity": 0.1, "rheology": "bingham", "yield_stress": 200.0,
+                 "regularisation": 100.0, "mu_max": 0.0, "unyielded": "rest"},
+    },
+    "output": {"frame_interval": 0.04, "probe_interval": 0.04, "width": 1280},
+}
+RANGES = {f"geometry.{k}": (0.0, None, False, True) for k in DEFAULTS["geometry"]}
+RANGES["geometry.slope"] = (1.0, None, True, True)
+RANGES.update(flume.PADDLE_RANGES)
+CHOICES = {"paddle.type": ("piston", "flap")}
+STILLS = (0.0, 0.7, 2.0, 4.0, 8.0, 16.0)
+
+
+def check(cfg):
+    g, dx = cfg["geometry"], cfg["numerics"]["dx"]
+    if g["sand_thickness"] / dx < 3:
+        raise ConfigError("geometry.sand_thickness", g["sand_thickness"], f"at least 3 dx = {3 * dx:g} m")
+    if g["depth"] / dx < 6:
+        raise ConfigError("numerics.dx", dx, f"at most {g['depth'] / 6:.4g} m (6 particles across the water depth)")
+    top = g["sand_thickness"] + g["depth"]
+    if top + 0.1 >= g["wall_height"]:
+        raise ConfigError("geometry.wall_height", g["wall_height"], f"above the water surface + 0.1 m ({top + 0.1:g} m)")
+    shore = g["toe_x"] + g["depth"] * g["slope"]
+    if shore >= g["length"] - 0.2:
+        raise ConfigError("geometry.length", g["length"],
+                          f"longer than the shoreline position + 0.2 m ({shore + 0.2:.3g} m) for this toe_x and slope")
+    if g["toe_x"] < 1.0:
+        raise ConfigError("geometry.toe_x", g["toe_x"], "at least 1 m (room for the waves to form)")
+    flume.check_paddle(cfg, g["depth"] + g["sand_thickness"], g["length"])
+
+
+def build(cfg):
+    geo, num, p = cfg["geometry"], cfg["numerics"], cfg["paddle"]
+    dx, Lf, d, ts = num["dx"], geo["length"], geo["depth"], geo["sand_thickness"]
+    toe, sl, Hw = geo["toe_x"], geo["slope"], geo["wall_height"]
+    yw = ts + d                                   # still-water level
+    mats = cfg["materials"]
+    rw, rs = mats["water"]["rho0"], mats["sand"]["rho0"]
+    omega, k, wavelength, cg, hs_ratio = flume.linear_wave(cfg, d)
+    H_biesel = hs_ratio * p["stroke"]
+    c0, u_max = sound_speed(cfg, math.sqrt(G * (d + H_biesel)))   # bore speed of the broken wave
+    L = num["wall_layers"]
+    T = L * dx
+    h = num["h_factor"] * dx
+
+    def ramp(x):
+        return np.maximum(0.0, (np.asarray(x, float) - toe) / sl)
+
+    # The slope is built from rows of particles parallel to it (a lattice cut by a 1:6 line
+    # would leave a staircase that reads as ripples and whose corners slump).
+    ca, sa = sl / math.hypot(sl, 1.0), 1.0 / math.hypot(sl, 1.0)
+    s_len = (Lf - toe) / ca
+
+    def slope_rows(offsets):
+        s_ = np.arange(0.5 * dx, s_len, dx)
+        pts = [np.column_stack([toe + s_ * ca - o * sa, s_ * sa + o * ca]) for o in offsets]
+        pts = np.vstack(pts)
+        return pts[pts[:, 0] < Lf - 0.5 * dx]
+
+    def far_from(a, b, r):
+        """Points of a farther than r from every point of b (only near the toe do they meet)."""
+        keep = np.ones(len(a), bool)
+        near_a = np.nonzero(np.abs(a[:, 0] - toe) < 4 * dx)[0]
+        nb = b[np.abs(b[:, 0] - toe) < 5 * dx]
+        if len(near_a) and len(nb):
+            d2 = ((a[near_a, None, :] - nb[None, :, :]) ** 2).sum(-1).min(1)
+            keep[near_a] = d2 >= r * r
+        return a[keep]
+
+    nlay = int(round(ts / dx))
+    flat_sand = block(0.0, 0.0, toe, ts, dx)
+    slope_sand = far_from(slope_rows([(k + 0.5) * dx for k in range(nlay)]), flat_sand, 0.7 * dx)
+    xs = np.vstack([flat_sand, slope_sand])
+    ramp_wall = slope_rows([-(k + 0.5) * dx for k in range(L)])
+    ramp_wall = ramp_wall[ramp_wall[:, 1] > 0.25 * dx]     # the floor lies below y = 0
+    lattice = block(0.0, 0.0, Lf, Hw, dx)
+    # water: the lattice above the sand, at least half a spacing clear of its surface
+    dist = np.where(lattice[:, 0] < toe, lattice[:, 1] - ts,
+                    ((lattice[:, 1] - ts) - (lattice[:, 0] - toe) / sl) * ca)
+    xw = lattice[(dist >= 0.5 * dx) & (lattice[:, 1] < yw)]
+    xw = far_from(xw, xs, 0.7 * dx)
+
+    def pressure(y, ytop_sand):
+        pw = rw * G * np.maximum(yw - np.maximum(y, ytop_sand), 0.0)
+        return pw + rs * G * np.maximum(ytop_sand - y, 0.0)
+
+    ps = ParticleSet()
+    ps.add(xw, FLUID, 0, density_from_pressure(pressure(xw[:, 1], ramp(xw[:, 0]) + ts), rw, c0), rw * dx * dx)
+    ps.add(xs, FLUID, 1, density_from_pressure(pressure(xs[:, 1], ramp(xs[:, 0]) + ts), rs, c0), rs * dx * dx)
+    pad_pts, motion, extra, reach = flume.paddle(cfg, yw, Hw)
+    x_left = -reach - 2 * T
+    walls = np.vstack([block(x_left, -T, Lf + T, 0.0, dx), block(Lf, 0.0, Lf + T, Hw, dx), ramp_wall])
+    ytop = np.maximum(ramp(walls[:, 0]), 0.0) + ts
+    wall_p = pressure(np.maximum(walls[:, 1], 0.0), ytop)
+    ps.add(walls, WALL, 0, density_from_pressure(wall_p, rw, c0), rw * dx * dx)
+    pp = pressure(pad_pts[:, 1], np.full(len(pad_pts), ts))
+    ps.add(pad_pts, MOVING, 0, density_from_pressure(pp, rw, c0), rw * dx * dx)
+
+    materials = []
+    for name in ("water", "sand"):
+        m = dict(mats[name])
+        materials.append(dict(m, name=name, B=tait_B(m["rho0"], c0)))
+    pad = 3 * T + 4 * h
+    domain = ((x_left - pad, -pad), (Lf + pad, 2 * Hw + pad))
+    params = common_params(cfg, c0, G, depth=yw)
+    params.update(extra)
+
+    # bed stations every dx over the sand; the active zone for ripples: from one wavelength
+    # before the toe to just past the still-water shoreline
+    stations = np.arange(0.5, Lf - 0.25, dx)
+    shore = toe + d * sl
+    active = (stations >= max(0.5, toe - 0.5 * wavelength)) & (stations <= shore + 0.2)
+    bed_rows, bed0 = [], {}
+    x_toe = toe
+
+    def bed(st):
+        return flume.surface_heights(st, stations, dx, h, mat=1)
+
+    def probe(st):
+        b = bed(st)
+        if "b" not in bed0:
+            bed0["b"] = b
+        bed_rows.append((st["t"],) + tuple(b))
+        z = b - bed0["b"]
+        lam, hr, rms = ripple_stats(stations[active], z[active])
+        eta = flume.surface_at(st, x_toe, dx, h, mat=0) - yw
+        return lam, hr, rms, eta
+
+    t_ramp = p["ramp_periods"] * p["period"]
+
+    def metrics(c):
+        out = dict(kh_paddle=k * d, wavelength=wavelength, biesel_wave_height=H_biesel,
+                   active_zone=[float(stations[active][0]), float(stations[active][-1])])
+        for key in ("ripple_length", "ripple_height", "bed_change_rms"):
+            v = c[key][np.isfinite(c[key])]
+            out[key] = float(v[-1]) if len(v) else float("nan")
+        # wave height at the toe after the ramp (incident plus what the beach reflects)
+        t0 = t_ramp + x_toe / cg + p["period"]
+        H, n = wm.wave_height(c["t"], c["eta_toe"], t0, float(c["t"][-1]), p["period"])
+        out["wave_height_at_toe"] = H
+        out["periods_measured_at_toe"] = n
+        if n:
+            d0 = float(orbital_diameter(H, k, d))
+            out["orbital_diameter_d0"] = d0
+            out["ripple_length_over_d0"] = out["ripple_length"] / d0
+            out["wiberg_harris_ratio"] = 0.62
+        return out
+
+    def finalize(out, metrics):
+        if not bed_rows:
+            return
+        write_csv(os.path.join(out, "bed_profile.csv"), ("t",) + tuple(f"x{x:.3f}" for x in stations), bed_rows)
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+        arr = np.array(bed_rows)
+        fig, (a1, a2) = plt.subplots(2, 1, figsize=(9, 5.5), sharex=True)
+        times = [t for t in STILLS if t <= arr[-1, 0] + 1e-9] or [arr[-1, 0]]
+        for t in times:
+            r = arr[np.argmin(np.abs(arr[:, 0] - t))]
+            a1.plot(stations, r[1:], lw=0.9, label=f"t = {r[0]:.1f} s")
+            a2.plot(stations, r[1:] - arr[0, 1:], lw=0.9)
+        a1.axhline(yw, color="tab:blue", lw=0.6, ls="--")
+        a1.set_ylabel("sand surface (m)")
+        a1.legend(fontsize=7, ncol=3)
+        a2.axvspan(stations[active][0], stations[active][-1], color="0.93")
+        a2.set_ylabel("bed change (m)")
+        a2.set_xlabel("x (m)")
+        fig.suptitle(f"beach, tau_B = {mats['sand']['yield_stress']:g} Pa: bed profile over time "
+                     f"(grey: active zone)", fontsize=10)
+        fig.tight_layout()
+        with atomic_path(os.path.join(out, "bed_profile.png")) as tmp:
+            fig.savefig(tmp, dpi=110, format="png")
+        plt.close(fig)
+
+    events = []
+    if cfg["output"]["render"]:
+        events = [(t, _streamlines_event(cfg, stations, yw, Lf, dx)) for t in STILLS]
+
+    margin = T + dx
+    return Case(name=NAME, particles=ps, materials=materials, domain=domain, params=params,
+                physics=physics_from_config(cfg, paddle=p["type"]),
+                view=((x_left - margin, -margin), (Lf + margin, min(Hw, yw + 0.35) + margin)), u_max=u_max,
+                probe_columns=("ripple_length", "ripple_height", "bed_change_rms", "eta_toe"), probe=probe,
+                metrics=metrics, finalize=finalize, events=events, stills=STILLS,
+                container=(-reach - dx, 0.0, Lf, float("inf"), Hw),
+                render_modes=("phase",), mat_colors=(None, SAND))
+
+
+def _streamlines_event(cfg, stations, yw, Lf, dx):
+    """A callback drawing streamlines of the water velocity (gridded from the particles) over the
+    sand, offscreen with matplotlib, into OUT/stills/streamlines_t*.png."""
+    def cb(st, t):
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+        fl = st["kind"] == FLUID
+        x, v, mat = st["x"][fl], st["v"][fl], st["mat"][fl]
+        w = mat == 0
+        cell = 2 * dx
+        xe = np.arange(0.0, Lf + cell, cell)
+        ye = np.arange(0.0, yw + 0.4 + cell, cell)
+        n, _, _ = np.histogram2d(x[w, 0], x[w, 1], bins=(xe, ye))
+        u, _, _ = np.histogram2d(x[w, 0], x[w, 1], bins=(xe, ye), weights=v[w, 0])
+        vv, _, _ = np.histogram2d(x[w, 0], x[w, 1], bins=(xe, ye), weights=v[w, 1])
+        with np.errstate(invalid="ignore", divide="ignore"):
+            u, vv = np.where(n > 0, u / n, np.nan), np.where(n > 0, vv / n, np.nan)
+        xc, yc = 0.5 * (xe[1:] + xe[:-1]), 0.5 * (ye[1:] + ye[:-1])
+        fig, ax = plt.subplots(figsize=(12, 2.4))
+        s = ~w
+        ax.scatter(x[s, 0], x[s, 1], s=1.5, color=SAND, lw=0)
+        ax.scatter(x[w, 0], x[w, 1], s=0.6, color="#9cc3e6", lw=0)
+        speed = np.hypot(u, vv)
+        if np.isfinite(speed).any() and np.nanmax(speed) > 0:
+            ax.streamplot(xc, yc, np.nan_to_num(u.T), np.nan_to_num(vv.T), color=np.nan_to_num(speed.T),
+                          cmap="viridis", density=(4, 1), linewidth=0.6, arrowsize=0.6)
+        ax.set_xlim(0, Lf)
+        ax.set_ylim(0, yw + 0.3)
+        ax.set_aspect("equal")
+        ax.set_title(f"water velocity streamlines, t = {t:.1f} s", fontsize=9)
+        fig.tight_layout()
+        d = os.path.join(st["out"], "stills")
+        os.makedirs(d, exist_ok=True)
+        with atomic_path(os.path.join(d, f"streamlines_t{t:.1f}.png")) as tmp:
+            fig.savefig(tmp, dpi=100, format="png")
+        plt.close(fig)
+    return cb
+
+
+def main(argv=None):
+    return run_scene(sys.modules[__name__], argv)
+
+
+if __name__ == "__main__":
+    sys.exit(main())

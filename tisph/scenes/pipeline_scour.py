@@ -1,0 +1,336 @@
+"""Current-induced scour beneath a marine pipeline (paper 002, section 4.2; Mao 1986).
+
+A pipe of diameter D lies on a sand bed in a current; the flow through the gap under the pipe
+scours a tunnel (tunnel erosion), then a lee-wake hole forms. Two phases: water (Newtonian, with
+the SPS turbulence closure of paper 002 eq. 10) and sand (Cross rheology, eqs. 29-30, with the
+paper's mu_inf = 0.07 Pa s, tau_B = 25 Pa read as mu0 = 1000 mu_inf, K = mu0 / tau_B), coupled by
+pressure, viscosity and a drag term (eq. 16, made dimensionally consistent; see tisph/terms/drag.py).
+The pipe is a ring of boundary particles with the no-slip ghost velocity of eq. 39. The current
+is periodic in x, starts from the log law (eq. 32, kappa = 0.42) and is held at its mean
+velocity by a body force with feedback.
+
+Defaults: D = 0.1 m, water 0.35 m deep above the bed, mean velocity 0.4 m/s (Shields 0.065),
+sand d50 = 0.36 mm, a domain 10 D long (periodic) with a sand layer 1.5 D deep, dx = D/10, and an
+initial gap of 0.1 D under the pipe with a small sinusoidal bed perturbation, as the paper does
+to start tunnel erosion. scenes/pipeline_scour_theta098.toml: 0.5 m/s (Shields 0.098).
+scenes/pipe_on_rigid_bed.toml: D = 5 cm on a rigid bed, U = 0.197 m/s (Oner et al. 2008).
+
+Not built (yet): the DEM spring-dashpot contacts between sand particles (paper 002 eqs. 17-28).
+The paper ran 6.5 min of flow at dt = 1e-5 s; the default here is 5 s (about 4 minutes on two cores), the start of tunnel
+erosion.
+"""
+import math
+import os
+import sys
+
+import numpy as np
+
+from ..config import ConfigError, physics_from_config
+from ..io import atomic_path, write_csv
+from ..particles import ParticleSet, block, density_from_pressure, tait_B, FLUID, WALL
+from ..render import SAND
+from ..runner import Case, common_params, run_scene, sound_speed
+from .flume import surface_heights
+
+NAME = "pipeline_scour"
+G = 9.81
+KAPPA = 0.42
+
+DEFAULTS = {
+    "run": {"end_time": 5.0},   # about 4 minutes here; the paper ran 6.5 min of flow
+    # Wendland kernel (paper 002 eq. 6), laminar viscosity + SPS (eq. 10), Shepard every 200 steps
+    # is an option (shepard_every = 200); density diffusion is the default
+    # c0 = 18 m/s: Table 3's c_0m
+    "numerics": {"dx": 0.01, "h_factor": 1.3, "kernel": "wendland", "artificial_viscosity": 0.0,
+                 "laminar_viscosity": True, "density_diffusion": "fourtakas", "delta": 0.1, "c0": 18.0},
+    "geometry": {
+        "pipe_diameter": 0.1,       # D (m)
+        "water_depth": 0.35,        # above the undisturbed bed (m)
+        "sand_depth": 0.15,         # 0: the pipe lies on a rigid bed (flow-only validation)
+        "length": 1.0,              # periodic length, 10 D
+        "gap": 0.01,                # initial gap under the pipe (m)
+        "perturbation": 0.005,      # amplitude of the sinusoidal bed perturbation under the pipe (m)
+        "mean_velocity": 0.4,       # held by the body-force feedback (m/s)
+        "grain_diameter": 0.00036,  # d50 (m)
+        "porosity": 0.4,
+        "drag_coefficient": 0.4,    # Table 3
+        "sps": True,
+        "profile_offsets": [-2.0, 0.0, 2.0],   # velocity profiles at x = x_pipe + offset * D
+    },
+    "materials": {
+        "water": {"rho0": 1000.0, "viscosity": 1.0e-3},
+        # Cross: mu_inf = 0.07 Pa s, tau_B = 25 Pa read as mu0 = 1000 mu_inf, K = mu0 / tau_B
+        "sand": {"rho0": 1950.0, "viscosity": 0.07, "rheology": "cross", "mu0": 70.0, "K": 2.8, "m1": 1.0,
+                 "mu_max": 0.0},
+    },
+    "output": {"frame_interval": 0.05, "probe_interval": 0.05, "width": 960},
+}
+RANGES = {f"geometry.{k}": (0.0, None, k in ("sand_depth", "gap", "perturbation"), True)
+          for k in ("pipe_diameter", "water_depth", "sand_depth", "length", "gap", "perturbation",
+                    "mean_velocity", "grain_diameter", "drag_coefficient")}
+RANGES["geometry.porosity"] = (0.0, 1.0, True, False)
+
+
+def check(cfg):
+    g, dx = cfg["geometry"], cfg["numerics"]["dx"]
+    D = g["pipe_diameter"]
+    if D / dx < 8:
+        raise ConfigError("numerics.dx", dx, f"at most {D / 8:.4g} m (8 particles across the pipe)")
+    if g["length"] < 5 * D:
+        raise ConfigError("geometry.length", g["length"], f"at least 5 pipe diameters ({5 * D:g} m)")
+    if g["water_depth"] < D + g["gap"] + 4 * dx:
+        raise ConfigError("geometry.water_depth", g["water_depth"],
+                          f"at least pipe_diameter + gap + 4 dx ({D + g['gap'] + 4 * dx:.3g} m)")
+    if 0 < g["sand_depth"] < 4 * dx:
+        raise ConfigError("geometry.sand_depth", g["sand_depth"], f"0 (rigid bed) or at least 4 dx ({4 * dx:g} m)")
+    if g["perturbation"] > 0.5 * g["sand_depth"]:
+        raise ConfigError("geometry.perturbation", g["perturbation"], "at most half the sand depth")
+
+
+def log_law(z, ustar, z0):
+    """u(z) = (u*/kappa) ln(z/z0) above the bed (paper 002 eq. 32, kappa = 0.42), 0 below z0."""
+    z = np.maximum(np.asarray(z, float), z0)
+    return ustar / KAPPA * np.log(z / z0)
+
+
+def friction_velocity(U, depth, z0):
+    """u* whose log-law profile has depth-mean U: U = (u*/kappa) (ln(h/z0) - 1)."""
+    return KAPPA * U / (math.log(depth / z0) - 1.0)
+
+
+def ring(cx, cy, radius, dx):
+    n = max(8, int(round(2 * math.pi * radius / dx)))
+    a = np.arange(n) * 2 * math.pi / n
+    return np.column_stack([cx + radius * np.cos(a), cy + radius * np.sin(a)]), np.column_stack([np.cos(a), np.sin(a)])
+
+
+def build(cfg):
+    geo, num = cfg["geometry"], cfg["numerics"]
+    dx, D, hw, hs, Lx = num["dx"], geo["pipe_diameter"], geo["water_depth"], geo["sand_depth"], geo["length"]
+    U, d50 = geo["mean_velocity"], geo["grain_diameter"]
+    mats = cfg["materials"]
+    rw, rs = mats["water"]["rho0"], mats["sand"]["rho0"]
+    R = 0.5 * D
+    xc = 0.5 * Lx
+    yc = hs + geo["gap"] + R
+    ytop = hs + hw
+    z0 = 2.5 * d50 / 30.0                     # Nikuradse roughness 2.5 d50
+    ustar = friction_velocity(U, hw, z0)
+    c0, u_max = sound_speed(cfg, 2.5 * U)      # the gap jet runs at up to about twice U
+    L = num["wall_layers"]
+    h = num["h_factor"] * dx
+    ps = ParticleSet()
+    lattice = block(0.0, 0.0, Lx, ytop, dx)
+
+    def bed(x):   # the initial sand surface: flat, with a small dip under the pipe
+        x = np.asarray(x, float)
+        dip = geo["perturbation"] * np.where(np.abs(x - xc) < D, 0.5 * (1 + np.cos(np.pi * (x - xc) / D)), 0.0)
+        return hs - dip
+
+    inside_pipe = np.hypot(lattice[:, 0] - xc, lattice[:, 1] - yc) < R + 0.5 * dx
+    y_bed = bed(lattice[:, 0]) if hs > 0 else np.zeros(len(lattice))
+    sand = (lattice[:, 1] < y_bed) & ~inside_pipe
+    water = (lattice[:, 1] >= y_bed) & ~inside_pipe
+    xs, xw = lattice[sand], lattice[water]
+
+    def pressure(y, yb):
+        return rw * G * (ytop - np.maximum(y, yb)) + rs * G * np.maximum(yb - y, 0.0)
+
+    vw = np.column_stack([log_law(xw[:, 1] - (bed(xw[:, 0]) if hs > 0 else 0.0), ustar, z0), np.zeros(len(xw))])
+    ps.add(xw, FLUID, 0, density_from_pressure(pressure(xw[:, 1], bed(xw[:, 0]) if hs > 0 else 0.0), rw, c0),
+           rw * dx * dx, v=vw)
+    if hs > 0:
+        ps.add(xs, FLUID, 1, density_from_pressure(pressure(xs[:, 1], bed(xs[:, 0])), rs, c0), rs * dx * dx)
+    # floor (no-slip, normal up) and the pipe: rings inside its surface, normals outward
+    floor = block(0.0, -L * dx, Lx, 0.0, dx)
+    ps.add(floor, WALL, 0, density_from_pressure(pressure(floor[:, 1], hs), rw, c0), rw * dx * dx,
+           normal=(0.0, 1.0), wall_dist=-floor[:, 1])
+    for k in range(L):
+        r_k = R - (k + 0.5) * dx
+        if r_k <= 0:
+            break
+        pts, nrm = ring(xc, yc, r_k, dx)
+        ps.add(pts, WALL, 0, density_from_pressure(pressure(pts[:, 1], 0.0), rw, c0), rw * dx * dx,
+               normal=nrm, wall_dist=R - r_k)
+    materials = [dict(dict(mats[n]), name=n, B=tait_B(mats[n]["rho0"], c0)) for n in ("water", "sand")]
+    params = common_params(cfg, c0, G, depth=ytop)
+    K_drag = 0.75 * (1 - geo["porosity"]) * rw * geo["drag_coefficient"] / d50
+    params["drag_K"] = K_drag
+    pad = 4 * h
+    domain = ((0.0, -L * dx - pad), (Lx, 2.0 * ytop + pad))
+    used = ["water"] + (["sand"] if hs > 0 else [])
+    physics = physics_from_config(cfg, periodic_x=True, noslip=True, materials_used=used, sps=geo["sps"],
+                                  drag=hs > 0)
+
+    # driving: a body force g_x = u*^2 / h (uniform channel flow) plus feedback on the mean velocity
+    g0 = ustar ** 2 / hw
+    ctl = dict(integral=0.0, t=0.0, gx=g0)
+    Tc = 0.5
+
+    def control(s):
+        st = s.state(("v", "kind", "mat"))
+        w = (st["kind"] == FLUID) & (st["mat"] == 0)
+        e = U - float(st["v"][w, 0].mean())
+        dt = s.time - ctl["t"]
+        ctl["t"] = s.time
+        ctl["integral"] += e * dt
+        ctl["gx"] = g0 + e / Tc + ctl["integral"] / Tc ** 2
+        s.prm[None].g = (ctl["gx"], -G)
+
+    stations = np.arange(0.5 * dx, Lx, dx)
+    bed_rows, bed0 = [], {}
+    under = np.abs(stations - xc) < 0.5 * D
+
+    def probe(st):
+        fl = st["kind"] == FLUID
+        sedm = fl & (st["mat"] == 1)
+        wat = fl & (st["mat"] == 0)
+        u_mean = float(st["v"][wat, 0].mean())
+        if hs <= 0:
+            return float("nan"), float("nan"), float("nan"), u_mean, ctl["gx"]
+        b = surface_heights(st, stations, dx, h, mat=1)
+        if "b" not in bed0:
+            bed0["b"] = b
+        bed_rows.append((st["t"],) + tuple(b))
+        # scour depth: below the undisturbed bed as first measured (the median level, away from the dip)
+        depth = float(np.median(bed0["b"]) - b[under].min()) / D
+        # sediment flux through the section under the pipe: sum of V u_x over a band dx wide
+        band = sedm & (np.abs(st["x"][:, 0] - xc) < 0.5 * dx)
+        q = float((st["m"][band] / st["rho"][band] * st["v"][band, 0]).sum() / dx)
+        phi = q / math.sqrt((rs / rw - 1) * G * d50 ** 3)
+        # bed shear stress from the log law through the water velocity 1.5 dx above the bed
+        tau = 0.0
+        xw_, vw_ = st["x"][wat], st["v"][wat]
+        col = np.clip(((xw_[:, 0]) / dx).astype(int), 0, len(stations) - 1)
+        zrel = xw_[:, 1] - b[col]
+        near = (zrel > dx) & (zrel < 2 * dx)
+        if near.any():
+            z = zrel[near]
+            u = np.abs(vw_[near, 0])
+            tau = float((rw * (KAPPA * u / np.log(z / z0)) ** 2).max())
+        return depth, phi, tau, u_mean, ctl["gx"]
+
+    offsets = geo["profile_offsets"]
+    prof = {o: [] for o in offsets}
+
+    def on_profile_sample(st, t):
+        wat = (st["kind"] == FLUID) & (st["mat"] == 0)
+        for o in offsets:
+            xo = (xc + o * D) % Lx
+            m = wat & (np.abs(st["x"][:, 0] - xo) < dx)
+            prof[o].append((st["x"][m, 1], st["v"][m, 0]))
+
+    t_end = cfg["run"]["end_time"]
+    events = [(t, on_profile_sample) for t in np.arange(0.5 * t_end, t_end + 1e-9, 0.05)]
+
+    def metrics(c):
+        out = dict(friction_velocity=ustar, shields_parameter=ustar ** 2 / ((rs / rw - 1) * G * d50),
+                   mean_velocity_end=float(c["u_mean"][-1]), body_force_end=float(c["body_force"][-1]),
+                   pipe_reynolds=U * D / 1e-6)
+        if hs > 0:
+            d = c["scour_depth_over_D"]
+            out["scour_depth_over_D"] = float(d[-1])
+            half = 0.5 * d[-1]
+            k = np.nonzero(d >= half)[0]
+            out["time_to_half_depth"] = float(c["t"][k[0]]) if d[-1] > 0 and len(k) else float("nan")
+            out["max_transport_rate_phi"] = float(np.nanmax(c["transport_rate_phi"]))
+            out["max_bed_shear_end"] = float(c["max_bed_shear"][-1])
+        return out
+
+    def finalize(out, metrics):
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+        if bed_rows:
+            write_csv(os.path.join(out, "scour_profile.csv"), ("t",) + tuple(f"x{x:.3f}" for x in stations), bed_rows)
+            arr = np.array(bed_rows)
+            fig, ax = plt.subplots(figsize=(8, 3))
+            for t in np.linspace(arr[0, 0], arr[-1, 0], 5):
+                r = arr[np.argmin(np.abs(arr[:, 0] - t))]
+                ax.plot((stations - xc) / D, (r[1:] - hs) / D, lw=0.9, label=f"t = {r[0]:.1f} s")
+            ax.add_patch(plt.Circle((0, (yc - hs) / D), 0.5, color="0.5"))
+            ax.set_aspect("equal")
+            ax.set_xlabel("x / D")
+            ax.set_ylabel("bed / D")
+            ax.legend(fontsize=7)
+            fig.tight_layout()
+            with atomic_path(os.path.join(out, "scour_profile.png")) as tmp:
+                fig.savefig(tmp, dpi=110, format="png")
+            plt.close(fig)
+        if any(prof.values()):
+            rows = []
+            fig, axes = plt.subplots(1, len(offsets), figsize=(3 * len(offsets), 3.5), sharey=True, squeeze=False)
+            for ax, o in zip(axes[0], offsets):
+                ys = np.concatenate([p[0] for p in prof[o]])
+                us = np.concatenate([p[1] for p in prof[o]])
+                edges = np.arange(0.0, ytop + dx, dx)
+                n, _ = np.histogram(ys, edges)
+                su, _ = np.histogram(ys, edges, weights=us)
+                with np.errstate(invalid="ignore"):
+                    um = su / n
+                yc_ = 0.5 * (edges[1:] + edges[:-1])
+                for y, u in zip(yc_, um):
+                    rows.append((o, y, u))
+                ax.plot(um / U, (yc_ - (hs if hs > 0 else 0.0)) / D, "o-", ms=2)
+                ax.set_title(f"x - x_pipe = {o:g} D", fontsize=9)
+                ax.set_xlabel("time-averaged u / U")
+            axes[0, 0].set_ylabel("y / D above the bed")
+            fig.tight_layout()
+            with atomic_path(os.path.join(out, "velocity_profiles.png")) as tmp:
+                fig.savefig(tmp, dpi=110, format="png")
+            plt.close(fig)
+            write_csv(os.path.join(out, "velocity_profiles.csv"), ("x_offset_over_D", "y", "u_mean"), rows)
+
+    stills_at = (0.0, 0.5 * t_end, t_end)
+    if cfg["output"]["render"]:
+        events += [(t, _streamlines(Lx, ytop, dx, xc, yc, R)) for t in stills_at]
+
+    return Case(name=NAME, particles=ps, materials=materials, domain=domain, params=params, physics=physics,
+                view=((0.0, -L * dx), (Lx, ytop + 2 * dx)), u_max=u_max,
+                probe_columns=("scour_depth_over_D", "transport_rate_phi", "max_bed_shear", "u_mean", "body_force"),
+                probe=probe, metrics=metrics, finalize=finalize, events=sorted(events, key=lambda e: e[0]),
+                stills=stills_at, container=(-1e9, -0.5 * dx, 1e9, float("inf")),
+                render_modes=("phase", "pressure"), mat_colors=(None, SAND), control=control,
+                pressure_scale=rw * G * ytop + (rs - rw) * G * hs)
+
+
+def _streamlines(Lx, ytop, dx, xc, yc, R):
+    def cb(st, t):
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+        fl = st["kind"] == FLUID
+        x, v, mat = st["x"][fl], st["v"][fl], st["mat"][fl]
+        w = mat == 0
+        cell = 2 * dx
+        xe, ye = np.arange(0.0, Lx + cell, cell), np.arange(0.0, ytop + cell, cell)
+        n, _, _ = np.histogram2d(x[w, 0], x[w, 1], bins=(xe, ye))
+        u, _, _ = np.histogram2d(x[w, 0], x[w, 1], bins=(xe, ye), weights=v[w, 0])
+        vv, _, _ = np.histogram2d(x[w, 0], x[w, 1], bins=(xe, ye), weights=v[w, 1])
+        with np.errstate(invalid="ignore", divide="ignore"):
+            u, vv = np.where(n > 0, u / n, 0.0), np.where(n > 0, vv / n, 0.0)
+        xm, ym = 0.5 * (xe[1:] + xe[:-1]), 0.5 * (ye[1:] + ye[:-1])
+        fig, ax = plt.subplots(figsize=(8, 8 * ytop / Lx + 0.6))
+        ax.scatter(x[~w, 0], x[~w, 1], s=1.5, color=SAND, lw=0)
+        ax.streamplot(xm, ym, u.T, vv.T, color=np.hypot(u, vv).T, cmap="viridis", density=1.6, linewidth=0.7,
+                      arrowsize=0.7)
+        ax.add_patch(plt.Circle((xc, yc), R, color="0.5"))
+        ax.set_xlim(0, Lx)
+        ax.set_ylim(0, ytop)
+        ax.set_aspect("equal")
+        ax.set_title(f"streamlines of the water velocity, t = {t:.2f} s", fontsize=9)
+        fig.tight_layout()
+        d = os.path.join(st["out"], "stills")
+        os.makedirs(d, exist_ok=True)
+        with atomic_path(os.path.join(d, f"streamlines_t{t:.2f}.png")) as tmp:
+            fig.savefig(tmp, dpi=100, format="png")
+        plt.close(fig)
+    return cb
+
+
+def main(argv=None):
+    return run_scene(sys.modules[__name__], argv)
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,100 @@
+"""Prescribed paddle motions for wave makers: piston (horizontal stroke) and flap (hinged at the
+bottom), sinusoidal with a start-up ramp or read from a (t, displacement) CSV time series.
+
+A motion is a callable m(t) -> (displacement, rate): metres and m/s for a piston, radians and
+rad/s for a flap (the solver rotates the paddle about its hinge). For a flap the stroke S is the
+horizontal excursion at the still-water level, as in Biesel's transfer function.
+"""
+import math
+
+import numpy as np
+
+
+class Motion:
+    def __init__(self, kind, stroke=0.0, period=1.0, ramp_periods=2.0, lever=1.0, series=None):
+        """kind: piston | flap; stroke S (m, peak to peak); period T (s); ramp over
+        ramp_periods periods (0: none); lever: hinge to still-water level (flap); series:
+        (t, X) arrays of surface displacement in metres instead of the sinusoid."""
+        self.kind = kind
+        self.S, self.T = float(stroke), float(period)
+        self.omega = 2 * math.pi / self.T if self.T > 0 else 0.0
+        self.t_ramp = float(ramp_periods) * self.T
+        self.lever = float(lever)
+        self.series = None
+        if series is not None:
+            t, x = (np.asarray(a, float) for a in series)
+            self.series = (t, x, np.gradient(x, t) if len(t) > 1 else np.zeros_like(x))
+
+    def surface(self, t):
+        """Horizontal displacement X(t) at the still-water level and its rate X'(t)."""
+        if self.series is not None:
+            ts, xs, vs = self.series
+            return float(np.interp(t, ts, xs)), float(np.interp(t, ts, vs))
+        a, w = 0.5 * self.S, self.omega
+        r, dr = 1.0, 0.0
+        if t < self.t_ramp:  # half-cosine ramp: amplitude and its rate start at zero
+            r = 0.5 * (1 - math.cos(math.pi * t / self.t_ramp))
+            dr = 0.5 * math.pi / self.t_ramp * math.sin(math.pi * t / self.t_ramp)
+        return r * a * math.sin(w * t), dr * a * math.sin(w * t) + r * a * w * math.cos(w * t)
+
+    def __call__(self, t):
+        X, V = self.surface(t)
+        if self.kind == "flap":
+            L = self.lever
+            return math.atan2(X, L), V * L / (L * L + X * X)
+        return X, V
+
+
+def read_series(path):
+    """A paddle time series: CSV with a header row and columns t (s), displacement (m)."""
+    from .config import ConfigError
+    try:
+        data = np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2)
+    except (OSError, ValueError) as e:
+        raise ConfigError("paddle.series", path, "a readable CSV file with columns t, displacement", str(e)) from None
+    if data.shape[1] < 2 or len(data) < 2 or np.any(np.diff(data[:, 0]) <= 0) or not np.all(np.isfinite(data)):
+        raise ConfigError("paddle.series", path, "at least two rows of finite (t, displacement) with t increasing")
+    return data[:, 0], data[:, 1]
+
+
+def wavenumber(omega, depth, g=9.81):
+    """k from the linear dispersion relation omega^2 = g k tanh(k h) (Newton, from Eckart's guess)."""
+    k0 = omega * omega / g
+    k = k0 / math.sqrt(math.tanh(k0 * depth)) if k0 * depth > 0 else k0
+    for _ in range(50):
+        th = math.tanh(k * depth)
+        f = g * k * th - omega * omega
+        df = g * th + g * k * depth * (1 - th * th)
+        dk = f / df
+        k -= dk
+        if abs(dk) < 1e-12 * k:
+            break
+    return k
+
+
+def biesel_piston(kh):
+    """Piston wave maker, H/S = 2 (cosh 2kh - 1) / (sinh 2kh + 2kh) (Biesel 1951; Dean & Dalrymple)."""
+    return 2 * (math.cosh(2 * kh) - 1) / (math.sinh(2 * kh) + 2 * kh)
+
+
+def biesel_flap(kh):
+    """Flap hinged at the bed, H/S = (4 sinh kh / kh) (kh sinh kh - cosh kh + 1) / (sinh 2kh + 2kh)."""
+    return 4 * math.sinh(kh) / kh * (kh * math.sinh(kh) - math.cosh(kh) + 1) / (math.sinh(2 * kh) + 2 * kh)
+
+
+def group_velocity(omega, k, depth):
+    c = omega / k
+    return 0.5 * c * (1 + 2 * k * depth / math.sinh(2 * k * depth))
+
+
+def wave_height(t, eta, t0, t1, period):
+    """Mean trough-to-crest height over whole periods in [t0, t1]: max - min in each period window."""
+    t, eta = np.asarray(t, float), np.asarray(eta, float)
+    hs = []
+    a = t0
+    while a + period <= t1 + 1e-9:
+        m = (t >= a) & (t < a + period) & np.isfinite(eta)
+        if m.sum() >= 4:
+            hs.append(float(eta[m].max() - eta[m].min()))
+        a += period
+    return (float(np.mean(hs)) if hs else float("nan")), len(hs)
