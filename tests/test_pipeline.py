@@ -80,6 +80,7 @@ def test_pipeline_scour_command_runs_and_writes_its_files(tmp_path):
     s = json.load(open(out / "summary.json"))
     assert s["status"] == "ok" and s["leaked_particles"] == 0
     assert s["physics"]["sps"] and s["physics"]["drag"] and s["physics"]["noslip"] and s["physics"]["periodic_x"]
+    assert s["physics"]["dem"]
     assert (out / "probes.csv").read_text().splitlines()[0] == \
         "t,scour_depth_over_D,transport_rate_phi,max_bed_shear,u_mean,body_force"
     assert (out / "scour_profile.csv").exists() and (out / "frames" / "00000.png").exists()
@@ -143,50 +144,45 @@ def test_dem_sliding_obeys_the_coulomb_limit():
         res[2] = fmax
 
     slide(20000, 1e-5)
-    fn = KN * 1e-4
-    assert res[1] == pytest.approx(fn, rel=1e-6)                 # normal: spring only, no normal motion
-    assert res[0] == pytest.approx(-MU * fn, rel=1e-6)           # sliding: the friction limit, against the slip
-    assert res[2] <= MU * fn * (1 + 1e-9)
+    # float32 (the default precision): the 0.1 mm overlap of 1 cm centres is known to ~1e-3
+    fn = res[1]
+    assert fn == pytest.approx(KN * 1e-4, rel=2e-3)              # normal: spring only, no normal motion
+    assert res[0] == pytest.approx(-MU * fn, rel=1e-5)           # sliding: the friction limit, against the slip
+    assert res[2] <= MU * fn * (1 + 1e-5)
 
 
-def _dem_bed(shift):
-    """A bed of DEM sand on a floor, periodic in x, everything shifted by `shift` in x."""
-    dx = 0.01
+def test_dem_contact_history_survives_the_resort():
+    """A block of DEM grains, each pressed 0.2 % into its neighbours, sheared (u = 1/s * y) and
+    carried at 50 m/s across a periodic domain: it crosses a cell every few steps, so the
+    solver re-sorts the particles all the time. The tangential spring of a vertical pair grows by
+    k_s (gamma dx) dt every step; if a re-sort lost the history it would restart from one step's
+    worth. After N steps it must be N steps' worth."""
+    from tisph.particles import block as blk
+    dx, ks, gamma, U, dt = 0.01, 10.0, 1.0, 50.0, 2e-5
     ps = ParticleSet()
-    bed = block(0.0, 0.0, 0.2, 0.06, dx)
-    bed[:, 0] = (bed[:, 0] + shift) % 0.2
-    floor = block(0.0, -0.03, 0.2, 0.0, dx)
-    floor[:, 0] = (floor[:, 0] + shift) % 0.2
-    from tisph.particles import WALL
-    ps.add(bed, FLUID, 0, 1950.0, M)
-    ps.add(floor, WALL, 0, 1950.0, M)
-    c0 = 5.0
-    mats = [dict(name="sand", rho0=1950.0, viscosity=0.1, B=tait_B(1950.0, c0), dem=True)]
-    phys = Physics(kernel="wendland", artificial_viscosity=True, periodic_x=True, dem=True)
-    params = dict(dx=dx, h=1.3 * dx, c0=c0, alpha=0.1, g=(0.0, -9.81), cfl=0.4, dt_max=2e-5, density_band=0.5,
-                  kn=KN, ks=KS, eta_n=ETA_N, eta_s=ETA_S, mu_c=MU, dc=dx)
-    return Solver(phys, ps, mats, ((0.0, -0.1), (0.2, 0.3)), params)
+    x = blk(0.0, 0.0, 0.2, 0.05, dx) * 0.998
+    v = np.column_stack([U + gamma * x[:, 1], np.zeros(len(x))])
+    ps.add(x, FLUID, 0, 1950.0, M, v=v)
+    c0 = 100.0
+    mats = [dict(name="sand", rho0=1950.0, viscosity=0.0, B=tait_B(1950.0, c0), dem=True)]
+    phys = Physics(kernel="wendland", artificial_viscosity=False, periodic_x=True, dem=True)
+    params = dict(dx=dx, h=1.3 * dx, c0=c0, g=(0.0, 0.0), cfl=0.4, dt_max=dt, density_band=0.5,
+                  kn=1e3, ks=ks, eta_n=0.0, eta_s=0.0, mu_c=MU, dc=dx)
+    s = Solver(phys, ps, mats, ((0.0, -0.5), (0.2 * 0.998, 0.6)), params)
+    n = 150
+    order0 = s.p.id.to_numpy().copy()
+    for _ in range(n):
+        s.step()
+    assert s.check() is None
+    assert np.any(s.p.id.to_numpy() != order0)              # the particles were re-sorted
+    st = s.state(("x", "cid", "ces"))
+    want = n * ks * gamma * dx * 0.998 * dt                  # spring after n steps of steady slip
+    found = 0
+    for i in range(len(st["x"])):
+        for c, e in zip(st["cid"][i], st["ces"][i]):
+            if c >= 0 and abs(st["x"][c, 0] - st["x"][i, 0]) < 0.1 * dx:   # a vertical pair
+                assert abs(e) == pytest.approx(want, rel=0.05), (i, c, e, want)
+                found += 1
+    assert found > 100
 
 
-def test_dem_contacts_are_symmetric_and_survive_reordering():
-    """Shifting the periodic bed by 0.37 of its length changes every particle's cell and so the
-    order the solver sorts them in, but not the physics: each particle's contact list (partner
-    ids and tangential springs) must come out the same, and i lists j exactly when j lists i."""
-    runs = []
-    for shift in (0.0, 0.074):
-        s = _dem_bed(shift)
-        for _ in range(300):
-            s.step()
-        assert s.check() is None
-        st = s.state(("cid", "ces", "kind"))
-        runs.append({i: {int(c): float(e) for c, e in zip(st["cid"][i], st["ces"][i]) if c >= 0}
-                     for i in range(len(st["kind"])) if st["kind"][i] == FLUID})
-    a, b = runs
-    n_contacts = sum(len(v) for v in a.values())
-    assert n_contacts > 50                                   # the bed's weight closes contacts
-    assert any(abs(e) > 0 for v in a.values() for e in v.values())   # and the tangential springs work
-    for i, lst in a.items():
-        for j, e in lst.items():
-            assert a[j][i] == pytest.approx(e, abs=1e-6)     # the pair agrees on its spring
-    same = sum(1 for i in a for j in a[i] if j in b[i])
-    assert same >= 0.95 * n_contacts                         # history kept through a different order

@@ -316,13 +316,14 @@ class Physics:
     damping: tuple = ()         # (x0, x1, rate 1/s): absorbing zone, damping grows as ((x-x0)/(x1-x0))^2
     sps: bool = False           # SPS (Smagorinsky) turbulence in Newtonian materials (paper 002 eq. 10)
     drag: bool = False          # fluid-sediment drag between different materials (paper 002 eq. 16)
+    dem: bool = False           # DEM spring-dashpot contacts between sediment particles (paper 002 eqs. 17-28)
 
     def as_dict(self):
         return asdict(self)
 
 
 def physics_from_config(cfg: dict, periodic_x=False, noslip=False, materials_used=None,
-                        paddle="none", damping=(), sps=False, drag=False) -> Physics:
+                        paddle="none", damping=(), sps=False, drag=False, dem=False) -> Physics:
     """The switches of a case. materials_used: names of the materials its particles carry (all
     configured materials if None); rheology is compiled only if one of them is non-Newtonian."""
     n = cfg["numerics"]
@@ -337,6 +338,7 @@ def physics_from_config(cfg: dict, periodic_x=False, noslip=False, materials_use
         damping=tuple(float(v) for v in damping),
         sps=sps,
         drag=drag,
+        dem=dem,
         kernel=n["kernel"],
         wall=n["wall"],
         artificial_viscosity=n["artificial_viscosity"] > 0.0,

@@ -28,6 +28,9 @@ from .terms.xsph import xsph
 from .terms.repulsive import lennard_jones
 from .terms.sps import sps_stress, sps_accel
 from .terms.drag import drag_accel
+from .terms.dem import contact_force
+
+DEM_SLOTS = 8   # contacts remembered per particle (a packed 2D lattice has at most 6 within dx)
 from .terms.rheology import shear_rate, bingham, cross, harmonic_pair, BINGHAM, CROSS, RHEOLOGY_CODES
 
 # Codes of the instability detector, most severe last.
@@ -108,6 +111,9 @@ class Solver:
             members["mu"] = real          # effective viscosity, only with a non-Newtonian material
         if physics.sps:
             members["sps"] = ti.types.vector(3, real)   # SPS stress / rho (xx, xy, yy), one dt behind
+        if physics.dem:
+            members["cid"] = ti.types.vector(DEM_SLOTS, ti.i32)   # contact partners (ids; -1 free)
+            members["ces"] = ti.types.vector(DEM_SLOTS, real)     # their tangential spring forces
         if physics.paddle != "none":
             members["x0"] = vec2          # a paddle particle's position at zero displacement
         if physics.noslip:
@@ -164,7 +170,11 @@ class Solver:
             self.mat_K = ti.field(real, nmat)        # Cross time constant (s)
             self.mat_m1 = ti.field(real, nmat)       # Cross exponent
             self.mat_rest = ti.field(ti.i32, nmat)   # 1: unyielded Bingham material is held at rest
+        if physics.dem:
+            self.mat_dem = ti.field(ti.i32, nmat)    # 1: the material's particles touch as DEM grains
         for k, mat in enumerate(materials):
+            if physics.dem:
+                self.mat_dem[k] = int(bool(mat.get("dem", False)))
             self.mat_rho0[k] = mat["rho0"]
             self.mat_B[k] = mat["B"]
             self.mat_mu[k] = mat.get("viscosity", 0.0)
@@ -182,7 +192,7 @@ class Solver:
         prm = dict(c0=real, alpha=real, eps=real, delta=real, g=vec2, wall_D=real, wall_r0=real,
                    cfl=real, dt_max=real, dt_visc=real, band=real, dt=real, dt_floor=real,
                    pd=real, pv=real, pivot=vec2,   # paddle: displacement (m or rad) and its rate
-                   drag_K=real)
+                   drag_K=real, kn=real, ks=real, eta_n=real, eta_s=real, mu_c=real, dc=real)
         self.prm = ti.types.struct(**prm).field(shape=())
         nu_max = max((m.get("viscosity", 0.0) / m["rho0"] for m in materials), default=0.0)
         dt_visc = 0.125 * self.h ** 2 / nu_max if (physics.laminar_viscosity and nu_max > 0) else 1e30
@@ -192,7 +202,10 @@ class Solver:
                            cfl=params.get("cfl", 0.2), dt_max=params.get("dt_max", 1e-3),
                            dt_visc=dt_visc, band=params.get("density_band", 0.1), dt=0.0,
                            dt_floor=params.get("dt_floor", 1e-9), pd=0.0, pv=0.0,
-                           pivot=tuple(params.get("pivot", (0.0, 0.0))), drag_K=params.get("drag_K", 0.0))
+                           pivot=tuple(params.get("pivot", (0.0, 0.0))), drag_K=params.get("drag_K", 0.0),
+                           kn=params.get("kn", 0.0), ks=params.get("ks", 0.0), eta_n=params.get("eta_n", 0.0),
+                           eta_s=params.get("eta_s", 0.0), mu_c=params.get("mu_c", 0.0),
+                           dc=params.get("dc", self.dx))
         self.motion = params.get("motion")   # motion(t) -> (displacement, rate), for the paddle
         for k, v in self.params.items():
             setattr(self.prm[None], k, v)
@@ -209,6 +222,8 @@ class Solver:
         self.p.kind.from_numpy(particles.kind.astype(np.int32))
         self.p.mat.from_numpy(particles.mat.astype(np.int32))
         self.p.id.from_numpy(np.arange(self.n, dtype=np.int32))
+        if physics.dem:
+            self.p.cid.from_numpy(np.full((self.n, DEM_SLOTS), -1, np.int32))
         if physics.paddle != "none":
             self.p.x0.from_numpy(particles.x.astype(np.float64 if real == ti.f64 else np.float32))
         if physics.noslip:
@@ -388,6 +403,21 @@ class Solver:
             if kj == FLUID:
                 t_j = s.sps[j]
             acc.a += sps_accel(m_j, acc.sps_i, acc.inv_rhoi, t_j, ir_j, gw)
+        if ti.static(self.physics.dem):
+            if kj == FLUID and s.mat[j] == acc.mat and acc.dem == 1 and r2 < prm.dc * prm.dc and r2 > 0.0:
+                idj = s.id[j]
+                es_old = 0.0
+                for k in range(DEM_SLOTS):      # this pair's spring from the last step, if any
+                    if acc.cid_old[k] == idj:
+                        es_old = acc.es_old[k]
+                f, es, on = contact_force(prm.kn, prm.ks, prm.eta_n, prm.eta_s, prm.mu_c, prm.dc, r,
+                                          acc.vi - s.ve[j], es_old, prm.dt)
+                if on:
+                    acc.a += f / acc.mi
+                    if acc.nc < DEM_SLOTS:
+                        acc.cid_new[acc.nc] = idj
+                        acc.es_new[acc.nc] = es
+                        acc.nc += 1
         if ti.static(self.physics.drag):
             if kj == FLUID and s.mat[j] != acc.mat:
                 w = self.w_scale * self.K.shape(q)
@@ -541,9 +571,17 @@ class Solver:
                                 vi=self.tmp.ve[i], rhoi=self.tmp.rhoe[i], pi=self.tmp.p[i],
                                 inv_rhoi=self.tmp.ir[i], mui=mui, mat=mi,
                                 rho0_c02=self.mat_rho0[mi] / (prm.c0 * prm.c0),
-                                gv=ti.Matrix([[0.0, 0.0], [0.0, 0.0]]), sps_i=ti.Vector([0.0, 0.0, 0.0]))
+                                gv=ti.Matrix([[0.0, 0.0], [0.0, 0.0]]), sps_i=ti.Vector([0.0, 0.0, 0.0]),
+                                cid_old=ti.Vector([-1] * DEM_SLOTS), es_old=ti.Vector([0.0] * DEM_SLOTS),
+                                cid_new=ti.Vector([-1] * DEM_SLOTS), es_new=ti.Vector([0.0] * DEM_SLOTS),
+                                nc=0, dem=0, mi=1.0)   # DEM members: unused and compiled away when DEM is off
                 if ti.static(self.physics.sps):
                     acc.sps_i = self.tmp.sps[i]
+                if ti.static(self.physics.dem):
+                    acc.cid_old = self.tmp.cid[i]
+                    acc.es_old = self.tmp.ces[i]
+                    acc.dem = self.mat_dem[mi]
+                    acc.mi = self.tmp.m[i]
                 self.for_neighbours(self.tmp, i, self.tmp.x[i], self.fluid_pair, acc)
                 a = acc.a + prm.g
                 v = self.tmp.v[i] + 0.5 * dt * a
@@ -559,6 +597,10 @@ class Solver:
                 self.p.rho[i] = rho
                 if ti.static(self.physics.xsph):
                     self.p.xs[i] = acc.xs
+                if ti.static(self.physics.dem):
+                    # the contacts of this step, with their springs, replace the old list
+                    self.p.cid[i] = acc.cid_new
+                    self.p.ces[i] = acc.es_new
                 if ti.static(self.physics.sps):
                     # SPS stress for the next step, Newtonian materials only (the fluid phase)
                     tau = ti.Vector([0.0, 0.0, 0.0])

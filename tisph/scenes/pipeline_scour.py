@@ -15,7 +15,10 @@ initial gap of 0.1 D under the pipe with a small sinusoidal bed perturbation, as
 to start tunnel erosion. scenes/pipeline_scour_theta098.toml: 0.5 m/s (Shields 0.098).
 scenes/pipe_on_rigid_bed.toml: D = 5 cm on a rigid bed, U = 0.197 m/s (Oner et al. 2008).
 
-Not built (yet): the DEM spring-dashpot contacts between sand particles (paper 002 eqs. 17-28).
+Sand particles also touch as DEM grains (paper 002 eqs. 17-28, Table 3 constants; the contact
+diameter is the particle spacing, see tisph/terms/dem.py). The DEM step limit dt_c/20 (eq. 27)
+is about a third of the acoustic step at the default dx, so DEM triples the step count; the
+contacts are not sub-cycled.
 The paper ran 6.5 min of flow at dt = 1e-5 s; the default here is 5 s (about 4 minutes on two cores), the start of tunnel
 erosion.
 """
@@ -57,6 +60,8 @@ DEFAULTS = {
         "sps": True,
         "profile_offsets": [-2.0, 0.0, 2.0],   # velocity profiles at x = x_pipe + offset * D
     },
+    # DEM contacts between sand particles, paper 002 Table 3 (its eta_s unit "N/m" is N s/m)
+    "dem": {"enabled": True, "kn": 1.0e6, "ks": 1.0e5, "eta_n": 20.0, "eta_s": 40.0, "friction": 0.57},
     "materials": {
         "water": {"rho0": 1000.0, "viscosity": 1.0e-3},
         # Cross: mu_inf = 0.07 Pa s, tau_B = 25 Pa read as mu0 = 1000 mu_inf, K = mu0 / tau_B
@@ -69,6 +74,7 @@ RANGES = {f"geometry.{k}": (0.0, None, k in ("sand_depth", "gap", "perturbation"
           for k in ("pipe_diameter", "water_depth", "sand_depth", "length", "gap", "perturbation",
                     "mean_velocity", "grain_diameter", "drag_coefficient")}
 RANGES["geometry.porosity"] = (0.0, 1.0, True, False)
+RANGES.update({f"dem.{k}": (0.0, None, k.startswith("eta"), True) for k in ("kn", "ks", "eta_n", "eta_s", "friction")})
 
 
 def check(cfg):
@@ -152,15 +158,22 @@ def build(cfg):
         pts, nrm = ring(xc, yc, r_k, dx)
         ps.add(pts, WALL, 0, density_from_pressure(pressure(pts[:, 1], 0.0), rw, c0), rw * dx * dx,
                normal=nrm, wall_dist=R - r_k)
-    materials = [dict(dict(mats[n]), name=n, B=tait_B(mats[n]["rho0"], c0)) for n in ("water", "sand")]
+    dem = cfg["dem"]
+    use_dem = dem["enabled"] and hs > 0
+    materials = [dict(dict(mats[n]), name=n, B=tait_B(mats[n]["rho0"], c0), dem=(n == "sand" and use_dem))
+                 for n in ("water", "sand")]
     params = common_params(cfg, c0, G, depth=ytop)
+    if use_dem:
+        from ..terms.dem import critical_step
+        params.update(kn=dem["kn"], ks=dem["ks"], eta_n=dem["eta_n"], eta_s=dem["eta_s"], mu_c=dem["friction"],
+                      dc=dx, dt_max=min(params["dt_max"], critical_step(rs * dx * dx, dem["kn"]) / 20.0))
     K_drag = 0.75 * (1 - geo["porosity"]) * rw * geo["drag_coefficient"] / d50
     params["drag_K"] = K_drag
     pad = 4 * h
     domain = ((0.0, -L * dx - pad), (Lx, 2.0 * ytop + pad))
     used = ["water"] + (["sand"] if hs > 0 else [])
     physics = physics_from_config(cfg, periodic_x=True, noslip=True, materials_used=used, sps=geo["sps"],
-                                  drag=hs > 0)
+                                  drag=hs > 0, dem=use_dem)
 
     # driving: a body force g_x = u*^2 / h (uniform channel flow) plus feedback on the mean velocity
     g0 = ustar ** 2 / hw

@@ -56,6 +56,5 @@ def critical_step(m_s, kn):
 
 def restitution(m_eff, kn, eta_n):
     """Coefficient of restitution of a linear spring-dashpot head-on contact."""
-    w0 = math.sqrt(kn / m_eff)
     zeta = eta_n / (2 * math.sqrt(kn * m_eff))
     return math.exp(-math.pi * zeta / math.sqrt(1 - zeta * zeta)) if zeta < 1 else 0.0
