@@ -60,3 +60,40 @@ def plot_profiles(path_png, panels, xlabel, ylabel, title=""):
     with atomic_path(path_png) as tmp:
         fig.savefig(tmp, dpi=110, format="png")
     plt.close(fig)
+
+
+def streamlines_png(path, st, xlim, ylim, dx, title, figsize, density=1.6, circle=None):
+    """Streamlines of the water velocity (material 0), binned on a grid of 2 dx, over the
+    sediment drawn as sand-coloured dots; circle = (x, y, r) draws an obstacle (a pipe)."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from .render import SAND
+    fl = st["kind"] == FLUID
+    x, v, mat = st["x"][fl], st["v"][fl], st["mat"][fl]
+    w = mat == 0
+    cell = 2 * dx
+    xe = np.arange(xlim[0], xlim[1] + cell, cell)
+    ye = np.arange(ylim[0], ylim[1] + cell, cell)
+    n, _, _ = np.histogram2d(x[w, 0], x[w, 1], bins=(xe, ye))
+    u, _, _ = np.histogram2d(x[w, 0], x[w, 1], bins=(xe, ye), weights=v[w, 0])
+    vv, _, _ = np.histogram2d(x[w, 0], x[w, 1], bins=(xe, ye), weights=v[w, 1])
+    with np.errstate(invalid="ignore", divide="ignore"):
+        u, vv = np.where(n > 0, u / n, 0.0), np.where(n > 0, vv / n, 0.0)
+    xm, ym = 0.5 * (xe[1:] + xe[:-1]), 0.5 * (ye[1:] + ye[:-1])
+    fig, ax = plt.subplots(figsize=figsize)
+    ax.scatter(x[~w, 0], x[~w, 1], s=1.5, color=SAND, lw=0)
+    speed = np.hypot(u, vv)
+    if speed.max() > 0:
+        ax.streamplot(xm, ym, u.T, vv.T, color=speed.T, cmap="viridis", density=density, linewidth=0.6,
+                      arrowsize=0.6)
+    if circle is not None:
+        ax.add_patch(plt.Circle(circle[:2], circle[2], color="0.5"))
+    ax.set_xlim(*xlim)
+    ax.set_ylim(*ylim)
+    ax.set_aspect("equal")
+    ax.set_title(title, fontsize=9)
+    fig.tight_layout()
+    with atomic_path(path) as tmp:
+        fig.savefig(tmp, dpi=100, format="png")
+    plt.close(fig)

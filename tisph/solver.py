@@ -290,6 +290,10 @@ class Solver:
         y = x
         if ti.static(self.physics.periodic_x):
             y[0] = x[0] - self.period * ti.floor((x[0] - self.lo[0]) / self.period)
+            # in float32 a particle a hair left of lo wraps to exactly lo + period (measured: a
+            # sand grain at x = -1e-8 became x = 1.0 and counted as leaving the domain)
+            if y[0] >= self.lo[0] + self.period:
+                y[0] = self.lo[0]
         return y
 
     @ti.func

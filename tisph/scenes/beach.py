@@ -30,6 +30,7 @@ from ..config import ConfigError, physics_from_config
 from ..io import atomic_path, write_csv
 from ..particles import ParticleSet, block, density_from_pressure, tait_B, FLUID, WALL, MOVING
 from ..render import SAND
+from ..profiles import streamlines_png
 from ..ripples import orbital_diameter, ripple_stats
 from ..runner import Case, common_params, run_scene, sound_speed
 from .. import wavemaker as wm
@@ -240,42 +241,13 @@ def build(cfg):
 
 
 def _streamlines_event(cfg, stations, yw, Lf, dx):
-    """A callback drawing streamlines of the water velocity (gridded from the particles) over the
-    sand, offscreen with matplotlib, into OUT/stills/streamlines_t*.png."""
+    """A callback drawing streamlines of the water velocity over the sand (offscreen) into
+    OUT/stills/streamlines_t*.png."""
     def cb(st, t):
-        import matplotlib
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-        fl = st["kind"] == FLUID
-        x, v, mat = st["x"][fl], st["v"][fl], st["mat"][fl]
-        w = mat == 0
-        cell = 2 * dx
-        xe = np.arange(0.0, Lf + cell, cell)
-        ye = np.arange(0.0, yw + 0.4 + cell, cell)
-        n, _, _ = np.histogram2d(x[w, 0], x[w, 1], bins=(xe, ye))
-        u, _, _ = np.histogram2d(x[w, 0], x[w, 1], bins=(xe, ye), weights=v[w, 0])
-        vv, _, _ = np.histogram2d(x[w, 0], x[w, 1], bins=(xe, ye), weights=v[w, 1])
-        with np.errstate(invalid="ignore", divide="ignore"):
-            u, vv = np.where(n > 0, u / n, np.nan), np.where(n > 0, vv / n, np.nan)
-        xc, yc = 0.5 * (xe[1:] + xe[:-1]), 0.5 * (ye[1:] + ye[:-1])
-        fig, ax = plt.subplots(figsize=(12, 2.4))
-        s = ~w
-        ax.scatter(x[s, 0], x[s, 1], s=1.5, color=SAND, lw=0)
-        ax.scatter(x[w, 0], x[w, 1], s=0.6, color="#9cc3e6", lw=0)
-        speed = np.hypot(u, vv)
-        if np.isfinite(speed).any() and np.nanmax(speed) > 0:
-            ax.streamplot(xc, yc, np.nan_to_num(u.T), np.nan_to_num(vv.T), color=np.nan_to_num(speed.T),
-                          cmap="viridis", density=(4, 1), linewidth=0.6, arrowsize=0.6)
-        ax.set_xlim(0, Lf)
-        ax.set_ylim(0, yw + 0.3)
-        ax.set_aspect("equal")
-        ax.set_title(f"water velocity streamlines, t = {t:.1f} s", fontsize=9)
-        fig.tight_layout()
         d = os.path.join(st["out"], "stills")
         os.makedirs(d, exist_ok=True)
-        with atomic_path(os.path.join(d, f"streamlines_t{t:.1f}.png")) as tmp:
-            fig.savefig(tmp, dpi=100, format="png")
-        plt.close(fig)
+        streamlines_png(os.path.join(d, f"streamlines_t{t:.1f}.png"), st, (0.0, Lf), (0.0, yw + 0.3), dx,
+                        f"water velocity streamlines, t = {t:.1f} s", (12, 2.4), density=(4, 1))
     return cb
 
 

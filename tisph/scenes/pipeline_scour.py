@@ -33,6 +33,7 @@ from ..io import atomic_path, write_csv
 from ..particles import ParticleSet, block, density_from_pressure, tait_B, FLUID, WALL
 from ..render import SAND
 from ..runner import Case, common_params, run_scene, sound_speed
+from ..profiles import streamlines_png
 from .flume import surface_heights
 
 NAME = "pipeline_scour"
@@ -309,35 +310,11 @@ def build(cfg):
 
 def _streamlines(Lx, ytop, dx, xc, yc, R):
     def cb(st, t):
-        import matplotlib
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-        fl = st["kind"] == FLUID
-        x, v, mat = st["x"][fl], st["v"][fl], st["mat"][fl]
-        w = mat == 0
-        cell = 2 * dx
-        xe, ye = np.arange(0.0, Lx + cell, cell), np.arange(0.0, ytop + cell, cell)
-        n, _, _ = np.histogram2d(x[w, 0], x[w, 1], bins=(xe, ye))
-        u, _, _ = np.histogram2d(x[w, 0], x[w, 1], bins=(xe, ye), weights=v[w, 0])
-        vv, _, _ = np.histogram2d(x[w, 0], x[w, 1], bins=(xe, ye), weights=v[w, 1])
-        with np.errstate(invalid="ignore", divide="ignore"):
-            u, vv = np.where(n > 0, u / n, 0.0), np.where(n > 0, vv / n, 0.0)
-        xm, ym = 0.5 * (xe[1:] + xe[:-1]), 0.5 * (ye[1:] + ye[:-1])
-        fig, ax = plt.subplots(figsize=(8, 8 * ytop / Lx + 0.6))
-        ax.scatter(x[~w, 0], x[~w, 1], s=1.5, color=SAND, lw=0)
-        ax.streamplot(xm, ym, u.T, vv.T, color=np.hypot(u, vv).T, cmap="viridis", density=1.6, linewidth=0.7,
-                      arrowsize=0.7)
-        ax.add_patch(plt.Circle((xc, yc), R, color="0.5"))
-        ax.set_xlim(0, Lx)
-        ax.set_ylim(0, ytop)
-        ax.set_aspect("equal")
-        ax.set_title(f"streamlines of the water velocity, t = {t:.2f} s", fontsize=9)
-        fig.tight_layout()
         d = os.path.join(st["out"], "stills")
         os.makedirs(d, exist_ok=True)
-        with atomic_path(os.path.join(d, f"streamlines_t{t:.2f}.png")) as tmp:
-            fig.savefig(tmp, dpi=100, format="png")
-        plt.close(fig)
+        streamlines_png(os.path.join(d, f"streamlines_t{t:.2f}.png"), st, (0.0, Lx), (0.0, ytop), dx,
+                        f"streamlines of the water velocity, t = {t:.2f} s", (8, 8 * ytop / Lx + 0.6),
+                        circle=(xc, yc, R))
     return cb
 
 
