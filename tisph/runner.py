@@ -168,7 +168,6 @@ class Run:
         self.ckpt_dt = o["checkpoint_every"]
         self.probes, self.snapshots = [], []
         self.frame_no = 0
-        self.crossed = 0
         self._xdmf_at = 0.0
         self._xdmf_dirty = False
         self.next = dict(probe=0.0, frame=0.0, snapshot=0.0, checkpoint=self.ckpt_dt)
@@ -196,11 +195,6 @@ class Run:
     def sample(self):
         st = self.solver.state(("x", "v", "kind", "rho", "p", "m", "mat"))
         st["t"] = self.solver.time
-        if self.solver.container is not None:
-            x0, y0, x1, y1, top = self.solver.container   # with the solver's tolerance
-            x = st["x"][st["kind"] == FLUID]
-            out = (x[:, 1] < y0) | (x[:, 1] > y1) | ((x[:, 1] < top) & ((x[:, 0] < x0) | (x[:, 0] > x1)))
-            self.crossed = max(self.crossed, int(out.sum()))
         row = (self.solver.time,) + (tuple(float(v) for v in self.case.probe(st)) if self.case.probe else ())
         self.probes.append(row)
 
@@ -463,6 +457,13 @@ class Run:
         mass = dict(initial_fluid_mass=m0, fluid_mass=m_in, outflow_mass=m_out, leaked_mass=m_leak,
                     mass_balance_error=abs(m_in + m_out + m_leak - m0) / m0 if m0 > 0 else 0.0,
                     outflow_particles=int(np.sum(final["kind"] == OUTFLOW)))
+        # the step kernel stops the run at the first crossing, so the final state tells it all
+        crossed = 0
+        if s.container is not None:
+            x0, y0, x1, y1, top = s.container   # with the solver's tolerance
+            x = final["x"][final["kind"] == FLUID]
+            crossed = int(np.sum((x[:, 1] < y0) | (x[:, 1] > y1) |
+                                 ((x[:, 1] < top) & ((x[:, 0] < x0) | (x[:, 0] > x1)))))
         nb = int(np.sum(case.particles.kind != FLUID))
         pps = (s.n * nsteps / step_s) if step_s > 0 else 0.0
         summary = dict(
@@ -472,7 +473,7 @@ class Run:
             steps=int(s.steps), sim_time=float(s.time), wall_time_s=wall, step_time_s=step_s,
             compile_time_s=compile_s, particle_steps_per_s=pps,
             wall_s_per_sim_s=(wall / s.time) if s.time > 0 else None,
-            arch=self.arch, leaked_particles=int(s.leaked), crossed_wall=int(self.crossed),
+            arch=self.arch, leaked_particles=int(s.leaked), crossed_wall=crossed,
             max_density_error=s.max_density_error, frames=self.frame_no,
             snapshots=len(self.snapshots), c0=float(s.c0), h=float(s.h),
             physics=case.physics.as_dict(), warnings=list(getattr(case, "warnings", [])),
@@ -489,7 +490,7 @@ class Run:
                 self.log(f"warning: could not write the scene's plots: {e}", always=True)
         write_json(os.path.join(self.out, "summary.json"), summary)
         self.log(f"{status}: {s.steps} steps to t = {s.time:.4g} s in {wall:.2f} s "
-                 f"({pps:.3g} particle-steps/s), leaked {s.leaked}, crossed a wall {self.crossed}, "
+                 f"({pps:.3g} particle-steps/s), leaked {s.leaked}, crossed a wall {crossed}, "
                  f"max density error {s.max_density_error:.3%}")
         if metrics:
             self.log("metrics: " + json.dumps(metrics))

@@ -29,9 +29,9 @@ from .terms.repulsive import lennard_jones
 from .terms.sps import sps_stress, sps_accel
 from .terms.drag import drag_accel
 from .terms.dem import contact_force
+from .terms.rheology import shear_rate, bingham, cross, harmonic_pair, BINGHAM, CROSS, RHEOLOGY_CODES
 
 DEM_SLOTS = 8   # contacts remembered per particle (a packed 2D lattice has at most 6 within dx)
-from .terms.rheology import shear_rate, bingham, cross, harmonic_pair, BINGHAM, CROSS, RHEOLOGY_CODES
 
 # Codes of the instability detector, most severe last.
 BAD_NONE, BAD_DENSITY, BAD_SPEED, BAD_SPILL, BAD_WALL, BAD_LEAK, BAD_DT, BAD_NAN = 0, 1, 2, 3, 4, 5, 6, 7
@@ -80,14 +80,16 @@ class Solver:
         self.physics = physics
         # open boundaries: boxes (x0, y0, x1, y1); fluid entering one leaves the simulation
         self.outflow = tuple(tuple(float(v) for v in z) for z in outflow)
-        # the box the walls enclose (x0, y0, x1, y1): fluid outside it crossed a wall, a stop
-        # A particle counts as crossed once it is past the first row of wall particles (dx/2
-        # behind the surface): a fluid particle touching the surface is not a penetration.
-        tol = 0.5 * float(params["dx"])
-        # An optional fifth value is the height of the side walls: above it fluid may overtop.
-        self.container = None if container is None else tuple(
-            float(min(max(v + sgn * tol, -1e30), 1e30))
-            for v, sgn in zip(tuple(container) + (float("inf"),) * (5 - len(container)), (-1, -1, 1, 1, 0)))
+        # The box the walls enclose, (x0, y0, x1, y1[, side-wall top]): fluid outside it (below
+        # the top of the side walls, above which it may overtop) crossed a wall, and the run stops.
+        # It counts as crossed once past the first row of wall particles, dx/2 behind the surface.
+        self.container = None
+        if container is not None:
+            x0, y0, x1, y1, *top = (float(v) for v in container)
+            tol = 0.5 * float(params["dx"])
+            big = 1e30   # float32-safe stand-in for an open side
+            self.container = (max(x0 - tol, -big), max(y0 - tol, -big), min(x1 + tol, big),
+                              min(y1 + tol, big), min(top[0] if top else big, big))
         self.has_container = self.container is not None
         self.K = get_kernel(physics.kernel)
         self.n = len(particles)
@@ -415,7 +417,7 @@ class Solver:
                     if acc.cid_old[k] == idj:
                         es_old = acc.es_old[k]
                 f, es, on = contact_force(prm.kn, prm.ks, prm.eta_n, prm.eta_s, prm.mu_c, prm.dc, r,
-                                          acc.vi - s.ve[j], es_old, prm.dt)
+                                          v_ij, es_old, prm.dt)
                 if on:
                     acc.a += f / acc.mi
                     if acc.nc < DEM_SLOTS:
@@ -782,10 +784,9 @@ class Solver:
 
     def set_paddle(self, t):
         """Paddle displacement and rate at time t, into the kernel's parameters."""
-        if self.motion is not None:
-            d, r = self.motion(t)
-            self.prm[None].pd = d
-            self.prm[None].pv = r
+        d, r = self.motion(t)
+        self.prm[None].pd = d
+        self.prm[None].pv = r
 
     def step(self):
         """Advance one time step; returns the dt taken."""

@@ -164,7 +164,6 @@ def build(cfg):
     shore = toe + d * sl
     active = (stations >= max(0.5, toe - 0.5 * wavelength)) & (stations <= shore + 0.2)
     bed_rows, bed0 = [], {}
-    x_toe = toe
 
     def bed(st):
         return flume.surface_heights(st, stations, dx, h, mat=1)
@@ -176,7 +175,7 @@ def build(cfg):
         bed_rows.append((st["t"],) + tuple(b))
         z = b - bed0["b"]
         lam, hr, rms = ripple_stats(stations[active], z[active])
-        eta = flume.surface_at(st, x_toe, dx, h, mat=0) - yw
+        eta = flume.surface_at(st, toe, dx, h, mat=0) - yw
         return lam, hr, rms, eta
 
     t_ramp = p["ramp_periods"] * p["period"]
@@ -188,7 +187,7 @@ def build(cfg):
             v = c[key][np.isfinite(c[key])]
             out[key] = float(v[-1]) if len(v) else float("nan")
         # wave height at the toe after the ramp (incident plus what the beach reflects)
-        t0 = t_ramp + x_toe / cg + p["period"]
+        t0 = t_ramp + toe / cg + p["period"]
         H, n = wm.wave_height(c["t"], c["eta_toe"], t0, float(c["t"][-1]), p["period"])
         out["wave_height_at_toe"] = H
         out["periods_measured_at_toe"] = n
@@ -228,7 +227,7 @@ def build(cfg):
 
     events = []
     if cfg["output"]["render"]:
-        events = [(t, _streamlines_event(cfg, stations, yw, Lf, dx)) for t in STILLS]
+        events = [(t, _streamlines_event(yw, Lf, dx)) for t in STILLS]
 
     margin = T + dx
     return Case(name=NAME, particles=ps, materials=materials, domain=domain, params=params,
@@ -240,7 +239,7 @@ def build(cfg):
                 render_modes=("phase",), mat_colors=(None, SAND))
 
 
-def _streamlines_event(cfg, stations, yw, Lf, dx):
+def _streamlines_event(yw, Lf, dx):
     """A callback drawing streamlines of the water velocity over the sand (offscreen) into
     OUT/stills/streamlines_t*.png."""
     def cb(st, t):
