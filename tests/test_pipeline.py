@@ -186,3 +186,93 @@ def test_dem_contact_history_survives_the_resort():
     assert found > 100
 
 
+
+
+# ---------------------------------------------------------------------------- pipe wall
+def _flow_past_pipe(steps=600):
+    """Periodic viscous flow (nu = 1e-3 m2/s, Re_D = 2.5) past a pipe ring built as the scene
+    builds it, with Morris no-slip walls; returns the mean tangential velocity (along the flow) in
+    rings 1 dx wide at 0.5, 1.5, 2.5, 3.5 dx from the pipe surface, and the time reached."""
+    from tisph.scenes.pipeline_scour import ring
+    from tisph.particles import WALL
+    dx, R, U = 0.005, 0.025, 0.05
+    L, H = 0.2, 0.2
+    xc, yc = 0.1, 0.1
+    lattice = block(0.0, 0.0, L, H, dx)
+    keep = np.hypot(lattice[:, 0] - xc, lattice[:, 1] - yc) >= R + 0.5 * dx
+    ps = ParticleSet()
+    ps.add(lattice[keep], FLUID, 0, 1000.0, 1000.0 * dx * dx, v=(U, 0.0))
+    for k in range(3):
+        pts, nrm = ring(xc, yc, R - (k + 0.5) * dx, dx)
+        ps.add(pts, WALL, 0, 1000.0, 1000.0 * dx * dx, normal=nrm, wall_dist=(k + 0.5) * dx)
+    c0 = 1.0
+    mats = [dict(name="water", rho0=1000.0, viscosity=1.0, B=tait_B(1000.0, c0))]
+    phys = Physics(kernel="wendland", artificial_viscosity=False, laminar_viscosity=True, periodic_x=True,
+                   noslip=True, density_diffusion="fourtakas")
+    params = dict(dx=dx, h=1.3 * dx, c0=c0, alpha=0.0, delta=0.1, g=(0.0, 0.0), cfl=0.4, dt_max=1e-3,
+                  density_band=0.5)
+    s = Solver(phys, ps, mats, ((0.0, -0.1), (L, 0.3)), params)
+    for _ in range(steps):
+        s.step()
+    st = s.state(("x", "v", "kind"))
+    d = st["x"] - [xc, yc]
+    r = np.hypot(*d.T)
+    t = np.column_stack([-d[:, 1], d[:, 0]]) / r[:, None]
+    ut = -(st["v"] * t).sum(1) * np.sign(d[:, 1])   # signed, along the flow: noise averages out
+    fl = st["kind"] == FLUID
+    mids = (np.arange(4) + 0.5) * dx
+    return np.array([ut[fl & (np.abs(r - R - m) < 0.5 * dx)].mean() for m in mids]), mids, s.time
+
+
+def test_pipe_wall_is_no_slip():
+    prof, mids, t_end = _flow_past_pipe()
+    assert t_end > 0.5       # nu t > 20 dx^2: the boundary layer is several rows thick
+    assert np.all(prof > 0)
+    # the tangential velocity falls towards the wall and extrapolates to (nearly) zero on its surface
+    assert prof[0] < 0.6 * prof[-1], prof
+    at_wall = prof[0] - (prof[1] - prof[0]) / (mids[1] - mids[0]) * mids[0]
+    assert abs(at_wall) < 0.25 * prof[-1], (at_wall, prof)
+
+
+# ---------------------------------------------------------------------------- current driving
+def _lone_particles(physics, xs, mats, dx=0.01):
+    """Particles too far apart to interact: each moves by the body forces and zones alone."""
+    ps = ParticleSet()
+    for x, mat in xs:
+        ps.add(np.array([x]), FLUID, mat, mats[mat]["rho0"], mats[mat]["rho0"] * dx * dx)
+    params = dict(dx=dx, h=1.3 * dx, c0=10.0, alpha=0.0, g=(0.0, 0.0), cfl=0.2, dt_max=1e-3, density_band=0.5)
+    return Solver(physics, ps, mats, ((0.0, -0.5), (1.0, 1.0)), params)
+
+
+def _mats():
+    return [dict(name="water", rho0=1000.0, viscosity=1e-3, B=tait_B(1000.0, 10.0)),
+            dict(name="sand", rho0=1950.0, viscosity=0.07, B=tait_B(1950.0, 10.0))]
+
+
+def test_driving_force_is_a_pressure_gradient():
+    """The feedback force that holds the current stands for -dp/dx: sand feels rho_w / rho_s of it."""
+    s = _lone_particles(Physics(kernel="wendland", periodic_x=True), [((0.2, 0.2), 0), ((0.6, 0.2), 1)], _mats())
+    s.prm[None].drive = (0.5, 0.0)
+    for _ in range(10):
+        s.step()
+    st = s.state(("v", "mat"))
+    uw, us = st["v"][st["mat"] == 0, 0][0], st["v"][st["mat"] == 1, 0][0]
+    assert uw == pytest.approx(0.5 * s.time, rel=1e-3)
+    assert us == pytest.approx(uw * 1000.0 / 1950.0, rel=1e-3)
+
+
+def test_inflow_zone_relaxes_water_to_the_log_law():
+    from tisph.scenes.pipeline_scour import log_law
+    ustar, z0, rate = 0.02, 1e-5, 50.0
+    inflow = (0.0, 0.4, rate, 0, 0.0, ustar, z0)
+    xs = [((0.2, y), 0) for y in (0.05, 0.15, 0.3)] + [((0.2, 0.45), 1), ((0.7, 0.2), 0)]
+    s = _lone_particles(Physics(kernel="wendland", periodic_x=True, inflow=inflow), xs, _mats(), dx=0.02)
+    while s.time < 0.3:      # 15 relaxation times at the zone's middle
+        s.step()
+    st = s.state(("x", "v", "mat"))
+    v = st["v"][:, 0]
+    in_zone = (np.abs(st["x"][:, 0] - 0.2) < 0.1) & (st["mat"] == 0)
+    target = log_law(st["x"][in_zone, 1], ustar, z0)
+    assert np.allclose(v[in_zone], target, rtol=0.02), (v[in_zone], target)
+    assert st["v"][st["mat"] == 1, 0][0] == 0.0          # sand is left alone
+    assert v[(st["mat"] == 0) & (st["x"][:, 0] > 0.5)][0] == 0.0   # outside the zone: untouched

@@ -22,9 +22,10 @@ def test_switched_off_terms_have_no_fields_and_change_the_result():
     assert off.physics.as_dict() == dict(kernel="cubic", wall="dynamic", artificial_viscosity=False,
                                          laminar_viscosity=False, xsph=False, density_diffusion="none",
                                          shepard=False, rheology=False, periodic_x=False, noslip=False,
-                                         paddle="none", damping=(), sps=False, drag=False, dem=False)
+                                         paddle="none", damping=(), sps=False, drag=False, dem=False, inflow=())
     for k in ("xs", "x0", "sps", "mu", "wn", "cid", "ces"):   # no field for a term that is off
         assert k not in off.members and not hasattr(off.p, k)
+    assert not hasattr(off, "mat_drive")
     assert "xs" not in off.members and not hasattr(off.p, "xs") and not hasattr(off.tmp, "xs")
     for s in (off, on):   # a Newtonian scene allocates nothing for rheology
         assert "mu" not in s.members and not hasattr(s, "mat_rheo") and not hasattr(s, "mat_tau")

@@ -102,6 +102,14 @@ def test_ripple_analysis_recovers_a_synthetic_bed():
     assert Hr == pytest.approx(H, rel=0.02)
     assert rms > 0.5 * H / math.sqrt(2) * 0.9
     assert math.isnan(ripple_stats(x, 0.01 * x)[0])    # no ripple in a plane bed
+    # on a bar 10 cm high and 2 m long the bar is what zero crossings see; the high-pass finds the ripples
+    bar = 0.1 * np.exp(-((x - 1.5) / 0.8) ** 2)
+    assert ripple_stats(x, z + bar)[0] > 2 * lam
+    L, Hr, _ = ripple_stats(x, z + bar, window=0.5, min_length=0.05, min_height=0.005)
+    assert L == pytest.approx(lam, rel=0.05) and Hr == pytest.approx(H, rel=0.1)
+    # noise shorter and lower than the thresholds is not a ripple
+    noise = 0.002 * np.sin(2 * np.pi * x / 0.02)
+    assert math.isnan(ripple_stats(x, 0.01 * x + noise, window=0.5, min_length=0.05, min_height=0.005)[0])
     assert orbital_diameter(0.1, 1.0, 1.0) == pytest.approx(0.1 / math.sinh(1.0))
 
 

@@ -314,6 +314,8 @@ class Physics:
     noslip: bool = False        # Morris no-slip walls in the viscous terms (paper 002 eq. 39)
     paddle: str = "none"        # none | piston | flap: MOVING particles follow a prescribed motion
     damping: tuple = ()         # (x0, x1, rate 1/s): absorbing zone, damping grows as ((x-x0)/(x1-x0))^2
+    inflow: tuple = ()          # (x0, x1, rate 1/s, material, y_bed, u*, z0): a zone relaxing that
+                                # material's velocity to the log law (paper 002 eq. 32)
     sps: bool = False           # SPS (Smagorinsky) turbulence in Newtonian materials (paper 002 eq. 10)
     drag: bool = False          # fluid-sediment drag between different materials (paper 002 eq. 16)
     dem: bool = False           # DEM spring-dashpot contacts between sediment particles (paper 002 eqs. 17-28)
@@ -323,7 +325,7 @@ class Physics:
 
 
 def physics_from_config(cfg: dict, periodic_x=False, noslip=False, materials_used=None,
-                        paddle="none", damping=(), sps=False, drag=False, dem=False) -> Physics:
+                        paddle="none", damping=(), sps=False, drag=False, dem=False, inflow=()) -> Physics:
     """The switches of a case. materials_used: names of the materials its particles carry (all
     configured materials if None); rheology is compiled only if one of them is non-Newtonian."""
     n = cfg["numerics"]
@@ -336,6 +338,7 @@ def physics_from_config(cfg: dict, periodic_x=False, noslip=False, materials_use
         noslip=noslip,
         paddle=paddle,
         damping=tuple(float(v) for v in damping),
+        inflow=tuple(float(v) for v in inflow),
         sps=sps,
         drag=drag,
         dem=dem,

@@ -30,7 +30,7 @@ class ParticleSet:
         self.wall_normal = np.vstack([self.wall_normal, nrm])
         self.wall_dist = np.concatenate([self.wall_dist, wd])
         self.x = np.vstack([self.x, x])
-        self.v = np.vstack([self.v, np.zeros((n, 2)) if v is None else np.asarray(v, float).reshape(n, 2)])
+        self.v = np.vstack([self.v, np.zeros((n, 2)) if v is None else np.broadcast_to(np.asarray(v, float), (n, 2))])
         self.rho = np.concatenate([self.rho, np.broadcast_to(np.asarray(rho, float), (n,))])
         self.m = np.concatenate([self.m, np.broadcast_to(np.asarray(m, float), (n,))])
         self.kind = np.concatenate([self.kind, np.full(n, kind, np.int32)])

@@ -31,6 +31,7 @@ from .terms.drag import drag_accel
 from .terms.dem import contact_force
 from .terms.rheology import shear_rate, bingham, cross, harmonic_pair, BINGHAM, CROSS, RHEOLOGY_CODES
 
+KAPPA = 0.42    # von Karman's constant of the log law, paper 002 eq. 32
 DEM_SLOTS = 8   # contacts remembered per particle (a packed 2D lattice has at most 6 within dx)
 
 # Codes of the instability detector, most severe last.
@@ -172,6 +173,12 @@ class Solver:
             self.mat_K = ti.field(real, nmat)        # Cross time constant (s)
             self.mat_m1 = ti.field(real, nmat)       # Cross exponent
             self.mat_rest = ti.field(ti.i32, nmat)   # 1: unyielded Bingham material is held at rest
+        if physics.periodic_x:
+            # a pressure gradient -rho_0 drive pushes each material by rho_0 / rho of it: the pore
+            # water carries it through a sediment layer, which does not feel it at its own density
+            self.mat_drive = ti.field(real, nmat)
+            for k, mat in enumerate(materials):
+                self.mat_drive[k] = materials[0]["rho0"] / mat["rho0"]
         if physics.dem:
             self.mat_dem = ti.field(ti.i32, nmat)    # 1: the material's particles touch as DEM grains
         for k, mat in enumerate(materials):
@@ -194,6 +201,7 @@ class Solver:
         prm = dict(c0=real, alpha=real, eps=real, delta=real, g=vec2, wall_D=real, wall_r0=real,
                    cfl=real, dt_max=real, dt_visc=real, band=real, dt=real, dt_floor=real,
                    pd=real, pv=real, pivot=vec2,   # paddle: displacement (m or rad) and its rate
+                   drive=vec2,     # a driving pressure gradient / rho of material 0 (periodic current)
                    drag_K=real, kn=real, ks=real, eta_n=real, eta_s=real, mu_c=real, dc=real)
         self.prm = ti.types.struct(**prm).field(shape=())
         nu_max = max((m.get("viscosity", 0.0) / m["rho0"] for m in materials), default=0.0)
@@ -204,7 +212,7 @@ class Solver:
                            cfl=params.get("cfl", 0.2), dt_max=params.get("dt_max", 1e-3),
                            dt_visc=dt_visc, band=params.get("density_band", 0.1), dt=0.0,
                            dt_floor=params.get("dt_floor", 1e-9), pd=0.0, pv=0.0,
-                           pivot=tuple(params.get("pivot", (0.0, 0.0))), drag_K=params.get("drag_K", 0.0),
+                           pivot=tuple(params.get("pivot", (0.0, 0.0))), drive=(0.0, 0.0), drag_K=params.get("drag_K", 0.0),
                            kn=params.get("kn", 0.0), ks=params.get("ks", 0.0), eta_n=params.get("eta_n", 0.0),
                            eta_s=params.get("eta_s", 0.0), mu_c=params.get("mu_c", 0.0),
                            dc=params.get("dc", self.dx))
@@ -590,12 +598,25 @@ class Solver:
                     acc.mi = self.tmp.m[i]
                 self.for_neighbours(self.tmp, i, self.tmp.x[i], self.fluid_pair, acc)
                 a = acc.a + prm.g
+                if ti.static(self.physics.periodic_x):
+                    a += prm.drive * self.mat_drive[mi]
                 v = self.tmp.v[i] + 0.5 * dt * a
                 if ti.static(len(self.physics.damping) == 3):
                     # absorbing zone: implicit relaxation of the velocity, ramped in quadratically
                     zd = self.physics.damping
                     s = ti.min(ti.max((self.tmp.x[i][0] - zd[0]) / (zd[1] - zd[0]), 0.0), 1.0)
                     v = v / (1.0 + dt * zd[2] * s * s)
+                if ti.static(len(self.physics.inflow) == 7):
+                    # inflow zone of a periodic current: the recirculated wake is relaxed back to
+                    # the log law u = (u*/kappa) ln(z/z0) (paper 002 eq. 32), as an inlet would
+                    # feed it; ramped in and out as sin^2 so no front forms
+                    zi = ti.static(self.physics.inflow)
+                    xr = (self.tmp.x[i][0] - zi[0]) / (zi[1] - zi[0])
+                    if mi == ti.static(int(zi[3])) and 0.0 < xr < 1.0:
+                        s = ti.sin(math.pi * xr) ** 2
+                        z = ti.max(self.tmp.x[i][1] - zi[4], zi[6])
+                        ut = ti.Vector([zi[5] / KAPPA * ti.log(z / zi[6]), 0.0])
+                        v = (v + dt * zi[2] * s * ut) / (1.0 + dt * zi[2] * s)
                 rho = self.tmp.rho[i] + 0.5 * dt * acc.drho
                 self.p.a[i] = a
                 self.p.drho[i] = acc.drho

@@ -37,6 +37,9 @@ from .. import wavemaker as wm
 from . import flume
 
 NAME = "beach"
+# Bedforms longer than this many wavelengths (bars, the shoreline's retreat) are filtered out before
+# the ripples are counted; shorter than 3 dx or lower than dx / 10 is the bed gauge's noise.
+RIPPLE_WINDOW = 0.25
 G = 9.81
 
 DEFAULTS = {
@@ -174,7 +177,8 @@ def build(cfg):
             bed0["b"] = b
         bed_rows.append((st["t"],) + tuple(b))
         z = b - bed0["b"]
-        lam, hr, rms = ripple_stats(stations[active], z[active])
+        lam, hr, rms = ripple_stats(stations[active], z[active], window=RIPPLE_WINDOW * wavelength,
+                                    min_length=3 * dx, min_height=0.1 * dx)
         eta = flume.surface_at(st, toe, dx, h, mat=0) - yw
         return lam, hr, rms, eta
 
