@@ -276,3 +276,33 @@ def test_inflow_zone_relaxes_water_to_the_log_law():
     assert np.allclose(v[in_zone], target, rtol=0.02), (v[in_zone], target)
     assert st["v"][st["mat"] == 1, 0][0] == 0.0          # sand is left alone
     assert v[(st["mat"] == 0) & (st["x"][:, 0] > 0.5)][0] == 0.0   # outside the zone: untouched
+
+
+def test_dem_step_limit_applies_only_near_contact():
+    """Two grains meet head-on at 1 m/s relative. Apart, the solver keeps its acoustic step;
+    every step taken while they touch is no longer than the eq. 27 step; they bounce apart."""
+    from tisph.terms.dem import critical_step
+    dx = 0.01
+    ps = ParticleSet()
+    ps.add(np.array([[0.30, 0.2]]), FLUID, 0, 1950.0, M, v=(0.5, 0.0))
+    ps.add(np.array([[0.40, 0.2]]), FLUID, 0, 1950.0, M, v=(-0.5, 0.0))
+    c0 = 2.0      # a slow sound speed: the acoustic step is far above the DEM step
+    mats = [dict(name="sand", rho0=1950.0, viscosity=0.0, B=tait_B(1950.0, c0), dem=True)]
+    phys = Physics(kernel="wendland", artificial_viscosity=False, dem=True)
+    dt_dem = critical_step(M, KN) / 20.0
+    params = dict(dx=dx, h=1.3 * dx, c0=c0, g=(0.0, 0.0), cfl=0.4, dt_max=1.0, density_band=0.5,
+                  kn=KN, ks=KS, eta_n=ETA_N, eta_s=ETA_S, mu_c=MU, dc=0.7 * dx, dt_dem=dt_dem)
+    s = Solver(phys, ps, mats, ((0.0, 0.0), (0.7, 0.4)), params)
+    apart, touching = [], []
+    while s.time < 0.2:
+        x = s.state(("x",))["x"]
+        gap = abs(x[1, 0] - x[0, 0])
+        dt = s.step()
+        (touching if gap < 0.7 * dx else apart).append(dt)
+    v = s.state(("v",))["v"][:, 0]
+    assert touching and max(touching) <= dt_dem * (1 + 1e-6)
+    assert max(apart) > 2 * dt_dem          # far apart the acoustic step is kept
+    assert v[0] < 0 < v[1]                  # they bounced
+    # and lost energy in the dashpot (the SPH pressure pushes too here, so e is not the pure
+    # contact's 0.904, which the first DEM test checks)
+    assert 0.85 < v[1] - v[0] < 1.0

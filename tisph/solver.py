@@ -202,7 +202,8 @@ class Solver:
                    cfl=real, dt_max=real, dt_visc=real, band=real, dt=real, dt_floor=real,
                    pd=real, pv=real, pivot=vec2,   # paddle: displacement (m or rad) and its rate
                    drive=vec2,     # a driving pressure gradient / rho of material 0 (periodic current)
-                   drag_K=real, kn=real, ks=real, eta_n=real, eta_s=real, mu_c=real, dc=real)
+                   drag_K=real, kn=real, ks=real, eta_n=real, eta_s=real, mu_c=real, dc=real,
+                   dt_dem=real)     # eq. 27 step, taken only while DEM grains touch or are about to
         self.prm = ti.types.struct(**prm).field(shape=())
         nu_max = max((m.get("viscosity", 0.0) / m["rho0"] for m in materials), default=0.0)
         dt_visc = 0.125 * self.h ** 2 / nu_max if (physics.laminar_viscosity and nu_max > 0) else 1e30
@@ -215,13 +216,13 @@ class Solver:
                            pivot=tuple(params.get("pivot", (0.0, 0.0))), drive=(0.0, 0.0), drag_K=params.get("drag_K", 0.0),
                            kn=params.get("kn", 0.0), ks=params.get("ks", 0.0), eta_n=params.get("eta_n", 0.0),
                            eta_s=params.get("eta_s", 0.0), mu_c=params.get("mu_c", 0.0),
-                           dc=params.get("dc", self.dx))
+                           dc=params.get("dc", self.dx), dt_dem=params.get("dt_dem", 1e30))
         self.motion = params.get("motion")   # motion(t) -> (displacement, rate), for the paddle
         for k, v in self.params.items():
             setattr(self.prm[None], k, v)
 
         S = ti.types.struct(amax2=real, mumax=real, bad_code=ti.i32, bad_idx=ti.i32,
-                            leaked=ti.i32, rhodev=real, numax=real)
+                            leaked=ti.i32, rhodev=real, numax=real, dem_near=ti.i32)
         self.stats = S.field(shape=())
 
         # Initial state.
@@ -418,6 +419,12 @@ class Solver:
                 t_j = s.sps[j]
             acc.a += sps_accel(m_j, acc.sps_i, acc.inv_rhoi, t_j, ir_j, gw)
         if ti.static(self.physics.dem):
+            if kj == FLUID and s.mat[j] == acc.mat and acc.dem == 1:
+                # about to touch: within dc plus a margin no grain closes in one acoustic step
+                # (h / c0 bounds it); the next step then honours the eq. 27 limit
+                reach = prm.dc + 0.05 * self.dx + 2.0 * v_ij.norm() * self.h / prm.c0
+                if 0.0 < r2 < reach * reach:     # not itself
+                    acc.near = 1
             if kj == FLUID and s.mat[j] == acc.mat and acc.dem == 1 and r2 < prm.dc * prm.dc and r2 > 0.0:
                 idj = s.id[j]
                 es_old = 0.0
@@ -588,7 +595,7 @@ class Solver:
                                 gv=ti.Matrix([[0.0, 0.0], [0.0, 0.0]]), sps_i=ti.Vector([0.0, 0.0, 0.0]),
                                 cid_old=ti.Vector([-1] * DEM_SLOTS), es_old=ti.Vector([0.0] * DEM_SLOTS),
                                 cid_new=ti.Vector([-1] * DEM_SLOTS), es_new=ti.Vector([0.0] * DEM_SLOTS),
-                                nc=0, dem=0, mi=1.0)   # DEM members: unused and compiled away when DEM is off
+                                nc=0, dem=0, mi=1.0, near=0)   # DEM members: unused and compiled away when DEM is off
                 if ti.static(self.physics.sps):
                     acc.sps_i = self.tmp.sps[i]
                 if ti.static(self.physics.dem):
@@ -628,6 +635,8 @@ class Solver:
                     # the contacts of this step, with their springs, replace the old list
                     self.p.cid[i] = acc.cid_new
                     self.p.ces[i] = acc.es_new
+                    if acc.near == 1:
+                        ti.atomic_max(self.stats[None].dem_near, 1)
                 if ti.static(self.physics.sps):
                     # SPS stress for the next step, Newtonian materials only (the fluid phase)
                     tau = ti.Vector([0.0, 0.0, 0.0])
@@ -699,6 +708,12 @@ class Solver:
                     dt_v = ti.min(dt_v, 0.125 * self.h * self.h / st.numax)
                 self.stats[None].numax = 0.0
             dt_new = ti.min(prm.cfl * ti.min(dt_f, dt_cv), dt_v, prm.dt_max)
+            if ti.static(self.physics.dem):
+                # DEM springs are far stiffer than the fluid; their step (eq. 27) is needed only
+                # while some grains touch, and otherwise would triple the step count for nothing
+                if st.dem_near == 1:
+                    dt_new = ti.min(dt_new, prm.dt_dem)
+                self.stats[None].dem_near = 0
             if dt_new < prm.dt_floor:
                 ti.atomic_max(self.stats[None].bad_code, BAD_DT)
             self.prm[None].dt = dt_new
