@@ -30,7 +30,7 @@ collisions of grains thrown together during scouring, and leaves the resting bed
 rheology. The DEM step limit dt_c/20 (eq. 27) is a third of the acoustic step at the default dx;
 the solver takes it only while some grains touch or are about to (tisph/solver.py), which in the
 default run is rare.
-The paper ran 6.5 min of flow at dt = 1e-5 s; the default here is 20 s (about 11 minutes on two
+The paper ran 6.5 min of flow at dt = 1e-5 s; the default here is 20 s (9 to 15 minutes on two
 cores), in which the hole under the pipe deepens from 0.10 D (the imposed dip) to about 0.19 D.
 """
 import math
@@ -52,7 +52,7 @@ NAME = "pipeline_scour"
 G = 9.81
 
 DEFAULTS = {
-    "run": {"end_time": 20.0},   # about 11 minutes here; the paper ran 6.5 min of flow
+    "run": {"end_time": 20.0},   # 9 to 15 minutes here; the paper ran 6.5 min of flow
     # Wendland kernel (paper 002 eq. 6), laminar viscosity + SPS (eq. 10), Shepard every 200 steps
     # is an option (shepard_every = 200); density diffusion is the default
     # c0 = 18 m/s: Table 3's c_0m
