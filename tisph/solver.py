@@ -419,26 +419,26 @@ class Solver:
                 t_j = s.sps[j]
             acc.a += sps_accel(m_j, acc.sps_i, acc.inv_rhoi, t_j, ir_j, gw)
         if ti.static(self.physics.dem):
-            if kj == FLUID and s.mat[j] == acc.mat and acc.dem == 1:
+            if kj == FLUID and s.mat[j] == acc.mat and acc.dem == 1 and r2 > 0.0:   # a grain, not itself
                 # about to touch: within dc plus a margin no grain closes in one acoustic step
                 # (h / c0 bounds it); the next step then honours the eq. 27 limit
                 reach = prm.dc + 0.05 * self.dx + 2.0 * v_ij.norm() * self.h / prm.c0
-                if 0.0 < r2 < reach * reach:     # not itself
+                if r2 < reach * reach:
                     acc.near = 1
-            if kj == FLUID and s.mat[j] == acc.mat and acc.dem == 1 and r2 < prm.dc * prm.dc and r2 > 0.0:
-                idj = s.id[j]
-                es_old = 0.0
-                for k in range(DEM_SLOTS):      # this pair's spring from the last step, if any
-                    if acc.cid_old[k] == idj:
-                        es_old = acc.es_old[k]
-                f, es, on = contact_force(prm.kn, prm.ks, prm.eta_n, prm.eta_s, prm.mu_c, prm.dc, r,
-                                          v_ij, es_old, prm.dt)
-                if on:
-                    acc.a += f / acc.mi
-                    if acc.nc < DEM_SLOTS:
-                        acc.cid_new[acc.nc] = idj
-                        acc.es_new[acc.nc] = es
-                        acc.nc += 1
+                if r2 < prm.dc * prm.dc:
+                    idj = s.id[j]
+                    es_old = 0.0
+                    for k in range(DEM_SLOTS):      # this pair's spring from the last step, if any
+                        if acc.cid_old[k] == idj:
+                            es_old = acc.es_old[k]
+                    f, es, on = contact_force(prm.kn, prm.ks, prm.eta_n, prm.eta_s, prm.mu_c, prm.dc, r,
+                                              v_ij, es_old, prm.dt)
+                    if on:
+                        acc.a += f / acc.mi
+                        if acc.nc < DEM_SLOTS:
+                            acc.cid_new[acc.nc] = idj
+                            acc.es_new[acc.nc] = es
+                            acc.nc += 1
         if ti.static(self.physics.drag):
             if kj == FLUID and s.mat[j] != acc.mat:
                 w = self.w_scale * self.K.shape(q)

@@ -8,8 +8,9 @@ A linear spring-dashpot in the normal and tangential directions of each contact:
 The contact is on when the centres are closer than the contact diameter (eq. 28). Eq. 28 writes
 the grain diameter d_s = 0.36 mm, which no two SPH particles a spacing apart ever reach; the
 scene chooses the contact diameter dc in spacings (pipeline_scour: 0.7 dx, so only grains thrown
-closer than a resting bed packs touch; its docstring says why). The tangential spring e_s is history: it lives in a per-particle list of contact
-partners (by particle id) that moves with the particle through every re-sort.
+closer than a resting bed packs touch; its docstring says why). The tangential spring e_s is
+history: it lives in a per-particle list of contact partners (by particle id) that moves with the
+particle through every re-sort.
 Time step (eq. 27): dt <= dt_c / 20, dt_c = 2 pi sqrt(m_s / (2 k_n)).
 """
 import math
