@@ -3,7 +3,7 @@ what is allowed; none reaches Taichi or prints a traceback."""
 import pytest
 
 from tisph.runner import run_scene
-from tisph.scenes import dam_break, tank
+from tisph.scenes import beach, dam_break, tank, tunnel
 
 CASES = [
     # (scene, argv, TOML text or None, words the message must contain)
@@ -38,6 +38,9 @@ CASES = [
     (dam_break, [], "[run]\nprecision = \"f16\"\n", ["run.precision", "'f32'"]),
     (dam_break, [], "[run]\nmax_steps = 2.5\n", ["run.max_steps", "an integer"]),
     (tank, [], "[geometry]\ndepth = 2.0\n", ["geometry.depth", "tank_height"]),
+    (tunnel, [], "[geometry]\nsand_depth = 0.02\n", ["geometry.sand_depth", "0.02", "4 dx"]),
+    (tunnel, [], "[geometry]\nperiod = 0.0\n", ["geometry.period", "> 0"]),
+    (beach, [], "[geometry]\ngrain_diameter = -0.001\n", ["geometry.grain_diameter", "-0.001", "> 0"]),
 ]
 
 

@@ -6,11 +6,12 @@ import numpy as np
 import pytest
 
 from tisph import wavemaker as wm
-from tisph.ripples import ripple_stats, orbital_diameter
+from tisph.ripples import ripple_stats, orbital_diameter, wiberg_harris
 from tisph.runner import resolve, build_case, Log, simulate
 from tisph.solver import Solver
 from tisph.particles import MOVING
-from tisph.scenes import flume, beach
+from tisph.scenes import flume, beach, tunnel
+from tisph.particles import FLUID
 
 
 def test_dispersion_relation():
@@ -111,6 +112,53 @@ def test_ripple_analysis_recovers_a_synthetic_bed():
     noise = 0.002 * np.sin(2 * np.pi * x / 0.02)
     assert math.isnan(ripple_stats(x, 0.01 * x + noise, window=0.5, min_length=0.05, min_height=0.005)[0])
     assert orbital_diameter(0.1, 1.0, 1.0) == pytest.approx(0.1 / math.sinh(1.0))
+
+
+def test_wiberg_harris_regimes_and_limits():
+    D = 3e-4
+    lam, eta, regime = wiberg_harris(0.1, D)          # d0 / D = 333: orbital
+    assert regime == "orbital" and lam == pytest.approx(0.062) and eta == pytest.approx(0.17 * 0.062)
+    lam, eta, regime = wiberg_harris(2.0, D)          # d0 / D = 6,700: anorbital, 535 D long
+    assert regime == "anorbital" and lam == pytest.approx(535 * D) and 0 < eta < 0.17 * lam
+    # anorbital height obeys the steepness law
+    y = math.log(2.0 / eta)
+    assert eta / lam == pytest.approx(math.exp(-0.095 * y * y + 0.442 * y - 2.28), rel=1e-9)
+    # the suborbital length joins both regimes without a jump
+    d0s = np.geomspace(0.05, 20.0, 4000)
+    out = [wiberg_harris(d, D) for d in d0s]
+    regimes = [o[2] for o in out]
+    assert regimes[0] == "orbital" and "suborbital" in regimes and regimes[-1] == "anorbital"
+    lam = np.array([o[0] for o in out])
+    assert np.max(np.abs(np.diff(np.log(lam)))) < 0.01
+    assert wiberg_harris(0.0, D)[2] == "no motion"
+    with pytest.raises(ValueError, match="grain_diameter"):
+        wiberg_harris(0.1, 0.0)
+
+
+def test_near_bed_velocity_takes_the_band_one_to_two_spacings_up():
+    dx = 0.04
+    stations = np.array([1.0, 1.04, 1.08])
+    bed = np.array([0.2, 0.3, 0.4])
+    x = np.array([[1.0, 0.21], [1.0, 0.25], [1.0, 0.27], [1.04, 0.35], [1.04, 0.5], [1.5, 0.25]])
+    u = np.array([9.0, 0.2, 0.4, 0.7, 9.0, 9.0])
+    st = dict(x=x, v=np.column_stack([u, 0 * u]), kind=np.full(6, FLUID), mat=np.zeros(6, int))
+    got = beach.near_bed_velocity(st, stations, bed, dx)
+    assert got[0] == pytest.approx(0.3) and got[1] == pytest.approx(0.7) and math.isnan(got[2])
+
+
+def test_tunnel_holds_the_oscillation_and_a_200_pa_bed_rests(tmp_path):
+    """Two periods of the oscillating tunnel at dx = 0.02: the free stream follows U_m sin(wt)
+    within 3 % (rms) and the Bingham bed (tau_B = 200 Pa, against a bed shear of order 1 Pa)
+    does not move by more than a tenth of a spacing; the Wiberg & Harris prediction is reported."""
+    out = tmp_path / "t"
+    s = simulate(tunnel, {"numerics.dx": 0.02, "run.end_time": 4.0, "output.render": False,
+                          "output.quiet": True, "output.snapshot_every": 0.0}, out=str(out))
+    m = s["metrics"]
+    assert s["status"] == "ok" and s["leaked_particles"] == 0
+    assert m["free_stream_error"] < 0.03, m
+    assert m["bed_change_rms_over_dx"] < 0.1, m
+    assert m["predicted_ripple_length"] == pytest.approx(wiberg_harris(0.3, 3e-4)[0])
+    assert (out / "bed_profile.csv").exists() and (out / "bed_profile.png").exists()
 
 
 def test_beach_runs_and_writes_a_frame_and_bed_statistics(tmp_path):

@@ -6,10 +6,23 @@ window is given, its running mean over that window (a bar or a shoreline profile
 than the window and is not a ripple either: a high-pass filter, as field ripple surveys use). Zero
 up-crossings split z into ripples; each ripple's length is the distance between consecutive
 up-crossings and its height is crest minus trough between them (the zero-crossing method of
-wave analysis, applied along x). Wiberg & Harris (1994): orbital ripples have a length of about
-0.62 d0, with d0 = H / sinh(kh) the near-bed orbital diameter.
+wave analysis, applied along x).
+
+The reference is the equilibrium ripple predictor of Wiberg & Harris (1994, J. Geophys. Res.
+99(C1), 775-789) from the near-bed orbital diameter d0 (linear waves: d0 = H / sinh(kh)) and the
+grain diameter D: orbital ripples 0.62 d0 long and 0.17 of that high, anorbital ripples 535 D
+long, suborbital ripples in between.
 """
+import math
+
 import numpy as np
+
+# What counts as a ripple on a particle bed, in particle spacings: at least 3 long, and at least
+# half a spacing high. Lower bumps are rearrangements within the top particle row: a resting
+# bed reads as bumps up to 0.17 dx high (bed gauge flicker, tunnel default run) and a Bingham bed
+# of 0.5 Pa wandering under the oscillation as bumps of 0.33 dx.
+MIN_LENGTH_DX = 3.0
+MIN_HEIGHT_DX = 0.5
 
 
 def high_pass(x, z, window):
@@ -54,3 +67,41 @@ def ripple_stats(x, z, window=None, min_length=0.0, min_height=0.0):
 def orbital_diameter(H, k, depth):
     """Near-bed orbital diameter of linear waves, d0 = H / sinh(k h)."""
     return H / np.sinh(k * depth)
+
+
+def wiberg_harris(d0, grain_diameter):
+    """Equilibrium wave-ripple (length, height, regime) of Wiberg & Harris (1994).
+
+    Orbital: length 0.62 d0, height 0.17 length. Anorbital: length 535 D, height from the
+    steepness law height/length = exp(-0.095 ln(d0/height)^2 + 0.442 ln(d0/height) - 2.28),
+    solved for height. The regime follows from d0 / anorbital height: under 20 orbital, over 100
+    anorbital, and between them suborbital, whose length is interpolated between the two in log
+    space and whose height follows from the same steepness law. d0 and D in m; d0 = 0 gives
+    (0, 0, "no motion")."""
+    D = float(grain_diameter)
+    d0 = float(d0)
+    if not (D > 0):
+        raise ValueError(f"grain_diameter = {grain_diameter!r}: must be a positive length in m")
+    if not (d0 > 0):
+        return 0.0, 0.0, "no motion"
+
+    def height_for(length):
+        # With y = ln(d0 / height) the steepness law is the quadratic
+        # 0.095 y^2 - 1.442 y + 2.28 + ln(d0 / length) = 0; its smaller root is the branch on
+        # which steepness falls as d0 / height grows (y > 2.33). No root (d0 > 24 lengths): the
+        # flattest ripple the law allows, at its vertex.
+        c = 2.28 + math.log(d0 / length)
+        y = (1.442 - math.sqrt(max(1.442 ** 2 - 4 * 0.095 * c, 0.0))) / 0.19
+        return d0 * math.exp(-y)
+
+    l_orb = 0.62 * d0
+    l_ano = 535.0 * D
+    h_ano = height_for(l_ano)
+    ratio = d0 / h_ano
+    if ratio < 20.0:
+        return l_orb, 0.17 * l_orb, "orbital"
+    if ratio > 100.0:
+        return l_ano, h_ano, "anorbital"
+    w = (math.log(ratio) - math.log(100.0)) / (math.log(20.0) - math.log(100.0))
+    l_sub = math.exp(w * (math.log(l_orb) - math.log(l_ano)) + math.log(l_ano))
+    return l_sub, height_for(l_sub), "suborbital"

@@ -1,0 +1,188 @@
+"""Oscillating water tunnel over a sand bed: the laboratory set-up for wave ripples, where the
+beach's ripple question can be asked at a resolution that resolves them.
+
+The near-bed motion under waves is, to first order, a uniform oscillation U(t) = U_m sin(wt) of
+orbital diameter d0 = 2 U_m / w; a tunnel reproduces it with an oscillating pressure gradient.
+Here the domain is periodic in x, the water has a free surface, and the pressure gradient is the
+solver's drive dU/dt (sand feels rho_w / rho_s of it, as of any pressure gradient), ramped in over
+the first period as U_m sin^2(pi t / 2T) sin(wt) so no mean current starts. The bed is the
+beach's sand (paper 000 section 5: Bingham, tau_B = 200 Pa, mu_B = 0.1 Pa s, 1950 kg/m3, at rest
+below yield). The measured ripples are compared with the equilibrium predictor of Wiberg &
+Harris (1994) for the imposed d0 and the grain diameter.
+
+Defaults: d0 = 0.3 m, T = 2 s (U_m = 0.47 m/s), a 0.15 m water layer over 0.08 m of sand,
+1.2 m long, dx = 1 cm, so the predicted orbital ripple (0.19 m long, 3 cm high) spans 19
+particles; 20 s (10 periods), about 2.5 minutes on two cores.
+"""
+import copy
+import math
+import os
+import sys
+
+import numpy as np
+
+from ..config import ConfigError, physics_from_config
+from ..io import atomic_path, write_csv
+from ..particles import ParticleSet, block, density_from_pressure, tait_B, FLUID, WALL
+from ..render import SAND
+from ..ripples import MIN_HEIGHT_DX, MIN_LENGTH_DX, ripple_stats, wiberg_harris
+from ..runner import Case, common_params, run_scene, sound_speed
+from . import beach
+from .flume import surface_heights
+
+NAME = "tunnel"
+G = 9.81
+
+DEFAULTS = {
+    "run": {"end_time": 20.0},
+    "numerics": {"dx": 0.01, "h_factor": 1.3, "artificial_viscosity": 0.02,
+                 "density_diffusion": "fourtakas", "delta": 0.1},
+    "geometry": {"length": 1.2,                 # periodic length (m)
+                 "water_depth": 0.15,           # water above the bed (m)
+                 "sand_depth": 0.08,            # sand layer on the rigid floor (m)
+                 "orbital_diameter": 0.3,       # d0 = 2 U_m / omega (m)
+                 "period": 2.0,                 # T (s)
+                 "grain_diameter": 0.0003},     # for the Wiberg & Harris prediction (m)
+    "materials": copy.deepcopy(beach.DEFAULTS["materials"]),     # the beach's water and sand
+    "output": {"frame_interval": 0.05, "probe_interval": 0.05, "width": 960},
+}
+RANGES = {f"geometry.{k}": (0.0, None, False, True) for k in DEFAULTS["geometry"]}
+
+
+def check(cfg):
+    g, dx = cfg["geometry"], cfg["numerics"]["dx"]
+    if g["sand_depth"] < 4 * dx:
+        raise ConfigError("geometry.sand_depth", g["sand_depth"], f"at least 4 dx ({4 * dx:g} m)")
+    if g["water_depth"] < 6 * dx:
+        raise ConfigError("geometry.water_depth", g["water_depth"], f"at least 6 dx ({6 * dx:g} m)")
+    if g["length"] < 20 * dx:
+        raise ConfigError("geometry.length", g["length"], f"at least 20 dx ({20 * dx:g} m)")
+
+
+def free_stream(t, Um, omega, period):
+    """U(t) = U_m r(t) sin(omega t), r = sin^2(pi t / 2T) over the first period, then 1; and its
+    time derivative, the drive."""
+    if t < period:
+        r = math.sin(0.5 * math.pi * t / period) ** 2
+        dr = 0.5 * math.pi / period * math.sin(math.pi * t / period)
+    else:
+        r, dr = 1.0, 0.0
+    return Um * r * math.sin(omega * t), Um * (dr * math.sin(omega * t) + r * omega * math.cos(omega * t))
+
+
+def build(cfg):
+    geo, num = cfg["geometry"], cfg["numerics"]
+    dx, Lx, hw, hs = num["dx"], geo["length"], geo["water_depth"], geo["sand_depth"]
+    Tp = geo["period"]
+    omega = 2.0 * math.pi / Tp
+    Um = 0.5 * geo["orbital_diameter"] * omega
+    mats = cfg["materials"]
+    rw, rs = mats["water"]["rho0"], mats["sand"]["rho0"]
+    c0, u_max = sound_speed(cfg, 1.5 * Um)
+    L = num["wall_layers"]
+    h = num["h_factor"] * dx
+    ytop = hs + hw
+    lattice = block(0.0, 0.0, Lx, ytop, dx)
+    sand = lattice[:, 1] < hs
+
+    def pressure(y):
+        return rw * G * (ytop - np.maximum(y, hs)) + rs * G * np.maximum(hs - y, 0.0)
+
+    ps = ParticleSet()
+    xw, xs = lattice[~sand], lattice[sand]
+    ps.add(xw, FLUID, 0, density_from_pressure(pressure(xw[:, 1]), rw, c0), rw * dx * dx)
+    ps.add(xs, FLUID, 1, density_from_pressure(pressure(xs[:, 1]), rs, c0), rs * dx * dx)
+    floor = block(0.0, -L * dx, Lx, 0.0, dx)
+    ps.add(floor, WALL, 0, density_from_pressure(pressure(floor[:, 1]), rw, c0), rw * dx * dx)
+    materials = [dict(dict(mats[n]), name=n, B=tait_B(mats[n]["rho0"], c0)) for n in ("water", "sand")]
+    params = common_params(cfg, c0, G, depth=ytop)
+    pad = 4 * h
+    domain = ((0.0, -L * dx - pad), (Lx, 2.0 * ytop + pad))
+    physics = physics_from_config(cfg, periodic_x=True)
+
+    # The drive is dU/dt plus PI feedback on the free stream, as a tunnel's piston holds the
+    # flow: friction on the bed drains momentum during the ramp, and without feedback a mean
+    # current of 7 % of U_m was left (measured at dx 0.02).
+    ctl = dict(t=0.0, integral=0.0)
+    Tc = 0.1 * Tp
+
+    def control(s):
+        st = s.state(("x", "v", "kind", "mat"))
+        free = (st["kind"] == FLUID) & (st["mat"] == 0) & (st["x"][:, 1] > hs + 0.5 * hw)
+        u_t, dudt = free_stream(s.time, Um, omega, Tp)
+        e = u_t - float(st["v"][free, 0].mean())
+        ctl["integral"] += e * (s.time - ctl["t"])
+        ctl["t"] = s.time
+        s.prm[None].drive = (dudt + e / Tc + ctl["integral"] / Tc ** 2, 0.0)
+
+    stations = np.arange(0.5 * dx, Lx, dx)
+    bed_rows, bed0 = [], {}
+    lam_wh, eta_wh, regime = wiberg_harris(geo["orbital_diameter"], geo["grain_diameter"])
+
+    def probe(st):
+        b = surface_heights(st, stations, dx, h, mat=1)
+        if "b" not in bed0:
+            bed0["b"] = b
+        bed_rows.append((st["t"],) + tuple(b))
+        lam, hr, rms = ripple_stats(stations, b - bed0["b"], window=0.5 * Lx, min_length=MIN_LENGTH_DX * dx,
+                                    min_height=MIN_HEIGHT_DX * dx)
+        # free stream: the water above the lower half of the water layer (out of the boundary layer)
+        w = (st["kind"] == FLUID) & (st["mat"] == 0) & (st["x"][:, 1] > hs + 0.5 * hw)
+        return lam, hr, rms, float(st["v"][w, 0].mean()), free_stream(st["t"], Um, omega, Tp)[0]
+
+    def metrics(c):
+        out = dict(velocity_amplitude=Um, predicted_ripple_length=lam_wh, predicted_ripple_height=eta_wh,
+                   predicted_regime=regime, predicted_ripple_length_in_dx=lam_wh / dx)
+        t = c["t"]
+        after = t >= Tp                                  # the ramp is over
+        if after.sum() > 4:
+            err = c["u_free"][after] - c["u_target"][after]
+            out["free_stream_error"] = float(np.sqrt(np.mean(err ** 2)) / Um)   # rms, relative to U_m
+        for key in ("ripple_length", "ripple_height", "bed_change_rms"):
+            v = c[key][np.isfinite(c[key])]
+            out[key] = float(v[-1]) if len(v) else float("nan")
+        out["ripple_length_over_prediction"] = out["ripple_length"] / lam_wh if lam_wh > 0 else float("nan")
+        out["bed_change_rms_over_dx"] = out["bed_change_rms"] / dx
+        return out
+
+    def finalize(out, metrics):
+        if not bed_rows:
+            return
+        write_csv(os.path.join(out, "bed_profile.csv"), ("t",) + tuple(f"x{x:.3f}" for x in stations), bed_rows)
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+        arr = np.array(bed_rows)
+        fig, ax = plt.subplots(figsize=(8, 3))
+        for tt in np.linspace(arr[0, 0], arr[-1, 0], 5)[1:]:
+            r = arr[np.argmin(np.abs(arr[:, 0] - tt))]
+            ax.plot(stations, 1e3 * (r[1:] - arr[0, 1:]), lw=0.9, label=f"t = {r[0]:.1f} s")
+        # the predicted equilibrium ripple, for scale
+        xr = np.linspace(0.0, min(Lx, 2 * lam_wh), 100)
+        ax.plot(xr, 1e3 * 0.5 * eta_wh * np.sin(2 * np.pi * xr / lam_wh), "k--", lw=0.8,
+                label=f"Wiberg & Harris: {100 * lam_wh:.1f} cm x {100 * eta_wh:.1f} cm")
+        ax.axhspan(-0.5e3 * dx, 0.5e3 * dx, color="0.93")
+        ax.set_xlabel("x (m)")
+        ax.set_ylabel("bed change (mm)")
+        ax.set_title(f"oscillating tunnel, d0 = {geo['orbital_diameter']:g} m, T = {Tp:g} s "
+                     f"(grey: +-dx/2)", fontsize=9)
+        ax.legend(fontsize=7, ncol=2)
+        fig.tight_layout()
+        with atomic_path(os.path.join(out, "bed_profile.png")) as tmp:
+            fig.savefig(tmp, dpi=110, format="png")
+        plt.close(fig)
+
+    return Case(name=NAME, particles=ps, materials=materials, domain=domain, params=params, physics=physics,
+                view=((0.0, -L * dx), (Lx, ytop + 2 * dx)), u_max=u_max,
+                probe_columns=("ripple_length", "ripple_height", "bed_change_rms", "u_free", "u_target"),
+                probe=probe, metrics=metrics, finalize=finalize,
+                container=(-1e9, -0.5 * dx, 1e9, float("inf")),
+                render_modes=("phase",), mat_colors=(None, SAND), control=control, control_every=10)
+
+
+def main(argv=None):
+    return run_scene(sys.modules[__name__], argv)
+
+
+if __name__ == "__main__":
+    sys.exit(main())
