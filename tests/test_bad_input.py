@@ -40,6 +40,7 @@ CASES = [
     (tank, [], "[geometry]\ndepth = 2.0\n", ["geometry.depth", "tank_height"]),
     (tunnel, [], "[geometry]\nsand_depth = 0.02\n", ["geometry.sand_depth", "0.02", "4 dx"]),
     (tunnel, [], "[geometry]\nperiod = 0.0\n", ["geometry.period", "> 0"]),
+    (tunnel, [], "[geometry]\nseed_ripple_height = 0.07\n", ["geometry.seed_ripple_height", "0.07", "sand_depth - 2 dx"]),
     (beach, [], "[geometry]\ngrain_diameter = -0.001\n", ["geometry.grain_diameter", "-0.001", "> 0"]),
 ]
 

@@ -161,6 +161,17 @@ def test_tunnel_holds_the_oscillation_and_a_200_pa_bed_rests(tmp_path):
     assert (out / "bed_profile.csv").exists() and (out / "bed_profile.png").exists()
 
 
+def test_tunnel_seeded_bed_reads_as_its_ripples(tmp_path):
+    """A bed seeded with ripples at the predicted length (rounded to fit: 1.2 m / 6 = 0.2 m) and
+    4 cm high reads, at the start, as ripples that long and about that high."""
+    s = simulate(tunnel, {"numerics.dx": 0.02, "geometry.seed_ripple_height": 0.04, "run.max_steps": 2,
+                          "output.render": False, "output.quiet": True, "output.snapshot_every": 0.0},
+                 out=str(tmp_path / "t"))
+    m = s["metrics"]
+    assert m["ripple_length"] == pytest.approx(0.2, rel=0.05), m
+    assert 0.02 <= m["ripple_height"] <= 0.05, m
+
+
 def test_beach_runs_and_writes_a_frame_and_bed_statistics(tmp_path):
     out = tmp_path / "beach"
     s = simulate(beach, {"run.end_time": 0.12, "output.quiet": True, "output.snapshot_every": 0.0,

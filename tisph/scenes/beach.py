@@ -256,7 +256,9 @@ def build(cfg):
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
         arr = np.array(bed_rows)
-        fig, (a1, a2) = plt.subplots(2, 1, figsize=(9, 5.5), sharex=True)
+        rows = pred_rows.get("rows")
+        fig, axes = plt.subplots(3 if rows else 2, 1, figsize=(9, 7.5 if rows else 5.5), sharex=True)
+        a1, a2 = axes[0], axes[1]
         times = [t for t in STILLS if t <= arr[-1, 0] + 1e-9] or [arr[-1, 0]]
         for t in times:
             r = arr[np.argmin(np.abs(arr[:, 0] - t))]
@@ -267,7 +269,17 @@ def build(cfg):
         a1.legend(fontsize=7, ncol=3)
         a2.axvspan(stations[active][0], stations[active][-1], color="0.93")
         a2.set_ylabel("bed change (m)")
-        a2.set_xlabel("x (m)")
+        if rows:
+            # what ripples the measured near-bed motion would make, against the particle size
+            a3 = axes[2]
+            xr = [r[0] for r in rows]
+            a3.plot(xr, [100 * r[4] for r in rows], label="Wiberg & Harris ripple length")
+            a3.plot(xr, [100 * r[5] for r in rows], label="ripple height")
+            a3.axhline(100 * dx, color="k", lw=0.8, ls="--", label="dx")
+            a3.axhline(800 * dx, color="k", lw=0.8, ls=":", label="8 dx (resolved length)")
+            a3.set_ylabel("cm")
+            a3.legend(fontsize=7, ncol=4, loc="upper left")
+        axes[-1].set_xlabel("x (m)")
         fig.suptitle(f"beach, tau_B = {mats['sand']['yield_stress']:g} Pa: bed profile over time "
                      f"(grey: active zone)", fontsize=10)
         fig.tight_layout()

@@ -12,7 +12,8 @@ Harris (1994) for the imposed d0 and the grain diameter.
 
 Defaults: d0 = 0.3 m, T = 2 s (U_m = 0.47 m/s), a 0.15 m water layer over 0.08 m of sand,
 1.2 m long, dx = 1 cm, so the predicted orbital ripple (0.19 m long, 3 cm high) spans 19
-particles; 20 s (10 periods), about 2.5 minutes on two cores.
+particles; 20 s (10 periods), about 3.5 minutes on two cores. geometry.seed_ripple_height > 0
+starts the bed rippled at the predicted length, to ask whether the bed keeps them.
 """
 import copy
 import math
@@ -42,11 +43,14 @@ DEFAULTS = {
                  "sand_depth": 0.08,            # sand layer on the rigid floor (m)
                  "orbital_diameter": 0.3,       # d0 = 2 U_m / omega (m)
                  "period": 2.0,                 # T (s)
-                 "grain_diameter": 0.0003},     # for the Wiberg & Harris prediction (m)
+                 "grain_diameter": 0.0003,      # for the Wiberg & Harris prediction (m)
+                 # > 0: the bed starts rippled, crest to trough this high (m), at the predicted
+                 # length rounded to fit the periodic length: does the bed keep, grow or lose them?
+                 "seed_ripple_height": 0.0},
     "materials": copy.deepcopy(beach.DEFAULTS["materials"]),     # the beach's water and sand
     "output": {"frame_interval": 0.05, "probe_interval": 0.05, "width": 960},
 }
-RANGES = {f"geometry.{k}": (0.0, None, False, True) for k in DEFAULTS["geometry"]}
+RANGES = {f"geometry.{k}": (0.0, None, k == "seed_ripple_height", True) for k in DEFAULTS["geometry"]}
 
 
 def check(cfg):
@@ -57,6 +61,9 @@ def check(cfg):
         raise ConfigError("geometry.water_depth", g["water_depth"], f"at least 6 dx ({6 * dx:g} m)")
     if g["length"] < 20 * dx:
         raise ConfigError("geometry.length", g["length"], f"at least 20 dx ({20 * dx:g} m)")
+    if g["seed_ripple_height"] > g["sand_depth"] - 2 * dx:
+        raise ConfigError("geometry.seed_ripple_height", g["seed_ripple_height"],
+                          f"at most sand_depth - 2 dx ({g['sand_depth'] - 2 * dx:.3g} m)")
 
 
 def free_stream(t, Um, omega, period):
@@ -82,16 +89,25 @@ def build(cfg):
     L = num["wall_layers"]
     h = num["h_factor"] * dx
     ytop = hs + hw
-    lattice = block(0.0, 0.0, Lx, ytop, dx)
-    sand = lattice[:, 1] < hs
+    lam_wh, eta_wh, regime = wiberg_harris(geo["orbital_diameter"], geo["grain_diameter"])
+    n_seed = max(1, int(round(Lx / lam_wh))) if lam_wh > 0 else 1
+    a_seed = 0.5 * geo["seed_ripple_height"]
 
-    def pressure(y):
-        return rw * G * (ytop - np.maximum(y, hs)) + rs * G * np.maximum(hs - y, 0.0)
+    def bed_level(x):
+        return hs + a_seed * np.sin(2 * np.pi * n_seed * np.asarray(x, float) / Lx)
+
+    lattice = block(0.0, 0.0, Lx, ytop + a_seed, dx)
+    sand = lattice[:, 1] < bed_level(lattice[:, 0])
+    lattice = lattice[sand | (lattice[:, 1] < ytop)]      # water keeps its level over a seeded bed
+    sand = lattice[:, 1] < bed_level(lattice[:, 0])
+
+    def pressure(y, yb=hs):
+        return rw * G * (ytop - np.maximum(y, yb)) + rs * G * np.maximum(yb - y, 0.0)
 
     ps = ParticleSet()
     xw, xs = lattice[~sand], lattice[sand]
-    ps.add(xw, FLUID, 0, density_from_pressure(pressure(xw[:, 1]), rw, c0), rw * dx * dx)
-    ps.add(xs, FLUID, 1, density_from_pressure(pressure(xs[:, 1]), rs, c0), rs * dx * dx)
+    ps.add(xw, FLUID, 0, density_from_pressure(pressure(xw[:, 1], bed_level(xw[:, 0])), rw, c0), rw * dx * dx)
+    ps.add(xs, FLUID, 1, density_from_pressure(pressure(xs[:, 1], bed_level(xs[:, 0])), rs, c0), rs * dx * dx)
     floor = block(0.0, -L * dx, Lx, 0.0, dx)
     ps.add(floor, WALL, 0, density_from_pressure(pressure(floor[:, 1]), rw, c0), rw * dx * dx)
     materials = [dict(dict(mats[n]), name=n, B=tait_B(mats[n]["rho0"], c0)) for n in ("water", "sand")]
@@ -117,15 +133,17 @@ def build(cfg):
 
     stations = np.arange(0.5 * dx, Lx, dx)
     bed_rows, bed0 = [], {}
-    lam_wh, eta_wh, regime = wiberg_harris(geo["orbital_diameter"], geo["grain_diameter"])
 
     def probe(st):
         b = surface_heights(st, stations, dx, h, mat=1)
         if "b" not in bed0:
             bed0["b"] = b
         bed_rows.append((st["t"],) + tuple(b))
-        lam, hr, rms = ripple_stats(stations, b - bed0["b"], window=0.5 * Lx, min_length=MIN_LENGTH_DX * dx,
-                                    min_height=MIN_HEIGHT_DX * dx)
+        # ripples on the bed change; on a seeded bed, on the bed itself (its seeded ripples included)
+        z = b - (hs if a_seed > 0 else bed0["b"])
+        lam, hr, _ = ripple_stats(stations, z, window=0.5 * Lx, min_length=MIN_LENGTH_DX * dx,
+                                  min_height=MIN_HEIGHT_DX * dx)
+        rms = float(np.sqrt(np.mean((b - bed0["b"]) ** 2)))
         # free stream: the water above the lower half of the water layer (out of the boundary layer)
         w = (st["kind"] == FLUID) & (st["mat"] == 0) & (st["x"][:, 1] > hs + 0.5 * hw)
         return lam, hr, rms, float(st["v"][w, 0].mean()), free_stream(st["t"], Um, omega, Tp)[0]
