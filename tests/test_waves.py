@@ -186,6 +186,23 @@ def test_beach_runs_and_writes_a_frame_and_bed_statistics(tmp_path):
     assert np.isfinite(m["bed_change_rms"]) and m["bed_change_rms"] < 0.04   # 0.12 s: the bed has barely moved
 
 
+def test_beach_predicts_ripples_from_its_near_bed_motion(tmp_path):
+    """7 s of the default beach, no movie: one whole period at the toe after the ramped waves
+    arrive. The near-bed orbital diameter measured there agrees with linear theory through the
+    toe's measured wave height within 30 %, and the prediction is Wiberg & Harris's for it."""
+    out = tmp_path / "b"
+    s = simulate(beach, {"run.end_time": 7.0, "output.render": False, "output.quiet": True,
+                         "output.snapshot_every": 0.0}, out=str(out))
+    m = s["metrics"]
+    assert s["status"] == "ok" and m["periods_measured_at_toe"] >= 1
+    assert m["near_bed_orbital_diameter_toe"] == pytest.approx(m["orbital_diameter_d0"], rel=0.3), m
+    lam, eta, regime = wiberg_harris(m["near_bed_orbital_diameter_toe"], 0.0003)
+    assert m["predicted_ripple_length_toe"] == pytest.approx(lam) and m["predicted_ripple_regime_toe"] == regime
+    assert m["dx_to_resolve_ripples_toe"] < 0.04          # the default dx does not resolve them
+    rows = (out / "ripple_prediction.csv").read_text().splitlines()
+    assert rows[0].startswith("x,bed_initial,near_bed_velocity_amplitude,orbital_diameter_d0") and len(rows) > 50
+
+
 def test_flume_wave_height_against_biesel(tmp_path):
     """The shipped flume (Wendland kernel, depth 0.25 m, T = 0.8 s, stroke 4 cm) at dx = 0.0125
     (H = 5 dx) in a flume cut to 3 m: the wave two wavelengths from the paddle is within 15 % of

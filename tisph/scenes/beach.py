@@ -224,7 +224,8 @@ def build(cfg):
     def ripple_prediction(t, t0):
         """Wiberg & Harris ripples at each active station from the simulated near-bed orbital
         velocity: amplitude (max - min) / 2 of the water velocity 1-2 dx above the bed over whole
-        periods after t0, so d0 = 2 amplitude / omega."""
+        periods after t0, so d0 = 2 amplitude / omega. None after a restart (the velocity record
+        is not in the checkpoint) or before a whole period has passed."""
         t = np.asarray(t, float)
         n_per = int((t[-1] - t0) // p["period"]) if len(t) else 0
         if n_per < 1 or len(u_near) != len(t):

@@ -12,7 +12,7 @@ Harris (1994) for the imposed d0 and the grain diameter.
 
 Defaults: d0 = 0.3 m, T = 2 s (U_m = 0.47 m/s), a 0.15 m water layer over 0.08 m of sand,
 1.2 m long, dx = 1 cm, so the predicted orbital ripple (0.19 m long, 3 cm high) spans 19
-particles; 20 s (10 periods), about 3.5 minutes on two cores. geometry.seed_ripple_height > 0
+particles; 20 s (10 periods), 2.5 minutes on two cores. geometry.seed_ripple_height > 0
 starts the bed rippled at the predicted length, to ask whether the bed keeps them.
 """
 import copy
