@@ -86,6 +86,14 @@ def density_from_pressure(p, rho0, c0, gamma=7.0):
     return rho0 * (1.0 + np.asarray(p, float) / tait_B(rho0, c0, gamma)) ** (1.0 / gamma)
 
 
+def layered_pressure(y, y_bed, y_top, rho_w, rho_s, g=9.81):
+    """Hydrostatic pressure at height y under water (surface y_top) over a sediment layer (surface
+    y_bed): the water column above max(y, y_bed) plus the sediment column above y."""
+    y, y_bed = np.asarray(y, float), np.asarray(y_bed, float)
+    return (rho_w * g * np.maximum(y_top - np.maximum(y, y_bed), 0.0)
+            + rho_s * g * np.maximum(y_bed - y, 0.0))
+
+
 def wall_density(walls, fluid_x, dx, h, rho0, c0, g):
     """Hydrostatic start for wall particles: the density of the water column standing above them
     (within a kernel support), rest density where no water is near."""

@@ -64,6 +64,17 @@ def ripple_stats(x, z, window=None, min_length=0.0, min_height=0.0):
     return float(np.mean(lengths[keep])), float(np.mean(heights[keep])), rms
 
 
+def last_finite(columns, keys):
+    """{key: the last finite value of columns[key]} (NaN if none): a probe's final statistic when
+    the last samples found no ripple."""
+    out = {}
+    for key in keys:
+        v = np.asarray(columns[key], float)
+        v = v[np.isfinite(v)]
+        out[key] = float(v[-1]) if len(v) else float("nan")
+    return out
+
+
 def orbital_diameter(H, k, depth):
     """Near-bed orbital diameter of linear waves, d0 = H / sinh(k h)."""
     return H / np.sinh(k * depth)

@@ -31,10 +31,10 @@ import numpy as np
 
 from ..config import ConfigError, physics_from_config
 from ..io import atomic_path, write_csv
-from ..particles import ParticleSet, block, density_from_pressure, tait_B, FLUID, WALL, MOVING
+from ..particles import ParticleSet, block, density_from_pressure, layered_pressure, tait_B, FLUID, WALL, MOVING
 from ..render import SAND
 from ..profiles import streamlines_png
-from ..ripples import MIN_HEIGHT_DX, MIN_LENGTH_DX, orbital_diameter, ripple_stats, wiberg_harris
+from ..ripples import MIN_HEIGHT_DX, MIN_LENGTH_DX, last_finite, orbital_diameter, ripple_stats, wiberg_harris
 from ..runner import Case, common_params, run_scene, sound_speed
 from .. import wavemaker as wm
 from . import flume
@@ -143,8 +143,7 @@ def build(cfg):
     xw = far_from(xw, xs, 0.7 * dx)
 
     def pressure(y, ytop_sand):
-        pw = rw * G * np.maximum(yw - np.maximum(y, ytop_sand), 0.0)
-        return pw + rs * G * np.maximum(ytop_sand - y, 0.0)
+        return layered_pressure(y, ytop_sand, yw, rw, rs, G)
 
     ps = ParticleSet()
     ps.add(xw, FLUID, 0, density_from_pressure(pressure(xw[:, 1], ramp(xw[:, 0]) + ts), rw, c0), rw * dx * dx)
@@ -194,9 +193,7 @@ def build(cfg):
     def metrics(c):
         out = dict(kh_paddle=k * d, wavelength=wavelength, biesel_wave_height=H_biesel,
                    active_zone=[float(stations[active][0]), float(stations[active][-1])])
-        for key in ("ripple_length", "ripple_height", "bed_change_rms"):
-            v = c[key][np.isfinite(c[key])]
-            out[key] = float(v[-1]) if len(v) else float("nan")
+        out.update(last_finite(c, ("ripple_length", "ripple_height", "bed_change_rms")))
         # wave height at the toe after the ramp (incident plus what the beach reflects)
         t0 = t_ramp + toe / cg + p["period"]
         H, n = wm.wave_height(c["t"], c["eta_toe"], t0, float(c["t"][-1]), p["period"])

@@ -41,7 +41,7 @@ import numpy as np
 
 from ..config import ConfigError, physics_from_config
 from ..io import atomic_path, write_csv
-from ..particles import ParticleSet, block, density_from_pressure, tait_B, FLUID, WALL
+from ..particles import ParticleSet, block, density_from_pressure, layered_pressure, tait_B, FLUID, WALL
 from ..render import SAND
 from ..runner import Case, common_params, run_scene, sound_speed
 from ..profiles import streamlines_png
@@ -178,7 +178,7 @@ def build(cfg):
     xs, xw = lattice[sand], lattice[water]
 
     def pressure(y, yb):
-        return rw * G * (ytop - np.maximum(y, yb)) + rs * G * np.maximum(yb - y, 0.0)
+        return layered_pressure(y, yb, ytop, rw, rs, G)
 
     vw = np.column_stack([log_law(xw[:, 1] - (bed(xw[:, 0]) if hs > 0 else 0.0), ustar, z0), np.zeros(len(xw))])
     ps.add(xw, FLUID, 0, density_from_pressure(pressure(xw[:, 1], bed(xw[:, 0]) if hs > 0 else 0.0), rw, c0),

@@ -24,9 +24,9 @@ import numpy as np
 
 from ..config import ConfigError, physics_from_config
 from ..io import atomic_path, write_csv
-from ..particles import ParticleSet, block, density_from_pressure, tait_B, FLUID, WALL
+from ..particles import ParticleSet, block, density_from_pressure, layered_pressure, tait_B, FLUID, WALL
 from ..render import SAND
-from ..ripples import MIN_HEIGHT_DX, MIN_LENGTH_DX, ripple_stats, wiberg_harris
+from ..ripples import MIN_HEIGHT_DX, MIN_LENGTH_DX, last_finite, ripple_stats, wiberg_harris
 from ..runner import Case, common_params, run_scene, sound_speed
 from . import beach
 from .flume import surface_heights
@@ -102,7 +102,7 @@ def build(cfg):
     sand = lattice[:, 1] < bed_level(lattice[:, 0])
 
     def pressure(y, yb=hs):
-        return rw * G * (ytop - np.maximum(y, yb)) + rs * G * np.maximum(yb - y, 0.0)
+        return layered_pressure(y, yb, ytop, rw, rs, G)
 
     ps = ParticleSet()
     xw, xs = lattice[~sand], lattice[sand]
@@ -122,11 +122,14 @@ def build(cfg):
     ctl = dict(t=0.0, integral=0.0)
     Tc = 0.1 * Tp
 
-    def control(s):
-        st = s.state(("x", "v", "kind", "mat"))
+    def u_free(st):
+        """Mean velocity of the water above the lower half of the layer (out of the boundary layer)."""
         free = (st["kind"] == FLUID) & (st["mat"] == 0) & (st["x"][:, 1] > hs + 0.5 * hw)
+        return float(st["v"][free, 0].mean())
+
+    def control(s):
         u_t, dudt = free_stream(s.time, Um, omega, Tp)
-        e = u_t - float(st["v"][free, 0].mean())
+        e = u_t - u_free(s.state(("x", "v", "kind", "mat")))
         ctl["integral"] += e * (s.time - ctl["t"])
         ctl["t"] = s.time
         s.prm[None].drive = (dudt + e / Tc + ctl["integral"] / Tc ** 2, 0.0)
@@ -144,9 +147,7 @@ def build(cfg):
         lam, hr, _ = ripple_stats(stations, z, window=0.5 * Lx, min_length=MIN_LENGTH_DX * dx,
                                   min_height=MIN_HEIGHT_DX * dx)
         rms = float(np.sqrt(np.mean((b - bed0["b"]) ** 2)))
-        # free stream: the water above the lower half of the water layer (out of the boundary layer)
-        w = (st["kind"] == FLUID) & (st["mat"] == 0) & (st["x"][:, 1] > hs + 0.5 * hw)
-        return lam, hr, rms, float(st["v"][w, 0].mean()), free_stream(st["t"], Um, omega, Tp)[0]
+        return lam, hr, rms, u_free(st), free_stream(st["t"], Um, omega, Tp)[0]
 
     def metrics(c):
         out = dict(velocity_amplitude=Um, predicted_ripple_length=lam_wh, predicted_ripple_height=eta_wh,
@@ -156,9 +157,7 @@ def build(cfg):
         if after.sum() > 4:
             err = c["u_free"][after] - c["u_target"][after]
             out["free_stream_error"] = float(np.sqrt(np.mean(err ** 2)) / Um)   # rms, relative to U_m
-        for key in ("ripple_length", "ripple_height", "bed_change_rms"):
-            v = c[key][np.isfinite(c[key])]
-            out[key] = float(v[-1]) if len(v) else float("nan")
+        out.update(last_finite(c, ("ripple_length", "ripple_height", "bed_change_rms")))
         out["ripple_length_over_prediction"] = out["ripple_length"] / lam_wh if lam_wh > 0 else float("nan")
         out["bed_change_rms_over_dx"] = out["bed_change_rms"] / dx
         return out
