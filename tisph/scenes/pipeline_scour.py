@@ -287,7 +287,9 @@ def build(cfg):
             # row is 0.1 D and the bed gauge flickers by about half of that)
             t = c["t"]
             w = max(1, int(round(0.5 / max(t[1] - t[0], 1e-9)))) if len(t) > 1 else 1
-            ds = np.convolve(d, np.ones(w) / w, mode="valid") if len(d) >= w else d[-1:]
+            if len(d) < w:   # a run shorter than the window: no smoothing
+                w = 1
+            ds = np.convolve(d, np.ones(w) / w, mode="valid")
             out["initial_scour_depth_over_D"] = float(d[0])
             out["scour_depth_over_D_smoothed"] = float(ds[-1])
             grown = ds[-1] - d[0]

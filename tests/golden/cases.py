@@ -1,0 +1,100 @@
+"""Golden-state cases: every scene's default and every case file in scenes/, at coarse dx, for a
+fixed number of steps. A refactor of the engine must reproduce each final state bit for bit.
+
+`python -m tests.golden.cases --write` (from the repo root) records the hashes in states.json;
+tests/test_golden.py compares. Re-record only in a commit that says which case changed and why.
+"""
+import hashlib
+import importlib
+import json
+import os
+import sys
+import tempfile
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+STATES = os.path.join(os.path.dirname(os.path.abspath(__file__)), "states.json")
+STEPS = 120
+FAST = {"output.render": False, "output.quiet": True, "output.snapshot_every": 0.0,
+        "run.end_time": 100.0}
+
+# (case id, scene module, case file or None, overrides)
+CASES = [
+    ("dam_break", "tisph.scenes.dam_break", None, {"numerics.dx": 0.06}),
+    ("dam_break_repulsive", "tisph.scenes.dam_break", "scenes/dam_break.toml",
+     {"numerics.dx": 0.06, "numerics.wall": "repulsive", "numerics.xsph": 0.5}),
+    ("dam_break_alpha0", "tisph.scenes.dam_break", "scenes/dam_break_alpha0.toml", {"numerics.dx": 0.025}),
+    ("dam_break_alpha01", "tisph.scenes.dam_break", "scenes/dam_break_alpha01.toml", {"numerics.dx": 0.0125}),
+    ("dam_break_alpha04", "tisph.scenes.dam_break", "scenes/dam_break_alpha04.toml", {"numerics.dx": 0.025}),
+    ("hatch", "tisph.scenes.hatch", "scenes/hatch.toml", {"numerics.dx": 0.0085}),
+    ("orifice", "tisph.scenes.hatch", "scenes/orifice.toml", {"numerics.dx": 0.01}),
+    ("tank", "tisph.scenes.tank", None, {"numerics.dx": 0.04}),
+    ("tank_sediment", "tisph.scenes.tank", None, {"numerics.dx": 0.04, "geometry.sediment_depth": 0.2}),
+    ("flume", "tisph.scenes.flume", "scenes/flume_piston.toml",
+     {"numerics.dx": 0.025, "geometry.length": 2.0, "geometry.damping_length": 0.6,
+      "geometry.gauges": [0.5, 1.0]}),
+    ("flume_flap", "tisph.scenes.flume", None,
+     {"numerics.dx": 0.025, "geometry.length": 2.0, "geometry.damping_length": 0.6,
+      "geometry.gauges": [0.5, 1.0], "paddle.type": "flap"}),
+    ("beach", "tisph.scenes.beach", "scenes/beach.toml", {}),
+    ("beach_tau1000", "tisph.scenes.beach", "scenes/beach_tau1000.toml", {}),
+    ("tunnel", "tisph.scenes.tunnel", "scenes/tunnel.toml", {"numerics.dx": 0.02}),
+    ("erodible_bed", "tisph.scenes.erodible_bed", None, {"numerics.dx": 0.02}),
+    ("erodible_bed_deep", "tisph.scenes.erodible_bed", "scenes/erodible_bed_deep.toml", {"numerics.dx": 0.025}),
+    ("pipeline_scour", "tisph.scenes.pipeline_scour", None, {}),
+    ("pipeline_scour_theta098", "tisph.scenes.pipeline_scour", "scenes/pipeline_scour_theta098.toml", {}),
+    ("pipe_on_rigid_bed", "tisph.scenes.pipeline_scour", "scenes/pipe_on_rigid_bed.toml", {}),
+    ("poiseuille_bingham", "tisph.validation.poiseuille", None, {"numerics.dx": 0.005}),
+]
+
+
+def run(case_id, steps=STEPS):
+    """Final state digest of one case: a hash of x, v, rho (by particle id) and of probes.csv."""
+    import numpy as np
+    from tisph import runtime
+    from tisph.runner import Log, Run, build_case, resolve
+    _, modname, cfile, ov = next(c for c in CASES if c[0] == case_id)
+    scene = importlib.import_module(modname)
+    overrides = dict(FAST, **ov)
+    overrides["run.max_steps"] = steps
+    with tempfile.TemporaryDirectory() as out:
+        overrides["output.dir"] = out
+        cfg = resolve(scene, os.path.join(ROOT, cfile) if cfile else None, overrides)
+        runtime.init("cpu", cfg["run"]["precision"])
+        log = Log(os.path.join(out, "run.log"), True)
+        case = build_case(scene, cfg, log)
+        r = Run(case, cfg, out, log, scene.NAME)
+        r.arch = runtime.current_arch()
+        summary = r.execute()
+        st = r.solver.state(("x", "v", "rho"))
+        with open(os.path.join(out, "probes.csv"), "rb") as f:
+            probes = f.read()
+    h = hashlib.sha256()
+    for k in ("x", "v", "rho"):
+        h.update(np.ascontiguousarray(st[k]).tobytes())
+    return dict(state=h.hexdigest()[:20], probes=hashlib.sha256(probes).hexdigest()[:20],
+                steps=int(summary["steps"]), particles=int(summary["particles"]),
+                x_sum=float(np.sum(st["x"], dtype=np.float64)), status=summary["status"])
+
+
+def main(argv):
+    ids = [a for a in argv if not a.startswith("--")] or [c[0] for c in CASES]
+    old = json.load(open(STATES)) if os.path.exists(STATES) else {}
+    new = dict(old)
+    bad = 0
+    for cid in ids:
+        d = run(cid)
+        same = old.get(cid, {}).get("state") == d["state"] and old.get(cid, {}).get("probes") == d["probes"]
+        bad += not same
+        print(f"{cid:26s} {d['particles']:6d} particles {d['steps']:4d} steps  state {d['state']} "
+              f"probes {d['probes']}  {'same' if same else 'DIFFERENT'}", flush=True)
+        new[cid] = d
+    if "--write" in argv:
+        with open(STATES, "w") as f:
+            json.dump(new, f, indent=1, sort_keys=True)
+            f.write("\n")
+    return 1 if bad and "--write" not in argv else 0
+
+
+if __name__ == "__main__":
+    sys.path.insert(0, ROOT)
+    sys.exit(main(sys.argv[1:]))
