@@ -252,7 +252,7 @@ def _mats():
 def test_driving_force_is_a_pressure_gradient():
     """The feedback force that holds the current stands for -dp/dx: sand feels rho_w / rho_s of it."""
     s = _lone_particles(Physics(kernel="wendland", periodic_x=True), [((0.2, 0.2), 0), ((0.6, 0.2), 1)], _mats())
-    s.prm[None].drive = (0.5, 0.0)
+    s.set_drive(0.5)
     for _ in range(10):
         s.step()
     st = s.state(("v", "mat"))

@@ -45,7 +45,8 @@ from ..particles import ParticleSet, block, density_from_pressure, layered_press
 from ..render import SAND
 from ..runner import Case, common_params, run_scene, sound_speed
 from ..profiles import streamlines_png
-from ..solver import KAPPA
+from ..constants import KAPPA
+from ..probes.control import PIDrive
 from .flume import surface_heights
 
 NAME = "pipeline_scour"
@@ -217,18 +218,14 @@ def build(cfg):
 
     # driving: a body force g_x = u*^2 / h (uniform channel flow) plus feedback on the mean velocity
     g0 = ustar ** 2 / hw
-    ctl = dict(integral=0.0, t=0.0, gx=g0)
     Tc = 0.5
+    ctl = PIDrive(Tc, start=g0)
 
     def control(s):
         st = s.state(("v", "kind", "mat"))
         w = (st["kind"] == FLUID) & (st["mat"] == 0)
         e = U - float(st["v"][w, 0].mean())
-        dt = s.time - ctl["t"]
-        ctl["t"] = s.time
-        ctl["integral"] += e * dt
-        ctl["gx"] = g0 + e / Tc + ctl["integral"] / Tc ** 2
-        s.prm[None].drive = (ctl["gx"], 0.0)
+        ctl.update(s, e, g0)
 
     stations = np.arange(0.5 * dx, Lx, dx)
     bed_rows, bed0 = [], {}
@@ -240,7 +237,7 @@ def build(cfg):
         wat = fl & (st["mat"] == 0)
         u_mean = float(st["v"][wat, 0].mean())
         if hs <= 0:
-            return float("nan"), float("nan"), float("nan"), u_mean, ctl["gx"]
+            return float("nan"), float("nan"), float("nan"), u_mean, ctl.value
         b = surface_heights(st, stations, dx, h, mat=1)
         if "b" not in bed0:
             bed0["b"] = b
@@ -261,7 +258,7 @@ def build(cfg):
             z = zrel[near]
             u = np.abs(vw_[near, 0])
             tau = float((rw * (KAPPA * u / np.log(z / z0)) ** 2).max())
-        return depth, phi, tau, u_mean, ctl["gx"]
+        return depth, phi, tau, u_mean, ctl.value
 
     offsets = geo["profile_offsets"]
     prof = {o: [] for o in offsets}

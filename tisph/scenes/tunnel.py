@@ -27,6 +27,7 @@ from ..io import atomic_path, write_csv
 from ..particles import ParticleSet, block, density_from_pressure, layered_pressure, tait_B, FLUID, WALL
 from ..render import SAND
 from ..ripples import MIN_HEIGHT_DX, MIN_LENGTH_DX, last_finite, ripple_stats, wiberg_harris
+from ..probes.control import PIDrive
 from ..runner import Case, common_params, run_scene, sound_speed
 from . import beach
 from .flume import surface_heights
@@ -119,8 +120,8 @@ def build(cfg):
     # The drive is dU/dt plus PI feedback on the free stream, as a tunnel's piston holds the
     # flow: friction on the bed drains momentum during the ramp, and without feedback a mean
     # current of 7 % of U_m was left (measured at dx 0.02).
-    ctl = dict(t=0.0, integral=0.0)
     Tc = 0.1 * Tp
+    ctl = PIDrive(Tc)
 
     def u_free(st):
         """Mean velocity of the water above the lower half of the layer (out of the boundary layer)."""
@@ -130,9 +131,7 @@ def build(cfg):
     def control(s):
         u_t, dudt = free_stream(s.time, Um, omega, Tp)
         e = u_t - u_free(s.state(("x", "v", "kind", "mat")))
-        ctl["integral"] += e * (s.time - ctl["t"])
-        ctl["t"] = s.time
-        s.prm[None].drive = (dudt + e / Tc + ctl["integral"] / Tc ** 2, 0.0)
+        ctl.update(s, e, dudt)
 
     stations = np.arange(0.5 * dx, Lx, dx)
     bed_rows, bed0 = [], {}

@@ -1,0 +1,97 @@
+"""Wall treatments as modules."""
+import taichi as ti
+
+from ..engine.module import Module, Param
+from ..particles import FLUID
+from ..terms.continuity import continuity
+from ..terms.repulsive import lennard_jones
+
+
+@ti.data_oriented
+class DynamicWall(Module):
+    """Dynamic boundary particles (Crespo et al. 2007): wall particles obey continuity from the
+    fluid around them, never below rest density, and push back through the pressure term."""
+    name = "dynamic_wall"
+
+    @staticmethod
+    def enabled(S):
+        return S.physics.wall == "dynamic"
+
+    @ti.func
+    def boundary_kick(self, S, i, dt):
+        S.p.rho[i] += 0.5 * dt * S.p.drho[i]
+
+    @ti.func
+    def prepare(self, S, a, re, dt):
+        return ti.max(re + 0.5 * dt * S.tmp.drho[a], S.mat_rho0[S.tmp.mat[a]])
+
+    @ti.func
+    def boundary_pass(self, S, i, dt):
+        acc = ti.Struct(drho=0.0, vi=S.tmp.ve[i], rhoi=S.tmp.rhoe[i])
+        if S.grid.fluid_near(S.tmp.x[i]):  # most wall particles have no fluid near
+            S.grid.for_neighbours(S.tmp, i, S.tmp.x[i], self.boundary_pair, acc)
+        S.p.drho[i] = acc.drho
+        S.p.rho[i] = ti.max(S.tmp.rho[i] + 0.5 * dt * acc.drho, S.mat_rho0[S.tmp.mat[i]])
+
+    @ti.func
+    def boundary_pair(self, i, j, r, r2, acc: ti.template()):
+        """Continuity only, from the fluid around the wall particle."""
+        S = self.S
+        s = S.tmp
+        if s.kind[j] == FLUID:
+            gw = S.g_scale * S.K.fshape(ti.sqrt(r2) * S.inv_h) * r
+            acc.drho += continuity(acc.rhoi, s.m[j] * s.ir[j], acc.vi - s.ve[j], gw)
+
+    def setup(self, S):
+        self.S = S
+
+
+@ti.data_oriented
+class RepulsiveWall(Module):
+    """Repulsive wall particles, paper 000 eq. 6 (Lennard-Jones type); in the SPH sums the inert
+    wall particle mirrors the fluid particle's pressure plus the hydrostatic difference."""
+    name = "repulsive_wall"
+    params = {"wall_D": Param(0.0, "m2/s2", (0.0, None), "wall strength D of eq. 6 (numerics.wall_strength)"),
+              "wall_r0": Param("dx", "m", (0.0, None), "cut-off distance r0 of eq. 6")}
+
+    @staticmethod
+    def enabled(S):
+        return S.physics.wall == "repulsive"
+
+    @ti.func
+    def view(self, S, i, j, r, r2, nb: ti.template(), acc: ti.template()):
+        prm = S.prm[None]
+        if nb.kj != FLUID:
+            acc.a += lennard_jones(prm.wall_D, prm.wall_r0, r, r2)
+            nb.rho_j = acc.rhoi
+            nb.ir_j = acc.inv_rhoi
+            nb.p_j = acc.pi - acc.rhoi * prm.g.dot(r)
+
+
+@ti.data_oriented
+class NoSlip(Module):
+    """No-slip walls in the viscous terms, Morris et al. (1997), paper 002 eq. 39: the wall
+    particle carries the ghost velocity u_B = -(d_B/d_A) u_A (relative to the wall), so the
+    no-slip sits on the wall surface; d_B/d_A capped at 1.5 as Morris does for close approach."""
+    name = "noslip"
+
+    @staticmethod
+    def enabled(S):
+        return S.physics.noslip
+
+    def fields(self, real):
+        vec2 = ti.types.vector(2, real)
+        return {"wn": vec2,   # wall normal (into the fluid) and distance behind the wall surface
+                "wd": real}
+
+    def setup(self, S):
+        S.p.wn.from_numpy(S.particles.wall_normal.astype(S.np_real))
+        S.p.wd.from_numpy(S.particles.wall_dist.astype(S.np_real))
+
+    @ti.func
+    def pair(self, S, i, j, r, r2, nb: ti.template(), acc: ti.template()):
+        s = S.tmp
+        if nb.kj != FLUID:
+            d_i = r.dot(s.wn[j]) - s.wd[j]
+            ratio = ti.min(s.wd[j] / ti.max(d_i, 1e-6 * S.h), 1.5)
+            nb.v_visc = (1.0 + ratio) * nb.v_ij

@@ -1,0 +1,113 @@
+"""Zones as modules: open outflow boxes, the container check, the absorbing (damping) zone, the
+inflow zone of a periodic current, and the periodic current's driving pressure gradient."""
+import math
+
+import taichi as ti
+
+from ..constants import KAPPA
+from ..engine.health import BAD_SPILL, BAD_WALL, report
+from ..engine.module import MatParam, Module, Param
+
+
+@ti.data_oriented
+class Outflow(Module):
+    """Open boundaries: fluid entering one of the boxes (x0, y0, x1, y1) leaves the simulation."""
+    name = "outflow"
+
+    @staticmethod
+    def enabled(S):
+        return len(S.outflow) > 0
+
+    @ti.func
+    def remove(self, S, i):
+        gone = False
+        for z in ti.static(S.outflow):
+            xx = S.p.x[i]
+            if z[0] <= xx[0] <= z[2] and z[1] <= xx[1] <= z[3]:
+                gone = True
+        return gone
+
+
+@ti.data_oriented
+class Container(Module):
+    """The box the walls enclose, (x0, y0, x1, y1, side-wall top), widened by dx/2: fluid outside
+    it (below the top of the side walls, above which it may overtop) crossed a wall, and the run
+    stops. It counts as crossed once past the first row of wall particles."""
+    name = "container"
+
+    @staticmethod
+    def enabled(S):
+        return S.container is not None
+
+    @ti.func
+    def position_check(self, S, i):
+        xx = S.p.x[i]
+        b = ti.static(S.container)
+        if xx[1] < b[1] or xx[1] > b[3] or (xx[1] < b[4] and (xx[0] < b[0] or xx[0] > b[2])):
+            code = BAD_WALL
+            # checked every step, a particle pushed through a side wall is caught within dx of
+            # it; one found further out came over the top
+            if xx[1] >= b[1] and (xx[0] < b[0] - S.dx or xx[0] > b[2] + S.dx):
+                code = BAD_SPILL
+            report(S.stats, code, S.p.id[i])
+
+
+@ti.data_oriented
+class Damping(Module):
+    """Absorbing zone (x0, x1, rate 1/s): an implicit relaxation of the velocity, ramped in
+    quadratically, so waves leave the flume without reflecting."""
+    name = "damping"
+
+    @staticmethod
+    def enabled(S):
+        return len(S.physics.damping) == 3
+
+    @ti.func
+    def relax(self, S, i, mi, v, dt):
+        zd = ti.static(S.physics.damping)
+        s = ti.min(ti.max((S.tmp.x[i][0] - zd[0]) / (zd[1] - zd[0]), 0.0), 1.0)
+        return v / (1.0 + dt * zd[2] * s * s)
+
+
+@ti.data_oriented
+class Inflow(Module):
+    """Inflow zone of a periodic current (x0, x1, rate, material, y_bed, u*, z0): the recirculated
+    wake is relaxed back to the log law u = (u*/kappa) ln(z/z0) (paper 002 eq. 32), as an inlet
+    would feed it; ramped in and out as sin^2 so no front forms."""
+    name = "inflow"
+
+    @staticmethod
+    def enabled(S):
+        return len(S.physics.inflow) == 7
+
+    @ti.func
+    def relax(self, S, i, mi, v, dt):
+        zi = ti.static(S.physics.inflow)
+        xr = (S.tmp.x[i][0] - zi[0]) / (zi[1] - zi[0])
+        out = v
+        if mi == ti.static(int(zi[3])) and 0.0 < xr < 1.0:
+            s = ti.sin(math.pi * xr) ** 2
+            z = ti.max(S.tmp.x[i][1] - zi[4], zi[6])
+            ut = ti.Vector([zi[5] / KAPPA * ti.log(z / zi[6]), 0.0])
+            out = (v + dt * zi[2] * s * ut) / (1.0 + dt * zi[2] * s)
+        return out
+
+
+@ti.data_oriented
+class Drive(Module):
+    """The driving pressure gradient of a periodic current, -grad p / rho of material 0. It
+    pushes each material by rho_0 / rho of it: the pore water carries it through a sediment
+    layer, which does not feel it at its own density. Set with solver.set_drive()."""
+    name = "drive"
+    params = {"drive": Param((0.0, 0.0), "m/s2", (None, None), "driving pressure gradient / rho_water",
+                             vector=True)}
+    material = {"drive": MatParam(None, "-", "the drive's factor rho_0 / rho (set by the solver)",
+                                  convert=lambda v, mat, S: S.materials[0]["rho0"] / mat["rho0"])}
+
+    @staticmethod
+    def enabled(S):
+        return S.physics.periodic_x
+
+    @ti.func
+    def body_force(self, S, i, mi, a):
+        return a + S.prm[None].drive * S.mat_drive[mi]

@@ -1,0 +1,139 @@
+"""The solver's Python API for the run loop: stepping, runtime inputs, state, checkpoints,
+the backup of the last healthy state. A mixin of engine.solver.Solver."""
+import numpy as np
+import taichi as ti
+
+from .health import BAD_NONE
+from .state import ParticleFields
+
+
+class SolverAPI:
+    snapshot_members = ("x", "v", "rho", "p", "m", "kind", "mat", "id")
+
+    # ------------------------------------------------------------------ stepping
+    def prime(self):
+        """Bin the particles and evaluate forces at t = 0 (a zero-length step) to get a^0, dt^0."""
+        self.prm[None].dt = 0.0
+        self._step()
+        self._primed = True
+
+    def step(self):
+        """Advance one time step; returns the dt taken."""
+        if not self._primed:
+            self.prime()
+        if self.motion is not None:
+            self.set_paddle(self.time + self.dt)  # the kernel moves the paddle to t + dt
+        dt = float(self._step())
+        self.steps += 1
+        self.time += dt
+        for m in self.hooks["after_step"]:
+            m.after_step(self)
+        return dt
+
+    # ------------------------------------------------------------------ runtime inputs
+    def set_paddle(self, t):
+        """Paddle displacement and rate at time t, from the case's motion(t)."""
+        d, r = self.motion(t)
+        self.prm[None].pd = d
+        self.prm[None].pv = r
+
+    def set_drive(self, gx, gy=0.0):
+        """The driving pressure gradient / rho_water of a periodic current (m/s2)."""
+        if not self.physics.periodic_x:
+            raise ValueError("set_drive needs a periodic case (the Drive module is off)")
+        self.prm[None].drive = (float(gx), float(gy))
+
+    @property
+    def drive(self):
+        d = self.prm[None].drive
+        return float(d[0]), float(d[1])
+
+    def param(self, name):
+        """A runtime parameter's current value."""
+        return getattr(self.prm[None], name)
+
+    # ------------------------------------------------------------------ reading
+    @property
+    def dt(self):
+        return float(self.prm[None].dt)
+
+    def check(self):
+        """None if the state is healthy, else (code, id of the first particle that went bad)."""
+        st = self.stats[None]
+        if st.bad_code != BAD_NONE:
+            return int(st.bad_code), int(st.bad_idx)
+        return None
+
+    @property
+    def max_density_error(self):
+        """Largest |rho/rho0 - 1| of any fluid particle at any step so far."""
+        return float(self.stats[None].rhodev)
+
+    @property
+    def leaked(self):
+        return int(self.stats[None].leaked)
+
+    def state(self, names=("x", "v", "rho", "p", "kind", "mat", "m")):
+        """Particle arrays ordered by particle id (the order the scene built them in)."""
+        inv = np.argsort(self.p.id.to_numpy())
+        return {k: getattr(self.p, k).to_numpy()[inv] for k in names}
+
+    def field_bytes(self):
+        """Bytes the particle and grid fields take on the device (from their shapes and types)."""
+        per = 0
+        for k, t in self._member_types.items():
+            n = getattr(t, "n", 1)
+            dt = getattr(t, "dtype", t)
+            per += n * (8 if dt in (ti.f64, ti.i64) else 4)
+        copies = 2 + (self.bak is not None)          # particles, the sorted copy, the backup
+        return per * self.n * copies + self.grid.nbytes()
+
+    def neighbour_stats(self):
+        """Per particle id: how many neighbours the cell grid finds, and the sum of their ids."""
+        if not self._primed:
+            self.prime()
+        cnt = np.zeros(self.n, np.int32)
+        ids = np.zeros(self.n, np.int32)
+        self._neighbour_stats(cnt, ids)
+        return cnt, ids
+
+    # ------------------------------------------------------------------ checkpoints and backup
+    def raw_state(self):
+        """Everything needed to continue bit for bit: every member in the current sorted order."""
+        d = {k: getattr(self.p, k).to_numpy() for k in self.members}
+        st = self.stats[None]
+        scal = dict(time=self.time, steps=self.steps, dt=float(self.prm[None].dt), leaked=int(st.leaked),
+                    n=self.n, primed=int(self._primed), rhodev=float(st.rhodev))
+        return d, scal
+
+    def load_raw_state(self, arrays, scalars):
+        if int(scalars["n"]) != self.n:
+            raise ValueError(f"checkpoint holds {int(scalars['n'])} particles, this case builds {self.n}")
+        missing = [k for k in self.members if k not in arrays]
+        if missing:
+            raise ValueError(f"checkpoint lacks particle fields {missing} (built with other physics?)")
+        for k in self.members:
+            getattr(self.p, k).from_numpy(arrays[k])
+        self.time = float(scalars["time"])
+        self.steps = int(scalars["steps"])
+        self.prm[None].dt = float(scalars["dt"])
+        self.stats[None].leaked = int(scalars["leaked"])
+        self.stats[None].rhodev = float(scalars.get("rhodev", 0.0))
+        self._primed = bool(int(scalars["primed"]))
+
+    def enable_backup(self):
+        """Keep a device-side copy of the last healthy state (for the final snapshot of a run
+        that goes unstable); costs one copy of the particle fields per backup() call."""
+        if self.bak is None:
+            self.bak = ParticleFields(self._member_types, self.n)
+            self.bak_pairs = [(getattr(self.p, k), getattr(self.bak, k)) for k in self.members]
+            self.bak_time, self.bak_steps = self.time, self.steps
+
+    def backup(self):
+        self._backup()
+        self.bak_time, self.bak_steps = self.time, self.steps
+
+    def backup_state(self, names):
+        """The backed-up state, ordered by particle id."""
+        inv = np.argsort(self.bak.id.to_numpy())
+        return {k: getattr(self.bak, k).to_numpy()[inv] for k in names}

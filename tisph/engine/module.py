@@ -1,0 +1,80 @@
+"""The module interface: each piece of physics and each boundary treatment is one Module.
+
+A module declares what it needs and contributes @ti.func hooks; the step kernel
+(tisph/engine/solver.py) calls the hooks of the enabled modules in registry order, unrolled
+with ti.static, so a module that is off is neither allocated nor traced.
+
+Declarations (class attributes, all optional):
+  fields(real)   particle members it allocates: {name: taichi type}
+  material       per-material parameters: {name: MatParam}; read from the material dicts
+  params         runtime parameters (a Taichi struct field, changeable without a recompile):
+                 {name: Param}; each has its ONE default, unit and allowed range
+  acc            accumulator slots it adds to a fluid particle's neighbour sum: {name: type}
+  stats          per-step statistics slots (maxima) it adds: {name: type}
+
+Hooks (define only those the module uses; `S` is the solver):
+  drift(S, i, u) -> u              fluid drift velocity (XSPH)
+  move(S, i, dt)                   a MOVING boundary particle's prescribed motion (paddle)
+  boundary_kick(S, i, dt)          a boundary particle's half kick (dynamic walls)
+  remove(S, i) -> gone             fluid leaving through an open boundary (outflow)
+  position_check(S, i)             fluid in a forbidden place (container)
+  prepare(S, a, dt)                a boundary particle's evaluation state (dynamic walls)
+  init_acc(S, i, acc)              load particle i's own values into its accumulator
+  view(S, i, j, r, r2, nb, acc)    change how i sees neighbour j before the terms (pressure mirror)
+  pair(S, i, j, r, r2, nb, acc)    add j's contribution to i's sums
+  body_force(S, i, mi, a) -> a     a body force per material (periodic drive)
+  relax(S, i, mi, v, dt) -> v      a velocity relaxation after the kick (damping, inflow zones)
+  finish(S, i, mi, acc, pt)        per particle after the neighbour pass (stress, viscosity)
+  boundary_pass(S, i, dt)          a boundary particle's own neighbour pass (dynamic walls)
+  dt_limit(S, st, dt) -> dt        a bound on the next time step
+  after_step(S)                    Python, after the kernel (Shepard filter)
+"""
+import dataclasses
+
+HOOKS = ("drift", "move", "boundary_kick", "remove", "position_check", "prepare", "init_acc",
+         "view", "pair", "body_force", "relax", "finish", "boundary_pass", "dt_limit", "after_step")
+
+
+@dataclasses.dataclass(frozen=True)
+class Param:
+    """A runtime parameter: the one default, its unit and allowed range (lo, hi; None = open).
+    A default may be 'dx' (the particle spacing) or a function (S, values) -> value."""
+    default: object
+    unit: str = "-"
+    range: tuple = (None, None)
+    doc: str = ""
+    vector: bool = False
+
+
+@dataclasses.dataclass(frozen=True)
+class MatParam:
+    """A per-material parameter: default, unit, doc; kind 'real' or 'int'. convert(value, mat, S)
+    turns the material dict's value (or the default) into the stored number."""
+    default: object
+    unit: str = "-"
+    doc: str = ""
+    kind: str = "real"
+    convert: object = None
+    field: str = ""          # the field is S.mat_<field> (default: the key)
+
+
+class Module:
+    """Base of every module. `enabled(physics)` says whether a case compiles it in."""
+    name = "module"
+    material = {}
+    params = {}
+    acc = {}
+    stats = {}
+
+    @staticmethod
+    def enabled(S):
+        return True
+
+    def fields(self, real):
+        return {}
+
+    def setup(self, S):
+        """Python-side set-up once the solver's fields exist (material values, initial state)."""
+
+    def has(self, hook):
+        return callable(getattr(type(self), hook, None))

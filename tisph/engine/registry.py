@@ -1,0 +1,26 @@
+"""The modules, in the order the step kernel calls them. Order matters where modules add to the
+same sum (float addition is not associative): the order here is the order of the terms.
+
+Adding a term: write its Module, add it here, add its switch to config.Physics (and the
+config key that sets it), and test it (tests/test_terms.py).
+"""
+from ..boundaries.paddle import Paddle
+from ..boundaries.walls import DynamicWall, NoSlip, RepulsiveWall
+from ..boundaries.zones import Container, Damping, Drive, Inflow, Outflow
+from ..physics.fluid import (XSPH, ArtificialViscosity, Continuity, DensityDiffusion, LaminarViscosity,
+                             Pressure, VelocityGradient)
+from ..physics.sediment import DEM, SPS, Drag, Rheology
+from ..physics.shepard import Shepard
+
+MODULES = (
+    RepulsiveWall,        # view: the wall particle mirrors i's pressure; Lennard-Jones force first
+    Continuity, Pressure, ArtificialViscosity,
+    NoSlip,               # the ghost velocity, before the viscous terms read it
+    LaminarViscosity, VelocityGradient, SPS, DEM, Drag, DensityDiffusion, XSPH,
+    Rheology,             # finish: the effective viscosity for the next step (may rest the plug)
+    Drive, Damping, Inflow, Paddle, DynamicWall, Outflow, Container, Shepard,
+)
+
+
+def enabled_modules(S):
+    return [cls() for cls in MODULES if cls.enabled(S)]

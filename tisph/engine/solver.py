@@ -1,0 +1,302 @@
+"""The WCSPH solver: composes the enabled modules into one fused Taichi kernel per time step.
+
+One time step is one kernel (a handful of parallel loops), because on the CPU each kernel
+launch costs ~40 us and each parallel loop ~15 us: separate kernels for binning, sorting,
+forces and integration would cost more than the physics at a few thousand particles.
+
+Time integration is velocity Verlet (kick-drift-kick) with one force evaluation per step:
+    x^{n+1} = x^n + dt v^n + dt^2/2 a^n (+ dt * XSPH^n)
+    v^{n+1/2} = v^n + dt/2 a^n,  rho^{n+1/2} = rho^n + dt/2 drho^n
+    forces at x^{n+1} with the predicted v^n + dt a^n and rho^n + dt drho^n
+    v^{n+1} = v^{n+1/2} + dt/2 a^{n+1},  rho^{n+1} = rho^{n+1/2} + dt/2 drho^{n+1}
+Second order, symplectic for the conservative part, half the force passes of predictor-corrector.
+
+The step's loops, in order:
+  1. advance: drift and half kick (fluid), prescribed motion (MOVING), boundary half kick;
+     outflow, container and domain checks; cell keys and counts
+  2. prefix sum over the cells (serial)
+  3. scatter particle indices into their cells
+  4. per cell: order by id, gather every member into the sorted copy, evaluation state
+     (predicted velocity and density, Tait pressure, 1/rho)
+  5. forces: each fluid particle's neighbour pass (the modules' pair hooks), closing half kick,
+     the modules' finish hooks, health; boundary particles' own pass (dynamic walls)
+  6. the next time step (engine/limits.py)
+"""
+import numpy as np
+import taichi as ti
+
+from ..config import Physics
+from ..kernels import get_kernel
+from ..particles import FLUID, MOVING, OUT, OUTFLOW
+from ..terms.pressure import tait
+from . import state as st_mod
+from .grid import Grid
+from .health import BAD_LEAK, BAD_NONE, fluid_code, report
+from .limits import next_dt
+from .access import SolverAPI
+from .module import HOOKS
+from .registry import enabled_modules
+
+# The base slots of a fluid particle's accumulator (the modules add theirs).
+ACC_CORE = {"a": "vec2", "drho": "real", "vi": "vec2", "rhoi": "real", "pi": "real", "inv_rhoi": "real",
+            "mui": "real", "mat": "int"}
+
+
+@ti.data_oriented
+class Solver(SolverAPI):
+    def __init__(self, physics: Physics, particles, materials, domain, params: dict, outflow=(),
+                 container=None):
+        """particles: ParticleSet; materials: list of dicts (rho0, B, viscosity and the modules'
+        material keys); domain: ((xlo, ylo), (xhi, yhi)); params: dx, h, c0 and the modules'
+        runtime parameters (missing ones take their one default, engine/state.py and the modules);
+        outflow: boxes (x0, y0, x1, y1) fluid leaves through; container: (x0, y0, x1, y1[, top])."""
+        self.physics = physics
+        self.n = len(particles)
+        if self.n == 0:
+            raise ValueError("no particles to simulate")
+        self.particles, self.materials, self.params = particles, materials, params
+        self.dx, self.h, self.c0 = float(params["dx"]), float(params["h"]), float(params["c0"])
+        self.cfl = float(params.get("cfl", st_mod.CORE_PARAMS["cfl"].default))
+        self.outflow = tuple(tuple(float(v) for v in z) for z in outflow)
+        self.container = None
+        if container is not None:
+            x0, y0, x1, y1, *top = (float(v) for v in container)
+            tol = 0.5 * self.dx
+            big = 1e30   # float32-safe stand-in for an open side
+            self.container = (max(x0 - tol, -big), max(y0 - tol, -big), min(x1 + tol, big),
+                              min(y1 + tol, big), min(top[0] if top else big, big))
+        self.K = get_kernel(physics.kernel)
+        self.real = ti.lang.impl.get_runtime().default_fp
+        self.np_real = st_mod.float_type(self.real)
+        # compile-time constants baked into the kernels
+        self.inv_h = 1.0 / self.h
+        self.w_scale = self.K.sigma / self.h ** 2
+        self.g_scale = self.K.sigma / self.h ** 4
+        self.eta2 = 0.01 * self.h * self.h
+
+        self.modules = enabled_modules(self)
+        self.hooks = {k: [m for m in self.modules if m.has(k)] for k in HOOKS}
+        members = st_mod.core_members(self.real)
+        for m in self.modules:
+            members.update(m.fields(self.real))
+        self.members = tuple(members)
+        self._member_types = dict(members)
+        self.bak = None
+        self.p = st_mod.ParticleFields(members, self.n)
+        self.tmp = st_mod.ParticleFields(members, self.n)
+        # (source, sorted copy) pairs: the reorder copies every member in one compile-time loop
+        self.pairs = [(getattr(self.p, k), getattr(self.tmp, k)) for k in members]
+        self.grid = Grid(self.n, domain, self.K.support * self.h, physics.periodic_x)
+        self.domain = (tuple(float(v) for v in domain[0]), tuple(float(v) for v in domain[1]))
+        self.lo, self.hi, self.period = self.grid.lo, self.grid.hi, self.grid.period
+        self.support = self.grid.support
+        self.material_decl = st_mod.material_table(self, self.modules, materials)
+        self.param_decl, self.param_values = st_mod.param_struct(self, self.modules, params, self.dx)
+        self.stat_decl = st_mod.stats_struct(self, self.modules)
+        acc = dict(ACC_CORE)
+        for m in self.modules:
+            acc.update(m.acc)
+        self.Acc = ti.types.struct(**{k: st_mod.resolve(t, self.real) for k, t in acc.items()})
+        self.motion = params.get("motion")   # motion(t) -> (displacement, rate), for the paddle
+
+        fp = self.np_real
+        self.p.x.from_numpy(particles.x.astype(fp))
+        self.p.v.from_numpy(particles.v.astype(fp))
+        self.p.rho.from_numpy(particles.rho.astype(fp))
+        self.p.m.from_numpy(particles.m.astype(fp))
+        self.p.kind.from_numpy(particles.kind.astype(np.int32))
+        self.p.mat.from_numpy(particles.mat.astype(np.int32))
+        self.p.id.from_numpy(np.arange(self.n, dtype=np.int32))
+        for m in self.modules:
+            m.setup(self)
+        self._reset_stats()
+        self.steps = 0
+        self.time = 0.0
+        self._primed = False
+
+    def has_stat(self, name):
+        return name in self.stat_decl
+
+    def module(self, name):
+        """The enabled module of that name, or None."""
+        return next((m for m in self.modules if m.name == name), None)
+
+    def _reset_stats(self):
+        s = self.stats[None]
+        s.amax2 = 0.0
+        s.mumax = 0.0
+        s.bad_code = 0
+        s.bad_idx = 2**31 - 1
+        s.rhodev = 0.0
+
+    # ------------------------------------------------------------------ loop bodies
+    @ti.func
+    def advance(self, i, dt):
+        """Loop 1: drift and half kick, boundaries' motion, removals and checks, the cell key."""
+        p = self.p
+        k = p.kind[i]
+        key = self.grid.ncells
+        if k >= 0:
+            if k == FLUID:
+                drift = p.v[i]
+                for m in ti.static(self.hooks["drift"]):
+                    drift = m.drift(self, i, drift)
+                p.x[i] = self.grid.wrap(p.x[i] + dt * drift + 0.5 * dt * dt * p.a[i])
+                p.v[i] += 0.5 * dt * p.a[i]
+                p.rho[i] += 0.5 * dt * p.drho[i]
+            else:
+                if k == MOVING:
+                    if ti.static(len(self.hooks["move"]) > 0):
+                        for m in ti.static(self.hooks["move"]):
+                            m.move(self, i, dt)
+                    else:
+                        p.x[i] = self.grid.wrap(p.x[i] + dt * p.v[i])
+                for m in ti.static(self.hooks["boundary_kick"]):
+                    m.boundary_kick(self, i, dt)
+            gone = False
+            if ti.static(len(self.hooks["remove"]) > 0):
+                if k == FLUID:
+                    for m in ti.static(self.hooks["remove"]):
+                        if m.remove(self, i):
+                            gone = True
+            if ti.static(len(self.hooks["position_check"]) > 0):
+                if k == FLUID and not gone:
+                    for m in ti.static(self.hooks["position_check"]):
+                        m.position_check(self, i)
+            if gone:
+                p.kind[i] = OUTFLOW
+            elif self.grid.inside(p.x[i]):
+                key = self.grid.key_of(p.x[i])
+                if p.kind[i] == FLUID:
+                    ti.atomic_add(self.grid.fcnt[key], 1)
+            else:
+                if k == FLUID:
+                    report(self.stats, BAD_LEAK, p.id[i])
+                p.kind[i] = OUT
+                ti.atomic_add(self.stats[None].leaked, 1)
+        self.grid.key[i] = key
+        ti.atomic_add(self.grid.cnt[key], 1)
+
+    @ti.func
+    def gather(self, c, dt):
+        """Loop 4: cell c's particles in id order into the sorted copy, with their evaluation
+        state: predicted velocity and density, Tait pressure (paper 000 eq. 11), 1/rho."""
+        self.grid.sort_cell(c, self.p.id)
+        t = self.tmp
+        for a in range(self.grid.start[c], self.grid.start[c + 1]):
+            src = self.grid.order[a]
+            for fp, ft in ti.static(self.pairs):
+                ft[a] = fp[src]
+            k = t.kind[a]
+            if k == FLUID:
+                t.ve[a] = t.v[a] + 0.5 * dt * t.a[a]
+                t.rhoe[a] = t.rho[a] + 0.5 * dt * t.drho[a]
+            elif k >= 0:
+                t.ve[a] = t.v[a]
+                re = t.rho[a]
+                for m in ti.static(self.hooks["prepare"]):
+                    re = m.prepare(self, a, re, dt)
+                t.rhoe[a] = re
+            mt = t.mat[a]
+            t.p[a] = tait(t.rhoe[a], self.mat_rho0[mt], self.mat_B[mt])
+            t.ir[a] = 1.0 / t.rhoe[a]
+
+    @ti.func
+    def fluid_pair(self, i, j, r, r2, acc: ti.template()):
+        """All enabled terms for fluid particle i from neighbour j, unrolled at compile time."""
+        s = self.tmp
+        nb = ti.Struct(kj=s.kind[j], rho_j=s.rhoe[j], ir_j=s.ir[j], p_j=s.p[j], q=0.0, m_j=0.0, vol_j=0.0,
+                       gw=ti.Vector([0.0, 0.0]), v_ij=ti.Vector([0.0, 0.0]), v_visc=ti.Vector([0.0, 0.0]))
+        for m in ti.static(self.hooks["view"]):
+            m.view(self, i, j, r, r2, nb, acc)
+        nb.q = ti.sqrt(r2) * self.inv_h
+        nb.gw = self.g_scale * self.K.fshape(nb.q) * r
+        nb.m_j = s.m[j]
+        nb.vol_j = nb.m_j * nb.ir_j
+        nb.v_ij = acc.vi - s.ve[j]
+        nb.v_visc = nb.v_ij
+        for m in ti.static(self.hooks["pair"]):
+            m.pair(self, i, j, r, r2, nb, acc)
+
+    @ti.func
+    def forces(self, i, dt):
+        """Loop 5 for one particle: the neighbour pass and the closing half kick."""
+        prm = self.prm[None]
+        t = self.tmp
+        for fp, ft in ti.static(self.pairs):
+            fp[i] = ft[i]
+        k = t.kind[i]
+        if k == FLUID:
+            mi = t.mat[i]
+            acc = self.Acc(0)
+            acc.vi, acc.rhoi, acc.pi, acc.inv_rhoi = t.ve[i], t.rhoe[i], t.p[i], t.ir[i]
+            acc.mui, acc.mat = self.mat_mu[mi], mi
+            for m in ti.static(self.hooks["init_acc"]):
+                m.init_acc(self, i, acc)
+            self.grid.for_neighbours(t, i, t.x[i], self.fluid_pair, acc)
+            a = acc.a + prm.g
+            for m in ti.static(self.hooks["body_force"]):
+                a = m.body_force(self, i, mi, a)
+            v = t.v[i] + 0.5 * dt * a
+            for m in ti.static(self.hooks["relax"]):
+                v = m.relax(self, i, mi, v, dt)
+            rho = t.rho[i] + 0.5 * dt * acc.drho
+            self.p.a[i] = a
+            self.p.drho[i] = acc.drho
+            self.p.v[i] = v
+            self.p.rho[i] = rho
+            pt = ti.Struct(a=a, v=v, rho=rho)
+            for m in ti.static(self.hooks["finish"]):
+                m.finish(self, i, mi, acc, pt)
+            ti.atomic_max(self.stats[None].amax2, a.dot(a))
+            dev = ti.abs(rho / self.mat_rho0[mi] - 1.0)
+            ti.atomic_max(self.stats[None].rhodev, dev)
+            code = fluid_code(a, rho, pt.v.dot(pt.v), dev, prm.c0, prm.band)
+            if code != BAD_NONE:
+                report(self.stats, code, t.id[i])
+        elif k >= 0:
+            for m in ti.static(self.hooks["boundary_pass"]):
+                m.boundary_pass(self, i, dt)
+
+    # ------------------------------------------------------------------ the step
+    @ti.kernel
+    def _step(self) -> ti.f32:
+        dt = self.prm[None].dt
+        ncell = self.grid.ncells
+        for i in range(self.n):
+            self.advance(i, dt)
+        ti.loop_config(serialize=True)
+        for c in range(ncell + 1):
+            self.grid.prefix(c)
+        for i in range(self.n):
+            self.grid.scatter(i)
+        for c in range(ncell + 1):
+            self.gather(c, dt)
+        for i in range(self.n):
+            self.forces(i, dt)
+        for c in range(ncell + 2):
+            self.grid.fcnt[c] = 0
+        for _ in range(1):   # one serial task after the parallel loops
+            next_dt(self)
+        return dt
+
+    @ti.kernel
+    def _backup(self):
+        for i in range(self.n):
+            for fp, fb in ti.static(self.bak_pairs):
+                fb[i] = fp[i]
+
+    @ti.kernel
+    def _neighbour_stats(self, cnt: ti.types.ndarray(), idsum: ti.types.ndarray()):
+        for i in range(self.n):
+            if self.p.kind[i] >= 0:
+                acc = ti.Struct(n=0, ids=0)
+                self.grid.for_neighbours(self.p, i, self.p.x[i], self.count_pair, acc)
+                cnt[self.p.id[i]] = acc.n
+                idsum[self.p.id[i]] = acc.ids
+
+    @ti.func
+    def count_pair(self, i, j, r, r2, acc: ti.template()):
+        if j != i:
+            acc.n += 1
+            acc.ids += self.p.id[j]

@@ -1,0 +1,121 @@
+"""Particle state: the fields (struct of arrays), the material table and the runtime parameters,
+each composed from the declarations of the enabled modules."""
+import numpy as np
+import taichi as ti
+
+from .module import MatParam, Param
+
+
+def types(real):
+    """Names modules use for their slot types."""
+    return {"real": real, "int": ti.i32, "vec2": ti.types.vector(2, real), "vec3": ti.types.vector(3, real),
+            "mat2": ti.types.matrix(2, 2, real)}
+
+
+def resolve(t, real):
+    """A slot type: a name from types(), 'vecN', or a Taichi type."""
+    if isinstance(t, str) and t.startswith("vec") and t[3:].isdigit():
+        return ti.types.vector(int(t[3:]), real)
+    return types(real)[t] if isinstance(t, str) else t
+
+
+@ti.data_oriented
+class ParticleFields:
+    """Struct of arrays: one Taichi field per particle property.
+
+    Separate fields rather than one ti.Struct field: the neighbour scan reads positions from a
+    compact array, which measured 1.75x faster than an SOA struct field and 1.3x than AOS here.
+    """
+
+    def __init__(self, members, n):
+        self.names = tuple(members)
+        for k, dt in members.items():
+            setattr(self, k, ti.field(dt, n) if not hasattr(dt, "n") else ti.Vector.field(dt.n, dt.dtype, n))
+
+
+# Members every case has. ir = 1 / rhoe, set once per particle so the pair loop divides by no density.
+CORE_MEMBERS = ("x", "v", "a", "rho", "drho", "m", "kind", "mat", "id", "ve", "rhoe", "p", "ir")
+
+
+def core_members(real):
+    vec2 = ti.types.vector(2, real)
+    return dict(x=vec2, v=vec2, a=vec2, rho=real, drho=real, m=real, kind=ti.i32, mat=ti.i32, id=ti.i32,
+                ve=vec2, rhoe=real, p=real, ir=real)
+
+
+# Per-material parameters of the core: rest density, Tait B, and the viscosity (Newtonian mu,
+# Bingham mu_B, Cross mu_inf).
+CORE_MATERIAL = {
+    "rho0": MatParam(None, "kg/m3", "rest density"),
+    "B": MatParam(None, "Pa", "Tait stiffness B = rho0 c0^2 / gamma (paper 000 eq. 12)"),
+    "viscosity": MatParam(0.0, "Pa s", "dynamic viscosity (Bingham mu_B, Cross mu_inf)", field="mu"),
+}
+
+# Runtime parameters of the core (one default each; the modules add theirs).
+CORE_PARAMS = {
+    "c0": Param(None, "m/s", (0.0, None), "numerical sound speed"),
+    "g": Param((0.0, -9.81), "m/s2", (None, None), "gravity", vector=True),
+    "cfl": Param(0.4, "-", (0.0, 1.0), "CFL number of the acoustic and force limits"),
+    "dt_max": Param(1e-3, "s", (0.0, None), "largest time step"),
+    "band": Param(0.1, "-", (0.0, None), "allowed |rho/rho0 - 1| before the run stops"),
+    "dt_floor": Param(1e-9, "s", (0.0, None), "a time step below this stops the run"),
+    "dt": Param(0.0, "s", (0.0, None), "the current time step (set by the kernel)"),
+}
+# The names solver params dicts use where they differ from the field's.
+PARAM_ALIASES = {"band": "density_band", "eps": "xsph"}
+
+CORE_STATS = {"amax2": "real", "mumax": "real", "bad_code": "int", "bad_idx": "int", "leaked": "int",
+              "rhodev": "real"}
+
+
+def material_table(S, modules, materials):
+    """One field per material parameter, filled from the material dicts with the declared default."""
+    decl = dict(CORE_MATERIAL)
+    for m in modules:
+        decl.update(m.material)
+    nmat = len(materials)
+    for k, d in decl.items():
+        f = ti.field(ti.i32 if d.kind == "int" else S.real, nmat)
+        setattr(S, "mat_" + (d.field or k), f)
+        for n, mat in enumerate(materials):
+            v = mat.get(k, d.default)
+            if d.convert is not None:
+                v = d.convert(v, mat, S)
+            if v is None:
+                raise ValueError(f"material {mat.get('name', n)!r} lacks {k!r}")
+            f[n] = v
+    return decl
+
+
+def param_struct(S, modules, values, dx):
+    """The runtime parameter struct: every enabled module's Params, set from `values` (the
+    case's params dict) or their one default. A default of 'dx' means the particle spacing."""
+    decl = dict(CORE_PARAMS)
+    for m in modules:
+        decl.update(m.params)
+    vec2 = ti.types.vector(2, S.real)
+    S.prm = ti.types.struct(**{k: (vec2 if d.vector else S.real) for k, d in decl.items()}).field(shape=())
+    resolved = {}
+    for k, d in decl.items():
+        v = values.get(PARAM_ALIASES.get(k, k), values.get(k, d.default))
+        if isinstance(v, str) and v == "dx":
+            v = dx
+        elif callable(v):
+            v = v(S, values)
+        if v is None:
+            raise ValueError(f"solver parameter {k!r} has no value and no default")
+        resolved[k] = tuple(v) if d.vector else v
+        setattr(S.prm[None], k, resolved[k])
+    return decl, resolved
+
+
+def stats_struct(S, modules):
+    decl = dict(CORE_STATS)
+    for m in modules:
+        decl.update(m.stats)
+    S.stats = ti.types.struct(**{k: resolve(t, S.real) for k, t in decl.items()}).field(shape=())
+    return decl
+
+
+def float_type(real):
+    return np.float64 if real == ti.f64 else np.float32

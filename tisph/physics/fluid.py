@@ -1,0 +1,158 @@
+"""The WCSPH fluid terms as modules: continuity, pressure, viscosity, density diffusion, XSPH.
+
+Each pair hook adds neighbour j's contribution to fluid particle i; `nb` is how i sees j
+(its density, pressure, volume, relative velocity, kernel gradient), `acc` i's sums.
+"""
+import taichi as ti
+
+from ..engine.module import Module, Param
+from ..particles import FLUID
+from ..terms.continuity import continuity
+from ..terms.diffusion import density_diffusion, hydrostatic_density_difference
+from ..terms.pressure import pressure_accel
+from ..terms.rheology import harmonic_pair
+from ..terms.viscosity import artificial_viscosity, laminar_viscosity, monaghan_mu
+from ..terms.xsph import xsph
+
+
+@ti.data_oriented
+class Continuity(Module):
+    """Continuity equation, paper 000 eq. 8 / paper 002 eq. 8: d rho_i/dt = rho_i sum V_j v_ij . grad W."""
+    name = "continuity"
+
+    @ti.func
+    def pair(self, S, i, j, r, r2, nb, acc: ti.template()):
+        acc.drho += continuity(acc.rhoi, nb.vol_j, nb.v_ij, nb.gw)
+
+
+@ti.data_oriented
+class Pressure(Module):
+    """Momentum equation's pressure term, paper 000 eq. 7 (Tait pressure, eqs. 11-12)."""
+    name = "pressure"
+
+    @ti.func
+    def pair(self, S, i, j, r, r2, nb, acc: ti.template()):
+        acc.a += pressure_accel(nb.m_j, acc.pi, nb.p_j, acc.inv_rhoi, nb.ir_j, nb.gw)
+
+
+@ti.data_oriented
+class ArtificialViscosity(Module):
+    """Monaghan's artificial viscosity, paper 000 eq. 9; its signal speed enters the time step."""
+    name = "artificial_viscosity"
+    params = {"alpha": Param(0.0, "-", (0.0, None), "artificial viscosity coefficient (numerics.artificial_viscosity)")}
+    acc = {"mu": "real"}
+
+    @staticmethod
+    def enabled(S):
+        return S.physics.artificial_viscosity
+
+    @ti.func
+    def pair(self, S, i, j, r, r2, nb, acc: ti.template()):
+        prm = S.prm[None]
+        mu = monaghan_mu(S.h, nb.v_ij, r, r2)
+        acc.a += artificial_viscosity(nb.m_j, prm.alpha, prm.c0, mu, acc.inv_rhoi, nb.ir_j, nb.gw)
+        acc.mu = ti.max(acc.mu, -mu)
+
+    @ti.func
+    def finish(self, S, i, mi, acc: ti.template(), pt: ti.template()):
+        ti.atomic_max(S.stats[None].mumax, acc.mu)
+
+
+@ti.data_oriented
+class LaminarViscosity(Module):
+    """Laminar viscosity, paper 002 eq. 10 (Morris et al. 1997), with the harmonic pair mean."""
+    name = "laminar_viscosity"
+    params = {"dt_visc": Param(1e30, "s", (0.0, None), "viscous step 0.125 h^2 / nu_max (set by the solver)")}
+
+    @staticmethod
+    def enabled(S):
+        return S.physics.laminar_viscosity
+
+    def setup(self, S):
+        nu_max = max((m.get("viscosity", 0.0) / m["rho0"] for m in S.materials), default=0.0)
+        S.prm[None].dt_visc = 0.125 * S.h ** 2 / nu_max if nu_max > 0 else 1e30
+
+    @ti.func
+    def pair(self, S, i, j, r, r2, nb, acc: ti.template()):
+        s = S.tmp
+        mu_j = acc.mui                      # a wall particle takes the fluid's viscosity
+        if nb.kj == FLUID:
+            if ti.static(S.physics.rheology):
+                mu_j = s.mu[j]
+            else:
+                mu_j = S.mat_mu[s.mat[j]]
+        acc.a += laminar_viscosity(nb.m_j, harmonic_pair(acc.mui, mu_j), acc.inv_rhoi, nb.ir_j,
+                                   nb.v_visc, r, r2, nb.gw, S.eta2)
+
+
+@ti.data_oriented
+class VelocityGradient(Module):
+    """The SPH velocity gradient grad v_i = sum V_j (v_j - v_i) (x) grad W, for the shear rate of
+    the rheology (paper 000 eq. 14) and the SPS strain rate (paper 002 eq. 10)."""
+    name = "velocity_gradient"
+    acc = {"gv": "mat2"}
+
+    @staticmethod
+    def enabled(S):
+        return S.physics.rheology or S.physics.sps
+
+    @ti.func
+    def pair(self, S, i, j, r, r2, nb, acc: ti.template()):
+        acc.gv += nb.vol_j * (-nb.v_visc).outer_product(nb.gw)
+
+
+@ti.data_oriented
+class DensityDiffusion(Module):
+    """Density diffusion within a material: Molteni & Colagrossi (2009), or Fourtakas et al.
+    (2019) with the hydrostatic part removed (numerics.density_diffusion)."""
+    name = "density_diffusion"
+    params = {"delta": Param(0.0, "-", (0.0, 1.0), "density diffusion coefficient (numerics.delta)")}
+    acc = {"rho0_c02": "real"}
+
+    @staticmethod
+    def enabled(S):
+        return S.physics.density_diffusion != "none"
+
+    @ti.func
+    def init_acc(self, S, i, acc: ti.template()):
+        prm = S.prm[None]
+        acc.rho0_c02 = S.mat_rho0[acc.mat] / (prm.c0 * prm.c0)
+
+    @ti.func
+    def pair(self, S, i, j, r, r2, nb, acc: ti.template()):
+        prm = S.prm[None]
+        if nb.kj == FLUID and S.tmp.mat[j] == acc.mat:
+            hyd = 0.0
+            if ti.static(S.physics.density_diffusion == "fourtakas"):
+                hyd = hydrostatic_density_difference(acc.rho0_c02, prm.g, r)
+            acc.drho += density_diffusion(prm.delta, S.h, prm.c0, nb.vol_j, acc.rhoi,
+                                          nb.rho_j, hyd, r, r2, nb.gw)
+
+
+@ti.data_oriented
+class XSPH(Module):
+    """XSPH, paper 000 eq. 10: particles drift with v + eps sum m_j / rho_ij (v_j - v_i) W."""
+    name = "xsph"
+    params = {"eps": Param(0.0, "-", (0.0, 1.0), "XSPH coefficient (numerics.xsph)")}
+    acc = {"xs": "vec2"}
+
+    @staticmethod
+    def enabled(S):
+        return S.physics.xsph
+
+    def fields(self, real):
+        return {"xs": ti.types.vector(2, real)}    # the correction, one step behind
+
+    @ti.func
+    def drift(self, S, i, u):
+        return u + S.prm[None].eps * S.p.xs[i]
+
+    @ti.func
+    def pair(self, S, i, j, r, r2, nb, acc: ti.template()):
+        if nb.kj == FLUID:
+            w = S.w_scale * S.K.shape(nb.q)
+            acc.xs += xsph(nb.m_j, -nb.v_ij, acc.inv_rhoi, nb.ir_j, w)
+
+    @ti.func
+    def finish(self, S, i, mi, acc: ti.template(), pt: ti.template()):
+        S.p.xs[i] = acc.xs
