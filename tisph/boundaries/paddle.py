@@ -9,6 +9,7 @@ class Paddle(Module):
     """Piston: x = x0 + X(t), v = X'(t). Flap: rotation by theta(t) about the hinge, v = omega x
     (x - hinge). The solver sets X (or theta) and its rate for t + dt before each step."""
     name = "paddle"
+    on = {"paddle": "piston"}
     params = {"pd": Param(0.0, "m or rad", (None, None), "paddle displacement (set per step)"),
               "pv": Param(0.0, "m/s or rad/s", (None, None), "paddle rate (set per step)"),
               "pivot": Param((0.0, 0.0), "m", (None, None), "flap hinge", vector=True)}

@@ -12,6 +12,7 @@ class DynamicWall(Module):
     """Dynamic boundary particles (Crespo et al. 2007): wall particles obey continuity from the
     fluid around them, never below rest density, and push back through the pressure term."""
     name = "dynamic_wall"
+    on = {"wall": "dynamic"}
 
     @staticmethod
     def enabled(S):
@@ -51,6 +52,7 @@ class RepulsiveWall(Module):
     """Repulsive wall particles, paper 000 eq. 6 (Lennard-Jones type); in the SPH sums the inert
     wall particle mirrors the fluid particle's pressure plus the hydrostatic difference."""
     name = "repulsive_wall"
+    on = {"wall": "repulsive"}
     params = {"wall_D": Param(0.0, "m2/s2", (0.0, None), "wall strength D of eq. 6 (numerics.wall_strength)"),
               "wall_r0": Param("dx", "m", (0.0, None), "cut-off distance r0 of eq. 6")}
 
@@ -74,6 +76,7 @@ class NoSlip(Module):
     particle carries the ghost velocity u_B = -(d_B/d_A) u_A (relative to the wall), so the
     no-slip sits on the wall surface; d_B/d_A capped at 1.5 as Morris does for close approach."""
     name = "noslip"
+    on = {"noslip": True}
 
     @staticmethod
     def enabled(S):

@@ -13,6 +13,7 @@ from ..engine.module import MatParam, Module, Param
 class Outflow(Module):
     """Open boundaries: fluid entering one of the boxes (x0, y0, x1, y1) leaves the simulation."""
     name = "outflow"
+    on = {"outflow": ((0.05, -1.0, 1.0, 1.0),)}
 
     @staticmethod
     def enabled(S):
@@ -34,6 +35,7 @@ class Container(Module):
     it (below the top of the side walls, above which it may overtop) crossed a wall, and the run
     stops. It counts as crossed once past the first row of wall particles."""
     name = "container"
+    on = {"container": (0.0, 0.0, 0.07, 1.0)}
 
     @staticmethod
     def enabled(S):
@@ -57,6 +59,7 @@ class Damping(Module):
     """Absorbing zone (x0, x1, rate 1/s): an implicit relaxation of the velocity, ramped in
     quadratically, so waves leave the flume without reflecting."""
     name = "damping"
+    on = {"damping": (0.03, 0.07, 5.0)}
 
     @staticmethod
     def enabled(S):
@@ -75,6 +78,7 @@ class Inflow(Module):
     wake is relaxed back to the log law u = (u*/kappa) ln(z/z0) (paper 002 eq. 32), as an inlet
     would feed it; ramped in and out as sin^2 so no front forms."""
     name = "inflow"
+    on = {"inflow": (0.0, 0.02, 5.0, 0, 0.0, 0.01, 1e-4), "periodic_x": True}
 
     @staticmethod
     def enabled(S):
@@ -99,6 +103,7 @@ class Drive(Module):
     pushes each material by rho_0 / rho of it: the pore water carries it through a sediment
     layer, which does not feel it at its own density. Set with solver.set_drive()."""
     name = "drive"
+    on = {"periodic_x": True}
     params = {"drive": Param((0.0, 0.0), "m/s2", (None, None), "driving pressure gradient / rho_water",
                              vector=True)}
     material = {"drive": MatParam(None, "-", "the drive's factor rho_0 / rho (set by the solver)",

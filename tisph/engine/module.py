@@ -61,6 +61,8 @@ class MatParam:
 class Module:
     """Base of every module. `enabled(physics)` says whether a case compiles it in."""
     name = "module"
+    on = None      # the switches that turn it on (Physics fields; outflow/container: solver
+                   # arguments); None: always on. The tests build every module from this.
     material = {}
     params = {}
     acc = {}

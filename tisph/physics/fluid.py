@@ -39,6 +39,7 @@ class Pressure(Module):
 class ArtificialViscosity(Module):
     """Monaghan's artificial viscosity, paper 000 eq. 9; its signal speed enters the time step."""
     name = "artificial_viscosity"
+    on = {"artificial_viscosity": True}
     params = {"alpha": Param(0.0, "-", (0.0, None), "artificial viscosity coefficient (numerics.artificial_viscosity)")}
     acc = {"mu": "real"}
 
@@ -62,6 +63,7 @@ class ArtificialViscosity(Module):
 class LaminarViscosity(Module):
     """Laminar viscosity, paper 002 eq. 10 (Morris et al. 1997), with the harmonic pair mean."""
     name = "laminar_viscosity"
+    on = {"laminar_viscosity": True}
     params = {"dt_visc": Param(1e30, "s", (0.0, None), "viscous step 0.125 h^2 / nu_max (set by the solver)")}
 
     @staticmethod
@@ -90,6 +92,7 @@ class VelocityGradient(Module):
     """The SPH velocity gradient grad v_i = sum V_j (v_j - v_i) (x) grad W, for the shear rate of
     the rheology (paper 000 eq. 14) and the SPS strain rate (paper 002 eq. 10)."""
     name = "velocity_gradient"
+    on = {"sps": True}
     acc = {"gv": "mat2"}
 
     @staticmethod
@@ -106,6 +109,7 @@ class DensityDiffusion(Module):
     """Density diffusion within a material: Molteni & Colagrossi (2009), or Fourtakas et al.
     (2019) with the hydrostatic part removed (numerics.density_diffusion)."""
     name = "density_diffusion"
+    on = {"density_diffusion": "molteni"}
     params = {"delta": Param(0.0, "-", (0.0, 1.0), "density diffusion coefficient (numerics.delta)")}
     acc = {"rho0_c02": "real"}
 
@@ -133,6 +137,7 @@ class DensityDiffusion(Module):
 class XSPH(Module):
     """XSPH, paper 000 eq. 10: particles drift with v + eps sum m_j / rho_ij (v_j - v_i) W."""
     name = "xsph"
+    on = {"xsph": True}
     params = {"eps": Param(0.0, "-", (0.0, 1.0), "XSPH coefficient (numerics.xsph)")}
     acc = {"xs": "vec2"}
 

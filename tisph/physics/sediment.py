@@ -40,6 +40,7 @@ class Rheology(Module):
     regularised) and Cross (paper 002 eqs. 29-30), lagged by one step; optionally an unyielded
     Bingham material held at rest as a rigid plug."""
     name = "rheology"
+    on = {"rheology": True, "laminar_viscosity": True}
     material = {
         "rheology": MatParam("newtonian", "-", "newtonian | bingham | cross", "int",
                              lambda v, mat, S: RHEOLOGY_CODES[v], "rheo"),
@@ -96,6 +97,7 @@ class SPS(Module):
     """Sub-particle-scale (Smagorinsky) turbulence in Newtonian materials, paper 002 eq. 10; the
     stress is one step behind the velocity gradient it comes from."""
     name = "sps"
+    on = {"sps": True}
     stats = {"numax": "real"}
 
     @staticmethod
@@ -136,6 +138,7 @@ class Drag(Module):
     """Drag between particles of different materials within a kernel of each other, paper 002
     eq. 16 made dimensionally consistent, equal and opposite pair by pair."""
     name = "drag"
+    on = {"drag": True}
     params = {"drag_K": Param(0.0, "1/m", (0.0, None), "drag coefficient K of eq. 16")}
 
     @staticmethod
@@ -156,6 +159,7 @@ class DEM(Module):
     per-particle contact history that moves with the re-sort. The eq. 27 step is taken only
     while grains touch or are about to."""
     name = "dem"
+    on = {"dem": True}
     material = {"dem": MatParam(False, "-", "the material's particles touch as DEM grains", "int",
                                 lambda v, mat, S: int(bool(v)))}
     params = {"kn": Param(0.0, "N/m", (0.0, None), "normal spring stiffness"),

@@ -10,6 +10,7 @@ class Shepard(Module):
     """rho_i = sum m_j W / sum V_j W over fluid neighbours, fluid particles only; a kernel of its
     own after the step (it needs every particle's new density)."""
     name = "shepard"
+    on = {"shepard": True}
 
     @staticmethod
     def enabled(S):

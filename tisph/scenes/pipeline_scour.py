@@ -202,10 +202,9 @@ def build(cfg):
     materials = [dict(dict(mats[n]), name=n, B=tait_B(mats[n]["rho0"], c0), dem=(n == "sand" and use_dem))
                  for n in ("water", "sand")]
     params = common_params(cfg, c0, G, depth=ytop)
-    if use_dem:
-        from ..terms.dem import critical_step
+    if use_dem:   # the contact step (eq. 27) is the DEM module's default
         params.update(kn=dem["kn"], ks=dem["ks"], eta_n=dem["eta_n"], eta_s=dem["eta_s"], mu_c=dem["friction"],
-                      dc=dem["contact_diameter"] * dx, dt_dem=critical_step(rs * dx * dx, dem["kn"]) / 20.0)
+                      dc=dem["contact_diameter"] * dx)
     K_drag = 0.75 * (1 - geo["porosity"]) * rw * geo["drag_coefficient"] / d50
     params["drag_K"] = K_drag
     pad = 4 * h
