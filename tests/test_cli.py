@@ -91,7 +91,7 @@ def test_frame_shows_water_where_the_column_stands():
     case = dam_break.build(cfg)
     s = Solver(case.physics, case.particles, case.materials, case.domain, case.params)
     s.prime()
-    r = Renderer(s, case.view, 480, case.u_max)
+    r = Renderer(s, case.picture.view, 480, case.u_max)
     img = r.frame(0.0)
     (x0, y0), _ = r.view
 

@@ -13,7 +13,7 @@ import pytest
 
 from tisph import io as tio
 from tisph.config import tomllib
-from tisph.runner import simulate
+from tisph.run import simulate
 from tisph.scenes import dam_break
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -142,7 +142,7 @@ def test_full_disk_gives_a_clear_error(tmp_path, monkeypatch, capsys):
         return real(name, mode, *a, **k)
 
     monkeypatch.setattr(_h5, "File", full)
-    from tisph.runner import run_scene
+    from tisph.run import run_scene
     code = run_scene(dam_break, ["--dx", "0.06", "--max-steps", "3", "--no-render", "--quiet",
                                  "--out", str(tmp_path / "o")])
     err = capsys.readouterr().err
@@ -151,7 +151,7 @@ def test_full_disk_gives_a_clear_error(tmp_path, monkeypatch, capsys):
 
 
 def test_corrupt_and_foreign_restart_files(tmp_path, capsys):
-    from tisph.runner import run_scene
+    from tisph.run import run_scene
     bad = tmp_path / "garbage.h5"
     bad.write_bytes(b"\x00not hdf5 at all" * 100)
     code = run_scene(dam_break, ["--dx", "0.06", "--no-render", "--quiet", "--out", str(tmp_path / "a"),

@@ -7,7 +7,7 @@ import taichi as ti
 
 from tisph.config import Physics
 from tisph.particles import ParticleSet, block, FLUID, tait_B
-from tisph.runner import run_scene
+from tisph.run import run_scene
 from tisph.solver import Solver
 from tisph.terms.sps import sps_stress, CS, CI
 

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 import taichi as ti
 
-from tisph.runner import simulate
+from tisph.run import simulate
 from tisph.scenes import tank
 from tisph.terms.rheology import bingham, bingham_np, cross, cross_np
 from tisph.validation import poiseuille
@@ -97,7 +97,8 @@ def _heap_case(tau, unyielded="rest"):
     import types
     from tisph.config import physics_from_config
     from tisph.particles import ParticleSet, block, box_walls, hydrostatic_density, tait_B, FLUID, WALL
-    from tisph.runner import Case, common_params
+    from tisph.run import common_params
+    from tisph.case import make_case
     defaults = {"run": {"end_time": 0.4},
                 "numerics": {"dx": 0.01, "artificial_viscosity": 0.1, "density_diffusion": "fourtakas"},
                 "materials": {"mud": {"rho0": 1950.0, "viscosity": 0.1, "rheology": "bingham",
@@ -115,7 +116,7 @@ def _heap_case(tau, unyielded="rest"):
         walls = box_walls(0.0, 0.0, 1.0, 0.4, dx, 3)
         ps.add(walls, WALL, 0, mat["rho0"], mat["rho0"] * dx * dx)
         mats = [dict(mat, name="mud", B=tait_B(mat["rho0"], c0))]
-        return Case(name="heap", particles=ps, materials=mats, domain=((-0.1, -0.1), (1.1, 0.9)),
+        return make_case(name="heap", particles=ps, materials=mats, domain=((-0.1, -0.1), (1.1, 0.9)),
                     params=common_params(cfg, c0, 9.81, H), physics=physics_from_config(cfg),
                     view=((-0.05, -0.05), (1.05, 0.45)), u_max=c0 / 10,
                     probe_columns=("runout",), probe=lambda st: (st["x"][st["kind"] == FLUID, 0].max() + 0.005,),
@@ -139,7 +140,7 @@ def test_bingham_heap_large_yield_stays_small_yield_slumps(tmp_path):
 
 
 def test_erodible_bed_command_runs_a_few_steps(tmp_path):
-    from tisph.runner import run_scene
+    from tisph.run import run_scene
     from tisph.scenes import erodible_bed
     out = tmp_path / "eb"
     code = run_scene(erodible_bed, ["--max-steps", "30", "--out", str(out), "--quiet", "--frame-interval", "0.002"])

@@ -139,7 +139,7 @@ def test_repulsive_wall_mirrors_pressure_and_pushes(kernel, hf):
     ps = patch(walls=True)
     _, st = solver(ps, kernel, hf, wall="repulsive")
     R = reference(ps, kernel, hf)
-    h, r, r2, gw, m, rho, p, wall = R["h"], R["r"], R["r2"], R["gw"], R["m"], R["rho"], R["p"], R["wall"]
+    r, r2, gw, m, rho, p, wall = R["r"], R["r2"], R["gw"], R["m"], R["rho"], R["p"], R["wall"]
     g = np.array([0.0, -9.81])
     fl = R["fl"]
     pj = np.where(wall, p[:, None] - rho[:, None] * (r @ g), p[None, :])

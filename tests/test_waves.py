@@ -7,7 +7,7 @@ import pytest
 
 from tisph import wavemaker as wm
 from tisph.ripples import ripple_stats, orbital_diameter, wiberg_harris
-from tisph.runner import resolve, build_case, Log, simulate
+from tisph.run import resolve, build_case, Log, simulate
 from tisph.solver import Solver
 from tisph.particles import MOVING
 from tisph.scenes import flume, beach, tunnel

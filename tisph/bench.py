@@ -21,7 +21,8 @@ import time
 
 import numpy as np
 
-from .io import ensure_dir, write_csv, write_text, atomic_path
+from .io import ensure_dir, write_csv, write_text
+from .probes.plots import pyplot, save
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
@@ -64,7 +65,7 @@ def _scene(mod):
 
 
 def run_one(case, dx, out, quick):
-    from .runner import simulate
+    from .run import simulate
     ov = {"output.render": False, "output.quiet": True, "output.snapshot_every": 0.0, "numerics.dx": dx}
     ov.update(case.overrides)
     if quick:
@@ -95,7 +96,7 @@ def convergence_order(dxs, errs):
 def _scaling_child(n, steps):
     """One scaling point, in its own process so its peak RSS is its own."""
     from . import runtime
-    from .runner import build_case, Log, resolve
+    from .run import build_case, Log, resolve
     from .scenes import tank
     from .solver import Solver
     runtime.init("cpu", "f32")
@@ -144,7 +145,7 @@ def scaling(sizes, steps=100):
 def specialisation(quick, steps=None):
     """The dam break as shipped against the same case compiled with the rheology, laminar
     viscosity, XSPH and no-slip terms switched on at zero strength."""
-    from .runner import build_case, Log, resolve
+    from .run import build_case, Log, resolve
     from .scenes import dam_break
     from .solver import Solver
     cfg = resolve(dam_break, overrides={"numerics.dx": 0.03, "output.quiet": True})
@@ -173,7 +174,7 @@ import os, sys, io, contextlib
 os.environ["ENABLE_TAICHI_HEADER_PRINT"] = "0"
 import taichi as ti
 ti.init(arch=ti.cpu, kernel_profiler=True, default_fp=ti.f32, log_level=ti.WARN)
-from tisph.runner import build_case, Log, resolve
+from tisph.run import build_case, Log, resolve
 from tisph.scenes import dam_break
 from tisph.solver import Solver
 cfg = resolve(dam_break, overrides={"numerics.dx": 0.03, "output.quiet": True})
@@ -211,9 +212,7 @@ def peer_pysph(out, log, venv=None):
 
 # ---------------------------------------------------------------------------- report
 def plot(rows, path):
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
     fig, ax = plt.subplots(figsize=(7.5, 5))
     for name in dict.fromkeys(r["case"] for r in rows):
         rr = [r for r in rows if r["case"] == name and np.isfinite(r["error"]) and r["error"] > 0]
@@ -225,16 +224,42 @@ def plot(rows, path):
     ax.grid(alpha=0.3, which="both")
     ax.legend(fontsize=7)
     ax.set_title("tisph: run time against error (each point one resolution)", fontsize=10)
-    fig.tight_layout()
-    with atomic_path(path) as tmp:
-        fig.savefig(tmp, dpi=110, format="png")
-    plt.close(fig)
+    save(fig, path)
 
 
 def _table(header, rows):
     md = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
     md += ["| " + " | ".join(str(c) for c in r) + " |" for r in rows]
     return "\n".join(md)
+
+
+def _engine_sections(a, log):
+    """Scaling, specialisation and the kernel profile, as markdown lines."""
+    sizes = (2e3,) if a.dry_run else (1e4, 4e4) if a.quick else (1e4, 4e4, 1.6e5, 6.4e5)
+    sc = scaling([int(n) for n in sizes], steps=5 if a.dry_run else 50 if a.quick else 100)
+    for r in sc:
+        log(f"scaling: {r}")
+    md = ["## Scaling (hydrostatic tank, dx 0.01, fixed steps)", "",
+           _table(("particles", "steps", "s", "particle-steps/s", "field bytes/particle", "peak RSS MB",
+                   "RSS bytes/particle (slope)"),
+                  [(r["particles"], r["steps"], r["seconds"], f"{r['particle_steps_per_s']:.3g}",
+                    r["field_bytes_per_particle"], r["peak_rss_mb"], r["rss_bytes_per_particle"])
+                   for r in sc]), ""]
+    write_csv(os.path.join(a.out, "scaling.csv"), tuple(sc[0]), [tuple(r.values()) for r in sc])
+    sp = specialisation(a.quick, 20 if a.dry_run else None)
+    (k0, v0), (k1, v1) = sp.items()
+    log(f"specialisation: {sp}")
+    md += ["## Specialisation (dam break, dx 0.03)", "",
+           _table(("build", "particle-steps/s", "ratio"),
+                  [(k0, f"{v0:.3g}", "1"), (k1, f"{v1:.3g}", f"{v0 / v1:.2f}x slower")]),
+           "", "Zero strength: no viscosity, XSPH epsilon 0, drag coefficient 0, no material with DEM "
+           "contacts; the terms are compiled and evaluated, their effect is nil.", ""]
+    prof = "(skipped in a dry run)" if a.dry_run else kernel_profile()
+    md += ["## Kernel profile (dam break dx 0.03, 500 steps, Taichi kernel profiler)", "", "```", prof, "```",
+           "", "One time step is one fused kernel (`_step`); the profiler lists its parallel loops: "
+           "kernel_1 drift and cell keys, kernel_2 the serial prefix sum, kernel_3 the scatter, kernel_4 "
+           "the per-cell sort and gather, kernel_5 the force pass, kernel_6/7 the time-step reduction.", ""]
+    return md
 
 
 def main(argv=None):
@@ -289,30 +314,7 @@ def main(argv=None):
     except Exception as e:
         log(f"warning: no plot: {e}")
     if not a.no_scaling:
-        sizes = (2e3,) if a.dry_run else (1e4, 4e4) if a.quick else (1e4, 4e4, 1.6e5, 6.4e5)
-        sc = scaling([int(n) for n in sizes], steps=5 if a.dry_run else 50 if a.quick else 100)
-        for r in sc:
-            log(f"scaling: {r}")
-        md += ["## Scaling (hydrostatic tank, dx 0.01, fixed steps)", "",
-               _table(("particles", "steps", "s", "particle-steps/s", "field bytes/particle", "peak RSS MB",
-                       "RSS bytes/particle (slope)"),
-                      [(r["particles"], r["steps"], r["seconds"], f"{r['particle_steps_per_s']:.3g}",
-                        r["field_bytes_per_particle"], r["peak_rss_mb"], r["rss_bytes_per_particle"])
-                       for r in sc]), ""]
-        write_csv(os.path.join(a.out, "scaling.csv"), tuple(sc[0]), [tuple(r.values()) for r in sc])
-        sp = specialisation(a.quick, 20 if a.dry_run else None)
-        (k0, v0), (k1, v1) = sp.items()
-        log(f"specialisation: {sp}")
-        md += ["## Specialisation (dam break, dx 0.03)", "",
-               _table(("build", "particle-steps/s", "ratio"),
-                      [(k0, f"{v0:.3g}", "1"), (k1, f"{v1:.3g}", f"{v0 / v1:.2f}x slower")]),
-               "", "Zero strength: no viscosity, XSPH epsilon 0, drag coefficient 0, no material with DEM "
-               "contacts; the terms are compiled and evaluated, their effect is nil.", ""]
-        prof = "(skipped in a dry run)" if a.dry_run else kernel_profile()
-        md += ["## Kernel profile (dam break dx 0.03, 500 steps, Taichi kernel profiler)", "", "```", prof, "```",
-               "", "One time step is one fused kernel (`_step`); the profiler lists its parallel loops: "
-               "kernel_1 drift and cell keys, kernel_2 the serial prefix sum, kernel_3 the scatter, kernel_4 "
-               "the per-cell sort and gather, kernel_5 the force pass, kernel_6/7 the time-step reduction.", ""]
+        md += _engine_sections(a, log)
     if a.peer == "pysph":
         md += peer_pysph(a.out, log, a.peer_venv)
     write_text(os.path.join(a.out, "bench.md"), "\n".join(md) + "\n")

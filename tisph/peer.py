@@ -86,7 +86,7 @@ def run_pysph(py, out):
 
 
 def compare(out, log, venv=None):
-    from .runner import simulate
+    from .run import simulate
     from .scenes import dam_break
     root = venv or os.path.join(out, "pysph-venv")
     try:

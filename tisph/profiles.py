@@ -1,8 +1,9 @@
 """Free-surface and depth profiles from particles, and their plots (matplotlib, no window)."""
 import numpy as np
 
-from .io import atomic_path, write_csv
+from .io import write_csv
 from .particles import FLUID
+from .probes.plots import pyplot, save
 
 
 def depth_profile(state, x0, x1, width):
@@ -40,9 +41,7 @@ def write_profile(path_csv, x, h_sim, h_ref=None, names=("x", "h_sim", "h_exact"
 
 def plot_profiles(path_png, panels, xlabel, ylabel, title=""):
     """panels: list of (label, x, h_sim, x_ref, h_ref). One subplot per panel, SPH as dots."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
     n = max(1, len(panels))
     fig, axes = plt.subplots(n, 1, figsize=(7.5, 2.2 * n + 0.6), sharex=True, squeeze=False)
     for ax, (label, x, h, xr, hr) in zip(axes[:, 0], panels):
@@ -56,18 +55,13 @@ def plot_profiles(path_png, panels, xlabel, ylabel, title=""):
     axes[-1, 0].set_xlabel(xlabel)
     if title:
         fig.suptitle(title, fontsize=10)
-    fig.tight_layout()
-    with atomic_path(path_png) as tmp:
-        fig.savefig(tmp, dpi=110, format="png")
-    plt.close(fig)
+    save(fig, path_png)
 
 
 def streamlines_png(path, st, xlim, ylim, dx, title, figsize, density=1.6, circle=None):
     """Streamlines of the water velocity (material 0), binned on a grid of 2 dx, over the
     sediment drawn as sand-coloured dots; circle = (x, y, r) draws an obstacle (a pipe)."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
     from .render import SAND
     fl = st["kind"] == FLUID
     x, v, mat = st["x"][fl], st["v"][fl], st["mat"][fl]
@@ -93,7 +87,4 @@ def streamlines_png(path, st, xlim, ylim, dx, title, figsize, density=1.6, circl
     ax.set_ylim(*ylim)
     ax.set_aspect("equal")
     ax.set_title(title, fontsize=9)
-    fig.tight_layout()
-    with atomic_path(path) as tmp:
-        fig.savefig(tmp, dpi=100, format="png")
-    plt.close(fig)
+    save(fig, path, dpi=100)

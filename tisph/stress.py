@@ -16,7 +16,8 @@ import numpy as np
 from .config import ConfigError
 from .io import OutputError, ensure_dir, write_csv, write_text
 from .particles import ParticleSet, box_walls, FLUID, WALL, tait_B
-from .runner import Case, common_params, simulate, sound_speed
+from .case import make_case
+from .run import common_params, simulate, sound_speed
 from .scenes import dam_break, tank
 
 
@@ -37,7 +38,7 @@ def _single_particle(cfg):
     ps.add(box_walls(0.0, 0.0, 0.5, 0.5, dx, cfg["numerics"]["wall_layers"]), WALL, 0, rho0, rho0 * dx * dx)
     mats = [dict(name="water", rho0=rho0, viscosity=1e-3, B=tait_B(rho0, c0))]
     from .config import physics_from_config
-    return Case(name="single_particle", particles=ps, materials=mats, domain=((-0.2, -0.2), (0.7, 0.8)),
+    return make_case(name="single_particle", particles=ps, materials=mats, domain=((-0.2, -0.2), (0.7, 0.8)),
                 params=common_params(cfg, c0, 9.81, 0.3), physics=physics_from_config(cfg),
                 view=((-0.1, -0.1), (0.6, 0.6)), u_max=u, container=(0.0, 0.0, 0.5, np.inf))
 
@@ -47,7 +48,7 @@ def _empty(cfg):
     keep = case.particles.kind != FLUID
     ps = ParticleSet()
     ps.add(case.particles.x[keep], WALL, 0, case.particles.rho[keep], case.particles.m[keep])
-    case.particles = ps
+    case.model.particles = ps
     return case
 
 

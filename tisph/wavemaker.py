@@ -9,6 +9,10 @@ import math
 
 import numpy as np
 
+from .config import ConfigError
+from .constants import G
+from .particles import block
+
 
 class Motion:
     def __init__(self, kind, stroke=0.0, period=1.0, ramp_periods=2.0, lever=1.0, series=None):
@@ -47,7 +51,6 @@ class Motion:
 
 def read_series(path):
     """A paddle time series: CSV with a header row and columns t (s), displacement (m)."""
-    from .config import ConfigError
     try:
         data = np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2)
     except (OSError, ValueError) as e:
@@ -98,3 +101,42 @@ def wave_height(t, eta, t0, t1, period):
             hs.append(float(eta[m].max() - eta[m].min()))
         a += period
     return (float(np.mean(hs)) if hs else float("nan")), len(hs)
+
+
+# ---------------------------------------------------------------- a paddle from a scene's config
+# The [paddle] table every wave scene shares (flume, beach): its defaults, ranges and checks,
+# the paddle's particles and motion, and the linear wave it makes.
+PADDLE_DEFAULTS = {"type": "piston", "stroke": 0.04, "period": 0.8, "ramp_periods": 2.0, "series": ""}
+PADDLE_RANGES = {"paddle.stroke": (0.0, None, False, True), "paddle.period": (0.0, None, False, True),
+                 "paddle.ramp_periods": (0.0, None, True, True)}
+
+
+def check_paddle(cfg, depth, length):
+    p, dx = cfg["paddle"], cfg["numerics"]["dx"]
+    if p["stroke"] > 0.5 * depth:
+        raise ConfigError("paddle.stroke", p["stroke"], f"at most half the depth at the paddle ({0.5 * depth:g} m)")
+    if not p["series"] and p["stroke"] < dx:
+        raise ConfigError("paddle.stroke", p["stroke"], f"at least dx = {dx:g} m (the paddle must move a particle spacing)")
+    if p["series"]:
+        read_series(p["series"])
+
+
+def paddle(cfg, depth, height, floor_y=0.0):
+    """The paddle's particles (a plate of wall_layers columns left of x = 0, from the floor to
+    `height`), its motion, and the solver parameters it needs. depth: still water over the hinge."""
+    p, num = cfg["paddle"], cfg["numerics"]
+    dx, L = num["dx"], num["wall_layers"]
+    pts = block(-L * dx, floor_y, 0.0, height, dx)
+    series = read_series(p["series"]) if p["series"] else None
+    motion = Motion(p["type"], p["stroke"], p["period"], p["ramp_periods"], lever=depth, series=series)
+    reach = 0.5 * (p["stroke"] if series is None else 2 * float(np.abs(series[1]).max()))
+    return pts, motion, dict(motion=motion, pivot=(0.0, floor_y)), reach
+
+
+def linear_wave(cfg, depth):
+    """(omega, k, wavelength, group velocity, Biesel H/S) of the configured paddle."""
+    p = cfg["paddle"]
+    omega = 2 * math.pi / p["period"]
+    k = wavenumber(omega, depth, G)
+    hs = biesel_piston(k * depth) if p["type"] == "piston" else biesel_flap(k * depth)
+    return omega, k, 2 * math.pi / k, group_velocity(omega, k, depth), hs

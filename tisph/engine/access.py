@@ -137,3 +137,25 @@ class SolverAPI:
         """The backed-up state, ordered by particle id."""
         inv = np.argsort(self.bak.id.to_numpy())
         return {k: getattr(self.bak, k).to_numpy()[inv] for k in names}
+
+    # ------------------------------------------------------------------ kernels of the API
+    @ti.kernel
+    def _backup(self):
+        for i in range(self.n):
+            for fp, fb in ti.static(self.bak_pairs):
+                fb[i] = fp[i]
+
+    @ti.kernel
+    def _neighbour_stats(self, cnt: ti.types.ndarray(), idsum: ti.types.ndarray()):
+        for i in range(self.n):
+            if self.p.kind[i] >= 0:
+                acc = ti.Struct(n=0, ids=0)
+                self.grid.for_neighbours(self.p, i, self.p.x[i], self.count_pair, acc)
+                cnt[self.p.id[i]] = acc.n
+                idsum[self.p.id[i]] = acc.ids
+
+    @ti.func
+    def count_pair(self, i, j, r, r2, acc: ti.template()):
+        if j != i:
+            acc.n += 1
+            acc.ids += self.p.id[j]

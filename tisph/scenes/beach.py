@@ -29,21 +29,26 @@ import sys
 
 import numpy as np
 
+from ..constants import G
 from ..config import ConfigError, physics_from_config
-from ..io import atomic_path, write_csv
+from ..io import write_csv
 from ..particles import ParticleSet, block, density_from_pressure, layered_pressure, tait_B, FLUID, WALL, MOVING
 from ..render import SAND
 from ..profiles import streamlines_png
 from ..ripples import MIN_HEIGHT_DX, MIN_LENGTH_DX, last_finite, orbital_diameter, ripple_stats, wiberg_harris
-from ..runner import Case, common_params, run_scene, sound_speed
+from ..case import make_case
+from ..run import common_params, run_scene, sound_speed
 from .. import wavemaker as wm
-from . import flume
+from ..materials import BINGHAM_SAND, WATER
+from ..probes.gauges import surface_at, surface_heights
+from ..wavemaker import PADDLE_DEFAULTS, PADDLE_RANGES, check_paddle, linear_wave, paddle
+from ..probes.plots import pyplot, save
 
 NAME = "beach"
 # Bedforms longer than this many wavelengths (bars, the shoreline's retreat) are filtered out before
 # the ripples are counted; shorter than 3 dx or lower than dx / 2 is not a ripple (tisph/ripples.py).
 RIPPLE_WINDOW = 0.25
-G = 9.81
+
 
 DEFAULTS = {
     "run": {"end_time": 16.0},
@@ -58,17 +63,13 @@ DEFAULTS = {
                  # for the Wiberg & Harris ripple prediction only (the Bingham bed has no grains);
                  # the paper gives none: a medium sand
                  "grain_diameter": 0.0003},
-    "paddle": dict(flume.PADDLE_DEFAULTS, stroke=0.16, period=1.6, ramp_periods=1.0),
-    "materials": {
-        "water": {"rho0": 1000.0, "viscosity": 1.0e-3},
-        "sand": {"rho0": 1950.0, "viscosity": 0.1, "rheology": "bingham", "yield_stress": 200.0,
-                 "regularisation": 100.0, "mu_max": 0.0, "unyielded": "rest"},
-    },
+    "paddle": dict(PADDLE_DEFAULTS, stroke=0.16, period=1.6, ramp_periods=1.0),
+    "materials": {"water": dict(WATER), "sand": dict(BINGHAM_SAND)},
     "output": {"frame_interval": 0.04, "probe_interval": 0.04, "width": 1280},
 }
 RANGES = {f"geometry.{k}": (0.0, None, False, True) for k in DEFAULTS["geometry"]}
 RANGES["geometry.slope"] = (1.0, None, True, True)
-RANGES.update(flume.PADDLE_RANGES)
+RANGES.update(PADDLE_RANGES)
 CHOICES = {"paddle.type": ("piston", "flap")}
 STILLS = (0.0, 0.7, 2.0, 4.0, 8.0, 16.0)
 
@@ -88,22 +89,49 @@ def check(cfg):
                           f"longer than the shoreline position + 0.2 m ({shore + 0.2:.3g} m) for this toe_x and slope")
     if g["toe_x"] < 1.0:
         raise ConfigError("geometry.toe_x", g["toe_x"], "at least 1 m (room for the waves to form)")
-    flume.check_paddle(cfg, g["depth"] + g["sand_thickness"], g["length"])
+    check_paddle(cfg, g["depth"] + g["sand_thickness"], g["length"])
 
 
 def build(cfg):
     geo, num, p = cfg["geometry"], cfg["numerics"], cfg["paddle"]
-    dx, Lf, d, ts = num["dx"], geo["length"], geo["depth"], geo["sand_thickness"]
-    toe, sl, Hw = geo["toe_x"], geo["slope"], geo["wall_height"]
+    dx, Lf, d, ts, Hw = num["dx"], geo["length"], geo["depth"], geo["sand_thickness"], geo["wall_height"]
     yw = ts + d                                   # still-water level
-    mats = cfg["materials"]
-    rw, rs = mats["water"]["rho0"], mats["sand"]["rho0"]
-    omega, k, wavelength, cg, hs_ratio = flume.linear_wave(cfg, d)
+    omega, k, wavelength, cg, hs_ratio = linear_wave(cfg, d)
     H_biesel = hs_ratio * p["stroke"]
     c0, u_max = sound_speed(cfg, math.sqrt(G * (d + H_biesel)))   # bore speed of the broken wave
+    T = num["wall_layers"] * dx
+    h = num["h_factor"] * dx
+    ps, extra, reach, x_left = _particles(cfg, c0)
+    materials = [dict(dict(cfg["materials"][n]), name=n, B=tait_B(cfg["materials"][n]["rho0"], c0))
+                 for n in ("water", "sand")]
+    pad = 3 * T + 4 * h
+    domain = ((x_left - pad, -pad), (Lf + pad, 2 * Hw + pad))
+    params = common_params(cfg, c0, G, depth=yw)
+    params.update(extra)
+    bed = BedRecord(cfg, h, (omega, k, wavelength, cg, H_biesel))
+    events = []
+    if cfg["output"]["render"]:
+        events = [(t, _streamlines_event(yw, Lf, dx)) for t in STILLS]
+    margin = T + dx
+    return make_case(name=NAME, particles=ps, materials=materials, domain=domain, params=params,
+                     physics=physics_from_config(cfg, paddle=p["type"]),
+                     view=((x_left - margin, -margin), (Lf + margin, min(Hw, yw + 0.35) + margin)), u_max=u_max,
+                     probe_columns=("ripple_length", "ripple_height", "bed_change_rms", "eta_toe"),
+                     probe=bed.probe, metrics=bed.metrics, finalize=bed.finalize, events=events, stills=STILLS,
+                     container=(-reach - dx, 0.0, Lf, float("inf"), Hw),
+                     render_modes=("phase",), mat_colors=(None, SAND))
+
+
+def _particles(cfg, c0):
+    """Water over a sand layer on the floor and a 1:slope ramp, walls, and the paddle; each
+    particle at the hydrostatic density of the layers above it."""
+    geo, num = cfg["geometry"], cfg["numerics"]
+    dx, Lf, d, ts = num["dx"], geo["length"], geo["depth"], geo["sand_thickness"]
+    toe, sl, Hw = geo["toe_x"], geo["slope"], geo["wall_height"]
+    yw = ts + d
+    rw, rs = cfg["materials"]["water"]["rho0"], cfg["materials"]["sand"]["rho0"]
     L = num["wall_layers"]
     T = L * dx
-    h = num["h_factor"] * dx
 
     def ramp(x):
         return np.maximum(0.0, (np.asarray(x, float) - toe) / sl)
@@ -148,7 +176,7 @@ def build(cfg):
     ps = ParticleSet()
     ps.add(xw, FLUID, 0, density_from_pressure(pressure(xw[:, 1], ramp(xw[:, 0]) + ts), rw, c0), rw * dx * dx)
     ps.add(xs, FLUID, 1, density_from_pressure(pressure(xs[:, 1], ramp(xs[:, 0]) + ts), rs, c0), rs * dx * dx)
-    pad_pts, motion, extra, reach = flume.paddle(cfg, yw, Hw)
+    pad_pts, motion, extra, reach = paddle(cfg, yw, Hw)
     x_left = -reach - 2 * T
     walls = np.vstack([block(x_left, -T, Lf + T, 0.0, dx), block(Lf, 0.0, Lf + T, Hw, dx), ramp_wall])
     ytop = np.maximum(ramp(walls[:, 0]), 0.0) + ts
@@ -156,46 +184,47 @@ def build(cfg):
     ps.add(walls, WALL, 0, density_from_pressure(wall_p, rw, c0), rw * dx * dx)
     pp = pressure(pad_pts[:, 1], np.full(len(pad_pts), ts))
     ps.add(pad_pts, MOVING, 0, density_from_pressure(pp, rw, c0), rw * dx * dx)
+    return ps, extra, reach, x_left
 
-    materials = []
-    for name in ("water", "sand"):
-        m = dict(mats[name])
-        materials.append(dict(m, name=name, B=tait_B(m["rho0"], c0)))
-    pad = 3 * T + 4 * h
-    domain = ((x_left - pad, -pad), (Lf + pad, 2 * Hw + pad))
-    params = common_params(cfg, c0, G, depth=yw)
-    params.update(extra)
 
-    # bed stations every dx over the sand; the active zone for ripples: from one wavelength
-    # before the toe to just past the still-water shoreline
-    stations = np.arange(0.5, Lf - 0.25, dx)
-    shore = toe + d * sl
-    active = (stations >= max(0.5, toe - 0.5 * wavelength)) & (stations <= shore + 0.2)
-    bed_rows, bed0, u_near = [], {}, []
+class BedRecord:
+    """The sand surface at stations every dx, the near-bed orbital velocity above them, the
+    ripple statistics of the bed change, and the Wiberg & Harris prediction from the measured
+    motion. The active zone for ripples: one wavelength before the toe to just past the
+    still-water shoreline."""
 
-    def bed(st):
-        return flume.surface_heights(st, stations, dx, h, mat=1)
+    def __init__(self, cfg, h, wave):
+        geo, num, self.p = cfg["geometry"], cfg["numerics"], cfg["paddle"]
+        self.cfg, self.h, self.dx = cfg, h, num["dx"]
+        self.omega, self.k, self.wavelength, self.cg, self.H_biesel = wave
+        self.d, self.toe, self.grain = geo["depth"], geo["toe_x"], geo["grain_diameter"]
+        self.yw = geo["sand_thickness"] + geo["depth"]
+        Lf = geo["length"]
+        self.stations = np.arange(0.5, Lf - 0.25, self.dx)
+        shore = self.toe + self.d * geo["slope"]
+        self.active = (self.stations >= max(0.5, self.toe - 0.5 * self.wavelength)) & (self.stations <= shore + 0.2)
+        self.rows, self.bed0, self.u_near, self.pred_rows = [], None, [], None
 
-    def probe(st):
-        b = bed(st)
-        if "b" not in bed0:
-            bed0["b"] = b
-        bed_rows.append((st["t"],) + tuple(b))
-        u_near.append(near_bed_velocity(st, stations, b, dx))
-        z = b - bed0["b"]
-        lam, hr, rms = ripple_stats(stations[active], z[active], window=RIPPLE_WINDOW * wavelength,
+    def probe(self, st):
+        dx, h, stations, active = self.dx, self.h, self.stations, self.active
+        b = surface_heights(st, stations, dx, h, mat=1)
+        if self.bed0 is None:
+            self.bed0 = b
+        self.rows.append((st["t"],) + tuple(b))
+        self.u_near.append(near_bed_velocity(st, stations, b, dx))
+        z = b - self.bed0
+        lam, hr, rms = ripple_stats(stations[active], z[active], window=RIPPLE_WINDOW * self.wavelength,
                                     min_length=MIN_LENGTH_DX * dx, min_height=MIN_HEIGHT_DX * dx)
-        eta = flume.surface_at(st, toe, dx, h, mat=0) - yw
+        eta = surface_at(st, self.toe, dx, h, mat=0) - self.yw
         return lam, hr, rms, eta
 
-    t_ramp = p["ramp_periods"] * p["period"]
-
-    def metrics(c):
-        out = dict(kh_paddle=k * d, wavelength=wavelength, biesel_wave_height=H_biesel,
+    def metrics(self, c):
+        p, stations, active, d, k = self.p, self.stations, self.active, self.d, self.k
+        out = dict(kh_paddle=k * d, wavelength=self.wavelength, biesel_wave_height=self.H_biesel,
                    active_zone=[float(stations[active][0]), float(stations[active][-1])])
         out.update(last_finite(c, ("ripple_length", "ripple_height", "bed_change_rms")))
         # wave height at the toe after the ramp (incident plus what the beach reflects)
-        t0 = t_ramp + toe / cg + p["period"]
+        t0 = p["ramp_periods"] * p["period"] + self.toe / self.cg + p["period"]
         H, n = wm.wave_height(c["t"], c["eta_toe"], t0, float(c["t"][-1]), p["period"])
         out["wave_height_at_toe"] = H
         out["periods_measured_at_toe"] = n
@@ -204,8 +233,8 @@ def build(cfg):
             out["orbital_diameter_d0"] = d0
             out["ripple_length_over_d0"] = out["ripple_length"] / d0
             out["wiberg_harris_ratio"] = 0.62
-        pred = ripple_prediction(c["t"], t0) or {}
-        row = pred.get(int(np.argmin(np.abs(stations - toe))))
+        pred = self.ripple_prediction(c["t"], t0) or {}
+        row = pred.get(int(np.argmin(np.abs(stations - self.toe))))
         if row:
             out["near_bed_orbital_diameter_toe"] = row[3]
             out["predicted_ripple_length_toe"] = row[4]
@@ -216,45 +245,47 @@ def build(cfg):
             out["ripple_length_over_prediction"] = out["ripple_length"] / row[4] if row[4] > 0 else float("nan")
         return out
 
-    pred_rows = {}
-
-    def ripple_prediction(t, t0):
+    def ripple_prediction(self, t, t0):
         """Wiberg & Harris ripples at each active station from the simulated near-bed orbital
         velocity: amplitude (max - min) / 2 of the water velocity 1-2 dx above the bed over whole
         periods after t0, so d0 = 2 amplitude / omega. None after a restart (the velocity record
         is not in the checkpoint) or before a whole period has passed."""
+        period = self.p["period"]
         t = np.asarray(t, float)
-        n_per = int((t[-1] - t0) // p["period"]) if len(t) else 0
-        if n_per < 1 or len(u_near) != len(t):
+        n_per = int((t[-1] - t0) // period) if len(t) else 0
+        if n_per < 1 or len(self.u_near) != len(t):
             return None
-        U = np.array(u_near)
-        win = (t >= t[-1] - n_per * p["period"])
+        U = np.array(self.u_near)
+        win = (t >= t[-1] - n_per * period)
         rows = []
-        for kx in np.nonzero(active)[0]:
+        for kx in np.nonzero(self.active)[0]:
             u = U[win, kx]
             u = u[np.isfinite(u)]
             if len(u) < 4:
                 continue
             amp = 0.5 * float(u.max() - u.min())
-            d0x = 2.0 * amp / omega
-            lam, hgt, regime = wiberg_harris(d0x, geo["grain_diameter"])
-            rows.append((float(stations[kx]), float(bed0["b"][kx]), amp, d0x, lam, hgt, regime))
-        pred_rows["rows"] = rows
-        return {int(np.argmin(np.abs(stations - r[0]))): r for r in rows}
+            d0x = 2.0 * amp / self.omega
+            lam, hgt, regime = wiberg_harris(d0x, self.grain)
+            rows.append((float(self.stations[kx]), float(self.bed0[kx]), amp, d0x, lam, hgt, regime))
+        self.pred_rows = rows
+        return {int(np.argmin(np.abs(self.stations - r[0]))): r for r in rows}
 
-    def finalize(out, metrics):
-        if not bed_rows:
+    def finalize(self, out, metrics):
+        if not self.rows:
             return
-        write_csv(os.path.join(out, "bed_profile.csv"), ("t",) + tuple(f"x{x:.3f}" for x in stations), bed_rows)
-        if pred_rows.get("rows"):
+        write_csv(os.path.join(out, "bed_profile.csv"), ("t",) + tuple(f"x{x:.3f}" for x in self.stations),
+                  self.rows)
+        if self.pred_rows:
             write_csv(os.path.join(out, "ripple_prediction.csv"),
                       ("x", "bed_initial", "near_bed_velocity_amplitude", "orbital_diameter_d0",
-                       "wiberg_harris_length", "wiberg_harris_height", "regime"), pred_rows["rows"])
-        import matplotlib
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-        arr = np.array(bed_rows)
-        rows = pred_rows.get("rows")
+                       "wiberg_harris_length", "wiberg_harris_height", "regime"), self.pred_rows)
+        self.plot(os.path.join(out, "bed_profile.png"))
+
+    def plot(self, path):
+        plt = pyplot()
+        stations, active, dx = self.stations, self.active, self.dx
+        arr = np.array(self.rows)
+        rows = self.pred_rows
         fig, axes = plt.subplots(3 if rows else 2, 1, figsize=(9, 7.5 if rows else 5.5), sharex=True)
         a1, a2 = axes[0], axes[1]
         times = [t for t in STILLS if t <= arr[-1, 0] + 1e-9] or [arr[-1, 0]]
@@ -262,7 +293,7 @@ def build(cfg):
             r = arr[np.argmin(np.abs(arr[:, 0] - t))]
             a1.plot(stations, r[1:], lw=0.9, label=f"t = {r[0]:.1f} s")
             a2.plot(stations, r[1:] - arr[0, 1:], lw=0.9)
-        a1.axhline(yw, color="tab:blue", lw=0.6, ls="--")
+        a1.axhline(self.yw, color="tab:blue", lw=0.6, ls="--")
         a1.set_ylabel("sand surface (m)")
         a1.legend(fontsize=7, ncol=3)
         a2.axvspan(stations[active][0], stations[active][-1], color="0.93")
@@ -278,25 +309,9 @@ def build(cfg):
             a3.set_ylabel("cm")
             a3.legend(fontsize=7, ncol=4, loc="upper left")
         axes[-1].set_xlabel("x (m)")
-        fig.suptitle(f"beach, tau_B = {mats['sand']['yield_stress']:g} Pa: bed profile over time "
-                     f"(grey: active zone)", fontsize=10)
-        fig.tight_layout()
-        with atomic_path(os.path.join(out, "bed_profile.png")) as tmp:
-            fig.savefig(tmp, dpi=110, format="png")
-        plt.close(fig)
-
-    events = []
-    if cfg["output"]["render"]:
-        events = [(t, _streamlines_event(yw, Lf, dx)) for t in STILLS]
-
-    margin = T + dx
-    return Case(name=NAME, particles=ps, materials=materials, domain=domain, params=params,
-                physics=physics_from_config(cfg, paddle=p["type"]),
-                view=((x_left - margin, -margin), (Lf + margin, min(Hw, yw + 0.35) + margin)), u_max=u_max,
-                probe_columns=("ripple_length", "ripple_height", "bed_change_rms", "eta_toe"), probe=probe,
-                metrics=metrics, finalize=finalize, events=events, stills=STILLS,
-                container=(-reach - dx, 0.0, Lf, float("inf"), Hw),
-                render_modes=("phase",), mat_colors=(None, SAND))
+        fig.suptitle(f"beach, tau_B = {self.cfg['materials']['sand']['yield_stress']:g} Pa: bed profile over "
+                     f"time (grey: active zone)", fontsize=10)
+        save(fig, path)
 
 
 def near_bed_velocity(st, stations, bed, dx):

@@ -20,15 +20,18 @@ import sys
 
 import numpy as np
 
+from ..constants import G
 from ..config import ConfigError, physics_from_config
-from ..io import atomic_path, write_csv
+from ..io import write_csv
 from ..particles import ParticleSet, block, density_from_pressure, tait_B, FLUID, WALL
 from ..render import SAND
-from ..runner import Case, common_params, run_scene, sound_speed
-from .flume import surface_heights
+from ..case import make_case
+from ..run import common_params, run_scene, sound_speed
+from ..probes.gauges import surface_heights
+from ..probes.plots import pyplot, save
 
 NAME = "erodible_bed"
-G = 9.81
+
 PROFILE_TIMES = (0.25, 0.5, 0.75)
 
 DEFAULTS = {
@@ -129,30 +132,30 @@ def build(cfg):
         for t, b, top in profiles:
             write_csv(os.path.join(d, f"profile_t{t:.2f}.csv"), ("x", "bed", "free_surface"),
                       list(zip(stations, b, top)))
-        import matplotlib
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-        fig, axes = plt.subplots(len(profiles), 1, figsize=(8, 2.0 * len(profiles) + 0.6), sharex=True, squeeze=False)
-        for ax, (t, b, top) in zip(axes[:, 0], profiles):
-            ax.fill_between(stations, 0, b, color=SAND, lw=0)
-            ax.plot(stations, top, color="tab:blue", lw=1.0, label="free surface")
-            ax.plot(stations, bed0["b"], "k--", lw=0.7, label="initial bed")
-            ax.set_title(f"t = {t:.2f} s", fontsize=9, loc="left")
-            ax.set_ylabel("y (m)")
-        axes[0, 0].legend(fontsize=7)
-        axes[-1, 0].set_xlabel("x (m)")
-        fig.tight_layout()
-        with atomic_path(os.path.join(d, "profiles.png")) as tmp:
-            fig.savefig(tmp, dpi=110, format="png")
-        plt.close(fig)
+        _plot_profiles(os.path.join(d, "profiles.png"), profiles, stations, bed0["b"])
 
     margin = T + dx
-    return Case(name=NAME, particles=ps, materials=materials, domain=domain,
+    return make_case(name=NAME, particles=ps, materials=materials, domain=domain,
                 params=common_params(cfg, c0, G, depth=hs + hw), physics=physics_from_config(cfg),
                 view=((-margin, -margin), (Lf + margin, min(Hw, 2.2 * (hs + hw)) + margin)), u_max=u_max,
                 probe_columns=("front_x", "eroded_area"), probe=probe, metrics=metrics, finalize=finalize,
                 events=[(t, on_profile) for t in PROFILE_TIMES], container=(0.0, 0.0, Lf, float("inf"), Hw),
                 render_modes=("flat", "speed"), mat_colors=(None, SAND))
+
+
+def _plot_profiles(path, profiles, stations, bed_initial):
+    """Bed and free surface at the profile times, over the initial bed."""
+    plt = pyplot()
+    fig, axes = plt.subplots(len(profiles), 1, figsize=(8, 2.0 * len(profiles) + 0.6), sharex=True, squeeze=False)
+    for ax, (t, b, top) in zip(axes[:, 0], profiles):
+        ax.fill_between(stations, 0, b, color=SAND, lw=0)
+        ax.plot(stations, top, color="tab:blue", lw=1.0, label="free surface")
+        ax.plot(stations, bed_initial, "k--", lw=0.7, label="initial bed")
+        ax.set_title(f"t = {t:.2f} s", fontsize=9, loc="left")
+        ax.set_ylabel("y (m)")
+    axes[0, 0].legend(fontsize=7)
+    axes[-1, 0].set_xlabel("x (m)")
+    save(fig, path)
 
 
 def main(argv=None):

@@ -17,13 +17,16 @@ import numpy as np
 
 from ..config import ConfigError, physics_from_config
 from ..particles import ParticleSet, block, hydrostatic_density, tait_B, wall_density, FLUID, WALL, MOVING
-from ..runner import Case, common_params, run_scene, sound_speed
+from ..case import make_case
+from ..run import common_params, run_scene, sound_speed
 from .. import wavemaker as wm
+from ..constants import G
+from ..probes.gauges import surface_at
+from ..wavemaker import PADDLE_DEFAULTS, PADDLE_RANGES, check_paddle, linear_wave, paddle
+from ..probes.plots import pyplot, save
 
 NAME = "flume"
-G = 9.81
 
-PADDLE_DEFAULTS = {"type": "piston", "stroke": 0.04, "period": 0.8, "ramp_periods": 2.0, "series": ""}
 
 DEFAULTS = {
     "run": {"end_time": 7.5},
@@ -46,20 +49,8 @@ DEFAULTS = {
 }
 RANGES = {f"geometry.{k}": (0.0, None, k.startswith("damping"), True)
           for k in ("length", "depth", "wall_height", "damping_length", "damping_rate")}
-PADDLE_RANGES = {"paddle.stroke": (0.0, None, False, True), "paddle.period": (0.0, None, False, True),
-                 "paddle.ramp_periods": (0.0, None, True, True)}
 RANGES.update(PADDLE_RANGES)
 CHOICES = {"paddle.type": ("piston", "flap")}
-
-
-def check_paddle(cfg, depth, length):
-    p, dx = cfg["paddle"], cfg["numerics"]["dx"]
-    if p["stroke"] > 0.5 * depth:
-        raise ConfigError("paddle.stroke", p["stroke"], f"at most half the depth at the paddle ({0.5 * depth:g} m)")
-    if not p["series"] and p["stroke"] < dx:
-        raise ConfigError("paddle.stroke", p["stroke"], f"at least dx = {dx:g} m (the paddle must move a particle spacing)")
-    if p["series"]:
-        wm.read_series(p["series"])
 
 
 def check(cfg):
@@ -76,66 +67,6 @@ def check(cfg):
     check_paddle(cfg, g["depth"], g["length"])
 
 
-def paddle(cfg, depth, height, floor_y=0.0):
-    """The paddle's particles (a plate of wall_layers columns left of x = 0, from the floor to
-    `height`), its motion, and the solver parameters it needs. depth: still water over the hinge."""
-    p, num = cfg["paddle"], cfg["numerics"]
-    dx, L = num["dx"], num["wall_layers"]
-    pts = block(-L * dx, floor_y, 0.0, height, dx)
-    series = wm.read_series(p["series"]) if p["series"] else None
-    motion = wm.Motion(p["type"], p["stroke"], p["period"], p["ramp_periods"], lever=depth, series=series)
-    reach = 0.5 * (p["stroke"] if series is None else 2 * float(np.abs(series[1]).max()))
-    return pts, motion, dict(motion=motion, pivot=(0.0, floor_y)), reach
-
-
-def linear_wave(cfg, depth):
-    """(omega, k, wavelength, group velocity, Biesel H/S) of the configured paddle."""
-    p = cfg["paddle"]
-    omega = 2 * math.pi / p["period"]
-    k = wm.wavenumber(omega, depth, G)
-    hs = wm.biesel_piston(k * depth) if p["type"] == "piston" else wm.biesel_flap(k * depth)
-    return omega, k, 2 * math.pi / k, wm.group_velocity(omega, k, depth), hs
-
-
-def surface_heights(st, xs, dx, h, floor=0.0, mat=0):
-    """Free-surface height at each x in xs, as a numerical wave gauge does it (DualSPHysics'
-    approach): the highest point on the vertical line where the SPH-interpolated fraction of
-    material `mat`, sum_j V_j W(x - x_j), is still at least 1/2 (linearly interpolated between
-    samples a quarter spacing apart). Counting particles in a column instead steps by dx/2 and
-    reads a wave three particles high with +-15 % noise."""
-    from ..kernels import CubicSpline2D as K
-    fl = st["kind"] == FLUID
-    if mat is not None and st.get("mat") is not None:   # mat None: every fluid material
-        fl &= st["mat"] == mat
-    x = st["x"][fl]
-    vol = st["m"][fl] / st["rho"][fl]
-    order = np.argsort(x[:, 0])
-    x, vol = x[order], vol[order]
-    lo = np.searchsorted(x[:, 0], np.asarray(xs) - 2 * h)
-    hi = np.searchsorted(x[:, 0], np.asarray(xs) + 2 * h)
-    out = np.full(len(xs), float(floor))
-    step = 0.25 * dx
-    for k, xg in enumerate(xs):
-        if hi[k] <= lo[k]:
-            continue
-        xn, vn = x[lo[k]:hi[k]], vol[lo[k]:hi[k]]
-        ys = np.arange(max(floor, xn[:, 1].min() - dx), xn[:, 1].max() + 2 * h, step)
-        r = np.hypot(xn[None, :, 0] - xg, xn[None, :, 1] - ys[:, None]) / h
-        frac = (K.sigma / h ** 2 * K.shape_np(r) * vn[None, :]).sum(1)
-        wet = np.nonzero(frac >= 0.5)[0]
-        if len(wet):
-            i = wet[-1]
-            out[k] = ys[i]
-            if i + 1 < len(ys):   # where the fraction crosses 1/2 between two samples
-                out[k] += step * (frac[i] - 0.5) / max(frac[i] - frac[i + 1], 1e-12)
-    return out
-
-
-def surface_at(st, xg, dx, h, floor=0.0, mat=0):
-    """surface_heights at a single x."""
-    return float(surface_heights(st, [xg], dx, h, floor, mat)[0])
-
-
 def build(cfg):
     geo, num, p = cfg["geometry"], cfg["numerics"], cfg["paddle"]
     dx, Lf, d, Hw = num["dx"], geo["length"], geo["depth"], geo["wall_height"]
@@ -146,14 +77,7 @@ def build(cfg):
     L = num["wall_layers"]
     T = L * dx
     h = num["h_factor"] * dx
-    ps = ParticleSet()
-    water = block(0.0, 0.0, Lf, d, dx)
-    ps.add(water, FLUID, 0, hydrostatic_density(d - water[:, 1], rho0, c0, G), rho0 * dx * dx)
-    pad_pts, motion, extra, reach = paddle(cfg, d, Hw)
-    x_left = -reach - 2 * T
-    walls = np.vstack([block(x_left, -T, Lf + T, 0.0, dx), block(Lf, 0.0, Lf + T, Hw, dx)])
-    ps.add(walls, WALL, 0, wall_density(walls, water, dx, h, rho0, c0, G), rho0 * dx * dx)
-    ps.add(pad_pts, MOVING, 0, wall_density(pad_pts, water, dx, h, rho0, c0, G), rho0 * dx * dx)
+    ps, extra, reach, x_left = _particles(cfg, c0)
     pad = 3 * T + 4 * h
     domain = ((x_left - pad, -pad), (Lf + pad, 2 * Hw + pad))
     params = common_params(cfg, c0, G, depth=d)
@@ -197,10 +121,7 @@ def build(cfg):
         return out
 
     def finalize(out, metrics):
-        import matplotlib
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-        from ..io import atomic_path
+        plt = pyplot()
         data = seen
         if not data or len(data["t"]) < 2:
             return
@@ -214,19 +135,34 @@ def build(cfg):
                 ax.axvspan(*metrics["window"], color="0.9")
         axes[-1, 0].set_xlabel("t (s)")
         fig.suptitle(f"{p['type']} paddle: gauges against Biesel H = {H_biesel:.3g} m (dashed)", fontsize=10)
-        fig.tight_layout()
-        with atomic_path(os.path.join(out, "gauges.png")) as tmp:
-            fig.savefig(tmp, dpi=110, format="png")
-        plt.close(fig)
+        save(fig, os.path.join(out, "gauges.png"))
 
     margin = T + dx
-    return Case(name=NAME, particles=ps, materials=[dict(name="water", rho0=rho0,
+    return make_case(name=NAME, particles=ps, materials=[dict(name="water", rho0=rho0,
                 viscosity=cfg["materials"]["water"]["viscosity"], B=tait_B(rho0, c0))],
                 domain=domain, params=params,
                 physics=physics_from_config(cfg, paddle=p["type"], damping=damping),
                 view=((x_left - margin, -margin), (Lf + margin, Hw + margin)), u_max=u_max,
                 probe_columns=cols, probe=probe, metrics=metrics, finalize=finalize,
                 container=(-reach - dx, 0.0, Lf, float("inf"), Hw))
+
+
+def _particles(cfg, c0):
+    """Still water on a flat floor, the end wall and the paddle, hydrostatic densities."""
+    geo, num = cfg["geometry"], cfg["numerics"]
+    dx, Lf, d, Hw = num["dx"], geo["length"], geo["depth"], geo["wall_height"]
+    rho0 = cfg["materials"]["water"]["rho0"]
+    T = num["wall_layers"] * dx
+    h = num["h_factor"] * dx
+    ps = ParticleSet()
+    water = block(0.0, 0.0, Lf, d, dx)
+    ps.add(water, FLUID, 0, hydrostatic_density(d - water[:, 1], rho0, c0, G), rho0 * dx * dx)
+    pad_pts, motion, extra, reach = paddle(cfg, d, Hw)
+    x_left = -reach - 2 * T
+    walls = np.vstack([block(x_left, -T, Lf + T, 0.0, dx), block(Lf, 0.0, Lf + T, Hw, dx)])
+    ps.add(walls, WALL, 0, wall_density(walls, water, dx, h, rho0, c0, G), rho0 * dx * dx)
+    ps.add(pad_pts, MOVING, 0, wall_density(pad_pts, water, dx, h, rho0, c0, G), rho0 * dx * dx)
+    return ps, extra, reach, x_left
 
 
 def main(argv=None):

@@ -15,13 +15,15 @@ import sys
 
 import numpy as np
 
+from ..constants import G
 from ..config import ConfigError, physics_from_config
 from ..particles import ParticleSet, block, hydrostatic_density, tait_B, wall_density, FLUID, WALL
 from ..profiles import surface_profile, write_profile, plot_profiles
-from ..runner import Case, common_params, run_scene, sound_speed
+from ..case import make_case
+from ..run import common_params, run_scene, sound_speed
 
 NAME = "hatch"
-G = 9.81
+
 
 DEFAULTS = {
     "run": {"end_time": 0.3},
@@ -140,7 +142,7 @@ def build(cfg):
                           "x (m)", "free surface (m)", f"{NAME}: free surface")
 
     margin = T + dx
-    case = Case(name=NAME, particles=ps, materials=materials, domain=domain,
+    case = make_case(name=NAME, particles=ps, materials=materials, domain=domain,
                 params=common_params(cfg, c0, G, depth=H), physics=physics_from_config(cfg),
                 view=((-margin, -margin), (x_end + margin, Wh + margin)), u_max=u_max,
                 probe_columns=("reservoir_level", "discharge", "outflow_mass"), probe=probe,

@@ -34,23 +34,27 @@ The paper ran 6.5 min of flow at dt = 1e-5 s; the default here is 20 s (9 to 15 
 cores), in which the hole under the pipe deepens from 0.10 D (the imposed dip) to about 0.19 D.
 """
 import math
+import types
 import os
 import sys
 
 import numpy as np
 
+from ..constants import G
 from ..config import ConfigError, physics_from_config
-from ..io import atomic_path, write_csv
+from ..io import write_csv
 from ..particles import ParticleSet, block, density_from_pressure, layered_pressure, tait_B, FLUID, WALL
 from ..render import SAND
-from ..runner import Case, common_params, run_scene, sound_speed
+from ..case import make_case
+from ..run import common_params, run_scene, sound_speed
 from ..profiles import streamlines_png
 from ..constants import KAPPA
 from ..probes.control import PIDrive
-from .flume import surface_heights
+from ..probes.gauges import surface_heights
+from ..probes.plots import pyplot, save
 
 NAME = "pipeline_scour"
-G = 9.81
+
 
 DEFAULTS = {
     "run": {"end_time": 20.0},   # 9 to 15 minutes here; the paper ran 6.5 min of flow
@@ -145,108 +149,147 @@ def ring(cx, cy, radius, dx):
     return np.column_stack([cx + radius * np.cos(a), cy + radius * np.sin(a)]), np.column_stack([np.cos(a), np.sin(a)])
 
 
-def build(cfg):
+def geometry(cfg):
+    """The case's derived quantities: pipe centre, water top, friction velocity and roughness."""
     geo, num = cfg["geometry"], cfg["numerics"]
-    dx, D, hw, hs, Lx = num["dx"], geo["pipe_diameter"], geo["water_depth"], geo["sand_depth"], geo["length"]
-    U, d50 = geo["mean_velocity"], geo["grain_diameter"]
+    g = types.SimpleNamespace(dx=num["dx"], D=geo["pipe_diameter"], hw=geo["water_depth"], hs=geo["sand_depth"],
+                              Lx=geo["length"], U=geo["mean_velocity"], d50=geo["grain_diameter"],
+                              L=num["wall_layers"], h=num["h_factor"] * num["dx"], geo=geo)
     mats = cfg["materials"]
-    rw, rs = mats["water"]["rho0"], mats["sand"]["rho0"]
-    R = 0.5 * D
-    xc = 0.5 * Lx
-    yc = hs + geo["gap"] + R
-    ytop = hs + hw
+    g.rw, g.rs = mats["water"]["rho0"], mats["sand"]["rho0"]
+    g.R = 0.5 * g.D
+    g.xc = 0.5 * g.Lx
+    g.yc = g.hs + geo["gap"] + g.R
+    g.ytop = g.hs + g.hw
     if geo["shields"] > 0:
-        ustar = math.sqrt(geo["shields"] * (rs / rw - 1) * G * d50)
-        z0 = hw * math.exp(-(KAPPA * U / ustar + 1.0))
+        g.ustar = math.sqrt(geo["shields"] * (g.rs / g.rw - 1) * G * g.d50)
+        g.z0 = g.hw * math.exp(-(KAPPA * g.U / g.ustar + 1.0))
     else:
-        z0 = 2.5 * d50 / 30.0                 # Nikuradse roughness 2.5 d50
-        ustar = friction_velocity(U, hw, z0)
-    c0, u_max = sound_speed(cfg, 2.5 * U)      # the gap jet runs at up to about twice U
-    L = num["wall_layers"]
-    h = num["h_factor"] * dx
+        g.z0 = 2.5 * g.d50 / 30.0                 # Nikuradse roughness 2.5 d50
+        g.ustar = friction_velocity(g.U, g.hw, g.z0)
+    return g
+
+
+def build(cfg):
+    geo = cfg["geometry"]
+    g = geometry(cfg)
+    dx, hs, L, mats = g.dx, g.hs, g.L, cfg["materials"]
+    c0, u_max = sound_speed(cfg, 2.5 * g.U)      # the gap jet runs at up to about twice U
+    ps = _particles(g, c0)
+    dem = cfg["dem"]
+    use_dem = dem["enabled"] and hs > 0
+    materials = [dict(dict(mats[n]), name=n, B=tait_B(mats[n]["rho0"], c0), dem=(n == "sand" and use_dem))
+                 for n in ("water", "sand")]
+    params = common_params(cfg, c0, G, depth=g.ytop)
+    if use_dem:   # the contact step (eq. 27) is the DEM module's default
+        params.update(kn=dem["kn"], ks=dem["ks"], eta_n=dem["eta_n"], eta_s=dem["eta_s"], mu_c=dem["friction"],
+                      dc=dem["contact_diameter"] * dx)
+    params["drag_K"] = 0.75 * (1 - geo["porosity"]) * g.rw * geo["drag_coefficient"] / g.d50
+    pad = 4 * g.h
+    domain = ((0.0, -L * dx - pad), (g.Lx, 2.0 * g.ytop + pad))
+    used = ["water"] + (["sand"] if hs > 0 else [])
+    physics = physics_from_config(cfg, periodic_x=True, noslip=True, materials_used=used, sps=geo["sps"],
+                                  drag=hs > 0 and geo["drag_coefficient"] > 0, dem=use_dem,
+                                  inflow=(0.0, geo["inflow_length"], geo["inflow_rate"], 0, max(hs, 0.0), g.ustar, g.z0)
+                                  if geo["inflow_length"] > 0 and geo["inflow_rate"] > 0 else ())
+    rec = ScourRecord(cfg, g)
+    t_end = cfg["run"]["end_time"]
+    events = [(t, rec.on_profile_sample) for t in np.arange(0.5 * t_end, t_end + 1e-9, 0.05)]
+    stills_at = (0.0, 0.5 * t_end, t_end)
+    if cfg["output"]["render"]:
+        events += [(t, _streamlines(g.Lx, g.ytop, dx, g.xc, g.yc, g.R)) for t in stills_at]
+    return make_case(name=NAME, particles=ps, materials=materials, domain=domain, params=params, physics=physics,
+                     view=((0.0, -L * dx), (g.Lx, g.ytop + 2 * dx)), u_max=u_max,
+                     probe_columns=("scour_depth_over_D", "transport_rate_phi", "max_bed_shear", "u_mean",
+                                    "body_force"),
+                     probe=rec.probe, metrics=rec.metrics, finalize=rec.finalize,
+                     events=sorted(events, key=lambda e: e[0]), stills=stills_at,
+                     container=(-1e9, -0.5 * dx, 1e9, float("inf")),
+                     render_modes=("phase", "pressure"), mat_colors=(None, SAND), control=rec.control,
+                     pressure_scale=g.rw * G * g.ytop + (g.rs - g.rw) * G * hs)
+
+
+def initial_bed(g, x):
+    """The initial sand surface: flat, with a small dip under the pipe."""
+    x = np.asarray(x, float)
+    D, xc = g.D, g.xc
+    dip = g.geo["perturbation"] * np.where(np.abs(x - xc) < D, 0.5 * (1 + np.cos(np.pi * (x - xc) / D)), 0.0)
+    return g.hs - dip
+
+
+def _particles(g, c0):
+    """Water in the log law over the sand, the no-slip floor, and the pipe as rings of wall
+    particles inside its surface (normals outward); hydrostatic densities."""
+    dx, hs, L, rw, rs = g.dx, g.hs, g.L, g.rw, g.rs
     ps = ParticleSet()
-    lattice = block(0.0, 0.0, Lx, ytop, dx)
-
-    def bed(x):   # the initial sand surface: flat, with a small dip under the pipe
-        x = np.asarray(x, float)
-        dip = geo["perturbation"] * np.where(np.abs(x - xc) < D, 0.5 * (1 + np.cos(np.pi * (x - xc) / D)), 0.0)
-        return hs - dip
-
-    inside_pipe = np.hypot(lattice[:, 0] - xc, lattice[:, 1] - yc) < R + 0.5 * dx
-    y_bed = bed(lattice[:, 0]) if hs > 0 else np.zeros(len(lattice))
+    lattice = block(0.0, 0.0, g.Lx, g.ytop, dx)
+    inside_pipe = np.hypot(lattice[:, 0] - g.xc, lattice[:, 1] - g.yc) < g.R + 0.5 * dx
+    y_bed = initial_bed(g, lattice[:, 0]) if hs > 0 else np.zeros(len(lattice))
     sand = (lattice[:, 1] < y_bed) & ~inside_pipe
     water = (lattice[:, 1] >= y_bed) & ~inside_pipe
     xs, xw = lattice[sand], lattice[water]
 
     def pressure(y, yb):
-        return layered_pressure(y, yb, ytop, rw, rs, G)
+        return layered_pressure(y, yb, g.ytop, rw, rs, G)
 
-    vw = np.column_stack([log_law(xw[:, 1] - (bed(xw[:, 0]) if hs > 0 else 0.0), ustar, z0), np.zeros(len(xw))])
-    ps.add(xw, FLUID, 0, density_from_pressure(pressure(xw[:, 1], bed(xw[:, 0]) if hs > 0 else 0.0), rw, c0),
-           rw * dx * dx, v=vw)
+    yb_w = initial_bed(g, xw[:, 0]) if hs > 0 else 0.0
+    vw = np.column_stack([log_law(xw[:, 1] - yb_w, g.ustar, g.z0), np.zeros(len(xw))])
+    ps.add(xw, FLUID, 0, density_from_pressure(pressure(xw[:, 1], yb_w), rw, c0), rw * dx * dx, v=vw)
     if hs > 0:
-        ps.add(xs, FLUID, 1, density_from_pressure(pressure(xs[:, 1], bed(xs[:, 0])), rs, c0), rs * dx * dx)
-    # floor (no-slip, normal up) and the pipe: rings inside its surface, normals outward
-    floor = block(0.0, -L * dx, Lx, 0.0, dx)
+        ps.add(xs, FLUID, 1, density_from_pressure(pressure(xs[:, 1], initial_bed(g, xs[:, 0])), rs, c0),
+               rs * dx * dx)
+    floor = block(0.0, -L * dx, g.Lx, 0.0, dx)
     ps.add(floor, WALL, 0, density_from_pressure(pressure(floor[:, 1], hs), rw, c0), rw * dx * dx,
            normal=(0.0, 1.0), wall_dist=-floor[:, 1])
     for k in range(L):
-        r_k = R - (k + 0.5) * dx
+        r_k = g.R - (k + 0.5) * dx
         if r_k <= 0:
             break
-        pts, nrm = ring(xc, yc, r_k, dx)
+        pts, nrm = ring(g.xc, g.yc, r_k, dx)
         ps.add(pts, WALL, 0, density_from_pressure(pressure(pts[:, 1], 0.0), rw, c0), rw * dx * dx,
-               normal=nrm, wall_dist=R - r_k)
-    dem = cfg["dem"]
-    use_dem = dem["enabled"] and hs > 0
-    materials = [dict(dict(mats[n]), name=n, B=tait_B(mats[n]["rho0"], c0), dem=(n == "sand" and use_dem))
-                 for n in ("water", "sand")]
-    params = common_params(cfg, c0, G, depth=ytop)
-    if use_dem:   # the contact step (eq. 27) is the DEM module's default
-        params.update(kn=dem["kn"], ks=dem["ks"], eta_n=dem["eta_n"], eta_s=dem["eta_s"], mu_c=dem["friction"],
-                      dc=dem["contact_diameter"] * dx)
-    K_drag = 0.75 * (1 - geo["porosity"]) * rw * geo["drag_coefficient"] / d50
-    params["drag_K"] = K_drag
-    pad = 4 * h
-    domain = ((0.0, -L * dx - pad), (Lx, 2.0 * ytop + pad))
-    used = ["water"] + (["sand"] if hs > 0 else [])
-    physics = physics_from_config(cfg, periodic_x=True, noslip=True, materials_used=used, sps=geo["sps"],
-                                  drag=hs > 0 and geo["drag_coefficient"] > 0, dem=use_dem,
-                                  inflow=(0.0, geo["inflow_length"], geo["inflow_rate"], 0, max(hs, 0.0), ustar, z0)
-                                  if geo["inflow_length"] > 0 and geo["inflow_rate"] > 0 else ())
+               normal=nrm, wall_dist=g.R - r_k)
+    return ps
 
-    # driving: a body force g_x = u*^2 / h (uniform channel flow) plus feedback on the mean velocity
-    g0 = ustar ** 2 / hw
-    Tc = 0.5
-    ctl = PIDrive(Tc, start=g0)
 
-    def control(s):
+class ScourRecord:
+    """The drive's control, the bed under and around the pipe, the transport through the
+    section under it, the bed shear, and the velocity profiles of the second half of the run."""
+
+    def __init__(self, cfg, g):
+        self.cfg, self.g = cfg, g
+        # driving: a body force g_x = u*^2 / h (uniform channel flow) plus feedback on the mean velocity
+        self.g0 = g.ustar ** 2 / g.hw
+        self.ctl = PIDrive(0.5, start=self.g0)
+        self.stations = np.arange(0.5 * g.dx, g.Lx, g.dx)
+        self.under = np.abs(self.stations - g.xc) < 0.5 * g.D
+        self.rows, self.bed0 = [], None
+        self.offsets = cfg["geometry"]["profile_offsets"]
+        self.prof = {o: [] for o in self.offsets}
+
+    def control(self, s):
         st = s.state(("v", "kind", "mat"))
         w = (st["kind"] == FLUID) & (st["mat"] == 0)
-        e = U - float(st["v"][w, 0].mean())
-        ctl.update(s, e, g0)
+        e = self.g.U - float(st["v"][w, 0].mean())
+        self.ctl.update(s, e, self.g0)
 
-    stations = np.arange(0.5 * dx, Lx, dx)
-    bed_rows, bed0 = [], {}
-    under = np.abs(stations - xc) < 0.5 * D
-
-    def probe(st):
+    def probe(self, st):
+        g, dx, stations = self.g, self.g.dx, self.stations
         fl = st["kind"] == FLUID
         sedm = fl & (st["mat"] == 1)
         wat = fl & (st["mat"] == 0)
         u_mean = float(st["v"][wat, 0].mean())
-        if hs <= 0:
-            return float("nan"), float("nan"), float("nan"), u_mean, ctl.value
-        b = surface_heights(st, stations, dx, h, mat=1)
-        if "b" not in bed0:
-            bed0["b"] = b
-        bed_rows.append((st["t"],) + tuple(b))
+        if g.hs <= 0:
+            return float("nan"), float("nan"), float("nan"), u_mean, self.ctl.value
+        b = surface_heights(st, stations, dx, g.h, mat=1)
+        if self.bed0 is None:
+            self.bed0 = b
+        self.rows.append((st["t"],) + tuple(b))
         # scour depth: below the undisturbed bed as first measured (the median level, away from the dip)
-        depth = float(np.median(bed0["b"]) - b[under].min()) / D
+        depth = float(np.median(self.bed0) - b[self.under].min()) / g.D
         # sediment flux through the section under the pipe: sum of V u_x over a band dx wide
-        band = sedm & (np.abs(st["x"][:, 0] - xc) < 0.5 * dx)
+        band = sedm & (np.abs(st["x"][:, 0] - g.xc) < 0.5 * dx)
         q = float((st["m"][band] / st["rho"][band] * st["v"][band, 0]).sum() / dx)
-        phi = q / math.sqrt((rs / rw - 1) * G * d50 ** 3)
+        phi = q / math.sqrt((g.rs / g.rw - 1) * G * g.d50 ** 3)
         # bed shear stress from the log law through the water velocity 1.5 dx above the bed
         tau = 0.0
         xw_, vw_ = st["x"][wat], st["v"][wat]
@@ -256,27 +299,23 @@ def build(cfg):
         if near.any():
             z = zrel[near]
             u = np.abs(vw_[near, 0])
-            tau = float((rw * (KAPPA * u / np.log(z / z0)) ** 2).max())
-        return depth, phi, tau, u_mean, ctl.value
+            tau = float((g.rw * (KAPPA * u / np.log(z / g.z0)) ** 2).max())
+        return depth, phi, tau, u_mean, self.ctl.value
 
-    offsets = geo["profile_offsets"]
-    prof = {o: [] for o in offsets}
-
-    def on_profile_sample(st, t):
+    def on_profile_sample(self, st, t):
+        g = self.g
         wat = (st["kind"] == FLUID) & (st["mat"] == 0)
-        for o in offsets:
-            xo = (xc + o * D) % Lx
-            m = wat & (np.abs(st["x"][:, 0] - xo) < dx)
-            prof[o].append((st["x"][m, 1], st["v"][m, 0]))
+        for o in self.offsets:
+            xo = (g.xc + o * g.D) % g.Lx
+            m = wat & (np.abs(st["x"][:, 0] - xo) < g.dx)
+            self.prof[o].append((st["x"][m, 1], st["v"][m, 0]))
 
-    t_end = cfg["run"]["end_time"]
-    events = [(t, on_profile_sample) for t in np.arange(0.5 * t_end, t_end + 1e-9, 0.05)]
-
-    def metrics(c):
-        out = dict(friction_velocity=ustar, shields_parameter=ustar ** 2 / ((rs / rw - 1) * G * d50),
+    def metrics(self, c):
+        g = self.g
+        out = dict(friction_velocity=g.ustar, shields_parameter=g.ustar ** 2 / ((g.rs / g.rw - 1) * G * g.d50),
                    mean_velocity_end=float(c["u_mean"][-1]), body_force_end=float(c["body_force"][-1]),
-                   pipe_reynolds=U * D / 1e-6)
-        if hs > 0:
+                   pipe_reynolds=g.U * g.D / 1e-6)
+        if g.hs > 0:
             d = c["scour_depth_over_D"]
             out["scour_depth_over_D"] = float(d[-1])
             # the scour the flow added to the initial dip: S/D, smoothed over 0.5 s (a particle
@@ -296,61 +335,49 @@ def build(cfg):
             out["max_bed_shear_end"] = float(c["max_bed_shear"][-1])
         return out
 
-    def finalize(out, metrics):
-        import matplotlib
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-        if bed_rows:
-            write_csv(os.path.join(out, "scour_profile.csv"), ("t",) + tuple(f"x{x:.3f}" for x in stations), bed_rows)
-            arr = np.array(bed_rows)
-            fig, ax = plt.subplots(figsize=(8, 3))
-            for t in np.linspace(arr[0, 0], arr[-1, 0], 5):
-                r = arr[np.argmin(np.abs(arr[:, 0] - t))]
-                ax.plot((stations - xc) / D, (r[1:] - hs) / D, lw=0.9, label=f"t = {r[0]:.1f} s")
-            ax.add_patch(plt.Circle((0, (yc - hs) / D), 0.5, color="0.5"))
-            ax.set_aspect("equal")
-            ax.set_xlabel("x / D")
-            ax.set_ylabel("bed / D")
-            ax.legend(fontsize=7)
-            fig.tight_layout()
-            with atomic_path(os.path.join(out, "scour_profile.png")) as tmp:
-                fig.savefig(tmp, dpi=110, format="png")
-            plt.close(fig)
-        if any(prof.values()):
-            rows = []
-            fig, axes = plt.subplots(1, len(offsets), figsize=(3 * len(offsets), 3.5), sharey=True, squeeze=False)
-            for ax, o in zip(axes[0], offsets):
-                ys = np.concatenate([p[0] for p in prof[o]])
-                us = np.concatenate([p[1] for p in prof[o]])
-                edges = np.arange(0.0, ytop + dx, dx)
-                n, _ = np.histogram(ys, edges)
-                su, _ = np.histogram(ys, edges, weights=us)
-                with np.errstate(invalid="ignore"):
-                    um = su / n
-                yc_ = 0.5 * (edges[1:] + edges[:-1])
-                for y, u in zip(yc_, um):
-                    rows.append((o, y, u))
-                ax.plot(um / U, (yc_ - (hs if hs > 0 else 0.0)) / D, "o-", ms=2)
-                ax.set_title(f"x - x_pipe = {o:g} D", fontsize=9)
-                ax.set_xlabel("time-averaged u / U")
-            axes[0, 0].set_ylabel("y / D above the bed")
-            fig.tight_layout()
-            with atomic_path(os.path.join(out, "velocity_profiles.png")) as tmp:
-                fig.savefig(tmp, dpi=110, format="png")
-            plt.close(fig)
-            write_csv(os.path.join(out, "velocity_profiles.csv"), ("x_offset_over_D", "y", "u_mean"), rows)
+    def finalize(self, out, metrics):
+        if self.rows:
+            write_csv(os.path.join(out, "scour_profile.csv"), ("t",) + tuple(f"x{x:.3f}" for x in self.stations),
+                      self.rows)
+            self.plot_scour(os.path.join(out, "scour_profile.png"))
+        if any(self.prof.values()):
+            self.velocity_profiles(out)
 
-    stills_at = (0.0, 0.5 * t_end, t_end)
-    if cfg["output"]["render"]:
-        events += [(t, _streamlines(Lx, ytop, dx, xc, yc, R)) for t in stills_at]
+    def plot_scour(self, path):
+        g, plt = self.g, pyplot()
+        arr = np.array(self.rows)
+        fig, ax = plt.subplots(figsize=(8, 3))
+        for t in np.linspace(arr[0, 0], arr[-1, 0], 5):
+            r = arr[np.argmin(np.abs(arr[:, 0] - t))]
+            ax.plot((self.stations - g.xc) / g.D, (r[1:] - g.hs) / g.D, lw=0.9, label=f"t = {r[0]:.1f} s")
+        ax.add_patch(plt.Circle((0, (g.yc - g.hs) / g.D), 0.5, color="0.5"))
+        ax.set_aspect("equal")
+        ax.set_xlabel("x / D")
+        ax.set_ylabel("bed / D")
+        ax.legend(fontsize=7)
+        save(fig, path)
 
-    return Case(name=NAME, particles=ps, materials=materials, domain=domain, params=params, physics=physics,
-                view=((0.0, -L * dx), (Lx, ytop + 2 * dx)), u_max=u_max,
-                probe_columns=("scour_depth_over_D", "transport_rate_phi", "max_bed_shear", "u_mean", "body_force"),
-                probe=probe, metrics=metrics, finalize=finalize, events=sorted(events, key=lambda e: e[0]),
-                stills=stills_at, container=(-1e9, -0.5 * dx, 1e9, float("inf")),
-                render_modes=("phase", "pressure"), mat_colors=(None, SAND), control=control,
-                pressure_scale=rw * G * ytop + (rs - rw) * G * hs)
+    def velocity_profiles(self, out):
+        g, plt, offsets = self.g, pyplot(), self.offsets
+        rows = []
+        fig, axes = plt.subplots(1, len(offsets), figsize=(3 * len(offsets), 3.5), sharey=True, squeeze=False)
+        for ax, o in zip(axes[0], offsets):
+            ys = np.concatenate([p[0] for p in self.prof[o]])
+            us = np.concatenate([p[1] for p in self.prof[o]])
+            edges = np.arange(0.0, g.ytop + g.dx, g.dx)
+            n, _ = np.histogram(ys, edges)
+            su, _ = np.histogram(ys, edges, weights=us)
+            with np.errstate(invalid="ignore"):
+                um = su / n
+            yc_ = 0.5 * (edges[1:] + edges[:-1])
+            for y, u in zip(yc_, um):
+                rows.append((o, y, u))
+            ax.plot(um / g.U, (yc_ - (g.hs if g.hs > 0 else 0.0)) / g.D, "o-", ms=2)
+            ax.set_title(f"x - x_pipe = {o:g} D", fontsize=9)
+            ax.set_xlabel("time-averaged u / U")
+        axes[0, 0].set_ylabel("y / D above the bed")
+        save(fig, os.path.join(out, "velocity_profiles.png"))
+        write_csv(os.path.join(out, "velocity_profiles.csv"), ("x_offset_over_D", "y", "u_mean"), rows)
 
 
 def _streamlines(Lx, ytop, dx, xc, yc, R):

@@ -11,13 +11,15 @@ import sys
 
 import numpy as np
 
+from ..constants import G
 from ..config import ConfigError, physics_from_config
-from ..particles import (ParticleSet, block, box_walls, density_from_pressure, surface_above, tait_B,
+from ..particles import (ParticleSet, block, box_walls, density_from_pressure, layered_pressure, surface_above, tait_B,
                          FLUID, WALL)
-from ..runner import Case, common_params, run_scene, sound_speed
+from ..case import make_case
+from ..run import common_params, run_scene, sound_speed
 
 NAME = "tank"
-G = 9.81
+
 
 DEFAULTS = {
     "run": {"end_time": 2.0},
@@ -52,13 +54,6 @@ def check(cfg):
                           f"0 (none) or between 2 dx and geometry.depth - 2 dx ({2 * dx:g} to {g['depth'] - 2 * dx:g} m)")
 
 
-def hydrostatic_pressure(y, H, hs, rho_w, rho_s, g=G):
-    """Pressure of water (surface at H) over a sediment layer (top at hs) at rest."""
-    y = np.asarray(y, float)
-    pw = rho_w * g * np.maximum(H - y, 0.0)
-    return np.where(y >= hs, pw, rho_w * g * (H - hs) + rho_s * g * (hs - y))
-
-
 def layer_pressure_errors(x, p, dx, rho0, g=G, skip_top=2, expected=None):
     """Per particle row: (depth, mean p / p_hydrostatic - 1), top `skip_top` rows left out.
 
@@ -89,16 +84,16 @@ def build(cfg):
     ps = ParticleSet()
     used = ["water"] + (["sediment"] if hs > 0 else [])
     water = block(0.0, hs, W, H, dx)
-    ps.add(water, FLUID, 0, density_from_pressure(hydrostatic_pressure(water[:, 1], H, hs, rw, rs), rw, c0),
+    ps.add(water, FLUID, 0, density_from_pressure(layered_pressure(water[:, 1], hs, H, rw, rs), rw, c0),
            rw * dx * dx)
     if hs > 0:
         sed = block(0.0, 0.0, W, hs, dx)
-        ps.add(sed, FLUID, 1, density_from_pressure(hydrostatic_pressure(sed[:, 1], H, hs, rw, rs), rs, c0),
+        ps.add(sed, FLUID, 1, density_from_pressure(layered_pressure(sed[:, 1], hs, H, rw, rs), rs, c0),
                rs * dx * dx)
     walls = box_walls(0.0, 0.0, W, Ht, dx, num["wall_layers"])
     h = num["h_factor"] * dx
     top = surface_above(walls[:, 0], np.vstack([water] + ([sed] if hs > 0 else [])), dx, 2 * h)
-    pw = np.where(top > walls[:, 1], hydrostatic_pressure(np.minimum(walls[:, 1], H), H, hs, rw, rs), 0.0)
+    pw = np.where(top > walls[:, 1], layered_pressure(np.minimum(walls[:, 1], H), hs, H, rw, rs), 0.0)
     pw = np.where(np.isfinite(top), pw, 0.0)
     ps.add(walls, WALL, 0, density_from_pressure(pw, rw, c0), rw * dx * dx)
     pad = num["wall_layers"] * dx + 4 * h
@@ -118,7 +113,7 @@ def build(cfg):
     def final_metrics(st):
         fl = st["kind"] == FLUID
         x, p, mat = st["x"][fl], st["p"][fl], st["mat"][fl]
-        errs = layer_pressure_errors(x, p, dx, rw, expected=lambda d: hydrostatic_pressure(H - d, H, hs, rw, rs))
+        errs = layer_pressure_errors(x, p, dx, rw, expected=lambda d: layered_pressure(H - d, hs, H, rw, rs))
         v = st["v"][fl]
         rho0 = np.where(mat == 0, rw, rs)
         below_floor = int(np.sum(x[:, 1] < 0.0))
@@ -140,8 +135,8 @@ def build(cfg):
             if s_top.any() and w_bot.any():
                 ys, yw = x[s_top, 1].mean(), x[w_bot, 1].mean()
                 jump = p[s_top].mean() - p[w_bot].mean()
-                expect = hydrostatic_pressure(ys, H, hs, rw, rs) - hydrostatic_pressure(yw, H, hs, rw, rs)
-                out["interface_pressure_jump_error"] = float(abs(jump - expect) / hydrostatic_pressure(hs, H, hs, rw, rs))
+                expect = layered_pressure(ys, hs, H, rw, rs) - layered_pressure(yw, hs, H, rw, rs)
+                out["interface_pressure_jump_error"] = float(abs(jump - expect) / layered_pressure(hs, hs, H, rw, rs))
         return out
 
     if hs > 0:
@@ -154,7 +149,7 @@ def build(cfg):
         return dict(peak_speed_ratio_max=float(np.max(cols["speed_ratio"])))
 
     margin = num["wall_layers"] * dx + dx
-    return Case(name=NAME, particles=ps, materials=materials, domain=domain,
+    return make_case(name=NAME, particles=ps, materials=materials, domain=domain,
                 params=common_params(cfg, c0, G, depth=H),
                 physics=physics_from_config(cfg, materials_used=used),
                 view=((-margin, -margin), (W + margin, Ht + margin)), u_max=u_max,

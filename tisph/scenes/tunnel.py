@@ -15,25 +15,27 @@ Defaults: d0 = 0.3 m, T = 2 s (U_m = 0.47 m/s), a 0.15 m water layer over 0.08 m
 particles; 20 s (10 periods), 2.5 minutes on two cores. geometry.seed_ripple_height > 0
 starts the bed rippled at the predicted length, to ask whether the bed keeps them.
 """
-import copy
 import math
 import os
 import sys
 
 import numpy as np
 
+from ..constants import G
 from ..config import ConfigError, physics_from_config
-from ..io import atomic_path, write_csv
+from ..io import write_csv
 from ..particles import ParticleSet, block, density_from_pressure, layered_pressure, tait_B, FLUID, WALL
 from ..render import SAND
 from ..ripples import MIN_HEIGHT_DX, MIN_LENGTH_DX, last_finite, ripple_stats, wiberg_harris
 from ..probes.control import PIDrive
-from ..runner import Case, common_params, run_scene, sound_speed
-from . import beach
-from .flume import surface_heights
+from ..case import make_case
+from ..run import common_params, run_scene, sound_speed
+from ..materials import BINGHAM_SAND, WATER
+from ..probes.gauges import surface_heights
+from ..probes.plots import pyplot, save
 
 NAME = "tunnel"
-G = 9.81
+
 
 DEFAULTS = {
     "run": {"end_time": 20.0},
@@ -48,7 +50,7 @@ DEFAULTS = {
                  # > 0: the bed starts rippled, crest to trough this high (m), at the predicted
                  # length rounded to fit the periodic length: does the bed keep, grow or lose them?
                  "seed_ripple_height": 0.0},
-    "materials": copy.deepcopy(beach.DEFAULTS["materials"]),     # the beach's water and sand
+    "materials": {"water": dict(WATER), "sand": dict(BINGHAM_SAND)},     # the beach's water and sand
     "output": {"frame_interval": 0.05, "probe_interval": 0.05, "width": 960},
 }
 RANGES = {f"geometry.{k}": (0.0, None, k == "seed_ripple_height", True) for k in DEFAULTS["geometry"]}
@@ -85,7 +87,6 @@ def build(cfg):
     omega = 2.0 * math.pi / Tp
     Um = 0.5 * geo["orbital_diameter"] * omega
     mats = cfg["materials"]
-    rw, rs = mats["water"]["rho0"], mats["sand"]["rho0"]
     c0, u_max = sound_speed(cfg, 1.5 * Um)
     L = num["wall_layers"]
     h = num["h_factor"] * dx
@@ -94,23 +95,7 @@ def build(cfg):
     n_seed = max(1, int(round(Lx / lam_wh))) if lam_wh > 0 else 1
     a_seed = 0.5 * geo["seed_ripple_height"]
 
-    def bed_level(x):
-        return hs + a_seed * np.sin(2 * np.pi * n_seed * np.asarray(x, float) / Lx)
-
-    lattice = block(0.0, 0.0, Lx, ytop + a_seed, dx)
-    sand = lattice[:, 1] < bed_level(lattice[:, 0])
-    lattice = lattice[sand | (lattice[:, 1] < ytop)]      # water keeps its level over a seeded bed
-    sand = lattice[:, 1] < bed_level(lattice[:, 0])
-
-    def pressure(y, yb=hs):
-        return layered_pressure(y, yb, ytop, rw, rs, G)
-
-    ps = ParticleSet()
-    xw, xs = lattice[~sand], lattice[sand]
-    ps.add(xw, FLUID, 0, density_from_pressure(pressure(xw[:, 1], bed_level(xw[:, 0])), rw, c0), rw * dx * dx)
-    ps.add(xs, FLUID, 1, density_from_pressure(pressure(xs[:, 1], bed_level(xs[:, 0])), rs, c0), rs * dx * dx)
-    floor = block(0.0, -L * dx, Lx, 0.0, dx)
-    ps.add(floor, WALL, 0, density_from_pressure(pressure(floor[:, 1]), rw, c0), rw * dx * dx)
+    ps = _particles(cfg, c0, a_seed, n_seed)
     materials = [dict(dict(mats[n]), name=n, B=tait_B(mats[n]["rho0"], c0)) for n in ("water", "sand")]
     params = common_params(cfg, c0, G, depth=ytop)
     pad = 4 * h
@@ -165,35 +150,63 @@ def build(cfg):
         if not bed_rows:
             return
         write_csv(os.path.join(out, "bed_profile.csv"), ("t",) + tuple(f"x{x:.3f}" for x in stations), bed_rows)
-        import matplotlib
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-        arr = np.array(bed_rows)
-        fig, ax = plt.subplots(figsize=(8, 3))
-        for tt in np.linspace(arr[0, 0], arr[-1, 0], 5)[1:]:
-            r = arr[np.argmin(np.abs(arr[:, 0] - tt))]
-            ax.plot(stations, 1e3 * (r[1:] - arr[0, 1:]), lw=0.9, label=f"t = {r[0]:.1f} s")
-        # the predicted equilibrium ripple, for scale
-        xr = np.linspace(0.0, min(Lx, 2 * lam_wh), 100)
-        ax.plot(xr, 1e3 * 0.5 * eta_wh * np.sin(2 * np.pi * xr / lam_wh), "k--", lw=0.8,
-                label=f"Wiberg & Harris: {100 * lam_wh:.1f} cm x {100 * eta_wh:.1f} cm")
-        ax.axhspan(-0.5e3 * dx, 0.5e3 * dx, color="0.93")
-        ax.set_xlabel("x (m)")
-        ax.set_ylabel("bed change (mm)")
-        ax.set_title(f"oscillating tunnel, d0 = {geo['orbital_diameter']:g} m, T = {Tp:g} s "
-                     f"(grey: +-dx/2)", fontsize=9)
-        ax.legend(fontsize=7, ncol=2)
-        fig.tight_layout()
-        with atomic_path(os.path.join(out, "bed_profile.png")) as tmp:
-            fig.savefig(tmp, dpi=110, format="png")
-        plt.close(fig)
+        _plot_bed(os.path.join(out, "bed_profile.png"), np.array(bed_rows), stations, geo, dx, lam_wh, eta_wh)
 
-    return Case(name=NAME, particles=ps, materials=materials, domain=domain, params=params, physics=physics,
+    return make_case(name=NAME, particles=ps, materials=materials, domain=domain, params=params, physics=physics,
                 view=((0.0, -L * dx), (Lx, ytop + 2 * dx)), u_max=u_max,
                 probe_columns=("ripple_length", "ripple_height", "bed_change_rms", "u_free", "u_target"),
                 probe=probe, metrics=metrics, finalize=finalize,
                 container=(-1e9, -0.5 * dx, 1e9, float("inf")),
                 render_modes=("phase",), mat_colors=(None, SAND), control=control, control_every=10)
+
+
+def _particles(cfg, c0, a_seed, n_seed):
+    """Water over a sand layer (seeded with n_seed ripples of amplitude a_seed) on a floor."""
+    geo, num = cfg["geometry"], cfg["numerics"]
+    dx, Lx, hw, hs = num["dx"], geo["length"], geo["water_depth"], geo["sand_depth"]
+    rw, rs = cfg["materials"]["water"]["rho0"], cfg["materials"]["sand"]["rho0"]
+    L = num["wall_layers"]
+    ytop = hs + hw
+
+    def bed_level(x):
+        return hs + a_seed * np.sin(2 * np.pi * n_seed * np.asarray(x, float) / Lx)
+
+    lattice = block(0.0, 0.0, Lx, ytop + a_seed, dx)
+    sand = lattice[:, 1] < bed_level(lattice[:, 0])
+    lattice = lattice[sand | (lattice[:, 1] < ytop)]      # water keeps its level over a seeded bed
+    sand = lattice[:, 1] < bed_level(lattice[:, 0])
+
+    def pressure(y, yb=hs):
+        return layered_pressure(y, yb, ytop, rw, rs, G)
+
+    ps = ParticleSet()
+    xw, xs = lattice[~sand], lattice[sand]
+    ps.add(xw, FLUID, 0, density_from_pressure(pressure(xw[:, 1], bed_level(xw[:, 0])), rw, c0), rw * dx * dx)
+    ps.add(xs, FLUID, 1, density_from_pressure(pressure(xs[:, 1], bed_level(xs[:, 0])), rs, c0), rs * dx * dx)
+    floor = block(0.0, -L * dx, Lx, 0.0, dx)
+    ps.add(floor, WALL, 0, density_from_pressure(pressure(floor[:, 1]), rw, c0), rw * dx * dx)
+    return ps
+
+
+def _plot_bed(path, arr, stations, geo, dx, lam_wh, eta_wh):
+    """The bed change at five times, with the predicted equilibrium ripple for scale."""
+    Lx, Tp = geo["length"], geo["period"]
+    plt = pyplot()
+    fig, ax = plt.subplots(figsize=(8, 3))
+    for tt in np.linspace(arr[0, 0], arr[-1, 0], 5)[1:]:
+        r = arr[np.argmin(np.abs(arr[:, 0] - tt))]
+        ax.plot(stations, 1e3 * (r[1:] - arr[0, 1:]), lw=0.9, label=f"t = {r[0]:.1f} s")
+    # the predicted equilibrium ripple, for scale
+    xr = np.linspace(0.0, min(Lx, 2 * lam_wh), 100)
+    ax.plot(xr, 1e3 * 0.5 * eta_wh * np.sin(2 * np.pi * xr / lam_wh), "k--", lw=0.8,
+            label=f"Wiberg & Harris: {100 * lam_wh:.1f} cm x {100 * eta_wh:.1f} cm")
+    ax.axhspan(-0.5e3 * dx, 0.5e3 * dx, color="0.93")
+    ax.set_xlabel("x (m)")
+    ax.set_ylabel("bed change (mm)")
+    ax.set_title(f"oscillating tunnel, d0 = {geo['orbital_diameter']:g} m, T = {Tp:g} s "
+                 f"(grey: +-dx/2)", fontsize=9)
+    ax.legend(fontsize=7, ncol=2)
+    save(fig, path)
 
 
 def main(argv=None):

@@ -13,7 +13,8 @@ import numpy as np
 
 from ..config import ConfigError, physics_from_config
 from ..particles import ParticleSet, block, tait_B, FLUID, WALL
-from ..runner import Case, common_params, run_scene, sound_speed
+from ..case import make_case
+from ..run import common_params, run_scene, sound_speed
 
 NAME = "poiseuille"
 
@@ -136,7 +137,7 @@ def build(cfg):
         plot_profiles(os.path.join(out, "profile.png"), [(label, y, u, yf, exact(yf, G, b, mu, tau))],
                       "y (m)", "u (m/s)", "plane Poiseuille flow: tisph against the exact solution")
 
-    return Case(name=NAME, particles=ps, materials=[mat], domain=domain, params=params,
+    return make_case(name=NAME, particles=ps, materials=[mat], domain=domain, params=params,
                 physics=physics_from_config(cfg, periodic_x=True, noslip=True), view=((0, -T), (L, 2 * b + T)),
                 u_max=u_max, probe_columns=("u_max",), probe=probe, metrics=metrics, finalize=finalize)
 

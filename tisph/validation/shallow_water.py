@@ -12,7 +12,9 @@ import math
 
 import numpy as np
 
-G = 9.81
+from ..constants import G
+
+
 
 
 def stoker_state(h0, hd, g=G):

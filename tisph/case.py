@@ -1,0 +1,83 @@
+"""What a scene's build(cfg) returns: the solver's input (Model), what is measured and written
+while it runs (Observers) and how it is drawn (Picture), kept apart so the solver never sees a
+probe and a probe never writes the solver's fields."""
+import dataclasses
+from typing import Callable
+
+from .config import Physics
+
+
+@dataclasses.dataclass
+class Model:
+    """The solver's input: particles, materials, domain, runtime parameters, compiled physics."""
+    particles: object
+    materials: list
+    domain: tuple
+    params: dict
+    physics: Physics
+    outflow: tuple = ()      # open boundaries: boxes (x0, y0, x1, y1) fluid leaves through
+    container: tuple = None  # (x0, y0, x1, y1[, wall top]) the walls enclose: fluid outside
+                             # (below the wall top) crossed a wall, and the run stops
+
+    def solver(self):
+        from .engine.solver import Solver
+        return Solver(self.physics, self.particles, self.materials, self.domain, self.params,
+                      outflow=self.outflow, container=self.container)
+
+
+@dataclasses.dataclass
+class Observers:
+    """Probes, metrics, events and controls of a run."""
+    probe_columns: tuple = ()
+    probe: Callable = None            # probe(state: dict) -> tuple of floats
+    metrics: Callable = None          # metrics(columns: dict of np arrays) -> dict
+    final_metrics: Callable = None    # final_metrics(state: dict of np arrays) -> dict
+    events: list = dataclasses.field(default_factory=list)  # [(t, callback(state, t))] at exact times
+    finalize: Callable = None         # finalize(out, metrics) -> None: plots, extra files
+    stills: tuple = ()                # simulated times of named stills, stills/t0.040.png
+    control: Callable = None          # control(solver) every control_every steps (through its set_* methods)
+    control_every: int = 10
+
+
+@dataclasses.dataclass
+class Picture:
+    """How frames are drawn."""
+    view: tuple
+    u_max: float                      # the expected peak speed (colour scale, sound-speed check)
+    render_modes: tuple = ("speed",)  # stacked panels: speed | phase | flat | pressure (render.Renderer)
+    mat_colors: tuple = None          # per material: an RGB colour (sediment) or None (by speed)
+    pressure_scale: float = 0.0       # top of the "pressure" panel's colour bar (Pa)
+
+
+_PARTS = {cls: {f.name for f in dataclasses.fields(cls)} for cls in (Model, Observers, Picture)}
+
+
+@dataclasses.dataclass
+class Case:
+    name: str
+    model: Model
+    observers: Observers
+    picture: Picture
+    notes: list = dataclasses.field(default_factory=list)
+    warnings: list = dataclasses.field(default_factory=list)
+
+    # the model's parts, read often enough to name
+    particles = property(lambda self: self.model.particles)
+    materials = property(lambda self: self.model.materials)
+    domain = property(lambda self: self.model.domain)
+    params = property(lambda self: self.model.params)
+    physics = property(lambda self: self.model.physics)
+    u_max = property(lambda self: self.picture.u_max)
+
+
+def make_case(name, notes=None, **parts):
+    """A Case from keyword arguments, each sorted into the Model, Observers or Picture it
+    belongs to; an unknown keyword is an error."""
+    kw = {cls: {} for cls in _PARTS}
+    for k, v in parts.items():
+        owner = next((cls for cls, names in _PARTS.items() if k in names), None)
+        if owner is None:
+            raise TypeError(f"make_case(): unknown part {k!r}")
+        kw[owner][k] = v
+    return Case(name, Model(**kw[Model]), Observers(**kw[Observers]), Picture(**kw[Picture]),
+                notes=list(notes or []))

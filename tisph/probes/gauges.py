@@ -1,0 +1,43 @@
+"""Numerical gauges: the free surface (or a sediment surface) along x from the particles."""
+import numpy as np
+
+from ..kernels import CubicSpline2D as K
+from ..particles import FLUID
+
+
+def surface_heights(st, xs, dx, h, floor=0.0, mat=0):
+    """Free-surface height at each x in xs, as a numerical wave gauge does it (DualSPHysics'
+    approach): the highest point on the vertical line where the SPH-interpolated fraction of
+    material `mat`, sum_j V_j W(x - x_j), is still at least 1/2 (linearly interpolated between
+    samples a quarter spacing apart). Counting particles in a column instead steps by dx/2 and
+    reads a wave three particles high with +-15 % noise."""
+    fl = st["kind"] == FLUID
+    if mat is not None and st.get("mat") is not None:   # mat None: every fluid material
+        fl &= st["mat"] == mat
+    x = st["x"][fl]
+    vol = st["m"][fl] / st["rho"][fl]
+    order = np.argsort(x[:, 0])
+    x, vol = x[order], vol[order]
+    lo = np.searchsorted(x[:, 0], np.asarray(xs) - 2 * h)
+    hi = np.searchsorted(x[:, 0], np.asarray(xs) + 2 * h)
+    out = np.full(len(xs), float(floor))
+    step = 0.25 * dx
+    for k, xg in enumerate(xs):
+        if hi[k] <= lo[k]:
+            continue
+        xn, vn = x[lo[k]:hi[k]], vol[lo[k]:hi[k]]
+        ys = np.arange(max(floor, xn[:, 1].min() - dx), xn[:, 1].max() + 2 * h, step)
+        r = np.hypot(xn[None, :, 0] - xg, xn[None, :, 1] - ys[:, None]) / h
+        frac = (K.sigma / h ** 2 * K.shape_np(r) * vn[None, :]).sum(1)
+        wet = np.nonzero(frac >= 0.5)[0]
+        if len(wet):
+            i = wet[-1]
+            out[k] = ys[i]
+            if i + 1 < len(ys):   # where the fraction crosses 1/2 between two samples
+                out[k] += step * (frac[i] - 0.5) / max(frac[i] - frac[i + 1], 1e-12)
+    return out
+
+
+def surface_at(st, xg, dx, h, floor=0.0, mat=0):
+    """surface_heights at a single x."""
+    return float(surface_heights(st, [xg], dx, h, floor, mat)[0])

@@ -1,0 +1,82 @@
+"""Entry points: run a scene from the command line (run_scene) or from Python (simulate)."""
+import os
+import sys
+
+from ..cli import make_parser, overrides_from_args
+from ..config import ConfigError, build_config, dump_toml
+from ..io import OutputError, ensure_dir
+from ..particles import FLUID
+from .loop import Run
+from .setup import Log, build_case
+
+
+def run_case(case, cfg, out, log, scene_name, restart=None, force=False):
+    from .. import runtime
+    if case.particles.count(FLUID) == 0:
+        raise ConfigError("geometry", "no fluid particles", "a case with at least one fluid particle")
+    r = Run(case, cfg, out, log, scene_name, restart, force)
+    r.arch = runtime.current_arch()
+    try:
+        return r.execute()
+    except BaseException:
+        if getattr(r, "movie", None) is not None:
+            r.movie.abort()
+        raise
+
+
+def output_dir(scene, cfg):
+    return cfg["output"]["dir"] or os.path.join("renders", scene.NAME)
+
+
+def resolve(scene, config=None, overrides=None):
+    """The validated config of a scene: defaults <- TOML <- overrides, then the scene's checks."""
+    cfg = build_config(scene.DEFAULTS, config, overrides or {},
+                       getattr(scene, "RANGES", None), getattr(scene, "CHOICES", None))
+    if hasattr(scene, "check"):
+        scene.check(cfg)
+    return cfg
+
+
+def run_scene(scene, argv=None):
+    """Entry point of `python -m tisph.scenes.NAME`. Exit codes: 0 ok, 2 bad input, 3 unstable,
+    130/143 stopped by SIGINT/SIGTERM."""
+    parser = make_parser(scene.NAME, (scene.__doc__ or "").strip())
+    args = parser.parse_args(argv)
+    try:
+        cfg = resolve(scene, args.config, overrides_from_args(args))
+        summary = simulate(scene, cfg=cfg, restart=args.restart, force=args.force, echo=True)
+    except (ConfigError, OutputError) as e:
+        print(f"{parser.prog}: {e}", file=sys.stderr)
+        return 2
+    if not cfg["output"]["quiet"]:
+        print(f"wrote {output_dir(scene, cfg)}/", file=sys.stderr)
+    if summary["status"] == "interrupted":
+        return 143 if "SIGTERM" in summary["message"] else 130
+    return {"ok": 0, "unstable": 3}[summary["status"]]
+
+
+def simulate(scene, overrides=None, out=None, config=None, restart=None, force=False, cfg=None,
+             echo=False):
+    """Run a scene: the path the CLI takes, callable from Python (tests, benchmarks).
+
+    Returns the summary dict; raises ConfigError or OutputError on bad input. echo: print
+    messages as the CLI does (otherwise only to run.log and only warnings to stderr).
+    """
+    from .. import runtime
+    cfg = cfg if cfg is not None else resolve(scene, config, overrides)
+    out = out or output_dir(scene, cfg)
+    ensure_dir(out)
+    log = Log(os.path.join(out, "run.log"), cfg["output"]["quiet"] or not echo)
+    try:
+        log("# resolved config\n" + dump_toml(cfg), file_only=True)
+        arch = runtime.init(cfg["run"]["arch"], cfg["run"]["precision"])
+        log(f"# {runtime.describe()}, requested {cfg['run']['arch']}", file_only=True)
+        if cfg["run"]["arch"] == "gpu" and arch in ("x64", "arm64"):
+            log("warning: no GPU backend found, running on the CPU", always=True)
+        case = build_case(scene, cfg, log)
+        return run_case(case, cfg, out, log, scene.NAME, restart=restart, force=force)
+    except (ConfigError, OutputError) as e:
+        log(f"error: {e}", file_only=True)
+        raise
+    finally:
+        log.flush()

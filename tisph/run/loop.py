@@ -1,0 +1,191 @@
+"""The time loop of one run: build the solver, step it, check its health, call the outputs,
+stop cleanly on instability or a signal."""
+import os
+import signal as _signal
+import sys
+import time
+
+from ..case import Case
+from ..particles import FLUID
+from .outputs import Outputs
+from .setup import Log, SimulationError, describe_instability
+from .summary import summarize
+
+
+class Run(Outputs):
+    """One simulation run: the time loop and everything it writes."""
+
+    def __init__(self, case: Case, cfg: dict, out: str, log: Log, scene_name: str,
+                 restart=None, force=False):
+        self.case, self.cfg, self.out, self.log, self.name = case, cfg, out, log, scene_name
+        self.restart, self.force = restart, force
+        o = cfg["output"]
+        self.render = o["render"]
+        self.frame_dt = o["frame_interval"]
+        self.probe_dt = o["probe_interval"]
+        se = o["snapshot_every"]
+        self.snap_dt = self.frame_dt if se < 0 else se
+        self.ckpt_dt = o["checkpoint_every"]
+        self.probes, self.snapshots = [], []
+        self.frame_no = 0
+        self._xdmf_at = 0.0
+        self._xdmf_dirty = False
+        self.next = dict(probe=0.0, frame=0.0, snapshot=0.0, checkpoint=self.ckpt_dt)
+        self.signal = None
+        self.events = sorted(case.observers.events, key=lambda e: e[0])
+        if self.render:
+            self.events += [(t, self._still) for t in case.observers.stills]
+            self.events.sort(key=lambda e: e[0])
+
+    # -------------------------------------------------------------- set-up
+    def _start(self):
+        """Build the solver (compiles on the first step), restart or prime it; returns seconds."""
+        t_build = time.perf_counter()
+        s = self.solver = self.case.model.solver()
+        s.enable_backup()
+        if self.restart:
+            self.resume()
+            self.events = [e for e in self.events if e[0] > s.time + 1e-12]
+        else:
+            s.prime()
+        compile_s = time.perf_counter() - t_build
+        self.log(f"{s.n} particles ({self.case.particles.count(FLUID)} fluid), h = {s.h:.4g} m, "
+                 f"c0 = {s.c0:.4g} m/s, dt = {s.dt:.3g} s, set-up and compile {compile_s:.1f} s")
+        return compile_s
+
+    def _open_movie(self):
+        self.renderer = self.movie = None
+        if not self.render:
+            return
+        from ..io import ensure_dir
+        from ..render import MovieWriter, Renderer
+        outc, pic = self.cfg["output"], self.case.picture
+        ensure_dir(os.path.join(self.out, "frames"))
+        speed = outc["speed_scale"] if outc["speed_scale"] > 0 else pic.u_max
+        self.renderer = Renderer(self.solver, pic.view, outc["width"], speed, title=self.name,
+                                 modes=pic.render_modes, mat_colors=pic.mat_colors,
+                                 pressure_scale=pic.pressure_scale)
+        self.movie = MovieWriter(os.path.join(self.out, f"{self.name}.mp4"), outc["fps"])
+        if self.restart:  # the movie is rebuilt from the frames already on disk
+            import imageio.v2 as imageio
+            for k in range(self.frame_no):
+                f = os.path.join(self.out, "frames", f"{k:05d}.png")
+                if os.path.exists(f):
+                    self.movie.append(imageio.imread(f))
+
+    def _progress_bar(self):
+        if self.cfg["output"]["quiet"]:
+            return None
+        try:
+            from tqdm import tqdm
+        except ImportError:
+            return None
+        return tqdm(total=self.cfg["run"]["end_time"], unit="sim s", disable=None, file=sys.stderr,
+                    bar_format="{l_bar}{bar}| {n:.3f}/{total:.3f} s [{elapsed}<{remaining}{postfix}]")
+
+    def _catch_signals(self):
+        """SIGINT and SIGTERM set a flag the loop reads (it then writes a checkpoint)."""
+        def on_signal(signum, frame):
+            self.signal = signum
+        old = {}
+        for sig in (_signal.SIGINT, _signal.SIGTERM):
+            try:
+                old[sig] = _signal.signal(sig, on_signal)
+            except ValueError:  # not the main thread
+                pass
+        return old
+
+    def outputs(self):
+        self.fire_events()
+        if self._due("probe", self.probe_dt):
+            self.sample()
+        if self.render and self._due("frame", self.frame_dt):
+            self.frame()
+        if self._due("snapshot", self.snap_dt):
+            self.snapshot()
+        if self.ckpt_dt > 0 and self._due("checkpoint", self.ckpt_dt):
+            self.checkpoint()
+
+    # -------------------------------------------------------------- the loop
+    def execute(self):
+        from ..io import clean_stale_parts, ensure_dir
+        clean_stale_parts(self.out)
+        compile_s = self._start()
+        self._open_movie()
+        if self.snap_dt > 0:
+            ensure_dir(os.path.join(self.out, "snapshots"))
+        if not self.restart:
+            self.outputs()
+        self.solver.backup()
+        bar = self._progress_bar()
+        old = self._catch_signals()
+        status, message = "ok", ""
+        self.step_s, self.steps0 = 0.0, self.solver.steps
+        t0 = time.perf_counter()
+        try:
+            self._loop(bar)
+        except SimulationError as e:
+            status, message = "unstable", str(e)
+            self._on_unstable(message)
+        except KeyboardInterrupt:
+            status, message = "interrupted", self._on_signal()
+        finally:
+            for sig, h in old.items():
+                _signal.signal(sig, h)
+            if bar is not None:
+                bar.n = min(self.solver.time, self.cfg["run"]["end_time"])
+                bar.close()
+            if self.movie is not None:
+                self.movie.close()
+        wall = time.perf_counter() - t0
+        return summarize(self, status, message, wall, self.step_s, self.solver.steps - self.steps0, compile_s)
+
+    def _loop(self, bar):
+        s, obs = self.solver, self.case.observers
+        t_end, max_steps = self.cfg["run"]["end_time"], self.cfg["run"]["max_steps"]
+        last_bar = time.perf_counter()
+        while s.time < t_end - 1e-12 and (max_steps == 0 or s.steps < max_steps):
+            ts = time.perf_counter()
+            s.step()
+            if obs.control is not None and s.steps % obs.control_every == 0:
+                obs.control(s)
+            self.step_s += time.perf_counter() - ts
+            if s.steps % 10 == 0 or s.time >= self.next_output - 1e-12:
+                bad = s.check()
+                if bad:
+                    raise SimulationError(describe_instability(s, *bad))
+                if s.steps % 10 == 0:
+                    s.backup()
+            self.outputs()
+            if self.signal is not None:
+                raise KeyboardInterrupt
+            now = time.perf_counter()
+            if bar is not None and now - last_bar > 0.25:
+                bar.n = min(s.time, t_end)
+                bar.set_postfix_str(f"dt={s.dt:.2e} s, {s.n * (s.steps - self.steps0) / max(self.step_s, 1e-9):.3g} "
+                                    f"particle-steps/s", refresh=False)
+                bar.refresh()
+                last_bar = now
+        bad = s.check()
+        if bad:
+            raise SimulationError(describe_instability(s, *bad))
+        if not self.probes or self.probes[-1][0] < s.time:
+            self.sample()
+
+    def _on_unstable(self, message):
+        s = self.solver
+        self.log(message, always=True)
+        if self.snap_dt > 0:
+            self.snapshot(state=s.backup_state(s.snapshot_members), name="last_good.h5",
+                          time=s.bak_time, step=s.bak_steps)
+            self.log(f"wrote the last healthy state (step {s.bak_steps}, t = {s.bak_time:.6g} s) to "
+                     f"snapshots/last_good.h5", always=True)
+
+    def _on_signal(self):
+        s = self.solver
+        sig = self.signal if self.signal is not None else _signal.SIGINT
+        path = self.checkpoint()
+        message = (f"stopped by {_signal.Signals(sig).name} at step {s.steps}, t = {s.time:.6g} s; "
+                   f"continue with --restart {path}")
+        self.log(message, always=True)
+        return message

@@ -1,0 +1,141 @@
+"""What a run writes while it goes: probes, frames, stills, snapshots, the XDMF index,
+checkpoints, and reading a checkpoint back. A mixin of run.loop.Run."""
+import json
+import math
+import os
+import time as time_mod
+
+import numpy as np
+
+from .. import __version__
+from ..config import ConfigError, dump_toml
+from .setup import _strip, config_changes
+
+
+class Outputs:
+    # -------------------------------------------------------------- outputs
+    def _still(self, state, t):
+        from ..render import write_png
+        from ..io import ensure_dir
+        ensure_dir(os.path.join(self.out, "stills"))
+        write_png(os.path.join(self.out, "stills", f"t{t:.3f}.png"), self.renderer.frame(state["t"]))
+
+    def fire_events(self):
+        while self.events and self.solver.time >= self.events[0][0] - 1e-12:
+            t, cb = self.events.pop(0)
+            st = self.solver.state(("x", "v", "kind", "rho", "p", "m", "mat"))
+            st["t"] = self.solver.time    # the actual time, at or just after the scheduled t
+            st["out"] = self.out
+            cb(st, t)
+
+    def sample(self):
+        st = self.solver.state(("x", "v", "kind", "rho", "p", "m", "mat"))
+        st["t"] = self.solver.time
+        row = (self.solver.time,) + (tuple(float(v) for v in self.case.observers.probe(st)) if self.case.observers.probe else ())
+        self.probes.append(row)
+
+    def frame(self):
+        from ..render import write_png
+        img = self.renderer.frame(self.solver.time)
+        write_png(os.path.join(self.out, "frames", f"{self.frame_no:05d}.png"), img)
+        self.movie.append(img)
+        self.frame_no += 1
+
+    def snapshot_attrs(self, time, step, dt):
+        return dict(scene=self.name, tisph_version=__version__, config=dump_toml(self.cfg),
+                    time=float(time), step=int(step), dt=float(dt))
+
+    def snapshot(self, state=None, name=None, time=None, step=None):
+        from ..io import write_snapshot, SNAPSHOT_FIELDS
+        s = self.solver
+        state = state if state is not None else s.state(s.snapshot_members)
+        time = s.time if time is None else time
+        step = s.steps if step is None else step
+        name = name or f"{len(self.snapshots):05d}.h5"
+        path = os.path.join(self.out, "snapshots", name)
+        write_snapshot(path, state, self.snapshot_attrs(time, step, s.dt))
+        if name[0].isdigit():
+            shapes = {}
+            for k, a in state.items():
+                a = np.asarray(a)
+                shape = (a.shape[0], 3) if a.ndim == 2 else a.shape
+                shapes[SNAPSHOT_FIELDS.get(k, (k,))[0]] = (shape, a.dtype.str)
+            self.snapshots.append((float(time), f"snapshots/{name}", s.n, shapes))
+            self._xdmf_dirty = True
+            # the XDMF lists every snapshot, so rewriting it each time is quadratic: at most every 2 s
+            if len(self.snapshots) <= 20 or time_mod.perf_counter() - self._xdmf_at > 2.0:
+                self.write_xdmf()
+
+    def write_xdmf(self):
+        from ..io import write_xdmf
+        if self._xdmf_dirty:
+            write_xdmf(os.path.join(self.out, "snapshots.xdmf"),
+                       [(t, rel, n, {k: (v[0], np.dtype(v[1])) for k, v in sh.items()})
+                        for t, rel, n, sh in self.snapshots])
+            self._xdmf_dirty = False
+            self._xdmf_at = time_mod.perf_counter()
+
+    def checkpoint(self, path=None):
+        import h5py
+        from ..io import atomic_path, OutputError
+        path = path or os.path.join(self.out, "checkpoint.h5")
+        arrays, scal = self.solver.raw_state()
+        try:
+            with atomic_path(path) as tmp:
+                with h5py.File(tmp, "w") as f:
+                    g = f.create_group("particles")
+                    for k, a in arrays.items():
+                        g.create_dataset(k, data=a)
+                    f.create_dataset("probes", data=np.array(self.probes, float).reshape(len(self.probes), -1))
+                    for k, v in scal.items():
+                        f.attrs[k] = v
+                    f.attrs.update(dict(kind="tisph checkpoint", scene=self.name, tisph_version=__version__,
+                                        config=dump_toml(self.cfg), frame_no=self.frame_no,
+                                        next=json.dumps(self.next), snapshots=json.dumps(self.snapshots)))
+        except OSError as e:
+            raise OutputError(f"cannot write checkpoint {path!r}: {e}") from None
+        self.log(f"checkpoint at step {self.solver.steps}, t = {self.solver.time:.6g} s: {path}", file_only=True)
+        return path
+
+    def resume(self):
+        """Load self.restart into the solver and the run's own state."""
+        from ..io import load
+        arrays, attrs = load(self.restart)
+        if attrs.get("kind") != "tisph checkpoint" or "particles" not in arrays:
+            raise ConfigError("--restart", self.restart, "a checkpoint.h5 written by tisph")
+        if attrs.get("scene") != self.name:
+            raise ConfigError("--restart", self.restart, f"a checkpoint of scene {self.name!r}",
+                              f"it is a checkpoint of {attrs.get('scene')!r}")
+        from ..config import tomllib as _toml
+        old = _toml.loads(attrs["config"])
+        changes = config_changes(_strip(old), _strip(self.cfg))
+        if changes and not self.force:
+            raise ConfigError("--restart", self.restart, "the config the checkpoint was written with "
+                              "(or pass --force)", "changed: " + "; ".join(changes))
+        if changes:
+            self.log("warning: restarting with a changed config: " + "; ".join(changes), always=True)
+        try:
+            self.solver.load_raw_state(arrays["particles"], attrs)
+        except ValueError as e:
+            raise ConfigError("--restart", self.restart, "a checkpoint of this case", str(e)) from None
+        self.probes = [tuple(r) for r in np.asarray(arrays["probes"]).tolist()]
+        self.frame_no = int(attrs["frame_no"])
+        self.next = json.loads(attrs["next"])
+        self.snapshots = [tuple(x) for x in json.loads(attrs["snapshots"])]
+        self.log(f"restarted from {self.restart} at step {self.solver.steps}, t = {self.solver.time:.6g} s")
+
+    @property
+    def next_output(self):
+        """Time of the next output that is switched on (an off output never advances its entry)."""
+        on = {"probe": self.probe_dt, "frame": self.frame_dt if self.render else 0.0,
+              "snapshot": self.snap_dt, "checkpoint": self.ckpt_dt}
+        due = [self.next[k] for k, dt in on.items() if dt > 0]
+        return min(due) if due else float("inf")
+
+    def _due(self, key, interval):
+        """Whether an output is due now; schedules the next one on the interval grid."""
+        if interval <= 0 or self.solver.time < self.next[key] - 1e-12:
+            return False
+        k = math.floor(self.solver.time / interval + 1e-9) + 1
+        self.next[key] = k * interval
+        return True

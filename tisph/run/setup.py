@@ -1,0 +1,106 @@
+"""Run set-up: sound speed and common parameters, the log, building a case, the instability
+message, and what a restart may change."""
+import copy
+import sys
+import warnings
+
+import numpy as np
+
+from ..io import OutputError, write_text
+from ..particles import KIND_NAMES
+
+
+class SimulationError(RuntimeError):
+    """The run went unstable; the message says where, what and a likely cause."""
+
+
+def sound_speed(cfg, u_max):
+    """c0 from the config, or c0_factor * u_max (paper 000: B = 100 rho0 u^2 / gamma, i.e. c0 = 10 u)."""
+    n = cfg["numerics"]
+    if n["u_max"] > 0:
+        u_max = n["u_max"]
+    c0 = n["c0"] if n["c0"] > 0 else n["c0_factor"] * u_max
+    return c0, u_max
+
+
+def common_params(cfg, c0, g=9.81, depth=1.0):
+    """The numeric parameters every scene passes to the solver."""
+    n = cfg["numerics"]
+    dx = n["dx"]
+    wall_D = n["wall_strength"] if n["wall_strength"] > 0 else 5.0 * g * depth
+    return dict(dx=dx, h=n["h_factor"] * dx, c0=c0, alpha=n["artificial_viscosity"], xsph=n["xsph"],
+                delta=n["delta"], g=(0.0, -g), wall_D=wall_D, wall_r0=dx, cfl=n["cfl"],
+                dt_max=n["dt_max"], density_band=n["density_band"], shepard_every=n["shepard_every"])
+
+
+class Log:
+    def __init__(self, path, quiet):
+        self.path, self.quiet, self.lines = path, quiet, []
+
+    def __call__(self, msg, always=False, file_only=False):
+        self.lines.append(msg)
+        if always or not (self.quiet or file_only):
+            print(msg, file=sys.stderr)
+
+    def flush(self):
+        try:
+            write_text(self.path, "\n".join(self.lines) + "\n")
+        except OutputError:
+            pass
+
+
+def build_case(scene, cfg, log):
+    """scene.build(cfg), with its warnings and the sound-speed check logged."""
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        case = scene.build(cfg)
+        c0 = case.params["c0"]
+        if c0 < 10.0 * case.u_max * (1 - 1e-9):
+            warnings.warn(f"sound speed c0 = {c0:.3g} m/s is below 10 x the expected peak speed "
+                          f"{case.u_max:.3g} m/s: density errors above 1 % are likely")
+    for w in caught:
+        log(f"warning: {w.message}", always=True)
+    case.warnings = [str(w.message) for w in caught]
+    return case
+
+
+def describe_instability(solver, code, pid):
+    from ..engine.health import BAD_TEXT
+    what, cause = BAD_TEXT.get(code, ("unknown", ""))
+    s = solver.state(("x", "v", "rho", "kind", "mat"))   # ordered by particle id
+    if 0 <= pid < solver.n:
+        x, v, rho = s["x"][pid], s["v"][pid], s["rho"][pid]
+        rho0 = solver.materials[int(s["mat"][pid])]["rho0"]
+        where = (f"particle {pid} ({KIND_NAMES.get(int(s['kind'][pid]), '?')}) at x = ({x[0]:.4g}, {x[1]:.4g}) m, "
+                 f"|v| = {np.hypot(*v):.4g} m/s, rho = {rho:.6g} kg/m3 (rest {rho0:g})")
+    else:
+        where = f"time step dt = {solver.dt:.3g} s"
+    return (f"unstable at step {solver.steps}, t = {solver.time:.6g} s: {what}; {where}. "
+            f"Likely cause: {cause}.")
+
+
+# Keys a restart may change: when and how to stop, and what to write.
+RESTART_FREE = ("run.end_time", "run.max_steps", "run.arch", "output")
+
+
+def _strip(cfg):
+    c = copy.deepcopy(cfg)
+    for k in RESTART_FREE:
+        parts = k.split(".")
+        d = c
+        for p in parts[:-1]:
+            d = d.get(p, {})
+        d.pop(parts[-1], None)
+    return c
+
+
+def config_changes(a, b, prefix=""):
+    """Dotted keys whose values differ between two resolved configs."""
+    out = []
+    for k in sorted(set(a) | set(b)):
+        va, vb = a.get(k), b.get(k)
+        if isinstance(va, dict) and isinstance(vb, dict):
+            out += config_changes(va, vb, f"{prefix}{k}.")
+        elif va != vb:
+            out.append(f"{prefix}{k}: {va!r} -> {vb!r}")
+    return out

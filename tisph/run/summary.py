@@ -1,0 +1,76 @@
+"""The end of a run: probes.csv, the scene's metrics, the mass balance, summary.json, plots."""
+import json
+import os
+
+import numpy as np
+
+from .. import __version__
+from ..io import OutputError, write_csv, write_json
+from ..particles import FLUID, OUT, OUTFLOW
+
+
+def mass_balance(initial, final):
+    """Summed in float64 from the particles' own masses: fluid in the domain + fluid that left
+    through open boundaries (+ leaked fluid) = the initial fluid mass."""
+    m_dev = initial.m.astype(final["m"].dtype)  # the masses as the solver stores them
+    m0 = float(np.sum(m_dev[initial.kind == FLUID], dtype=np.float64))
+    m_in = float(np.sum(final["m"][final["kind"] == FLUID], dtype=np.float64))
+    m_out = float(np.sum(final["m"][final["kind"] == OUTFLOW], dtype=np.float64))
+    m_leak = float(np.sum(final["m"][final["kind"] == OUT], dtype=np.float64))
+    return dict(initial_fluid_mass=m0, fluid_mass=m_in, outflow_mass=m_out, leaked_mass=m_leak,
+                mass_balance_error=abs(m_in + m_out + m_leak - m0) / m0 if m0 > 0 else 0.0,
+                outflow_particles=int(np.sum(final["kind"] == OUTFLOW)))
+
+
+def crossed_wall(solver, final):
+    """Fluid outside the container (the step kernel stops the run at the first crossing, so the
+    final state tells it all)."""
+    if solver.container is None:
+        return 0
+    x0, y0, x1, y1, top = solver.container   # with the solver's tolerance
+    x = final["x"][final["kind"] == FLUID]
+    return int(np.sum((x[:, 1] < y0) | (x[:, 1] > y1) | ((x[:, 1] < top) & ((x[:, 0] < x0) | (x[:, 0] > x1)))))
+
+
+def summarize(run, status, message, wall, step_s, nsteps, compile_s):
+    s, case, cfg, obs = run.solver, run.case, run.cfg, run.case.observers
+    run.write_xdmf()
+    cols = ("t",) + tuple(obs.probe_columns)
+    write_csv(os.path.join(run.out, "probes.csv"), cols, run.probes)
+    arr = {c: np.array([r[k] for r in run.probes], float) for k, c in enumerate(cols)}
+    metrics = obs.metrics(arr) if obs.metrics else {}
+    final = s.state(("x", "v", "kind", "rho", "p", "mat", "m"))
+    if obs.final_metrics:
+        metrics.update(obs.final_metrics(final))
+    crossed = crossed_wall(s, final)
+    nb = int(np.sum(case.particles.kind != FLUID))
+    pps = (s.n * nsteps / step_s) if step_s > 0 else 0.0
+    summary = dict(
+        scene=run.name, status=status, message=message, tisph_version=__version__,
+        dx=float(cfg["numerics"]["dx"]), particles=int(s.n),
+        fluid_particles=int(case.particles.count(FLUID)), boundary_particles=nb,
+        steps=int(s.steps), sim_time=float(s.time), wall_time_s=wall, step_time_s=step_s,
+        compile_time_s=compile_s, particle_steps_per_s=pps,
+        wall_s_per_sim_s=(wall / s.time) if s.time > 0 else None,
+        arch=run.arch, leaked_particles=int(s.leaked), crossed_wall=crossed,
+        max_density_error=s.max_density_error, frames=run.frame_no,
+        snapshots=len(run.snapshots), c0=float(s.c0), h=float(s.h),
+        physics=case.physics.as_dict(), modules=[m.name for m in s.modules],
+        warnings=list(case.warnings), mass=mass_balance(case.particles, final), metrics=metrics,
+    )
+    if run.restart:
+        summary["restarted_from"] = os.path.abspath(run.restart)
+    if obs.finalize:
+        try:
+            obs.finalize(run.out, metrics)
+        except OutputError:
+            raise
+        except Exception as e:  # a failed plot must not lose the run's numbers
+            run.log(f"warning: could not write the scene's plots: {e}", always=True)
+    write_json(os.path.join(run.out, "summary.json"), summary)
+    run.log(f"{status}: {s.steps} steps to t = {s.time:.4g} s in {wall:.2f} s "
+            f"({pps:.3g} particle-steps/s), leaked {s.leaked}, crossed a wall {crossed}, "
+            f"max density error {s.max_density_error:.3%}")
+    if metrics:
+        run.log("metrics: " + json.dumps(metrics))
+    return summary
