@@ -3,7 +3,7 @@ what is allowed; none reaches Taichi or prints a traceback."""
 import pytest
 
 from tisph.run import run_scene
-from tisph.scenes import beach, dam_break, tank, tunnel
+from tisph.scenes import beach, dam_break, flume, pipeline_scour, tank, tunnel
 
 CASES = [
     # (scene, argv, TOML text or None, words the message must contain)
@@ -42,6 +42,20 @@ CASES = [
     (tunnel, [], "[geometry]\nperiod = 0.0\n", ["geometry.period", "> 0"]),
     (tunnel, [], "[geometry]\nseed_ripple_height = 0.07\n", ["geometry.seed_ripple_height", "0.07", "sand_depth - 2 dx"]),
     (beach, [], "[geometry]\ngrain_diameter = -0.001\n", ["geometry.grain_diameter", "-0.001", "> 0"]),
+    (tunnel, [], "[sediment]\nporosity = 1.5\n", ["sediment.porosity", "1.5", "<= 0.9"]),
+    (tunnel, [], "[sediment]\nmodel = \"grains\"\n", ["sediment.model", "grains", "'bedload'"]),
+    (tunnel, [], "[sediment]\nrepose_angle = 80.0\n", ["sediment.repose_angle", "80.0", "<= 60"]),
+    (tunnel, [], "[sediment]\nmorfac = 0.5\n", ["sediment.morfac", ">= 1"]),
+    # a spacing whose particles cannot fit: refused before anything is allocated
+    (dam_break, ["--dx", "1e-6"], None, ["numerics.dx", "1e-06", "fit in this machine's memory", "2e+12 points", "available"]),
+    (beach, ["--dx", "1e-6"], None, ["numerics.dx", "fit in this machine's memory", "TB"]),
+    (pipeline_scour, ["--dx", "1e-6"], None, ["numerics.dx", "fit in this machine's memory"]),
+    (tunnel, ["--dx", "1e-6"], None, ["numerics.dx", "fit in this machine's memory"]),
+    # path-valued flags and keys that name a folder
+    (dam_break, ["--config", "."], None, ["--config", "'.'", "a TOML file", "it is a folder"]),
+    (dam_break, ["--restart", "."], None, ["--restart", "'.'", "a checkpoint.h5", "it is a folder"]),
+    (dam_break, ["--restart", "missing.h5"], None, ["--restart", "missing.h5", "an existing checkpoint.h5"]),
+    (flume, [], "[paddle]\nseries = \".\"\n", ["paddle.series", "'.'", "a CSV file", "it is a folder"]),
 ]
 
 
@@ -83,3 +97,14 @@ def test_changed_config_refused_on_restart_unless_forced(tmp_path, capsys):
     code = run_scene(dam_break, ["--dx", "0.06", "--config", str(cfg), "--end-time", "0.02", "--no-render",
                                  "--quiet", "--out", out, "--restart", ck, "--force"])
     assert code == 0
+
+
+def test_byte_order_mark_is_accepted(tmp_path):
+    """A case file saved with a UTF-8 byte-order mark (several Windows editors write one) reads."""
+    cfg = tmp_path / "bom.toml"
+    cfg.write_bytes(b"\xef\xbb\xbf[run]\nend_time = 0.004\n")
+    code = run_scene(dam_break, ["--config", str(cfg), "--dx", "0.06", "--no-render", "--quiet",
+                                 "--out", str(tmp_path / "o")])
+    assert code == 0
+    import json
+    assert json.load(open(tmp_path / "o" / "summary.json"))["sim_time"] >= 0.004

@@ -10,6 +10,7 @@ from __future__ import annotations
 import copy
 import difflib
 import math
+import os
 import sys
 from dataclasses import dataclass, asdict
 
@@ -45,18 +46,12 @@ SHARED_DEFAULTS = {
         "wall": "dynamic",           # dynamic (DBC) | repulsive (paper 000 eq. 6)
         "wall_layers": 3,            # layers of dynamic boundary particles
         "wall_strength": 0.0,        # repulsive D (m^2/s^2); 0: auto = 5 g H (Monaghan 1994)
-        "cfl": 0.4,                  # measured: dam-break front and density error unchanged from 0.2 to 0.4 (0.5: +40 % density error)
-        "dt_max": 1e-3,              # user cap on the time step (s)
         "c0": 0.0,                   # sound speed (m/s); 0: auto = c0_factor * u_max
         "c0_factor": 10.0,
         "u_max": 0.0,                # expected peak flow speed (m/s); 0: the scene's estimate
-        "artificial_viscosity": 0.1, # Monaghan alpha; 0 compiles the term out
         "laminar_viscosity": False,  # paper 002 eq. 10 with the materials' viscosity
-        "xsph": 0.0,                 # XSPH epsilon (paper 000 eq. 10); 0 compiles it out
         "density_diffusion": "none", # none | molteni | fourtakas
-        "delta": 0.1,                # density diffusion coefficient
         "shepard_every": 0,          # Shepard density filter every N steps (paper 002 eq. 14); 0 off
-        "density_band": 0.3,         # stop when |rho/rho0 - 1| exceeds this (instability)
     },
     "output": {
         "dir": "",                   # "" -> renders/<scene>
@@ -88,16 +83,10 @@ RANGES = {
     "numerics.h_factor": (1.0, 2.5, True, True),
     "numerics.wall_layers": (1, 6, True, True),
     "numerics.wall_strength": (0.0, None, True, True),
-    "numerics.cfl": (0.0, 1.0, False, True),
-    "numerics.dt_max": (0.0, None, False, True),
     "numerics.c0": (0.0, None, True, True),
     "numerics.c0_factor": (1.0, None, True, True),
     "numerics.u_max": (0.0, None, True, True),
-    "numerics.artificial_viscosity": (0.0, 2.0, True, True),
-    "numerics.xsph": (0.0, 0.5, True, True),
-    "numerics.delta": (0.0, 1.0, True, True),
     "numerics.shepard_every": (0, None, True, True),
-    "numerics.density_band": (0.0, 1.0, False, True),
     "output.fps": (1, 240, True, True),
     "output.frame_interval": (0.0, None, False, True),
     "output.probe_interval": (0.0, None, False, True),
@@ -106,6 +95,23 @@ RANGES = {
     "output.snapshot_every": (-1.0, None, True, True),
     "output.checkpoint_every": (0.0, None, True, True),
 }
+
+
+def _module_keys():
+    """Config keys whose default and range the engine's modules declare (tisph/engine/module.py
+    Param.key): written once there, read here."""
+    from .engine.registry import MODULES
+    from .engine.state import CORE_PARAMS
+    for decl in [CORE_PARAMS] + [m.params for m in MODULES]:
+        for p in decl.values():
+            if p.key:
+                yield p
+
+
+for _p in _module_keys():
+    _sec, _name = _p.key.split(".")
+    SHARED_DEFAULTS[_sec][_name] = _p.default
+    RANGES[_p.key] = tuple(_p.range)
 
 # Rules that apply to every material, whatever its name.
 MATERIAL_RANGES = {
@@ -219,12 +225,28 @@ def validate(cfg: dict, extra_ranges: dict | None = None, extra_choices: dict | 
     return cfg
 
 
+def check_file(key, path, what):
+    """A path-valued key or flag must name an existing file, not a folder."""
+    if os.path.isdir(path):
+        raise ConfigError(key, str(path), f"a {what}", "it is a folder")
+    if not os.path.exists(path):
+        raise ConfigError(key, str(path), f"an existing {what}", "no such file")
+
+
 def read_toml(path) -> dict:
+    check_file("--config", path, "TOML file")
     try:
         with open(path, "rb") as f:
-            return tomllib.load(f)
-    except FileNotFoundError:
-        raise ConfigError("--config", str(path), "an existing TOML file") from None
+            raw = f.read()
+    except OSError as e:
+        raise ConfigError("--config", str(path), "a readable TOML file", str(e)) from None
+    # a UTF-8 byte-order mark (what several Windows editors write) is not TOML: drop it
+    if raw.startswith(b"\xef\xbb\xbf"):
+        raw = raw[3:]
+    try:
+        return tomllib.loads(raw.decode("utf-8"))
+    except UnicodeDecodeError as e:
+        raise ConfigError("--config", str(path), "a TOML file in UTF-8", str(e)) from None
     except tomllib.TOMLDecodeError as e:
         raise ConfigError("--config", str(path), "valid TOML", str(e)) from None
 
@@ -319,6 +341,7 @@ class Physics:
     sps: bool = False           # SPS (Smagorinsky) turbulence in Newtonian materials (paper 002 eq. 10)
     drag: bool = False          # fluid-sediment drag between different materials (paper 002 eq. 16)
     dem: bool = False           # DEM spring-dashpot contacts between sediment particles (paper 002 eqs. 17-28)
+    moving_bed: bool = False    # BED particles follow a morphodynamic bed z_b(x) (tisph/sediment)
 
     def as_dict(self):
         return asdict(self)

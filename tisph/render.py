@@ -7,7 +7,7 @@ import numpy as np
 import taichi as ti
 
 from .io import atomic_path, OutputError
-from .particles import FLUID
+from .particles import BED, FLUID
 
 # Viridis, sampled at 9 points (matplotlib's data), interpolated linearly.
 _VIRIDIS = np.array([
@@ -77,6 +77,8 @@ class Renderer:
             k = p.kind[i]
             if k >= 0:
                 col = ti.Vector(BOUNDARY)
+                if k == BED:
+                    col = ti.Vector(SAND)
                 if k == FLUID:
                     s = ti.min(p.v[i].norm() / vmax, 1.0)
                     col = self.lut[ti.cast(s * 255.0, ti.i32)]

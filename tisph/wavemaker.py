@@ -51,6 +51,8 @@ class Motion:
 
 def read_series(path):
     """A paddle time series: CSV with a header row and columns t (s), displacement (m)."""
+    from .config import check_file
+    check_file("paddle.series", path, "CSV file with columns t, displacement")
     try:
         data = np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2)
     except (OSError, ValueError) as e:

@@ -43,6 +43,13 @@ class SolverAPI:
             raise ValueError("set_drive needs a periodic case (the Drive module is off)")
         self.prm[None].drive = (float(gx), float(gy))
 
+    def set_bed(self, dz, w):
+        """The morphodynamic bed's displacement z_b - z_b0 and speed dz_b/dt per station."""
+        m = self.module("moving_bed")
+        if m is None:
+            raise ValueError("set_bed needs physics.moving_bed (the MovingBed module is off)")
+        m.set(dz, w)
+
     @property
     def drive(self):
         d = self.prm[None].drive

@@ -15,6 +15,7 @@ Declarations (class attributes, all optional):
 Hooks (define only those the module uses; `S` is the solver):
   drift(S, i, u) -> u              fluid drift velocity (XSPH)
   move(S, i, dt)                   a MOVING boundary particle's prescribed motion (paddle)
+  boundary_motion(S, i, k, dt)     any other boundary's motion by kind (the moving sand bed)
   boundary_kick(S, i, dt)          a boundary particle's half kick (dynamic walls)
   remove(S, i) -> gone             fluid leaving through an open boundary (outflow)
   position_check(S, i)             fluid in a forbidden place (container)
@@ -31,19 +32,22 @@ Hooks (define only those the module uses; `S` is the solver):
 """
 import dataclasses
 
-HOOKS = ("drift", "move", "boundary_kick", "remove", "position_check", "prepare", "init_acc",
+HOOKS = ("drift", "move", "boundary_motion", "boundary_kick", "remove", "position_check", "prepare", "init_acc",
          "view", "pair", "body_force", "relax", "finish", "boundary_pass", "dt_limit", "after_step")
 
 
 @dataclasses.dataclass(frozen=True)
 class Param:
-    """A runtime parameter: the one default, its unit and allowed range (lo, hi; None = open).
-    A default may be 'dx' (the particle spacing) or a function (S, values) -> value."""
+    """A runtime parameter: the one default, its unit and allowed range (lo, hi, lo_inclusive,
+    hi_inclusive; None = open). A default may be 'dx' (the particle spacing) or a function
+    (S, values) -> value. `key`: the config key that sets it; config.py takes that key's default
+    and range from here, so they are written once."""
     default: object
     unit: str = "-"
-    range: tuple = (None, None)
+    range: tuple = (None, None, True, True)
     doc: str = ""
     vector: bool = False
+    key: str = ""
 
 
 @dataclasses.dataclass(frozen=True)
@@ -75,8 +79,11 @@ class Module:
     def fields(self, real):
         return {}
 
+    def allocate(self, S):
+        """Create fields that are not per particle (before any field is written)."""
+
     def setup(self, S):
-        """Python-side set-up once the solver's fields exist (material values, initial state)."""
+        """Python-side set-up once the solver's fields exist and hold their values."""
 
     def has(self, hook):
         return callable(getattr(type(self), hook, None))

@@ -4,6 +4,7 @@ same sum (float addition is not associative): the order here is the order of the
 Adding a term: write its Module, add it here, add its switch to config.Physics (and the
 config key that sets it), and test it (tests/test_terms.py).
 """
+from ..boundaries.bed import MovingBed
 from ..boundaries.paddle import Paddle
 from ..boundaries.walls import DynamicWall, NoSlip, RepulsiveWall
 from ..boundaries.zones import Container, Damping, Drive, Inflow, Outflow
@@ -18,7 +19,7 @@ MODULES = (
     NoSlip,               # the ghost velocity, before the viscous terms read it
     LaminarViscosity, VelocityGradient, SPS, DEM, Drag, DensityDiffusion, XSPH,
     Rheology,             # finish: the effective viscosity for the next step (may rest the plug)
-    Drive, Damping, Inflow, Paddle, DynamicWall, Outflow, Container, Shepard,
+    Drive, Damping, Inflow, Paddle, MovingBed, DynamicWall, Outflow, Container, Shepard,
 )
 
 

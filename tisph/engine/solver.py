@@ -90,9 +90,12 @@ class Solver(SolverAPI):
         self.domain = (tuple(float(v) for v in domain[0]), tuple(float(v) for v in domain[1]))
         self.lo, self.hi, self.period = self.grid.lo, self.grid.hi, self.grid.period
         self.support = self.grid.support
-        self.material_decl = st_mod.material_table(self, self.modules, materials)
+        self.material_decl, mat_writes = st_mod.material_table(self, self.modules, materials)
         self.param_decl, self.param_values = st_mod.param_struct(self, self.modules, params, self.dx)
         self.stat_decl = st_mod.stats_struct(self, self.modules)
+        for m in self.modules:
+            m.allocate(self)          # module fields that are not per particle, if any
+        st_mod.write_tables(self, mat_writes, self.param_values)   # every field exists now
         acc = dict(ACC_CORE)
         for m in self.modules:
             acc.update(m.acc)
@@ -151,6 +154,8 @@ class Solver(SolverAPI):
                             m.move(self, i, dt)
                     else:
                         p.x[i] = self.grid.wrap(p.x[i] + dt * p.v[i])
+                for m in ti.static(self.hooks["boundary_motion"]):
+                    m.boundary_motion(self, i, k, dt)
                 for m in ti.static(self.hooks["boundary_kick"]):
                     m.boundary_kick(self, i, dt)
             gone = False

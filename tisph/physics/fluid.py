@@ -40,7 +40,8 @@ class ArtificialViscosity(Module):
     """Monaghan's artificial viscosity, paper 000 eq. 9; its signal speed enters the time step."""
     name = "artificial_viscosity"
     on = {"artificial_viscosity": True}
-    params = {"alpha": Param(0.0, "-", (0.0, None), "artificial viscosity coefficient (numerics.artificial_viscosity)")}
+    params = {"alpha": Param(0.1, "-", (0.0, 2.0, True, True), "Monaghan alpha; 0 compiles the term out",
+                             key="numerics.artificial_viscosity")}
     acc = {"mu": "real"}
 
     @staticmethod
@@ -110,7 +111,8 @@ class DensityDiffusion(Module):
     (2019) with the hydrostatic part removed (numerics.density_diffusion)."""
     name = "density_diffusion"
     on = {"density_diffusion": "molteni"}
-    params = {"delta": Param(0.0, "-", (0.0, 1.0), "density diffusion coefficient (numerics.delta)")}
+    params = {"delta": Param(0.1, "-", (0.0, 1.0, True, True), "density diffusion coefficient",
+                             key="numerics.delta")}
     acc = {"rho0_c02": "real"}
 
     @staticmethod
@@ -138,7 +140,8 @@ class XSPH(Module):
     """XSPH, paper 000 eq. 10: particles drift with v + eps sum m_j / rho_ij (v_j - v_i) W."""
     name = "xsph"
     on = {"xsph": True}
-    params = {"eps": Param(0.0, "-", (0.0, 1.0), "XSPH coefficient (numerics.xsph)")}
+    params = {"eps": Param(0.0, "-", (0.0, 0.5, True, True), "XSPH epsilon (paper 000 eq. 10); 0 compiles it out",
+                           key="numerics.xsph")}
     acc = {"xs": "vec2"}
 
     @staticmethod

@@ -41,3 +41,29 @@ def surface_heights(st, xs, dx, h, floor=0.0, mat=0):
 def surface_at(st, xg, dx, h, floor=0.0, mat=0):
     """surface_heights at a single x."""
     return float(surface_heights(st, [xg], dx, h, floor, mat)[0])
+
+
+def velocity_at(st, points, h, mat=0):
+    """SPH velocity of material `mat` at the given points, Shepard-normalised (sum V_j u_j W /
+    sum V_j W, so a point near the bed or the surface is not biased low); NaN where no water is
+    within the kernel."""
+    fl = st["kind"] == FLUID
+    if mat is not None:
+        fl &= st["mat"] == mat
+    x, v = st["x"][fl], st["v"][fl]
+    vol = st["m"][fl] / st["rho"][fl]
+    order = np.argsort(x[:, 0])
+    x, v, vol = x[order], v[order], vol[order]
+    pts = np.asarray(points, float).reshape(-1, 2)
+    lo = np.searchsorted(x[:, 0], pts[:, 0] - K.support * h)
+    hi = np.searchsorted(x[:, 0], pts[:, 0] + K.support * h)
+    out = np.full((len(pts), 2), np.nan)
+    for k in range(len(pts)):
+        if hi[k] <= lo[k]:
+            continue
+        xn = x[lo[k]:hi[k]]
+        w = K.shape_np(np.hypot(xn[:, 0] - pts[k, 0], xn[:, 1] - pts[k, 1]) / h) * vol[lo[k]:hi[k]]
+        sw = w.sum()
+        if sw > 0:
+            out[k] = (w[:, None] * v[lo[k]:hi[k]]).sum(0) / sw
+    return out

@@ -73,6 +73,9 @@ def simulate(scene, overrides=None, out=None, config=None, restart=None, force=F
         log(f"# {runtime.describe()}, requested {cfg['run']['arch']}", file_only=True)
         if cfg["run"]["arch"] == "gpu" and arch in ("x64", "arm64"):
             log("warning: no GPU backend found, running on the CPU", always=True)
+        if restart:
+            from ..config import check_file
+            check_file("--restart", restart, "checkpoint.h5 written by tisph")
         case = build_case(scene, cfg, log)
         return run_case(case, cfg, out, log, scene.NAME, restart=restart, force=force)
     except (ConfigError, OutputError) as e:

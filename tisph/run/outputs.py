@@ -99,7 +99,9 @@ class Outputs:
 
     def resume(self):
         """Load self.restart into the solver and the run's own state."""
+        from ..config import check_file
         from ..io import load
+        check_file("--restart", self.restart, "checkpoint.h5 written by tisph")
         arrays, attrs = load(self.restart)
         if attrs.get("kind") != "tisph checkpoint" or "particles" not in arrays:
             raise ConfigError("--restart", self.restart, "a checkpoint.h5 written by tisph")

@@ -58,10 +58,31 @@ def build_case(scene, cfg, log):
         if c0 < 10.0 * case.u_max * (1 - 1e-9):
             warnings.warn(f"sound speed c0 = {c0:.3g} m/s is below 10 x the expected peak speed "
                           f"{case.u_max:.3g} m/s: density errors above 1 % are likely")
+        check_size(case, cfg)
     for w in caught:
         log(f"warning: {w.message}", always=True)
     case.warnings = [str(w.message) for w in caught]
     return case
+
+
+# The engine's speed on these 2-core machines (python -m tisph.bench: 1.7e6 to 2.8e6
+# particle-steps/s for the dam break); the run-time warning uses the upper figure.
+PARTICLE_STEPS_PER_S = 2.8e6
+
+
+def check_size(case, cfg):
+    """Refuse a case that cannot fit in memory; warn when one will take very long."""
+    from ..particles import RUN_BYTES_PER_PARTICLE, check_fits
+    n = len(case.particles)
+    dx = cfg["numerics"]["dx"]
+    check_fits(n, RUN_BYTES_PER_PARTICLE, dx, "this case")
+    p = case.params
+    dt = p.get("cfl", 0.4) * p["h"] / p["c0"]          # the acoustic step, an upper bound
+    wall_per_sim_s = n / PARTICLE_STEPS_PER_S / dt
+    if wall_per_sim_s > 3600.0:
+        warnings.warn(f"{n:,} particles at dt about {dt:.2g} s: expect about {wall_per_sim_s / 3600:.3g} hours "
+                      f"of wall time per simulated second on 2 cores (at {PARTICLE_STEPS_PER_S:.2g} "
+                      f"particle-steps/s); numerics.dx = {dx:g}")
 
 
 def describe_instability(solver, code, pid):

@@ -33,6 +33,7 @@ from ..run import common_params, run_scene, sound_speed
 from ..materials import BINGHAM_SAND, WATER
 from ..probes.gauges import surface_heights
 from ..probes.plots import pyplot, save
+from ..sediment import coupling
 
 NAME = "tunnel"
 
@@ -51,9 +52,15 @@ DEFAULTS = {
                  # length rounded to fit the periodic length: does the bed keep, grow or lose them?
                  "seed_ripple_height": 0.0},
     "materials": {"water": dict(WATER), "sand": dict(BINGHAM_SAND)},     # the beach's water and sand
+    # sediment.model = "bedload": the bed below particle scale (tisph/sediment); grain_density is
+    # the grains' own (quartz), not the saturated bed's
+    "sediment": dict(coupling.DEFAULTS, grain_density=2650.0),
     "output": {"frame_interval": 0.05, "probe_interval": 0.05, "width": 960},
 }
 RANGES = {f"geometry.{k}": (0.0, None, k == "seed_ripple_height", True) for k in DEFAULTS["geometry"]}
+RANGES.update(coupling.RANGES)
+RANGES["sediment.grain_density"] = (1000.0, None, False, True)
+CHOICES = dict(coupling.CHOICES)
 
 
 def check(cfg):
@@ -81,6 +88,8 @@ def free_stream(t, Um, omega, period):
 
 
 def build(cfg):
+    if cfg["sediment"]["model"] == "bedload":
+        return _build_bedload(cfg)
     geo, num = cfg["geometry"], cfg["numerics"]
     dx, Lx, hw, hs = num["dx"], geo["length"], geo["water_depth"], geo["sand_depth"]
     Tp = geo["period"]
@@ -188,25 +197,112 @@ def _particles(cfg, c0, a_seed, n_seed):
     return ps
 
 
-def _plot_bed(path, arr, stations, geo, dx, lam_wh, eta_wh):
-    """The bed change at five times, with the predicted equilibrium ripple for scale."""
+def _plot_bed(path, arr, stations, geo, dx, lam_wh, eta_wh, level=None):
+    """The bed change at five times (level: the bed itself above that level, from the start),
+    with the predicted equilibrium ripple for scale."""
     Lx, Tp = geo["length"], geo["period"]
     plt = pyplot()
     fig, ax = plt.subplots(figsize=(8, 3))
-    for tt in np.linspace(arr[0, 0], arr[-1, 0], 5)[1:]:
+    times = np.linspace(arr[0, 0], arr[-1, 0], 5)
+    for tt in (times if level is not None else times[1:]):
         r = arr[np.argmin(np.abs(arr[:, 0] - tt))]
-        ax.plot(stations, 1e3 * (r[1:] - arr[0, 1:]), lw=0.9, label=f"t = {r[0]:.1f} s")
+        base = level if level is not None else arr[0, 1:]
+        ax.plot(stations, 1e3 * (r[1:] - base), lw=0.9, label=f"t = {r[0]:.1f} s")
     # the predicted equilibrium ripple, for scale
     xr = np.linspace(0.0, min(Lx, 2 * lam_wh), 100)
     ax.plot(xr, 1e3 * 0.5 * eta_wh * np.sin(2 * np.pi * xr / lam_wh), "k--", lw=0.8,
             label=f"Wiberg & Harris: {100 * lam_wh:.1f} cm x {100 * eta_wh:.1f} cm")
     ax.axhspan(-0.5e3 * dx, 0.5e3 * dx, color="0.93")
     ax.set_xlabel("x (m)")
-    ax.set_ylabel("bed change (mm)")
+    ax.set_ylabel("bed change (mm)" if level is None else "bed level (mm)")
     ax.set_title(f"oscillating tunnel, d0 = {geo['orbital_diameter']:g} m, T = {Tp:g} s "
                  f"(grey: +-dx/2)", fontsize=9)
     ax.legend(fontsize=7, ncol=2)
     save(fig, path)
+
+
+def _build_bedload(cfg):
+    """The tunnel over a morphodynamic bed: water only, over BED particles that follow z_b."""
+    import dataclasses
+    geo, num, sed = cfg["geometry"], cfg["numerics"], cfg["sediment"]
+    dx, Lx, hw, hs = num["dx"], geo["length"], geo["water_depth"], geo["sand_depth"]
+    Tp, d0 = geo["period"], geo["orbital_diameter"]
+    omega = 2.0 * math.pi / Tp
+    Um = 0.5 * d0 * omega
+    rw = cfg["materials"]["water"]["rho0"]
+    c0, u_max = sound_speed(cfg, 1.5 * Um)
+    L, h = num["wall_layers"], num["h_factor"] * dx
+    ytop = hs + hw
+    lam_wh, eta_wh, regime = wiberg_harris(d0, geo["grain_diameter"])
+    n_seed = max(1, int(round(Lx / lam_wh))) if lam_wh > 0 else 1
+    stations = (np.arange(int(round(Lx / dx))) + 0.5) * dx
+    z = hs + 0.5 * geo["seed_ripple_height"] * np.sin(2 * np.pi * n_seed * stations / Lx)
+    z = coupling.initial_bed(stations, z, sed, dx)
+    lattice = block(0.0, 0.0, Lx, ytop, dx)
+    col = np.clip((lattice[:, 0] / dx).astype(int), 0, len(stations) - 1)
+    xw = lattice[lattice[:, 1] >= z[col] + 0.5 * dx]
+
+    def density(y):
+        return density_from_pressure(rw * G * (ytop - np.minimum(y, ytop)), rw, c0)
+
+    ps = ParticleSet()
+    ps.add(xw, FLUID, 0, density(xw[:, 1]), rw * dx * dx)
+    coupling.add_bed_particles(ps, stations, z, dx, L, rw, density)
+    params = common_params(cfg, c0, G, depth=ytop)
+    params["bed_stations"] = len(stations)
+    pad = 4 * h
+    domain = ((0.0, float(z.min()) - (L + 2) * dx - pad), (Lx, 2.0 * ytop + pad))
+    physics = dataclasses.replace(physics_from_config(cfg, periodic_x=True, materials_used=["water"]),
+                                  moving_bed=True)
+    bed = coupling.BedCoupler(sed, stations, z, dx, h, geo["grain_diameter"], sed["grain_density"],
+                              amplitude=0.5 * d0, periodic=True, rho_w=rw)
+    ctl = PIDrive(0.1 * Tp)
+    rows = []
+
+    def u_free(st):
+        free = (st["kind"] == FLUID) & (st["x"][:, 1] > hs + 0.5 * hw)
+        return float(st["v"][free, 0].mean())
+
+    def control(s):
+        u_t, dudt = free_stream(s.time, Um, omega, Tp)
+        ctl.update(s, u_t - u_free(s.state(("x", "v", "kind", "mat"))), dudt)
+        bed.update(s)
+
+    def probe(st):
+        zb = bed.bed.z
+        rows.append((st["t"],) + tuple(zb))
+        lam, hr, _ = ripple_stats(stations, zb - hs, window=0.5 * Lx, min_length=MIN_LENGTH_DX * dx,
+                                  min_height=0.1 * dx)
+        rms = float(np.sqrt(np.mean((zb - bed.z0) ** 2)))
+        return lam, hr, rms, u_free(st), free_stream(st["t"], Um, omega, Tp)[0], float(np.abs(bed.tau).max())
+
+    def metrics(c):
+        out = dict(velocity_amplitude=Um, predicted_ripple_length=lam_wh, predicted_ripple_height=eta_wh,
+                   predicted_regime=regime, morfac=sed["morfac"], sediment_model="bedload",
+                   theta_cr=bed.bed.theta_cr, sand_volume_error=bed.volume_error(),
+                   mobility_number=Um ** 2 / ((sed["grain_density"] / rw - 1) * G * geo["grain_diameter"]))
+        out.update(last_finite(c, ("ripple_length", "ripple_height", "bed_change_rms")))
+        lam = out["ripple_length"]
+        out["ripple_count"] = int(round(Lx / lam)) if np.isfinite(lam) and lam > 0 else 0
+        out["ripple_length_over_d0"] = lam / d0
+        out["ripple_steepness"] = out["ripple_height"] / lam if lam > 0 else float("nan")
+        out["ripple_length_over_prediction"] = lam / lam_wh if lam_wh > 0 else float("nan")
+        return out
+
+    def finalize(out, metrics):
+        if rows:
+            write_csv(os.path.join(out, "bed_profile.csv"), ("t",) + tuple(f"x{x:.3f}" for x in stations), rows)
+            _plot_bed(os.path.join(out, "bed_profile.png"), np.array(rows), stations, geo, dx, lam_wh, eta_wh,
+                      level=hs)
+
+    return make_case(name=NAME, particles=ps, materials=[dict(cfg["materials"]["water"], name="water",
+                                                               B=tait_B(rw, c0))],
+                     domain=domain, params=params, physics=physics, view=((0.0, hs - 0.1), (Lx, ytop + 2 * dx)),
+                     u_max=u_max, probe_columns=("ripple_length", "ripple_height", "bed_change_rms", "u_free",
+                                                 "u_target", "max_bed_shear"),
+                     probe=probe, metrics=metrics, finalize=finalize, container=(-1e9, float(z.min()) - L * dx, 1e9,
+                                                                                float("inf")),
+                     control=control, control_every=sed["update_every"])
 
 
 def main(argv=None):

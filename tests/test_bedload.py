@@ -1,0 +1,133 @@
+"""The morphodynamic bed's formulae and its finite-volume bed, against the formulae themselves
+and the published values they give (tisph/sediment)."""
+import math
+
+import numpy as np
+import pytest
+
+from tisph.sediment.bed import Bed
+from tisph.sediment.transport import (bedload_mpm, bedload_nielsen, shear_log_law, shields_critical,
+                                      slope_factor, swart_friction_factor, transport_scale)
+
+D50, RHO_S = 0.0003, 2650.0
+
+
+def test_soulsby_whitehouse_threshold():
+    """About 0.037 for 0.3 mm quartz (the research notes; Soulsby 1997 fig. 2 reads 0.037)."""
+    assert shields_critical(D50, 2.65) == pytest.approx(0.0374, abs=0.0005)
+    # coarser grains: the curve falls, then rises towards 0.055 for gravel
+    assert shields_critical(0.001, 2.65) < shields_critical(D50, 2.65)
+    assert shields_critical(0.05, 2.65) == pytest.approx(0.055 * (1 - math.exp(-0.02 * 1265.0)) + 0.3 / (1 + 1.2 * 1265.0), rel=0.01)
+
+
+def test_swart_and_log_law():
+    ks = 2.5 * D50
+    A = ks / 0.01
+    assert swart_friction_factor(A, D50) == pytest.approx(math.exp(5.213 * 0.01 ** 0.194 - 5.977), rel=1e-12)
+    assert swart_friction_factor(ks, D50) == 0.3          # capped
+    # log law: u* = kappa u / ln(z / z0)
+    z0 = ks / 30
+    tau = shear_log_law(0.3, 0.015, D50)
+    assert tau == pytest.approx(1000.0 * (0.42 * 0.3 / math.log(0.015 / z0)) ** 2)
+    assert shear_log_law(-0.3, 0.015, D50) == pytest.approx(-tau)
+
+
+def test_slope_factor():
+    assert slope_factor(0.0, 1.0, 32.0) == pytest.approx(1.0)
+    assert slope_factor(math.tan(math.radians(32)), -1.0, 32.0) == pytest.approx(0.0, abs=1e-12)  # downslope at repose
+    assert slope_factor(0.2, 1.0, 32.0) > 1.0 > slope_factor(0.2, -1.0, 32.0)
+
+
+@pytest.mark.parametrize("theta_over_cr", [0.5, 2.0, 4.0])
+def test_uniform_current_threshold_and_mpm_flux(theta_over_cr):
+    """A periodic flat bed under a uniform shear: no transport below theta_cr; above it the
+    saturated flux is Meyer-Peter & Mueller's."""
+    x = (np.arange(100) + 0.5) * 0.01
+    bed = Bed(x, np.full(100, 0.1), D50, RHO_S, saturation_length=0.03)
+    theta = theta_over_cr * bed.theta_cr
+    tau = theta * (RHO_S - 1000.0) * 9.81 * D50
+    dz = bed.step(np.full(100, tau), 1.0)
+    want = bedload_mpm(theta, bed.theta_cr) * transport_scale(D50, RHO_S / 1000.0)
+    assert np.allclose(bed.q, want, rtol=1e-9, atol=0)
+    assert (want == 0) == (theta_over_cr < 1)
+    assert np.abs(dz).max() < 1e-15          # uniform flux: the flat bed stays flat
+    assert bedload_nielsen(theta, bed.theta_cr) == pytest.approx(
+        12 * math.sqrt(theta) * max(theta - bed.theta_cr, 0.0))
+
+
+def test_volume_conserved_periodic():
+    rng = np.random.default_rng(1)
+    x = (np.arange(200) + 0.5) * 0.005
+    bed = Bed(x, 0.1 + 0.004 * rng.standard_normal(200), D50, RHO_S, morfac=10.0)
+    v0 = bed.volume()
+    tc = bed.theta_cr * (RHO_S - 1000.0) * 9.81 * D50
+    for k in range(200):
+        tau = 3 * tc * np.sin(2 * np.pi * k / 50) * (1 + 0.3 * np.sin(2 * np.pi * x / 0.2))
+        bed.step(tau, 0.01)
+    assert np.abs(bed.z - 0.1).max() > 1e-4          # the bed moved
+    assert abs(bed.volume() - v0) / v0 < 1e-12
+
+
+def test_closed_bed_keeps_its_sand():
+    x = (np.arange(80) + 0.5) * 0.01
+    bed = Bed(x, np.full(80, 0.05), D50, RHO_S, periodic=False)
+    v0 = bed.volume()
+    tc = bed.theta_cr * (RHO_S - 1000.0) * 9.81 * D50
+    for _ in range(100):
+        bed.step(np.full(80, 4 * tc), 0.05)     # a current pushing sand against the end
+    assert bed.z[-1] > 0.05 > bed.z[0]
+    assert abs(bed.volume() - v0) / v0 < 1e-12
+
+
+def test_heap_relaxes_to_repose():
+    x = (np.arange(101) - 50.0) * 0.005
+    z = np.maximum(0.0, 0.1 - np.abs(x) * math.tan(math.radians(50)))   # 50 degree flanks
+    bed = Bed(x, z, D50, RHO_S, repose_deg=32.0, periodic=False)
+    v0 = bed.volume()
+    bed.avalanche()
+    assert bed.max_slope_deg() == pytest.approx(32.0, abs=2.0)
+    assert abs(bed.volume() - v0) / v0 < 1e-12
+
+
+def test_rippled_bed_under_still_water_does_not_change():
+    """Slopes of 20 degrees, no shear, 100 s of simulated time: nothing moves."""
+    x = (np.arange(200) + 0.5) * 0.005
+    lam = 0.1
+    z = 0.1 + math.tan(math.radians(20)) * lam / (2 * np.pi) * np.sin(2 * np.pi * x / lam)
+    bed = Bed(x, z, D50, RHO_S)
+    assert 15 < bed.max_slope_deg() <= 21
+    z0 = bed.z.copy()
+    for _ in range(100):
+        bed.step(np.zeros(200), 1.0)
+    assert np.array_equal(bed.z, z0)
+
+
+def test_tunnel_bedload_moves_the_bed_particles_and_keeps_the_sand(tmp_path):
+    """The tunnel over the morphodynamic bed, one period at dx 2 cm with morfac 20: the bed moves,
+    its volume is conserved to 1e-6 and the BED particles' top layer sits dx/2 under z_b."""
+    from tisph.particles import BED
+    from tisph.run import Log, Run, build_case, resolve
+    from tisph import runtime
+    from tisph.scenes import tunnel
+    cfg = resolve(tunnel, overrides={"numerics.dx": 0.02, "run.end_time": 2.0, "output.render": False,
+                                     "output.quiet": True, "output.snapshot_every": 0.0,
+                                     "sediment.model": "bedload", "sediment.seed_rms": 0.004,
+                                     "sediment.morfac": 20.0, "output.dir": str(tmp_path)})
+    runtime.init("cpu", "f32")
+    log = Log(str(tmp_path / "run.log"), True)
+    case = build_case(tunnel, cfg, log)
+    r = Run(case, cfg, str(tmp_path), log, tunnel.NAME)
+    r.arch = "x64"
+    summary = r.execute()
+    assert summary["status"] == "ok" and summary["leaked_particles"] == 0
+    m = summary["metrics"]
+    assert m["sand_volume_error"] < 1e-6
+    assert m["bed_change_rms"] > 1e-5          # the bed moved
+    assert "moving_bed" in summary["modules"]
+    st = r.solver.state(("x", "kind"))
+    zb = np.loadtxt(tmp_path / "bed_profile.csv", delimiter=",", skiprows=1)[-1, 1:]   # z_b, last row
+    top = (st["kind"] == BED)
+    x = st["x"][top]
+    col = np.clip((x[:, 0] / 0.02).astype(int), 0, len(zb) - 1)
+    first = np.isclose(x[:, 1], zb[col] - 0.01, atol=1e-5)
+    assert first.sum() == len(zb)              # one particle per station at z_b - dx/2

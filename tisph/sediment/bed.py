@@ -1,0 +1,131 @@
+"""The morphodynamic bed: a height field z_b at stations dx apart, moved by bed load.
+
+One update (Bed.step) with the bed shear at each station:
+  1. Shields number theta = |tau| / ((rho_s - rho) g d50) against the critical value of
+     Soulsby & Whitehouse (1997), corrected for the bed slope along the flow;
+  2. equilibrium flux q_b = Phi(theta) sqrt((s - 1) g d50^3) in the direction of tau (Meyer-Peter
+     & Mueller, or Nielsen for waves), less a gravity term K_g |q_b| (dz/dx) / tan(phi) that
+     pulls sand down slopes;
+  3. saturation: l_s dq/dx + q = q_b along the flow (the bed load lags the shear over l_s; this
+     lag is what lets a bump grow downstream of its crest);
+  4. Exner, (1 - n) dz_b/dt = -dq/dx, in conservative finite volumes (fluxes on the faces
+     between stations), times the morphological factor: the sand volume changes only through
+     the domain's open ends, so in a closed or periodic bed it is conserved to round-off;
+  5. avalanching: a face steeper than the angle of repose gives sand from its high side to its
+     low side until it stands at that angle, volume conserved.
+"""
+import math
+
+import numpy as np
+
+from ..constants import G
+from .transport import (FORMULAE, shields_critical, shields_number, slope_factor, transport_scale)
+
+
+class Bed:
+    def __init__(self, x, z, d50, rho_s, rho_w=1000.0, porosity=0.4, repose_deg=32.0, theta_cr=None,
+                 formula="mpm", saturation_length=None, gravity_coefficient=1.0, morfac=1.0, periodic=True):
+        self.x = np.asarray(x, float)
+        self.dx = float(self.x[1] - self.x[0])
+        self.z = np.array(z, float)
+        self.d50, self.rho_s, self.rho_w = d50, rho_s, rho_w
+        self.s = rho_s / rho_w
+        self.porosity, self.repose = porosity, repose_deg
+        self.tan_repose = math.tan(math.radians(repose_deg))
+        self.theta_cr = shields_critical(d50, self.s) if theta_cr is None else theta_cr
+        self.phi = FORMULAE[formula]
+        self.l_s = self.dx if saturation_length is None else saturation_length
+        self.K_g = gravity_coefficient
+        self.morfac = morfac
+        self.periodic = periodic
+        self.q = np.zeros_like(self.z)       # the last flux at the stations (m2/s)
+        self.theta = np.zeros_like(self.z)
+        self.scale = transport_scale(d50, self.s, G)
+
+    # ---------------------------------------------------------------- geometry
+    def slope(self):
+        """dz_b/dx at the stations (central; one-sided at the ends of a closed bed)."""
+        if self.periodic:
+            return (np.roll(self.z, -1) - np.roll(self.z, 1)) / (2.0 * self.dx)
+        return np.gradient(self.z, self.dx)
+
+    def volume(self):
+        """Sand volume above z = 0 per unit width (m2)."""
+        return float(np.sum(self.z, dtype=np.float64) * self.dx)
+
+    # ---------------------------------------------------------------- transport
+    def equilibrium_flux(self, tau):
+        """q_b at the stations (m2/s, signed) for the bed shear tau (Pa, signed)."""
+        tau = np.asarray(tau, float)
+        dzdx = self.slope()
+        self.theta = shields_number(tau, self.d50, self.rho_s, self.rho_w)
+        crit = self.theta_cr * slope_factor(dzdx, tau, self.repose)
+        qb = self.phi(self.theta, crit) * self.scale * np.sign(tau)
+        return qb - self.K_g * np.abs(qb) * dzdx / self.tan_repose
+
+    def saturate(self, qb):
+        """Solve l_s dq/dx + q = q_b along the local flow direction (upwind, Gauss-Seidel sweeps;
+        three laps settle a periodic bed to round-off for l_s of a few dx)."""
+        a = self.l_s / self.dx
+        if a <= 0:
+            return qb.copy()
+        n = len(qb)
+        q = self.q.copy() if len(self.q) == n else np.zeros(n)
+        fwd = qb >= 0
+        for _ in range(3):
+            for i in range(n):              # flow to +x: upwind neighbour on the left
+                if fwd[i]:
+                    up = q[i - 1] if (i > 0 or self.periodic) else 0.0
+                    q[i] = (qb[i] + a * up) / (1.0 + a)
+            for i in range(n - 1, -1, -1):  # flow to -x: upwind neighbour on the right
+                if not fwd[i]:
+                    up = q[(i + 1) % n] if (i < n - 1 or self.periodic) else 0.0
+                    q[i] = (qb[i] + a * up) / (1.0 + a)
+        return q
+
+    def face_fluxes(self, q):
+        """Fluxes on the n + 1 faces (face k between stations k - 1 and k); a closed bed's end
+        faces carry none, a periodic bed's first and last face are the same face."""
+        f = np.empty(len(q) + 1)
+        f[1:-1] = 0.5 * (q[:-1] + q[1:])
+        if self.periodic:
+            f[0] = f[-1] = 0.5 * (q[-1] + q[0])
+        else:
+            f[0] = f[-1] = 0.0
+        return f
+
+    def step(self, tau, dt):
+        """Advance the bed by dt (seconds of flow; the bed moves morfac times as far) under the
+        shear tau; returns dz_b."""
+        q = self.saturate(self.equilibrium_flux(tau))
+        self.q = q
+        f = self.face_fluxes(q)
+        z_old = self.z.copy()
+        self.z -= self.morfac * dt / (1.0 - self.porosity) * (f[1:] - f[:-1]) / self.dx
+        self.avalanche()
+        return self.z - z_old
+
+    def avalanche(self, max_sweeps=500):
+        """Relax every face steeper than the angle of repose to it, giving sand from its high
+        side to its low side (half the excess each way: volume conserved). Returns the sweeps."""
+        z, dx, t = self.z, self.dx, self.tan_repose
+        n = len(z)
+        faces = n if self.periodic else n - 1
+        for sweep in range(max_sweeps):
+            moved = False
+            for i in range(faces):
+                j = (i + 1) % n
+                dz = z[j] - z[i]
+                excess = abs(dz) - t * dx
+                if excess > 1e-12 * dx:
+                    d = 0.5 * excess * (1.0 if dz > 0 else -1.0)
+                    z[j] -= d
+                    z[i] += d
+                    moved = True
+            if not moved:
+                return sweep
+        return max_sweeps
+
+    def max_slope_deg(self):
+        d = np.diff(np.append(self.z, self.z[0]) if self.periodic else self.z) / self.dx
+        return math.degrees(math.atan(float(np.abs(d).max()))) if len(d) else 0.0

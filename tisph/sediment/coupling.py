@@ -1,0 +1,117 @@
+"""The morphodynamic bed under the SPH water: the [sediment] table, the bed's boundary
+particles, and the update that carries the near-bed flow to the bed and the bed to the solver.
+
+Each update (every sediment.update_every steps):
+  1. the water velocity tangential to the bed at z_r = reference_height * dx above it, SPH
+     interpolated at every station, filtered in time over filter_time (an exponential average);
+  2. the bed shear from it through a wall law with grain roughness k_s = 2.5 d50: for waves
+     (shear = "waves") tau = 0.5 rho f_w |u| u with Swart's f_w for the orbital amplitude; for a
+     current (shear = "log") the rough-wall log law through u at z_r;
+  3. Bed.step (tisph/sediment/bed.py) over the elapsed time; the solver's bed particles move
+     with the new z_b (solver.set_bed).
+"""
+import numpy as np
+
+from ..particles import BED
+from ..probes.gauges import velocity_at
+from .bed import Bed
+from .transport import shear_log_law, shear_waves
+
+DEFAULTS = {
+    "model": "particles",          # particles: the paper's Bingham/Cross sand | bedload: a bed below particle scale
+    "porosity": 0.4,               # n in Exner's (1 - n) dz_b/dt = -dq/dx
+    "repose_angle": 32.0,          # angle of repose (degrees): avalanching, slope-corrected threshold
+    "shields_critical": 0.0,       # critical Shields number; 0: Soulsby & Whitehouse (1997) for d50
+    "formula": "mpm",              # mpm: Meyer-Peter & Mueller | nielsen: Nielsen (1992), for waves
+    "saturation_length": 0.0,      # l_s of l_s dq/dx + q = q_b (m); 0: one dx
+    "gravity_coefficient": 1.0,    # K_g of the downslope term K_g |q_b| (dz/dx) / tan(phi)
+    "morfac": 1.0,                 # morphological acceleration: the bed moves morfac times as fast
+    "shear": "waves",              # waves: Swart's friction factor | log: the log law (currents)
+    "reference_height": 1.5,       # z_r / dx: where the near-bed velocity is read
+    "filter_time": 0.05,           # s: time constant of the near-bed velocity's filter
+    "update_every": 10,            # steps between bed updates
+    "seed_rms": 0.0,               # m: RMS of a random initial bed perturbation (smoothed over 2 dx)
+    "seed": 1,                     # its random seed
+}
+RANGES = {"sediment.porosity": (0.0, 0.9, True, True), "sediment.repose_angle": (5.0, 60.0, True, True),
+          "sediment.shields_critical": (0.0, 1.0, True, True), "sediment.saturation_length": (0.0, None, True, True),
+          "sediment.gravity_coefficient": (0.0, 10.0, True, True), "sediment.morfac": (1.0, 1000.0, True, True),
+          "sediment.reference_height": (0.5, 5.0, True, True), "sediment.filter_time": (0.0, None, True, True),
+          "sediment.update_every": (1, 1000, True, True), "sediment.seed_rms": (0.0, None, True, True),
+          "sediment.seed": (0, None, True, True)}
+CHOICES = {"sediment.model": ("particles", "bedload"), "sediment.formula": ("mpm", "nielsen"),
+           "sediment.shear": ("waves", "log")}
+
+
+def initial_bed(stations, z, sed, dx):
+    """The initial bed: z plus a random perturbation of RMS seed_rms, smoothed over 2 dx (a white
+    perturbation at one station would be a 1-dx spike) and rescaled to that RMS."""
+    z = np.array(z, float)
+    if sed["seed_rms"] > 0:
+        rng = np.random.default_rng(int(sed["seed"]))
+        e = rng.standard_normal(len(stations))
+        k = np.array([0.25, 0.5, 0.25])
+        for _ in range(2):
+            e = k[0] * np.roll(e, 1) + k[1] * e + k[2] * np.roll(e, -1)
+        e -= e.mean()
+        z += sed["seed_rms"] * e / np.sqrt(np.mean(e * e))
+    return z
+
+
+def add_bed_particles(ps, stations, zb, dx, layers, rho_w, density):
+    """BED particles: at each station a column `layers` deep under z_b, spaced dx; density(y)
+    gives their rest-state density (hydrostatic)."""
+    for k in range(layers):
+        y = zb - (k + 0.5) * dx
+        pts = np.column_stack([stations, y])
+        ps.add(pts, BED, 0, density(y), rho_w * dx * dx, station=np.arange(len(stations)))
+
+
+class BedCoupler:
+    def __init__(self, sed, stations, z, dx, h, d50, rho_s, amplitude=0.0, periodic=True, rho_w=1000.0):
+        self.sed, self.dx, self.h, self.rho_w = sed, dx, h, rho_w
+        self.stations = np.asarray(stations, float)
+        self.bed = Bed(stations, z, d50, rho_s, rho_w, porosity=sed["porosity"], repose_deg=sed["repose_angle"],
+                       theta_cr=sed["shields_critical"] or None, formula=sed["formula"],
+                       saturation_length=sed["saturation_length"] or None,
+                       gravity_coefficient=sed["gravity_coefficient"], morfac=sed["morfac"], periodic=periodic)
+        self.z0 = self.bed.z.copy()
+        self.v0 = self.bed.volume()
+        self.d50, self.amplitude = d50, amplitude
+        self.u = np.zeros(len(stations))
+        self.tau = np.zeros(len(stations))
+        self.t = 0.0
+        self.every = int(sed["update_every"])
+
+    def near_bed_velocity(self, st):
+        """Tangential water velocity at z_r above the bed at each station (NaN: no water there)."""
+        z, zr = self.bed.z, self.sed["reference_height"] * self.dx
+        dzdx = self.bed.slope()
+        pts = np.column_stack([self.stations, z + zr * np.ones_like(z)])
+        u = velocity_at(st, pts, self.h)
+        n = np.sqrt(1.0 + dzdx * dzdx)
+        return (u[:, 0] + u[:, 1] * dzdx) / n
+
+    def shear(self, u):
+        if self.sed["shear"] == "waves":
+            return shear_waves(u, self.amplitude, self.d50, self.rho_w)
+        return shear_log_law(u, self.sed["reference_height"] * self.dx, self.d50, self.rho_w)
+
+    def update(self, s):
+        """One bed update from the solver's state: shear, bed step, the bed particles moved."""
+        dt = s.time - self.t
+        if dt <= 0:
+            return
+        self.t = s.time
+        st = s.state(("x", "v", "kind", "mat", "m", "rho"))
+        u = self.near_bed_velocity(st)
+        u = np.where(np.isfinite(u), u, 0.0)
+        tf = self.sed["filter_time"]
+        a = dt / (tf + dt) if tf > 0 else 1.0
+        self.u += a * (u - self.u)
+        self.tau = self.shear(self.u)
+        dz = self.bed.step(self.tau, dt)
+        s.set_bed(self.bed.z - self.z0, dz / dt)
+
+    def volume_error(self):
+        return abs(self.bed.volume() - self.v0) / abs(self.v0) if self.v0 else 0.0
