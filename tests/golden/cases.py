@@ -38,6 +38,7 @@ CASES = [
     ("beach", "tisph.scenes.beach", "scenes/beach.toml", {}),
     ("beach_tau1000", "tisph.scenes.beach", "scenes/beach_tau1000.toml", {}),
     ("tunnel", "tisph.scenes.tunnel", "scenes/tunnel.toml", {"numerics.dx": 0.02}),
+    ("tunnel_bedload", "tisph.scenes.tunnel", "scenes/tunnel_bedload.toml", {"numerics.dx": 0.02}),
     ("erodible_bed", "tisph.scenes.erodible_bed", None, {"numerics.dx": 0.02}),
     ("erodible_bed_deep", "tisph.scenes.erodible_bed", "scenes/erodible_bed_deep.toml", {"numerics.dx": 0.025}),
     ("pipeline_scour", "tisph.scenes.pipeline_scour", None, {}),

@@ -16,10 +16,6 @@ class MovingBed(Module):
     name = "moving_bed"
     on = {"moving_bed": True}
 
-    @staticmethod
-    def enabled(S):
-        return S.physics.moving_bed
-
     def fields(self, real):
         return {"bx0": ti.types.vector(2, real),   # the particle's start position
                 "bcol": ti.i32}                    # its bed station (-1: not a bed particle)

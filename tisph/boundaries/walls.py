@@ -14,10 +14,6 @@ class DynamicWall(Module):
     name = "dynamic_wall"
     on = {"wall": "dynamic"}
 
-    @staticmethod
-    def enabled(S):
-        return S.physics.wall == "dynamic"
-
     @ti.func
     def boundary_kick(self, S, i, dt):
         S.p.rho[i] += 0.5 * dt * S.p.drho[i]
@@ -56,10 +52,6 @@ class RepulsiveWall(Module):
     params = {"wall_D": Param(0.0, "m2/s2", (0.0, None), "wall strength D of eq. 6 (numerics.wall_strength)"),
               "wall_r0": Param("dx", "m", (0.0, None), "cut-off distance r0 of eq. 6")}
 
-    @staticmethod
-    def enabled(S):
-        return S.physics.wall == "repulsive"
-
     @ti.func
     def view(self, S, i, j, r, r2, nb: ti.template(), acc: ti.template()):
         prm = S.prm[None]
@@ -77,10 +69,6 @@ class NoSlip(Module):
     no-slip sits on the wall surface; d_B/d_A capped at 1.5 as Morris does for close approach."""
     name = "noslip"
     on = {"noslip": True}
-
-    @staticmethod
-    def enabled(S):
-        return S.physics.noslip
 
     def fields(self, real):
         vec2 = ti.types.vector(2, real)

@@ -15,10 +15,6 @@ class Outflow(Module):
     name = "outflow"
     on = {"outflow": ((0.05, -1.0, 1.0, 1.0),)}
 
-    @staticmethod
-    def enabled(S):
-        return len(S.outflow) > 0
-
     @ti.func
     def remove(self, S, i):
         gone = False
@@ -36,10 +32,6 @@ class Container(Module):
     stops. It counts as crossed once past the first row of wall particles."""
     name = "container"
     on = {"container": (0.0, 0.0, 0.07, 1.0)}
-
-    @staticmethod
-    def enabled(S):
-        return S.container is not None
 
     @ti.func
     def position_check(self, S, i):
@@ -61,10 +53,6 @@ class Damping(Module):
     name = "damping"
     on = {"damping": (0.03, 0.07, 5.0)}
 
-    @staticmethod
-    def enabled(S):
-        return len(S.physics.damping) == 3
-
     @ti.func
     def relax(self, S, i, mi, v, dt):
         zd = ti.static(S.physics.damping)
@@ -79,10 +67,6 @@ class Inflow(Module):
     would feed it; ramped in and out as sin^2 so no front forms."""
     name = "inflow"
     on = {"inflow": (0.0, 0.02, 5.0, 0, 0.0, 0.01, 1e-4), "periodic_x": True}
-
-    @staticmethod
-    def enabled(S):
-        return len(S.physics.inflow) == 7
 
     @ti.func
     def relax(self, S, i, mi, v, dt):
@@ -108,10 +92,6 @@ class Drive(Module):
                              vector=True)}
     material = {"drive": MatParam(None, "-", "the drive's factor rho_0 / rho (set by the solver)",
                                   convert=lambda v, mat, S: S.materials[0]["rho0"] / mat["rho0"])}
-
-    @staticmethod
-    def enabled(S):
-        return S.physics.periodic_x
 
     @ti.func
     def body_force(self, S, i, mi, a):

@@ -72,8 +72,21 @@ class Module:
     acc = {}
     stats = {}
 
-    @staticmethod
-    def enabled(S):
+    @classmethod
+    def enabled(cls, S):
+        """On when every switch in `on` holds (a tuple switch: non-empty); override for others."""
+        if cls.on is None:
+            return True
+        for k, want in cls.on.items():
+            have = getattr(S.physics, k) if hasattr(S.physics, k) else getattr(S, k)
+            if isinstance(want, tuple):
+                ok = bool(have)
+            elif isinstance(want, bool):
+                ok = bool(have) == want
+            else:
+                ok = have == want
+            if not ok:
+                return False
         return True
 
     def fields(self, real):

@@ -44,10 +44,6 @@ class ArtificialViscosity(Module):
                              key="numerics.artificial_viscosity")}
     acc = {"mu": "real"}
 
-    @staticmethod
-    def enabled(S):
-        return S.physics.artificial_viscosity
-
     @ti.func
     def pair(self, S, i, j, r, r2, nb, acc: ti.template()):
         prm = S.prm[None]
@@ -66,10 +62,6 @@ class LaminarViscosity(Module):
     name = "laminar_viscosity"
     on = {"laminar_viscosity": True}
     params = {"dt_visc": Param(1e30, "s", (0.0, None), "viscous step 0.125 h^2 / nu_max (set by the solver)")}
-
-    @staticmethod
-    def enabled(S):
-        return S.physics.laminar_viscosity
 
     def setup(self, S):
         nu_max = max((m.get("viscosity", 0.0) / m["rho0"] for m in S.materials), default=0.0)
@@ -143,10 +135,6 @@ class XSPH(Module):
     params = {"eps": Param(0.0, "-", (0.0, 0.5, True, True), "XSPH epsilon (paper 000 eq. 10); 0 compiles it out",
                            key="numerics.xsph")}
     acc = {"xs": "vec2"}
-
-    @staticmethod
-    def enabled(S):
-        return S.physics.xsph
 
     def fields(self, real):
         return {"xs": ti.types.vector(2, real)}    # the correction, one step behind

@@ -100,10 +100,6 @@ class SPS(Module):
     on = {"sps": True}
     stats = {"numax": "real"}
 
-    @staticmethod
-    def enabled(S):
-        return S.physics.sps
-
     def fields(self, real):
         return {"sps": ti.types.vector(3, real)}    # SPS stress / rho (xx, xy, yy)
 
@@ -141,10 +137,6 @@ class Drag(Module):
     on = {"drag": True}
     params = {"drag_K": Param(0.0, "1/m", (0.0, None), "drag coefficient K of eq. 16")}
 
-    @staticmethod
-    def enabled(S):
-        return S.physics.drag
-
     @ti.func
     def pair(self, S, i, j, r, r2, nb, acc: ti.template()):
         s = S.tmp
@@ -174,10 +166,6 @@ class DEM(Module):
            "cid_new": ti.types.vector(DEM_SLOTS, ti.i32), "es_new": "vec%d" % DEM_SLOTS,
            "nc": "int", "dem": "int", "mi": "real", "near": "int"}
     stats = {"dem_near": "int"}
-
-    @staticmethod
-    def enabled(S):
-        return S.physics.dem
 
     @staticmethod
     def default_dt(materials, dx, kn):

@@ -12,10 +12,6 @@ class Shepard(Module):
     name = "shepard"
     on = {"shepard": True}
 
-    @staticmethod
-    def enabled(S):
-        return S.physics.shepard
-
     def setup(self, S):
         self.S = S
         self.every = int(S.params.get("shepard_every", 0))
