@@ -233,6 +233,28 @@ def _table(header, rows):
     return "\n".join(md)
 
 
+def _on_cluster(jobs, a, log):
+    """The ladders' runs as Dask tasks on a.scheduler (tisph.sweep's path), rows in job order."""
+    from dask.distributed import Client
+    from .sweep import execute
+    client = Client(a.scheduler)
+    try:
+        res = execute([(f"{i:03d}", run_one, (c, dx, a.out, a.quick)) for i, (c, dx) in enumerate(jobs)],
+                      client, progress=False)
+    finally:
+        client.close()
+    rows = []
+    for i, (c, dx) in enumerate(jobs):
+        r = res[f"{i:03d}"]
+        if isinstance(r, tuple):      # the task failed
+            log(f"{c.name}, dx {dx:g}: failed: {r[1]}")
+            r = dict(case=c.name, dx=dx, particles=0, steps=0, sim_time=0.0, wall_time_s=float("nan"),
+                     compile_time_s=float("nan"), step_time_s=float("nan"), particle_steps_per_s=0,
+                     metric=c.metric, error=float("nan"), status="error")
+        rows.append(r)
+    return rows
+
+
 def _engine_sections(a, log):
     """Scaling, specialisation and the kernel profile, as markdown lines."""
     sizes = (2e3,) if a.dry_run else (1e4, 4e4) if a.quick else (1e4, 4e4, 1.6e5, 6.4e5)
@@ -269,6 +291,9 @@ def main(argv=None):
     p.add_argument("--peer", choices=["pysph"], help="also run PySPH's dam_break_2d and compare")
     p.add_argument("--peer-venv", help="PySPH's virtual environment (default OUT/pysph-venv; made if absent)")
     p.add_argument("--out", default=os.path.join("renders", "bench"))
+    p.add_argument("--scheduler", metavar="ADDRESS",
+                   help="run the ladders on this Dask scheduler (tcp://host:8786), the path tisph.sweep takes; "
+                        "timings then share the cluster's cores")
     p.add_argument("--only", nargs="*", help="run only the cases whose name contains one of these words")
     p.add_argument("--no-scaling", action="store_true", help="skip the scaling, specialisation and profile parts")
     p.add_argument("--dry-run", action="store_true",
@@ -283,13 +308,15 @@ def main(argv=None):
     if a.dry_run:
         cases = [dataclasses.replace(CASES[0], quick=CASES[0].quick[:2], quick_overrides={"run.end_time": 0.2})]
         a.quick = True
-    for c in cases:
-        for dx in (c.quick if a.quick else c.ladder):
-            r = run_one(c, dx, a.out, a.quick)
-            rows.append(r)
-            log(f"{c.name}, dx {dx:g}: {r['particles']} particles, {r['steps']} steps, {r['wall_time_s']:.1f} s "
-                f"(compile {r['compile_time_s']:.1f} s), {r['particle_steps_per_s']:.3g} p-steps/s, "
-                f"{c.metric} = {r['error']:.4g}")
+    jobs = [(c, dx) for c in cases for dx in (c.quick if a.quick else c.ladder)]
+    if a.scheduler:
+        rows = _on_cluster(jobs, a, log)
+    else:
+        rows = [run_one(c, dx, a.out, a.quick) for c, dx in jobs]
+    for (c, dx), r in zip(jobs, rows):
+        log(f"{c.name}, dx {dx:g}: {r['particles']} particles, {r['steps']} steps, {r['wall_time_s']:.1f} s "
+            f"(compile {r['compile_time_s']:.1f} s), {r['particle_steps_per_s']:.3g} p-steps/s, "
+            f"{c.metric} = {r['error']:.4g}")
     cols = ("case", "dx", "particles", "steps", "sim_time", "wall_time_s", "compile_time_s", "step_time_s",
             "particle_steps_per_s", "metric", "error", "status")
     write_csv(os.path.join(a.out, "bench.csv"), cols, [tuple(r[k] for k in cols) for r in rows])

@@ -1,0 +1,359 @@
+"""Sweeps and ensembles on Dask distributed: many ordinary scene runs, one per combination of
+the swept values, each in OUT/<case-id>/ with all its usual files.
+
+    python -m tisph.sweep SCENE [--config FILE] --set KEY=V1,V2,... [--set KEY=...] [--zip]
+                          [--scheduler ADDRESS] [--workers N] [--threads-per-worker T]
+                          [--out DIR] [--resume] [--arch cpu|gpu|auto]
+
+The product of the --set lists (or the lists side by side with --zip). Without --scheduler a
+dask.distributed LocalCluster of --workers processes runs them (default: cores / threads per
+worker); with --scheduler tcp://host:8786 an existing cluster does. Each worker process
+initialises Taichi once with cpu_max_num_threads = --threads-per-worker. Every key and value is
+validated before anything is submitted (exit 2, as a scene does). A case that fails (bad
+physics, instability, a killed worker) is reported in the table and the others go on; --resume
+skips the cases whose summary.json is complete and whose inputs match. Writes OUT/sweep.csv,
+OUT/sweep.md and OUT/sweep.png (each metric against the swept values).
+"""
+import argparse
+import hashlib
+import importlib
+import itertools
+import json
+import math
+import os
+import sys
+import time
+
+from .config import ConfigError, tomllib
+from .io import OutputError, ensure_dir, write_csv, write_json, write_text
+
+CASE_FILE = "sweep_case.json"   # what a case folder was run with: --resume compares it
+
+
+def scene_module(name):
+    """tisph.scenes.NAME (or tisph.validation.NAME), or a ConfigError naming the choices."""
+    for pkg in ("tisph.scenes", "tisph.validation"):
+        try:
+            mod = importlib.import_module(f"{pkg}.{name}")
+        except ModuleNotFoundError:
+            continue
+        if hasattr(mod, "build") and hasattr(mod, "DEFAULTS"):
+            return mod
+    import pkgutil
+    import tisph.scenes
+    names = sorted(m.name for m in pkgutil.iter_modules(tisph.scenes.__path__))
+    raise ConfigError("SCENE", name, "one of " + ", ".join(names + ["poiseuille"]))
+
+
+def parse_value(text):
+    """A --set value as TOML reads it (0.3, 4, true, "piston"); a bare word is a string."""
+    try:
+        return tomllib.loads(f"v = {text}")["v"]
+    except tomllib.TOMLDecodeError:
+        return text
+
+
+def parse_sets(items):
+    """['geometry.depth=0.3,0.4', ...] -> [('geometry.depth', [0.3, 0.4]), ...]"""
+    out = []
+    for it in items:
+        key, sep, vals = it.partition("=")
+        if not sep or not key or not vals:
+            raise ConfigError("--set", it, "KEY=V1,V2,... (a dotted config key and its values)")
+        out.append((key.strip(), [parse_value(v.strip()) for v in vals.split(",")]))
+    return out
+
+
+def combinations(sets, zipped=False):
+    keys = [k for k, _ in sets]
+    if zipped:
+        n = {len(v) for _, v in sets}
+        if len(n) > 1:
+            raise ConfigError("--zip", [f"{k}: {len(v)}" for k, v in sets], "--set lists of equal length")
+        rows = zip(*[v for _, v in sets])
+    else:
+        rows = itertools.product(*[v for _, v in sets])
+    return [dict(zip(keys, r)) for r in rows]
+
+
+def case_id(k, values):
+    """A folder name: the case number and each swept key's last part and value."""
+    parts = [f"{key.split('.')[-1]}={v}" for key, v in values.items()]
+    slug = "_".join(parts)
+    slug = "".join(c if (c.isalnum() or c in "=._-") else "-" for c in slug)[:80]
+    return f"{k:03d}_{slug}" if slug else f"{k:03d}"
+
+
+def file_digest(path):
+    if not path:
+        return ""
+    with open(path, "rb") as f:
+        return hashlib.sha256(f.read()).hexdigest()
+
+
+def plan(scene, config, sets, zipped, out, base=None):
+    """The cases, each validated: [(id, swept values, overrides)]; a ConfigError on the first bad
+    key or value, before anything runs."""
+    from .run import resolve
+    cases = []
+    for k, values in enumerate(combinations(sets, zipped)):
+        ov = dict(base or {})
+        ov.update(values)
+        cid = case_id(k, values)
+        ov["output.dir"] = os.path.join(out, cid)
+        resolve(scene, config, ov)           # raises ConfigError naming the key
+        cases.append((cid, values, ov))
+    return cases
+
+
+def is_done(out, cid, inputs):
+    """A case folder whose summary.json is complete and whose inputs match."""
+    d = os.path.join(out, cid)
+    try:
+        with open(os.path.join(d, "summary.json")) as f:
+            s = json.load(f)
+        with open(os.path.join(d, CASE_FILE)) as f:
+            old = json.load(f)
+    except (OSError, ValueError):
+        return None
+    return s if old == inputs and "status" in s else None
+
+
+# ---------------------------------------------------------------- what a worker runs
+def run_case(scene_name, config, overrides, arch, threads):
+    """One case on a worker: the ordinary scene run. Returns (status, message, summary or None).
+    Taichi is initialised once per worker process with `threads` CPU threads."""
+    os.environ.setdefault("TISPH_THREADS", str(threads))
+    from .run import simulate
+    scene = scene_module(scene_name)
+    ov = dict(overrides)
+    ov["run.arch"] = arch
+    ov.setdefault("output.quiet", True)
+    try:
+        s = simulate(scene, ov, config=config)
+    except (ConfigError, OutputError) as e:
+        return "error", str(e), None
+    except Exception as e:      # any other failure is this case's, not the sweep's
+        return "error", f"{type(e).__name__}: {e}", None
+    return s["status"], s.get("message", ""), s
+
+
+def start_client(scheduler, workers, threads):
+    from dask.distributed import Client, LocalCluster
+    if scheduler:
+        return Client(scheduler), None
+    n = workers or max(1, (os.cpu_count() or 1) // threads)
+    cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=":0",
+                           silence_logs=40)
+    return Client(cluster), cluster
+
+
+def execute(tasks, client, progress=True, on_done=None):
+    """Submit (key, fn, args) tasks; return {key: what fn returned} as they finish. A task that
+    raised, or whose worker died, is ("error", the scheduler's message, None)."""
+    from dask.distributed import as_completed
+    futs = {client.submit(fn, *args, key=f"tisph-{key}-{time.time_ns()}", pure=False): key
+            for key, fn, args in tasks}
+    bar = None
+    if progress:
+        try:
+            from tqdm import tqdm
+            bar = tqdm(total=len(futs), unit="case", file=sys.stderr, disable=None)
+        except ImportError:
+            bar = None
+    results, failed = {}, 0
+    try:
+        for fut in as_completed(list(futs)):
+            key = futs[fut]
+            try:
+                res = fut.result()
+            except Exception as e:      # KilledWorker, a lost scheduler, ...
+                res = ("error", f"{type(e).__name__}: {e}", None)
+            results[key] = res
+            failed += isinstance(res, tuple) and res[0] != "ok"
+            if on_done:
+                on_done(key, res)
+            if bar is not None:
+                running = sum(1 for f in futs if f.status == "pending")
+                bar.set_postfix_str(f"running {min(running, len(client.ncores()))}, failed {failed}", refresh=False)
+                bar.update(1)
+    except KeyboardInterrupt:
+        for f in futs:
+            f.cancel()
+        raise
+    finally:
+        if bar is not None:
+            bar.close()
+    return results
+
+
+# ---------------------------------------------------------------- the table
+def flat_metrics(summary):
+    out = {}
+    for k, v in (summary or {}).get("metrics", {}).items():
+        if isinstance(v, bool):
+            out[k] = int(v)
+        elif isinstance(v, (int, float)):
+            out[k] = v
+        elif isinstance(v, str):
+            out[k] = v
+    return out
+
+
+def table(cases, results):
+    keys = list(cases[0][1]) if cases else []
+    metric_names = []
+    for cid, _, _ in cases:
+        for k in flat_metrics(results.get(cid, (None, None, None))[2]):
+            if k not in metric_names:
+                metric_names.append(k)
+    cols = ["case"] + keys + ["status", "message", "wall_time_s", "particle_steps_per_s"] + metric_names
+    rows = []
+    for cid, values, _ in cases:
+        status, msg, s = results.get(cid, ("not run", "", None))
+        m = flat_metrics(s)
+        rows.append([cid] + [values[k] for k in keys] +
+                    [status, (msg or "").replace("\n", " ")[:300],
+                     (s or {}).get("wall_time_s", ""), (s or {}).get("particle_steps_per_s", "")] +
+                    [m.get(k, "") for k in metric_names])
+    return cols, rows, keys, metric_names
+
+
+def write_tables(out, cases, results, scene_name, wall):
+    cols, rows, keys, metric_names = table(cases, results)
+    write_csv(os.path.join(out, "sweep.csv"), cols, rows)
+
+    def fmt(v):
+        return f"{v:.4g}" if isinstance(v, float) and math.isfinite(v) else str(v)
+    md = [f"# Sweep of {scene_name}", "", f"{len(cases)} cases, {wall:.1f} s wall time.", "",
+          "| " + " | ".join(cols) + " |", "|" + "---|" * len(cols)]
+    md += ["| " + " | ".join(fmt(v) for v in r) + " |" for r in rows]
+    write_text(os.path.join(out, "sweep.md"), "\n".join(md) + "\n")
+    try:
+        plot(os.path.join(out, "sweep.png"), rows, cols, keys, metric_names)
+    except Exception as e:         # a failed plot must not lose the table
+        print(f"warning: no sweep.png: {e}", file=sys.stderr)
+
+
+def plot(path, rows, cols, keys, metric_names):
+    """Each numeric metric against the first swept key, one line per value of the others."""
+    from .probes.plots import pyplot, save
+    num = [m for m in metric_names
+           if all(isinstance(r[cols.index(m)], (int, float)) or r[cols.index(m)] == "" for r in rows)
+           and any(isinstance(r[cols.index(m)], (int, float)) for r in rows)][:12]
+    if not num or not keys:
+        return
+    keys = [k for k in keys if len({str(r[cols.index(k)]) for r in rows}) > 1] or keys[:1]
+    plt = pyplot()
+    n = len(num)
+    ncol = min(3, n)
+    nrow = math.ceil(n / ncol)
+    fig, axes = plt.subplots(nrow, ncol, figsize=(4.2 * ncol, 3.2 * nrow), squeeze=False)
+    k0 = keys[0]
+    groups = {}
+    for r in rows:
+        rest = tuple((k, r[cols.index(k)]) for k in keys[1:])
+        groups.setdefault(rest, []).append(r)
+    for ax, m in zip(axes.ravel(), num):
+        for rest, rr in groups.items():
+            pts = [(r[cols.index(k0)], r[cols.index(m)]) for r in rr if isinstance(r[cols.index(m)], (int, float))]
+            if not pts:
+                continue
+            try:
+                pts.sort()
+            except TypeError:
+                pass
+            xs = list(range(len(pts))) if not all(isinstance(p[0], (int, float)) for p in pts) else [p[0] for p in pts]
+            ax.plot(xs, [p[1] for p in pts], "o-", ms=4,
+                    label=", ".join(f"{k.split('.')[-1]}={v}" for k, v in rest) or None)
+        ax.set_xlabel(k0)
+        ax.set_title(m, fontsize=9)
+        if len(groups) > 1:
+            ax.legend(fontsize=7)
+    for ax in axes.ravel()[n:]:
+        ax.set_visible(False)
+    save(fig, path)
+
+
+# ---------------------------------------------------------------- the command
+def make_parser():
+    p = argparse.ArgumentParser(prog="python -m tisph.sweep", description=__doc__,
+                                formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("scene", help="a scene: dam_break, hatch, tank, flume, beach, tunnel, erodible_bed, "
+                                 "pipeline_scour, or poiseuille")
+    p.add_argument("--config", metavar="FILE", help="TOML case file every case starts from")
+    p.add_argument("--set", action="append", default=[], metavar="KEY=V1,V2,...",
+                   help="a config key and the values to sweep (repeat for more keys)")
+    p.add_argument("--zip", action="store_true", help="take the --set lists side by side, not their product")
+    p.add_argument("--scheduler", metavar="ADDRESS", help="an existing Dask scheduler (tcp://host:8786)")
+    p.add_argument("--workers", type=int, default=0, help="local worker processes (default: cores / threads)")
+    p.add_argument("--threads-per-worker", type=int, default=1, help="Taichi CPU threads per worker")
+    p.add_argument("--out", metavar="DIR", help="output folder (default renders/sweep_<scene>/)")
+    p.add_argument("--resume", action="store_true", help="skip cases already complete with the same inputs")
+    p.add_argument("--arch", choices=("cpu", "gpu", "auto"), default="cpu", help="Taichi backend on the workers")
+    p.add_argument("--render", action="store_true", help="let each case write its movie (default: off)")
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    return p
+
+
+def main(argv=None):
+    args = make_parser().parse_args(argv)
+    out = os.path.abspath(args.out or os.path.join("renders", f"sweep_{args.scene}"))   # workers may run elsewhere
+    try:
+        if args.threads_per_worker < 1:
+            raise ConfigError("--threads-per-worker", args.threads_per_worker, "at least 1")
+        if args.workers < 0:
+            raise ConfigError("--workers", args.workers, "0 (auto) or more")
+        scene = scene_module(args.scene)
+        if args.config:
+            from .config import check_file
+            check_file("--config", args.config, "TOML file")
+        sets = parse_sets(args.set)
+        if not sets:
+            raise ConfigError("--set", None, "at least one KEY=V1,V2,...")
+        base = {} if args.render else {"output.render": False}
+        cases = plan(scene, args.config, sets, args.zip, out, base)
+        ensure_dir(out)
+    except (ConfigError, OutputError) as e:
+        print(f"python -m tisph.sweep: {e}", file=sys.stderr)
+        return 2
+    digest = file_digest(args.config)
+    results, todo = {}, []
+    for cid, values, ov in cases:
+        inputs = dict(scene=args.scene, config_sha256=digest, overrides=ov)
+        done = is_done(out, cid, inputs) if args.resume else None
+        if done is not None:
+            results[cid] = (done["status"], "kept (--resume)", done)
+            continue
+        ensure_dir(os.path.join(out, cid))
+        write_json(os.path.join(out, cid, CASE_FILE), inputs)
+        todo.append((cid, run_case, (args.scene, args.config, ov, args.arch, args.threads_per_worker)))
+    t0 = time.perf_counter()
+    client = cluster = None
+    code = 0
+    try:
+        if todo:
+            client, cluster = start_client(args.scheduler, args.workers, args.threads_per_worker)
+            results.update(execute(todo, client, progress=not args.quiet))
+    except KeyboardInterrupt:
+        print("python -m tisph.sweep: interrupted; the finished cases are complete, --resume runs the rest",
+              file=sys.stderr)
+        code = 130
+    except OSError as e:
+        print(f"python -m tisph.sweep: cannot reach the Dask scheduler {args.scheduler!r}: {e}", file=sys.stderr)
+        code = 2
+    finally:
+        if client is not None:
+            client.close()
+        if cluster is not None:
+            cluster.close()
+    write_tables(out, cases, results, args.scene, time.perf_counter() - t0)
+    if not args.quiet:
+        bad = [c for c, r in results.items() if r[0] != "ok"]
+        print(f"wrote {out}/sweep.csv, sweep.md, sweep.png: {len(results)} of {len(cases)} cases, "
+              f"{len(bad)} not ok", file=sys.stderr)
+    return code
+
+
+if __name__ == "__main__":
+    sys.exit(main())
