@@ -238,16 +238,7 @@ def _build_bedload(cfg):
     stations = (np.arange(int(round(Lx / dx))) + 0.5) * dx
     z = hs + 0.5 * geo["seed_ripple_height"] * np.sin(2 * np.pi * n_seed * stations / Lx)
     z = coupling.initial_bed(stations, z, sed, dx)
-    lattice = block(0.0, 0.0, Lx, ytop, dx)
-    col = np.clip((lattice[:, 0] / dx).astype(int), 0, len(stations) - 1)
-    xw = lattice[lattice[:, 1] >= z[col] + 0.5 * dx]
-
-    def density(y):
-        return density_from_pressure(rw * G * (ytop - np.minimum(y, ytop)), rw, c0)
-
-    ps = ParticleSet()
-    ps.add(xw, FLUID, 0, density(xw[:, 1]), rw * dx * dx)
-    coupling.add_bed_particles(ps, stations, z, dx, L, rw, density)
+    ps = _bedload_particles(cfg, stations, z, c0)
     params = common_params(cfg, c0, G, depth=ytop)
     params["bed_stations"] = len(stations)
     pad = 4 * h
@@ -303,6 +294,25 @@ def _build_bedload(cfg):
                      probe=probe, metrics=metrics, finalize=finalize, container=(-1e9, float(z.min()) - L * dx, 1e9,
                                                                                 float("inf")),
                      control=control, control_every=sed["update_every"])
+
+
+def _bedload_particles(cfg, stations, z, c0):
+    """Water above the bed z (at least dx/2 clear of it) and the bed's BED particle columns."""
+    geo, num = cfg["geometry"], cfg["numerics"]
+    dx, Lx, L = num["dx"], geo["length"], num["wall_layers"]
+    ytop = geo["sand_depth"] + geo["water_depth"]
+    rw = cfg["materials"]["water"]["rho0"]
+    lattice = block(0.0, 0.0, Lx, ytop, dx)
+    col = np.clip((lattice[:, 0] / dx).astype(int), 0, len(stations) - 1)
+    xw = lattice[lattice[:, 1] >= z[col] + 0.5 * dx]
+
+    def density(y):
+        return density_from_pressure(rw * G * (ytop - np.minimum(y, ytop)), rw, c0)
+
+    ps = ParticleSet()
+    ps.add(xw, FLUID, 0, density(xw[:, 1]), rw * dx * dx)
+    coupling.add_bed_particles(ps, stations, z, dx, L, rw, density)
+    return ps
 
 
 def main(argv=None):
