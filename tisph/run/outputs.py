@@ -12,6 +12,9 @@ from ..config import ConfigError, dump_toml
 from .setup import _strip, config_changes
 
 
+FLUSH_S = 0.5   # wall seconds between rewrites of probes.csv and run.log during a run
+
+
 class Outputs:
     # -------------------------------------------------------------- outputs
     def _still(self, state, t):
@@ -33,6 +36,19 @@ class Outputs:
         st["t"] = self.solver.time
         row = (self.solver.time,) + (tuple(float(v) for v in self.case.observers.probe(st)) if self.case.observers.probe else ())
         self.probes.append(row)
+        self.flush_series()
+
+    def flush_series(self, force=False):
+        """probes.csv and run.log as they stand, each written whole (temporary name, rename), at
+        most every FLUSH_S of wall time: a run killed with -9 keeps all but its last moments."""
+        now = time_mod.perf_counter()
+        if not force and now - getattr(self, "_flushed_at", 0.0) < FLUSH_S:
+            return
+        self._flushed_at = now
+        from ..io import write_csv
+        cols = ("t",) + tuple(self.case.observers.probe_columns)
+        write_csv(os.path.join(self.out, "probes.csv"), cols, self.probes)
+        self.log.flush()
 
     def frame(self):
         from ..render import write_png

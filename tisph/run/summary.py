@@ -1,11 +1,12 @@
 """The end of a run: probes.csv, the scene's metrics, the mass balance, summary.json, plots."""
 import json
+import math
 import os
 
 import numpy as np
 
 from .. import __version__
-from ..io import OutputError, write_csv, write_json
+from ..io import OutputError, _finite, write_csv, write_json
 from ..particles import FLUID, OUT, OUTFLOW
 
 
@@ -42,6 +43,12 @@ def summarize(run, status, message, wall, step_s, nsteps, compile_s):
     final = s.state(("x", "v", "kind", "rho", "p", "mat", "m"))
     if obs.final_metrics:
         metrics.update(obs.final_metrics(final))
+    undefined = [k for k, v in metrics.items() if isinstance(v, float) and not math.isfinite(v)]
+    if undefined:   # a metric with no value is said, not left as a silent null
+        w = (f"{len(undefined)} metric(s) have no value: {', '.join(undefined)} (the run may be too short "
+             f"for their analysis window, t = {s.time:.4g} s, or the quantity never occurred)")
+        case.warnings.append(w)
+        run.log(f"warning: {w}", always=True)
     crossed = crossed_wall(s, final)
     nb = int(np.sum(case.particles.kind != FLUID))
     pps = (s.n * nsteps / step_s) if step_s > 0 else 0.0
@@ -72,5 +79,5 @@ def summarize(run, status, message, wall, step_s, nsteps, compile_s):
             f"({pps:.3g} particle-steps/s), leaked {s.leaked}, crossed a wall {crossed}, "
             f"max density error {s.max_density_error:.3%}")
     if metrics:
-        run.log("metrics: " + json.dumps(metrics))
+        run.log("metrics: " + json.dumps(_finite(metrics)))
     return summary
