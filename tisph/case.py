@@ -37,6 +37,8 @@ class Observers:
     stills: tuple = ()                # simulated times of named stills, stills/t0.040.png
     control: Callable = None          # control(solver) every control_every steps (through its set_* methods)
     control_every: int = 10
+    persist: tuple = ()               # the observers' mutable history (lists, dicts, objects): a
+                                      # checkpoint keeps it, so a restart continues every output
 
 
 @dataclasses.dataclass

@@ -39,6 +39,11 @@ class MovingBed(Module):
             S.p.x[i] = S.p.bx0[i] + ti.Vector([0.0, self.dz[c]])
             S.p.v[i] = ti.Vector([0.0, self.w[c]])
 
+    @property
+    def state_fields(self):
+        """Runtime fields a checkpoint keeps (engine/access.py raw_state)."""
+        return {"dz": self.dz, "w": self.w}
+
     def set(self, dz, w):
         self.dz.from_numpy(np.asarray(dz, dtype=np.float64 if self.dz.dtype == ti.f64 else np.float32))
         self.w.from_numpy(np.asarray(w, dtype=np.float64 if self.w.dtype == ti.f64 else np.float32))

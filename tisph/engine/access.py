@@ -1,5 +1,7 @@
 """The solver's Python API for the run loop: stepping, runtime inputs, state, checkpoints,
 the backup of the last healthy state. A mixin of engine.solver.Solver."""
+import json
+
 import numpy as np
 import taichi as ti
 
@@ -108,9 +110,14 @@ class SolverAPI:
     def raw_state(self):
         """Everything needed to continue bit for bit: every member in the current sorted order."""
         d = {k: getattr(self.p, k).to_numpy() for k in self.members}
+        for m in self.modules:   # a module's runtime fields (the moving bed's displacement)
+            for k, f in getattr(m, "state_fields", {}).items():
+                d[f"module.{m.name}.{k}"] = f.to_numpy()
         st = self.stats[None]
+        prm = {k: (list(getattr(self.prm[None], k)) if d_.vector else float(getattr(self.prm[None], k)))
+               for k, d_ in self.param_decl.items()}
         scal = dict(time=self.time, steps=self.steps, dt=float(self.prm[None].dt), leaked=int(st.leaked),
-                    n=self.n, primed=int(self._primed), rhodev=float(st.rhodev))
+                    n=self.n, primed=int(self._primed), rhodev=float(st.rhodev), params=json.dumps(prm))
         return d, scal
 
     def load_raw_state(self, arrays, scalars):
@@ -121,6 +128,14 @@ class SolverAPI:
             raise ValueError(f"checkpoint lacks particle fields {missing} (built with other physics?)")
         for k in self.members:
             getattr(self.p, k).from_numpy(arrays[k])
+        for m in self.modules:
+            for k, f in getattr(m, "state_fields", {}).items():
+                if f"module.{m.name}.{k}" in arrays:
+                    f.from_numpy(arrays[f"module.{m.name}.{k}"])
+        if "params" in scalars:   # the runtime inputs as they were (drive, paddle), not their defaults
+            for k, v in json.loads(scalars["params"]).items():
+                if k in self.param_decl:
+                    setattr(self.prm[None], k, tuple(v) if isinstance(v, list) else v)
         self.time = float(scalars["time"])
         self.steps = int(scalars["steps"])
         self.prm[None].dt = float(scalars["dt"])

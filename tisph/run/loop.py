@@ -32,6 +32,8 @@ class Run(Outputs):
         self._xdmf_dirty = False
         self.next = dict(probe=0.0, frame=0.0, snapshot=0.0, checkpoint=self.ckpt_dt)
         self.signal = None
+        self.wall_before = self.step_before = 0.0   # earlier segments of a restarted run
+        self._t0 = None
         self.events = sorted(case.observers.events, key=lambda e: e[0])
         if self.render:
             self.events += [(t, self._still) for t in case.observers.stills]
@@ -121,7 +123,7 @@ class Run(Outputs):
         old = self._catch_signals()
         status, message = "ok", ""
         self.step_s, self.steps0 = 0.0, self.solver.steps
-        t0 = time.perf_counter()
+        t0 = self._t0 = time.perf_counter()
         try:
             self._loop(bar)
         except SimulationError as e:
@@ -138,7 +140,15 @@ class Run(Outputs):
             if self.movie is not None:
                 self.movie.close()
         wall = time.perf_counter() - t0
-        return summarize(self, status, message, wall, self.step_s, self.solver.steps - self.steps0, compile_s)
+        return summarize(self, status, message, wall + self.wall_before, self.step_s + self.step_before,
+                         self.solver.steps - self.steps0, compile_s, segment=(wall, self.step_s))
+
+    def wall_so_far(self):
+        """Wall seconds of this run's loop so far, earlier segments included."""
+        return self.wall_before + (time.perf_counter() - self._t0 if self._t0 is not None else 0.0)
+
+    def step_s_so_far(self):
+        return self.step_before + getattr(self, "step_s", 0.0)
 
     def _loop(self, bar):
         s, obs = self.solver, self.case.observers

@@ -15,6 +15,34 @@ from .setup import _strip, config_changes
 FLUSH_S = 0.5   # wall seconds between rewrites of probes.csv and run.log during a run
 
 
+def observer_state(persist):
+    """The observers' history as bytes (pickle: a checkpoint is tisph's own file, read back by
+    tisph): lists and dicts by content, other objects by their attributes."""
+    import pickle
+    out = []
+    for o in persist:
+        out.append(list(o) if isinstance(o, list) else dict(o) if isinstance(o, dict) else dict(vars(o)))
+    return pickle.dumps(out)
+
+
+def restore_observers(persist, blob):
+    """Put a checkpoint's observer history back into the same objects (in place, so the scene's
+    closures and methods see it)."""
+    import pickle
+    states = pickle.loads(blob)
+    if len(states) != len(persist):
+        raise ConfigError("--restart", "observers", f"a checkpoint of this case ({len(persist)} observers)",
+                          f"it holds {len(states)}")
+    for o, st in zip(persist, states):
+        if isinstance(o, list):
+            o[:] = st
+        elif isinstance(o, dict):
+            o.clear()
+            o.update(st)
+        else:
+            vars(o).update(st)
+
+
 class Outputs:
     # -------------------------------------------------------------- outputs
     def _still(self, state, t):
@@ -103,11 +131,14 @@ class Outputs:
                     for k, a in arrays.items():
                         g.create_dataset(k, data=a)
                     f.create_dataset("probes", data=np.array(self.probes, float).reshape(len(self.probes), -1))
+                    f.create_dataset("observers", data=np.frombuffer(observer_state(self.case.observers.persist),
+                                                                     np.uint8))
                     for k, v in scal.items():
                         f.attrs[k] = v
                     f.attrs.update(dict(kind="tisph checkpoint", scene=self.name, tisph_version=__version__,
                                         config=dump_toml(self.cfg), frame_no=self.frame_no,
-                                        next=json.dumps(self.next), snapshots=json.dumps(self.snapshots)))
+                                        next=json.dumps(self.next), snapshots=json.dumps(self.snapshots),
+                                        wall_time_s=self.wall_so_far(), step_time_s=self.step_s_so_far()))
         except OSError as e:
             raise OutputError(f"cannot write checkpoint {path!r}: {e}") from None
         self.log(f"checkpoint at step {self.solver.steps}, t = {self.solver.time:.6g} s: {path}", file_only=True)
@@ -137,6 +168,10 @@ class Outputs:
         except ValueError as e:
             raise ConfigError("--restart", self.restart, "a checkpoint of this case", str(e)) from None
         self.probes = [tuple(r) for r in np.asarray(arrays["probes"]).tolist()]
+        if "observers" in arrays:
+            restore_observers(self.case.observers.persist, np.asarray(arrays["observers"], np.uint8).tobytes())
+        self.wall_before = float(attrs.get("wall_time_s", 0.0))
+        self.step_before = float(attrs.get("step_time_s", 0.0))
         self.frame_no = int(attrs["frame_no"])
         self.next = json.loads(attrs["next"])
         self.snapshots = [tuple(x) for x in json.loads(attrs["snapshots"])]

@@ -33,7 +33,9 @@ def crossed_wall(solver, final):
     return int(np.sum((x[:, 1] < y0) | (x[:, 1] > y1) | ((x[:, 1] < top) & ((x[:, 0] < x0) | (x[:, 0] > x1)))))
 
 
-def summarize(run, status, message, wall, step_s, nsteps, compile_s):
+def summarize(run, status, message, wall, step_s, nsteps, compile_s, segment=None):
+    """wall and step_s: the whole run's (a restarted run's segments summed); segment: this
+    segment's (wall, stepping) seconds, over which particle-steps/s is measured."""
     s, case, cfg, obs = run.solver, run.case, run.cfg, run.case.observers
     run.write_xdmf()
     cols = ("t",) + tuple(obs.probe_columns)
@@ -51,7 +53,8 @@ def summarize(run, status, message, wall, step_s, nsteps, compile_s):
         run.log(f"warning: {w}", always=True)
     crossed = crossed_wall(s, final)
     nb = int(np.sum(case.particles.kind != FLUID))
-    pps = (s.n * nsteps / step_s) if step_s > 0 else 0.0
+    seg_step = segment[1] if segment else step_s
+    pps = (s.n * nsteps / seg_step) if seg_step > 0 else 0.0
     summary = dict(
         scene=run.name, status=status, message=message, tisph_version=__version__,
         dx=float(cfg["numerics"]["dx"]), particles=int(s.n),

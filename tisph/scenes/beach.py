@@ -119,7 +119,7 @@ def build(cfg):
                      probe_columns=("ripple_length", "ripple_height", "bed_change_rms", "eta_toe"),
                      probe=bed.probe, metrics=bed.metrics, finalize=bed.finalize, events=events, stills=STILLS,
                      container=(-reach - dx, 0.0, Lf, float("inf"), Hw),
-                     render_modes=("phase",), mat_colors=(None, SAND))
+                     render_modes=("phase",), mat_colors=(None, SAND), persist=(bed,))
 
 
 def _particles(cfg, c0):
@@ -248,8 +248,8 @@ class BedRecord:
     def ripple_prediction(self, t, t0):
         """Wiberg & Harris ripples at each active station from the simulated near-bed orbital
         velocity: amplitude (max - min) / 2 of the water velocity 1-2 dx above the bed over whole
-        periods after t0, so d0 = 2 amplitude / omega. None after a restart (the velocity record
-        is not in the checkpoint) or before a whole period has passed."""
+        periods after t0, so d0 = 2 amplitude / omega. None before a whole period has passed
+        (the velocity record is in the checkpoint: a restart continues it)."""
         period = self.p["period"]
         t = np.asarray(t, float)
         n_per = int((t[-1] - t0) // period) if len(t) else 0

@@ -212,7 +212,7 @@ def _channel_case(cfg, common, front, a, H, W, hd, dx, margin):
     events = [(T * tscale, on_profile) for T in sorted(geo["profile_times"])]
     view = ((-margin, -margin), (W + margin, max(H * 2.5, 0.12 * W)))
     return make_case(view=view, probe_columns=("front_x", "bore_x", "plateau_h", "outflow_mass"), probe=probe,
-                metrics=metrics, events=events, finalize=finalize, **common)
+                metrics=metrics, events=events, finalize=finalize, persist=(profiles,), **common)
 
 
 def _write_profiles(d, profiles, tscale, a, H, W, hd):

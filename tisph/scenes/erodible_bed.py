@@ -140,7 +140,7 @@ def build(cfg):
                 view=((-margin, -margin), (Lf + margin, min(Hw, 2.2 * (hs + hw)) + margin)), u_max=u_max,
                 probe_columns=("front_x", "eroded_area"), probe=probe, metrics=metrics, finalize=finalize,
                 events=[(t, on_profile) for t in PROFILE_TIMES], container=(0.0, 0.0, Lf, float("inf"), Hw),
-                render_modes=("flat", "speed"), mat_colors=(None, SAND))
+                render_modes=("flat", "speed"), mat_colors=(None, SAND), persist=(bed0, profiles))
 
 
 def _plot_profiles(path, profiles, stations, bed_initial):

@@ -148,7 +148,7 @@ def build(cfg):
                 probe_columns=("reservoir_level", "discharge", "outflow_mass"), probe=probe,
                 metrics=metrics, outflow=tuple(outflow), stills=tuple(geo["still_times"]),
                 events=[(t, surface_event) for t in geo["still_times"]], finalize=finalize,
-                container=(0.0, 0.0, x_end, float("inf")))
+                container=(0.0, 0.0, x_end, float("inf")), persist=(surfaces,))
     return case
 
 

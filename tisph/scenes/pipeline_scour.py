@@ -205,7 +205,7 @@ def build(cfg):
                      probe=rec.probe, metrics=rec.metrics, finalize=rec.finalize,
                      events=sorted(events, key=lambda e: e[0]), stills=stills_at,
                      container=(-1e9, -0.5 * dx, 1e9, float("inf")),
-                     render_modes=("phase", "pressure"), mat_colors=(None, SAND), control=rec.control,
+                     render_modes=("phase", "pressure"), mat_colors=(None, SAND), control=rec.control, persist=(rec,),
                      pressure_scale=g.rw * G * g.ytop + (g.rs - g.rw) * G * hs)
 
 

@@ -166,7 +166,8 @@ def build(cfg):
                 probe_columns=("ripple_length", "ripple_height", "bed_change_rms", "u_free", "u_target"),
                 probe=probe, metrics=metrics, finalize=finalize,
                 container=(-1e9, -0.5 * dx, 1e9, float("inf")),
-                render_modes=("phase",), mat_colors=(None, SAND), control=control, control_every=10)
+                render_modes=("phase",), mat_colors=(None, SAND), control=control, control_every=10,
+                persist=(ctl, bed_rows, bed0))
 
 
 def _particles(cfg, c0, a_seed, n_seed):
@@ -293,7 +294,7 @@ def _build_bedload(cfg):
                                                  "u_target", "max_bed_shear"),
                      probe=probe, metrics=metrics, finalize=finalize, container=(-1e9, float(z.min()) - L * dx, 1e9,
                                                                                 float("inf")),
-                     control=control, control_every=sed["update_every"])
+                     control=control, control_every=sed["update_every"], persist=(ctl, bed, rows))
 
 
 def _bedload_particles(cfg, stations, z, c0):
