@@ -12,10 +12,10 @@ FAST = {"output.render": False, "output.quiet": True, "output.snapshot_every": 0
 CASES = [
     # (scene, overrides, end): the first segment stops half way (as a killed run would), the
     # second continues from its last checkpoint
-    (beach, {"output.probe_interval": 0.04}, 0.6),
+    (beach, {"output.probe_interval": 0.04}, 0.4),
     (tunnel, {"numerics.dx": 0.02, "sediment.model": "bedload", "sediment.seed_rms": 0.004,
-              "sediment.morfac": 20.0}, 0.8),
-    (pipeline_scour, {"output.probe_interval": 0.01}, 0.1),
+              "sediment.morfac": 20.0}, 0.5),
+    (pipeline_scour, {"numerics.dx": 0.0125, "output.probe_interval": 0.01}, 0.06),
 ]
 SKIP = {"wall_time_s", "step_time_s", "compile_time_s", "particle_steps_per_s", "wall_s_per_sim_s",
         "restarted_from", "message", "metrics"}

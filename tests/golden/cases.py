@@ -74,6 +74,7 @@ def run(case_id, steps=STEPS):
         h.update(np.ascontiguousarray(st[k]).tobytes())
     return dict(state=h.hexdigest()[:20], probes=hashlib.sha256(probes).hexdigest()[:20],
                 steps=int(summary["steps"]), particles=int(summary["particles"]),
+                modules=summary.get("modules", []),
                 x_sum=float(np.sum(st["x"], dtype=np.float64)), status=summary["status"])
 
 
