@@ -131,3 +131,20 @@ def test_tunnel_bedload_moves_the_bed_particles_and_keeps_the_sand(tmp_path):
     col = np.clip((x[:, 0] / 0.02).astype(int), 0, len(zb) - 1)
     first = np.isclose(x[:, 1], zb[col] - 0.01, atol=1e-5)
     assert first.sum() == len(zb)              # one particle per station at z_b - dx/2
+
+
+def test_lee_vortex_reverses_the_shear_behind_a_steep_crest_only():
+    """The experimental lee vortex: behind a crest with a lee steeper than separation_slope, over
+    separation_length crest heights downstream, the shear points back to the crest; a gentle
+    bump and the flow's upstream side are untouched; the same mirrored for flow to -x."""
+    from tisph.sediment.coupling import DEFAULTS, lee_vortex_shear
+    sed = dict(DEFAULTS, lee_vortex=0.5, separation_length=6.0, separation_slope=10.0)
+    x = np.arange(60) * 0.01
+    steep = 0.02 * np.maximum(0, 1 - np.abs(x - 0.2) / 0.03)       # 34 degree flanks, 2 cm high
+    tau = lee_vortex_shear(np.ones(60), steep, 0.01, 1.0, sed)
+    lee = np.nonzero(tau < 0)[0]
+    assert lee[0] == 21 and len(lee) == 12 and np.allclose(tau[lee], -0.5)   # 6 x 2 cm downstream
+    back = lee_vortex_shear(-np.ones(60), steep, 0.01, -1.0, sed)
+    assert np.array_equal(np.nonzero(back > 0)[0], 40 - lee[::-1]) and np.allclose(back[back > 0], 0.5)
+    gentle = 0.002 * np.maximum(0, 1 - np.abs(x - 0.2) / 0.1)      # 1 degree
+    assert np.array_equal(lee_vortex_shear(np.ones(60), gentle, 0.01, 1.0, sed), np.ones(60))

@@ -30,6 +30,9 @@ DEFAULTS = {
     "reference_height": 1.5,       # z_r / dx: where the near-bed velocity is read
     "filter_time": 0.05,           # s: time constant of the near-bed velocity's filter
     "update_every": 10,            # steps between bed updates
+    "lee_vortex": 0.0,             # experimental: shear in a crest's lee reversed to this fraction of the crest's (0: off)
+    "separation_length": 6.0,      # the lee zone's length in crest heights (flow reattaches about 6 step heights on)
+    "separation_slope": 10.0,      # degrees: a lee steeper than this separates
     "seed_rms": 0.0,               # m: RMS of a random initial bed perturbation (smoothed over 2 dx)
     "seed": 1,                     # its random seed
 }
@@ -37,7 +40,8 @@ RANGES = {"sediment.porosity": (0.0, 0.9, True, True), "sediment.repose_angle": 
           "sediment.shields_critical": (0.0, 1.0, True, True), "sediment.saturation_length": (0.0, None, True, True),
           "sediment.gravity_coefficient": (0.0, 10.0, True, True), "sediment.morfac": (1.0, 1000.0, True, True),
           "sediment.reference_height": (0.5, 5.0, True, True), "sediment.filter_time": (0.0, None, True, True),
-          "sediment.update_every": (1, 1000, True, True), "sediment.seed_rms": (0.0, None, True, True),
+          "sediment.update_every": (1, 1000, True, True), "sediment.lee_vortex": (0.0, 1.0, True, True),
+          "sediment.separation_length": (0.0, 50.0, True, True), "sediment.separation_slope": (0.0, 60.0, True, True), "sediment.seed_rms": (0.0, None, True, True),
           "sediment.seed": (0, None, True, True)}
 CHOICES = {"sediment.model": ("particles", "bedload"), "sediment.formula": ("mpm", "nielsen"),
            "sediment.shear": ("waves", "log")}
@@ -94,8 +98,13 @@ class BedCoupler:
 
     def shear(self, u):
         if self.sed["shear"] == "waves":
-            return shear_waves(u, self.amplitude, self.d50, self.rho_w)
-        return shear_log_law(u, self.sed["reference_height"] * self.dx, self.d50, self.rho_w)
+            tau = shear_waves(u, self.amplitude, self.d50, self.rho_w)
+        else:
+            tau = shear_log_law(u, self.sed["reference_height"] * self.dx, self.d50, self.rho_w)
+        if self.sed["lee_vortex"] > 0:
+            tau = lee_vortex_shear(tau, self.bed.z, self.dx, float(np.sign(np.mean(u))), self.sed,
+                                   self.bed.periodic)
+        return tau
 
     def update(self, s):
         """One bed update from the solver's state: shear, bed step, the bed particles moved."""
@@ -115,3 +124,41 @@ class BedCoupler:
 
     def volume_error(self):
         return abs(self.bed.volume() - self.v0) / abs(self.v0) if self.v0 else 0.0
+
+
+def lee_vortex_shear(tau, z, dx, direction, sed, periodic=True):
+    """Experimental (a reduced-complexity lee vortex, after the separation-zone picture of
+    Nienhuis et al. 2014): downstream of each crest whose lee is steeper than separation_slope,
+    over separation_length crest heights, the flow has separated and its vortex drives the bed
+    back towards the crest: tau there is -lee_vortex times the crest's shear. The lee's steepest
+    slope between the crest and its trough decides whether the flow separates."""
+    if direction == 0:
+        return tau
+    n = len(z)
+    out = np.array(tau, float)
+    zz = z if direction > 0 else z[::-1]
+    tt = out if direction > 0 else out[::-1]
+    t_sep = np.tan(np.radians(sed["separation_slope"]))
+    for c in range(n):
+        left = zz[c - 1] if (c > 0 or periodic) else zz[c]
+        right = zz[(c + 1) % n] if (c < n - 1 or periodic) else zz[c]
+        if not (zz[c] >= left and zz[c] > right):
+            continue                               # not a crest
+        k, trough, steepest = c, zz[c], 0.0
+        while True:                                # down the lee to the trough
+            j = (k + 1) % n if periodic else min(k + 1, n - 1)
+            if j == c or zz[j] > zz[k] or j == k:
+                break
+            steepest = max(steepest, (zz[k] - zz[j]) / dx)
+            k, trough = j, zz[j]
+        if steepest < t_sep:
+            continue                               # a gentle lee: no separation
+        L = int(np.ceil(sed["separation_length"] * (zz[c] - trough) / dx))
+        for m in range(1, L + 1):
+            j = c + m
+            if j >= n:
+                if not periodic:
+                    break
+                j -= n
+            tt[j] = -sed["lee_vortex"] * abs(tt[c]) * direction   # towards the crest, against the flow
+    return out if direction > 0 else tt[::-1].copy()
