@@ -148,7 +148,7 @@ def start_client(scheduler, workers, threads):
     return Client(cluster), cluster
 
 
-def execute(tasks, client, progress=True, on_done=None):
+def execute(tasks, client, progress=True):
     """Submit (key, fn, args) tasks; return {key: what fn returned} as they finish. A task that
     raised, or whose worker died, is ("error", the scheduler's message, None)."""
     from dask.distributed import as_completed
@@ -171,8 +171,6 @@ def execute(tasks, client, progress=True, on_done=None):
                 res = ("error", f"{type(e).__name__}: {e}", None)
             results[key] = res
             failed += isinstance(res, tuple) and res[0] != "ok"
-            if on_done:
-                on_done(key, res)
             if bar is not None:
                 running = sum(1 for f in futs if f.status == "pending")
                 bar.set_postfix_str(f"running {min(running, len(client.ncores()))}, failed {failed}", refresh=False)
@@ -305,9 +303,6 @@ def main(argv=None):
         if args.workers < 0:
             raise ConfigError("--workers", args.workers, "0 (auto) or more")
         scene = scene_module(args.scene)
-        if args.config:
-            from .config import check_file
-            check_file("--config", args.config, "TOML file")
         sets = parse_sets(args.set)
         if not sets:
             raise ConfigError("--set", None, "at least one KEY=V1,V2,...")

@@ -22,6 +22,7 @@ class MovingBed(Module):
 
     def allocate(self, S):
         self.nst = int(S.params.get("bed_stations", 1))
+        self.np_real = S.np_real
         self.dz = ti.field(S.real, self.nst)     # z_b - z_b0 per station
         self.w = ti.field(S.real, self.nst)      # dz_b/dt per station
 
@@ -45,5 +46,5 @@ class MovingBed(Module):
         return {"dz": self.dz, "w": self.w}
 
     def set(self, dz, w):
-        self.dz.from_numpy(np.asarray(dz, dtype=np.float64 if self.dz.dtype == ti.f64 else np.float32))
-        self.w.from_numpy(np.asarray(w, dtype=np.float64 if self.w.dtype == ti.f64 else np.float32))
+        self.dz.from_numpy(np.asarray(dz, dtype=self.np_real))
+        self.w.from_numpy(np.asarray(w, dtype=self.np_real))

@@ -52,15 +52,6 @@ class SolverAPI:
             raise ValueError("set_bed needs physics.moving_bed (the MovingBed module is off)")
         m.set(dz, w)
 
-    @property
-    def drive(self):
-        d = self.prm[None].drive
-        return float(d[0]), float(d[1])
-
-    def param(self, name):
-        """A runtime parameter's current value."""
-        return getattr(self.prm[None], name)
-
     # ------------------------------------------------------------------ reading
     @property
     def dt(self):

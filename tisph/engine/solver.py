@@ -56,7 +56,6 @@ class Solver(SolverAPI):
             raise ValueError("no particles to simulate")
         self.particles, self.materials, self.params = particles, materials, params
         self.dx, self.h, self.c0 = float(params["dx"]), float(params["h"]), float(params["c0"])
-        self.cfl = float(params.get("cfl", st_mod.CORE_PARAMS["cfl"].default))
         self.outflow = tuple(tuple(float(v) for v in z) for z in outflow)
         self.container = None
         if container is not None:
@@ -90,8 +89,9 @@ class Solver(SolverAPI):
         self.domain = (tuple(float(v) for v in domain[0]), tuple(float(v) for v in domain[1]))
         self.lo, self.hi, self.period = self.grid.lo, self.grid.hi, self.grid.period
         self.support = self.grid.support
-        self.material_decl, mat_writes = st_mod.material_table(self, self.modules, materials)
         self.param_decl, self.param_values = st_mod.param_struct(self, self.modules, params, self.dx)
+        self.cfl = float(self.param_values["cfl"])   # the viscosity cap reads it (materials below)
+        mat_writes = st_mod.material_table(self, self.modules, materials)
         self.stat_decl = st_mod.stats_struct(self, self.modules)
         for m in self.modules:
             m.allocate(self)          # module fields that are not per particle, if any

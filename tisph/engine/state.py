@@ -33,11 +33,9 @@ class ParticleFields:
             setattr(self, k, ti.field(dt, n) if not hasattr(dt, "n") else ti.Vector.field(dt.n, dt.dtype, n))
 
 
-# Members every case has. ir = 1 / rhoe, set once per particle so the pair loop divides by no density.
-CORE_MEMBERS = ("x", "v", "a", "rho", "drho", "m", "kind", "mat", "id", "ve", "rhoe", "p", "ir")
-
-
 def core_members(real):
+    """Members every case has. ir = 1 / rhoe, set once per particle so the pair loop divides by
+    no density."""
     vec2 = ti.types.vector(2, real)
     return dict(x=vec2, v=vec2, a=vec2, rho=real, drho=real, m=real, kind=ti.i32, mat=ti.i32, id=ti.i32,
                 ve=vec2, rhoe=real, p=real, ir=real)
@@ -92,7 +90,7 @@ def material_table(S, modules, materials):
                 raise ValueError(f"material {mat.get('name', n)!r} lacks {k!r}")
             vals.append(v)
         writes.append((f, vals))
-    return decl, writes
+    return writes
 
 
 def param_struct(S, modules, values, dx):
@@ -120,7 +118,7 @@ def param_struct(S, modules, values, dx):
 def write_tables(S, material_writes, params):
     """Fill the material table and the parameter struct (after every field was created)."""
     for f, vals in material_writes:
-        f.from_numpy(np.asarray(vals, dtype=np.int32 if f.dtype == ti.i32 else float_type(S.real)))
+        f.from_numpy(np.asarray(vals, dtype=np.int32 if f.dtype == ti.i32 else S.np_real))
     for k, v in params.items():
         setattr(S.prm[None], k, v)
 

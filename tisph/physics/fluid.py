@@ -15,6 +15,12 @@ from ..terms.viscosity import artificial_viscosity, laminar_viscosity, monaghan_
 from ..terms.xsph import xsph
 
 
+def viscous_step(h, materials):
+    """The explicit viscous limit 0.125 h^2 / nu of the most viscous material (1e30: inviscid)."""
+    nu_max = max((m.get("viscosity", 0.0) / m["rho0"] for m in materials), default=0.0)
+    return 0.125 * h ** 2 / nu_max if nu_max > 0 else 1e30
+
+
 @ti.data_oriented
 class Continuity(Module):
     """Continuity equation, paper 000 eq. 8 / paper 002 eq. 8: d rho_i/dt = rho_i sum V_j v_ij . grad W."""
@@ -61,11 +67,8 @@ class LaminarViscosity(Module):
     """Laminar viscosity, paper 002 eq. 10 (Morris et al. 1997), with the harmonic pair mean."""
     name = "laminar_viscosity"
     on = {"laminar_viscosity": True}
-    params = {"dt_visc": Param(1e30, "s", (0.0, None), "viscous step 0.125 h^2 / nu_max (set by the solver)")}
-
-    def setup(self, S):
-        nu_max = max((m.get("viscosity", 0.0) / m["rho0"] for m in S.materials), default=0.0)
-        S.prm[None].dt_visc = 0.125 * S.h ** 2 / nu_max if nu_max > 0 else 1e30
+    params = {"dt_visc": Param(lambda S, values: viscous_step(S.h, S.materials), "s", (0.0, None),
+                               "viscous step 0.125 h^2 / nu_max of the materials")}
 
     @ti.func
     def pair(self, S, i, j, r, r2, nb, acc: ti.template()):

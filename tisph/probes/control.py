@@ -18,9 +18,3 @@ class PIDrive:
         self.value = feedforward + error / self.Tc + self.integral / self.Tc ** 2
         solver.set_drive(self.value)
         return self.value
-
-    def state(self):
-        return dict(integral=self.integral, t=self.t, value=self.value)
-
-    def load(self, d):
-        self.integral, self.t, self.value = float(d["integral"]), float(d["t"]), float(d["value"])

@@ -5,21 +5,27 @@ from ..kernels import CubicSpline2D as K
 from ..particles import FLUID
 
 
+def _near_columns(st, mat, xs, reach):
+    """The particles of material `mat` (None: every fluid), sorted by x, as (x, v, volume), and
+    for each position in xs the index range [lo, hi) of those within `reach` of it in x."""
+    fl = st["kind"] == FLUID
+    if mat is not None and st.get("mat") is not None:
+        fl &= st["mat"] == mat
+    order = np.argsort(st["x"][fl][:, 0])
+    x = st["x"][fl][order]
+    v = st["v"][fl][order] if "v" in st else None
+    vol = (st["m"][fl] / st["rho"][fl])[order]
+    xs = np.asarray(xs, float)
+    return x, v, vol, np.searchsorted(x[:, 0], xs - reach), np.searchsorted(x[:, 0], xs + reach)
+
+
 def surface_heights(st, xs, dx, h, floor=0.0, mat=0):
     """Free-surface height at each x in xs, as a numerical wave gauge does it (DualSPHysics'
     approach): the highest point on the vertical line where the SPH-interpolated fraction of
     material `mat`, sum_j V_j W(x - x_j), is still at least 1/2 (linearly interpolated between
     samples a quarter spacing apart). Counting particles in a column instead steps by dx/2 and
     reads a wave three particles high with +-15 % noise."""
-    fl = st["kind"] == FLUID
-    if mat is not None and st.get("mat") is not None:   # mat None: every fluid material
-        fl &= st["mat"] == mat
-    x = st["x"][fl]
-    vol = st["m"][fl] / st["rho"][fl]
-    order = np.argsort(x[:, 0])
-    x, vol = x[order], vol[order]
-    lo = np.searchsorted(x[:, 0], np.asarray(xs) - 2 * h)
-    hi = np.searchsorted(x[:, 0], np.asarray(xs) + 2 * h)
+    x, _, vol, lo, hi = _near_columns(st, mat, xs, K.support * h)
     out = np.full(len(xs), float(floor))
     step = 0.25 * dx
     for k, xg in enumerate(xs):
@@ -47,16 +53,8 @@ def velocity_at(st, points, h, mat=0):
     """SPH velocity of material `mat` at the given points, Shepard-normalised (sum V_j u_j W /
     sum V_j W, so a point near the bed or the surface is not biased low); NaN where no water is
     within the kernel."""
-    fl = st["kind"] == FLUID
-    if mat is not None:
-        fl &= st["mat"] == mat
-    x, v = st["x"][fl], st["v"][fl]
-    vol = st["m"][fl] / st["rho"][fl]
-    order = np.argsort(x[:, 0])
-    x, v, vol = x[order], v[order], vol[order]
     pts = np.asarray(points, float).reshape(-1, 2)
-    lo = np.searchsorted(x[:, 0], pts[:, 0] - K.support * h)
-    hi = np.searchsorted(x[:, 0], pts[:, 0] + K.support * h)
+    x, v, vol, lo, hi = _near_columns(st, mat, pts[:, 0], K.support * h)
     out = np.full((len(pts), 2), np.nan)
     for k in range(len(pts)):
         if hi[k] <= lo[k]:

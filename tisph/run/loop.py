@@ -34,6 +34,8 @@ class Run(Outputs):
         self.signal = None
         self.wall_before = self.step_before = 0.0   # earlier segments of a restarted run
         self._t0 = None
+        self.step_s = 0.0
+        self._flushed_at = 0.0
         self.events = sorted(case.observers.events, key=lambda e: e[0])
         if self.render:
             self.events += [(t, self._still) for t in case.observers.stills]
@@ -148,7 +150,7 @@ class Run(Outputs):
         return self.wall_before + (time.perf_counter() - self._t0 if self._t0 is not None else 0.0)
 
     def step_s_so_far(self):
-        return self.step_before + getattr(self, "step_s", 0.0)
+        return self.step_before + self.step_s
 
     def _loop(self, bar):
         s, obs = self.solver, self.case.observers

@@ -70,13 +70,19 @@ class Outputs:
         """probes.csv and run.log as they stand, each written whole (temporary name, rename), at
         most every FLUSH_S of wall time: a run killed with -9 keeps all but its last moments."""
         now = time_mod.perf_counter()
-        if not force and now - getattr(self, "_flushed_at", 0.0) < FLUSH_S:
+        if not force and now - self._flushed_at < FLUSH_S:
             return
         self._flushed_at = now
-        from ..io import write_csv
-        cols = ("t",) + tuple(self.case.observers.probe_columns)
-        write_csv(os.path.join(self.out, "probes.csv"), cols, self.probes)
+        self.write_probes()
         self.log.flush()
+
+    def write_probes(self):
+        """probes.csv: t and the scene's probe columns, every sample so far."""
+        from ..io import write_csv
+        write_csv(os.path.join(self.out, "probes.csv"), self.probe_columns(), self.probes)
+
+    def probe_columns(self):
+        return ("t",) + tuple(self.case.observers.probe_columns)
 
     def frame(self):
         from ..render import write_png
@@ -146,9 +152,7 @@ class Outputs:
 
     def resume(self):
         """Load self.restart into the solver and the run's own state."""
-        from ..config import check_file
-        from ..io import load
-        check_file("--restart", self.restart, "checkpoint.h5 written by tisph")
+        from ..io import load   # simulate() checked that the path is a file
         arrays, attrs = load(self.restart)
         if attrs.get("kind") != "tisph checkpoint" or "particles" not in arrays:
             raise ConfigError("--restart", self.restart, "a checkpoint.h5 written by tisph")

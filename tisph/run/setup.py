@@ -77,7 +77,8 @@ def check_size(case, cfg):
     dx = cfg["numerics"]["dx"]
     check_fits(n, RUN_BYTES_PER_PARTICLE, dx, "this case")
     p = case.params
-    dt = p.get("cfl", 0.4) * p["h"] / p["c0"]          # the acoustic step, an upper bound
+    from ..engine.state import CORE_PARAMS
+    dt = p.get("cfl", CORE_PARAMS["cfl"].default) * p["h"] / p["c0"]   # the acoustic step, an upper bound
     wall_per_sim_s = n / PARTICLE_STEPS_PER_S / dt
     if wall_per_sim_s > 3600.0:
         warnings.warn(f"{n:,} particles at dt about {dt:.2g} s: expect about {wall_per_sim_s / 3600:.3g} hours "

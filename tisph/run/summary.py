@@ -6,7 +6,7 @@ import os
 import numpy as np
 
 from .. import __version__
-from ..io import OutputError, _finite, write_csv, write_json
+from ..io import OutputError, _finite, write_json
 from ..particles import FLUID, OUT, OUTFLOW
 
 
@@ -38,9 +38,8 @@ def summarize(run, status, message, wall, step_s, nsteps, compile_s, segment=Non
     segment's (wall, stepping) seconds, over which particle-steps/s is measured."""
     s, case, cfg, obs = run.solver, run.case, run.cfg, run.case.observers
     run.write_xdmf()
-    cols = ("t",) + tuple(obs.probe_columns)
-    write_csv(os.path.join(run.out, "probes.csv"), cols, run.probes)
-    arr = {c: np.array([r[k] for r in run.probes], float) for k, c in enumerate(cols)}
+    run.write_probes()
+    arr = {c: np.array([r[k] for r in run.probes], float) for k, c in enumerate(run.probe_columns())}
     metrics = obs.metrics(arr) if obs.metrics else {}
     final = s.state(("x", "v", "kind", "rho", "p", "mat", "m"))
     if obs.final_metrics:

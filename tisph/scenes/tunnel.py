@@ -76,6 +76,32 @@ def check(cfg):
                           f"at most sand_depth - 2 dx ({g['sand_depth'] - 2 * dx:.3g} m)")
 
 
+class TunnelDrive:
+    """The drive is dU/dt plus PI feedback on the free stream, as a tunnel's piston holds the
+    flow: friction on the bed drains momentum during the ramp, and without feedback a mean
+    current of 7 % of U_m was left (measured at dx 0.02)."""
+
+    def __init__(self, geo):
+        self.period = geo["period"]
+        self.omega = 2.0 * math.pi / self.period
+        self.Um = 0.5 * geo["orbital_diameter"] * self.omega
+        self.y_free = geo["sand_depth"] + 0.5 * geo["water_depth"]
+        self.ctl = PIDrive(0.1 * self.period)
+
+    def u_free(self, st):
+        """Mean velocity of the water above the lower half of the layer (out of the boundary layer)."""
+        free = (st["kind"] == FLUID) & (st["mat"] == 0) & (st["x"][:, 1] > self.y_free)
+        return float(st["v"][free, 0].mean())
+
+    def target(self, t):
+        return free_stream(t, self.Um, self.omega, self.period)[0]
+
+    def update(self, s, st=None):
+        """st: the solver's state if the caller has it already (one copy from the device)."""
+        u_t, dudt = free_stream(s.time, self.Um, self.omega, self.period)
+        self.ctl.update(s, u_t - self.u_free(st if st is not None else s.state(("x", "v", "kind", "mat"))), dudt)
+
+
 def free_stream(t, Um, omega, period):
     """U(t) = U_m r(t) sin(omega t), r = sin^2(pi t / 2T) over the first period, then 1; and its
     time derivative, the drive."""
@@ -93,8 +119,8 @@ def build(cfg):
     geo, num = cfg["geometry"], cfg["numerics"]
     dx, Lx, hw, hs = num["dx"], geo["length"], geo["water_depth"], geo["sand_depth"]
     Tp = geo["period"]
-    omega = 2.0 * math.pi / Tp
-    Um = 0.5 * geo["orbital_diameter"] * omega
+    drive = TunnelDrive(geo)
+    Um = drive.Um
     mats = cfg["materials"]
     c0, u_max = sound_speed(cfg, 1.5 * Um)
     L = num["wall_layers"]
@@ -111,22 +137,6 @@ def build(cfg):
     domain = ((0.0, -L * dx - pad), (Lx, 2.0 * ytop + pad))
     physics = physics_from_config(cfg, periodic_x=True)
 
-    # The drive is dU/dt plus PI feedback on the free stream, as a tunnel's piston holds the
-    # flow: friction on the bed drains momentum during the ramp, and without feedback a mean
-    # current of 7 % of U_m was left (measured at dx 0.02).
-    Tc = 0.1 * Tp
-    ctl = PIDrive(Tc)
-
-    def u_free(st):
-        """Mean velocity of the water above the lower half of the layer (out of the boundary layer)."""
-        free = (st["kind"] == FLUID) & (st["mat"] == 0) & (st["x"][:, 1] > hs + 0.5 * hw)
-        return float(st["v"][free, 0].mean())
-
-    def control(s):
-        u_t, dudt = free_stream(s.time, Um, omega, Tp)
-        e = u_t - u_free(s.state(("x", "v", "kind", "mat")))
-        ctl.update(s, e, dudt)
-
     stations = np.arange(0.5 * dx, Lx, dx)
     bed_rows, bed0 = [], {}
 
@@ -140,7 +150,7 @@ def build(cfg):
         lam, hr, _ = ripple_stats(stations, z, window=0.5 * Lx, min_length=MIN_LENGTH_DX * dx,
                                   min_height=MIN_HEIGHT_DX * dx)
         rms = float(np.sqrt(np.mean((b - bed0["b"]) ** 2)))
-        return lam, hr, rms, u_free(st), free_stream(st["t"], Um, omega, Tp)[0]
+        return lam, hr, rms, drive.u_free(st), drive.target(st["t"])
 
     def metrics(c):
         out = dict(velocity_amplitude=Um, predicted_ripple_length=lam_wh, predicted_ripple_height=eta_wh,
@@ -166,8 +176,8 @@ def build(cfg):
                 probe_columns=("ripple_length", "ripple_height", "bed_change_rms", "u_free", "u_target"),
                 probe=probe, metrics=metrics, finalize=finalize,
                 container=(-1e9, -0.5 * dx, 1e9, float("inf")),
-                render_modes=("phase",), mat_colors=(None, SAND), control=control, control_every=10,
-                persist=(ctl, bed_rows, bed0))
+                render_modes=("phase",), mat_colors=(None, SAND), control=drive.update, control_every=10,
+                persist=(drive.ctl, bed_rows, bed0))
 
 
 def _particles(cfg, c0, a_seed, n_seed):
@@ -227,9 +237,9 @@ def _build_bedload(cfg):
     import dataclasses
     geo, num, sed = cfg["geometry"], cfg["numerics"], cfg["sediment"]
     dx, Lx, hw, hs = num["dx"], geo["length"], geo["water_depth"], geo["sand_depth"]
-    Tp, d0 = geo["period"], geo["orbital_diameter"]
-    omega = 2.0 * math.pi / Tp
-    Um = 0.5 * d0 * omega
+    d0 = geo["orbital_diameter"]
+    drive = TunnelDrive(geo)
+    Um = drive.Um
     rw = cfg["materials"]["water"]["rho0"]
     c0, u_max = sound_speed(cfg, 1.5 * Um)
     L, h = num["wall_layers"], num["h_factor"] * dx
@@ -248,17 +258,12 @@ def _build_bedload(cfg):
                                   moving_bed=True)
     bed = coupling.BedCoupler(sed, stations, z, dx, h, geo["grain_diameter"], sed["grain_density"],
                               amplitude=0.5 * d0, periodic=True, rho_w=rw)
-    ctl = PIDrive(0.1 * Tp)
     rows = []
 
-    def u_free(st):
-        free = (st["kind"] == FLUID) & (st["x"][:, 1] > hs + 0.5 * hw)
-        return float(st["v"][free, 0].mean())
-
     def control(s):
-        u_t, dudt = free_stream(s.time, Um, omega, Tp)
-        ctl.update(s, u_t - u_free(s.state(("x", "v", "kind", "mat"))), dudt)
-        bed.update(s)
+        st = s.state(coupling.STATE)     # one copy for the drive and the bed
+        drive.update(s, st)
+        bed.update(s, st)
 
     def probe(st):
         zb = bed.bed.z
@@ -266,7 +271,7 @@ def _build_bedload(cfg):
         lam, hr, _ = ripple_stats(stations, zb - hs, window=0.5 * Lx, min_length=MIN_LENGTH_DX * dx,
                                   min_height=0.1 * dx)
         rms = float(np.sqrt(np.mean((zb - bed.z0) ** 2)))
-        return lam, hr, rms, u_free(st), free_stream(st["t"], Um, omega, Tp)[0], float(np.abs(bed.tau).max())
+        return lam, hr, rms, drive.u_free(st), drive.target(st["t"]), float(np.abs(bed.tau).max())
 
     def metrics(c):
         out = dict(velocity_amplitude=Um, predicted_ripple_length=lam_wh, predicted_ripple_height=eta_wh,
@@ -294,7 +299,7 @@ def _build_bedload(cfg):
                                                  "u_target", "max_bed_shear"),
                      probe=probe, metrics=metrics, finalize=finalize, container=(-1e9, float(z.min()) - L * dx, 1e9,
                                                                                 float("inf")),
-                     control=control, control_every=sed["update_every"], persist=(ctl, bed, rows))
+                     control=control, control_every=sed["update_every"], persist=(drive.ctl, bed, rows))
 
 
 def _bedload_particles(cfg, stations, z, c0):

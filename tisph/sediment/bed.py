@@ -70,7 +70,7 @@ class Bed:
         if a <= 0:
             return qb.copy()
         n = len(qb)
-        q = self.q.copy() if len(self.q) == n else np.zeros(n)
+        q = self.q.copy()                   # the last flux: the sweeps start from it
         fwd = qb >= 0
         for _ in range(3):
             for i in range(n):              # flow to +x: upwind neighbour on the left

@@ -17,6 +17,8 @@ from ..probes.gauges import velocity_at
 from .bed import Bed
 from .transport import shear_log_law, shear_waves
 
+STATE = ("x", "v", "kind", "mat", "m", "rho")   # what the near-bed velocity reads
+
 DEFAULTS = {
     "model": "particles",          # particles: the paper's Bingham/Cross sand | bedload: a bed below particle scale
     "porosity": 0.4,               # n in Exner's (1 - n) dz_b/dt = -dq/dx
@@ -85,13 +87,12 @@ class BedCoupler:
         self.u = np.zeros(len(stations))
         self.tau = np.zeros(len(stations))
         self.t = 0.0
-        self.every = int(sed["update_every"])
 
     def near_bed_velocity(self, st):
         """Tangential water velocity at z_r above the bed at each station (NaN: no water there)."""
         z, zr = self.bed.z, self.sed["reference_height"] * self.dx
         dzdx = self.bed.slope()
-        pts = np.column_stack([self.stations, z + zr * np.ones_like(z)])
+        pts = np.column_stack([self.stations, z + zr])
         u = velocity_at(st, pts, self.h)
         n = np.sqrt(1.0 + dzdx * dzdx)
         return (u[:, 0] + u[:, 1] * dzdx) / n
@@ -106,13 +107,15 @@ class BedCoupler:
                                    self.bed.periodic)
         return tau
 
-    def update(self, s):
-        """One bed update from the solver's state: shear, bed step, the bed particles moved."""
+    def update(self, s, st=None):
+        """One bed update from the solver's state (st: it, if the caller has it already): shear,
+        bed step, the bed particles moved."""
         dt = s.time - self.t
         if dt <= 0:
             return
         self.t = s.time
-        st = s.state(("x", "v", "kind", "mat", "m", "rho"))
+        if st is None:
+            st = s.state(STATE)
         u = self.near_bed_velocity(st)
         u = np.where(np.isfinite(u), u, 0.0)
         tf = self.sed["filter_time"]
