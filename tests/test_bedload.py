@@ -146,5 +146,31 @@ def test_lee_vortex_reverses_the_shear_behind_a_steep_crest_only():
     assert lee[0] == 21 and len(lee) == 12 and np.allclose(tau[lee], -0.5)   # 6 x 2 cm downstream
     back = lee_vortex_shear(-np.ones(60), steep, 0.01, -1.0, sed)
     assert np.array_equal(np.nonzero(back > 0)[0], 40 - lee[::-1]) and np.allclose(back[back > 0], 0.5)
+    capped = lee_vortex_shear(np.ones(60), steep, 0.01, 1.0, dict(sed, separation_excursion=0.5), amplitude=0.1)
+    assert np.array_equal(np.nonzero(capped < 0)[0], lee[:5])       # 0.5 A = 5 cm, not 12 cm
+    washed = lee_vortex_shear(np.ones(60), steep, 0.01, 1.0, sed, mobility=np.full(60, 215.0))
+    assert np.allclose(washed[lee], -0.25)                          # half way into sheet flow
+    assert np.array_equal(lee_vortex_shear(np.ones(60), steep, 0.01, 1.0, sed, mobility=300.0), np.ones(60))
     gentle = 0.002 * np.maximum(0, 1 - np.abs(x - 0.2) / 0.1)      # 1 degree
     assert np.array_equal(lee_vortex_shear(np.ones(60), gentle, 0.01, 1.0, sed), np.ones(60))
+
+
+def test_velocity_at_is_the_shepard_sph_interpolation():
+    """The near-bed velocity probe (all points at once) against the sum written out point by
+    point: Shepard-normalised SPH of the velocity; NaN where no water is within the support."""
+    from tisph.kernels import CubicSpline2D as K
+    from tisph.probes.gauges import velocity_at
+    from tisph.particles import FLUID
+    rng = np.random.default_rng(3)
+    dx, h = 0.01, 0.013
+    g = np.stack(np.meshgrid(np.arange(0, 0.3, dx), np.arange(0, 0.1, dx)), -1).reshape(-1, 2)
+    st = dict(x=g + 0.002 * rng.standard_normal(g.shape), v=rng.standard_normal(g.shape),
+              kind=np.full(len(g), FLUID), mat=np.zeros(len(g), int), m=np.full(len(g), 0.1),
+              rho=1000 + rng.random(len(g)))
+    pts = np.array([[0.05, 0.02], [0.151, 0.05], [0.29, 0.099], [0.8, 0.05]])
+    got = velocity_at(st, pts, h)
+    vol = st["m"] / st["rho"]
+    for k in range(3):
+        w = K.shape_np(np.hypot(*(st["x"] - pts[k]).T) / h) * vol
+        assert np.allclose(got[k], (w[:, None] * st["v"]).sum(0) / w.sum(), rtol=1e-12, atol=1e-12)
+    assert np.isnan(got[3]).all()

@@ -60,6 +60,18 @@ def test_dam_break_runs_five_steps_from_the_command_line(tmp_path):
     assert not (tmp_path / "o" / "frames").exists()
 
 
+def test_progress_off_a_terminal_is_a_line_every_five_percent(tmp_path):
+    """stderr is a pipe here, as under a batch scheduler: no progress bar, but one line per 5 % of
+    the run, in run.log as well."""
+    r = run_cli(["--end-time", "0.1", "--dx", "0.05", "--no-render", "--out", str(tmp_path / "o")], tmp_path)
+    assert r.returncode == 0, r.stderr
+    lines = [ln for ln in r.stderr.splitlines() if ln.startswith("progress")]
+    assert len(lines) == 20 and lines[-1].startswith("progress 100 %")
+    assert "particle-steps/s" in lines[0] and "left" in lines[0]
+    log = (tmp_path / "o" / "run.log").read_text().splitlines()
+    assert sum(ln.startswith("progress") for ln in log) == 20
+
+
 def test_bad_config_key_exits_2_naming_it(tmp_path):
     cfgf = tmp_path / "bad.toml"
     cfgf.write_text("[numerics]\nxpsh = 0.1\n")
@@ -86,17 +98,17 @@ def test_rendered_run_writes_frames_and_movie(tmp_path):
 def test_frame_shows_water_where_the_column_stands():
     from tisph.config import build_config
     from tisph.render import Renderer, colormap
-    from tisph.solver import Solver
     cfg = build_config(dam_break.DEFAULTS, None, {"numerics.dx": 0.05})
     case = dam_break.build(cfg)
-    s = Solver(case.physics, case.particles, case.materials, case.domain, case.params)
-    s.prime()
-    r = Renderer(s, case.picture.view, 480, case.u_max)
-    img = r.frame(0.0)
+    ps = case.particles
+    st = dict(x=ps.x, v=np.zeros_like(ps.x), p=np.zeros(len(ps.x)), rho=ps.rho, kind=ps.kind, mat=ps.mat)
+    r = Renderer(case.picture.view, 480, 0.05, case.u_max)
+    img = r.frame(st, 0.0)
     (x0, y0), _ = r.view
+    head = img.shape[0] - r.H                                 # the title strip above the panel
 
     def pix(x, y):
-        return img[r.H - 1 - int((y - y0) * r.scale), int((x - x0) * r.scale)].astype(int)
+        return img[head + r.H - 1 - int((y - y0) * r.scale), int((x - x0) * r.scale)].astype(int)
 
     water = (colormap(0.0) * 255).astype(int)
     for x, y in [(0.5, 1.0), (0.2, 0.3), (0.8, 1.8)]:       # inside the column, at rest
@@ -105,3 +117,41 @@ def test_frame_shows_water_where_the_column_stands():
     g = pix(-0.04, 1.0)                                      # left wall: grey
     assert g[0] == g[1] == g[2] and 100 < g[0] < 180
     assert img.shape[1] == r.W + r.BAR and img.dtype == np.uint8
+    assert (img[:head - 2, : r.W // 2] == 255).mean() > 0.8  # the label strip is text on white, no particles
+
+
+@pytest.mark.parametrize("field", ["speed", "pressure", "density", "material", "vorticity"])
+def test_every_output_field_draws_a_frame(field):
+    """output.field: each field colours the fluid; the colour bar of a coloured field spans its
+    range, a flat (material) frame has none."""
+    from tisph.config import build_config
+    from tisph.render import Renderer
+    cfg = build_config(dam_break.DEFAULTS, None, {"numerics.dx": 0.05})
+    case = dam_break.build(cfg)
+    ps = case.particles
+    rng = np.random.default_rng(0)
+    st = dict(x=ps.x, v=rng.normal(size=ps.x.shape), p=1e4 * rng.random(len(ps.x)), rho=ps.rho, kind=ps.kind,
+              mat=ps.mat)
+    r = Renderer(case.picture.view, 320, 0.05, 2.0, modes=(field,))
+    img = r.frame(st, 0.5)
+    assert img.shape == (img.shape[0], r.W + r.BAR, 3)
+    assert (r.bars[0] is None) == (field == "material")
+
+
+def test_describe_lists_every_key_with_default_range_and_meaning():
+    """--describe is generated from the code: every key of the resolved config, its default,
+    its allowed values, and the comment written beside the default."""
+    from tisph.describe import describe, rows
+    from tisph.scenes import beach, flume, hatch, pipeline_scour, tank, tunnel, erodible_bed
+    for scene in (beach, dam_break, flume, hatch, pipeline_scour, tank, tunnel, erodible_bed):
+        r = rows(scene)
+        cfg = build_config(scene.DEFAULTS, None, {}, getattr(scene, "RANGES", None), getattr(scene, "CHOICES", None))
+        n = sum(1 for t in cfg.values() for v in t.values() if not isinstance(v, dict)) + \
+            sum(len(v) for t in cfg.values() for v in t.values() if isinstance(v, dict))
+        assert len(r) == n
+        assert sum(bool(m) for *_, m in r) > 0.7 * n, scene.NAME     # most keys say what they mean
+    text = describe(beach)
+    line = next(ln for ln in text.splitlines() if ln.strip().startswith("lee_vortex ="))
+    assert "0.5" in line and ">= 0.0 and <= 1.0" in line and "lee" in line.split(")", 1)[1]
+    r = run_cli(["--describe"], ROOT)
+    assert r.returncode == 0 and "[numerics]" in r.stdout and "dx = 0.03" in r.stdout

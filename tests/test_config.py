@@ -52,3 +52,27 @@ def test_dump_round_trips(tmp_path):
     f = tmp_path / "c.toml"
     f.write_text(dump_toml(cfg))
     assert merge(cfg, read_toml(f)) == cfg
+
+
+def test_every_bad_key_is_reported_at_once(tmp_path):
+    """A case file with three mistakes (an unknown key, a wrong type, a value out of range) gets
+    one error line for each, not only the first."""
+    f = tmp_path / "c.toml"
+    f.write_text('[numerics]\ndxx = 0.1\ndx = "fine"\n[run]\nend_time = -1.0\n')
+    with pytest.raises(ConfigError) as e:
+        build_config(dam_break.DEFAULTS, f, {"numerics.xsph": 0.7}, dam_break.RANGES)
+    lines = str(e.value).splitlines()
+    assert len(lines) == 4
+    for field in ("numerics.dxx", "numerics.dx", "run.end_time", "numerics.xsph"):
+        assert sum(line.startswith(f"config error: {field} = ") for line in lines) == 1, (field, lines)
+
+
+def test_summary_says_why_laminar_viscosity_is_on_when_the_config_says_off():
+    from tisph.config import physics_from_config
+    from tisph.run.summary import physics_notes
+    cfg = build_config(tank.DEFAULTS, None, {"geometry.sediment_depth": 0.2})
+    assert cfg["numerics"]["laminar_viscosity"] is False
+    ph = physics_from_config(cfg)
+    assert ph.laminar_viscosity and "rheology" in physics_notes(cfg, ph)[0]
+    water_only = physics_from_config(cfg, materials_used=["water"])
+    assert not water_only.laminar_viscosity and physics_notes(cfg, water_only) == []

@@ -1,6 +1,7 @@
 """Benchmark: run time against error, throughput and scaling, and a PySPH comparison.
 
     python -m tisph.bench [--quick] [--peer pysph] [--out renders/bench] [--only CASE ...]
+    python -m tisph.bench --speed [--against REV] [--repeats N] [--quick]   (tisph/speed.py)
 
 Every validation case runs at a ladder of resolutions; each run records particles, steps, wall
 time, Taichi compile time (the first call, separately), particle-steps/s and its error against
@@ -296,9 +297,18 @@ def main(argv=None):
                         "timings then share the cluster's cores")
     p.add_argument("--only", nargs="*", help="run only the cases whose name contains one of these words")
     p.add_argument("--no-scaling", action="store_true", help="skip the scaling, specialisation and profile parts")
+    p.add_argument("--speed", action="store_true",
+                   help="engine speed only (tisph/speed.py): particle-steps/s from 3.4e3 to 6.5e5 particles, compile")
+    p.add_argument("--against", metavar="REV", help="with --speed: the same runs on this git revision, back to back")
+    p.add_argument("--repeats", type=int, default=3, help="with --speed: runs (pairs) per case (default 3)")
     p.add_argument("--dry-run", action="store_true",
                    help="exercise every code path in seconds: one tiny case, tiny scaling, no profile (for tests)")
     a = p.parse_args(argv)
+    if a.speed:
+        from . import speed
+        return speed.main(a)
+    if a.against:
+        p.error("--against needs --speed")
     from . import runtime
     runtime.init("cpu", "f32")
     ensure_dir(a.out)

@@ -48,7 +48,11 @@ class Picture:
     u_max: float                      # the expected peak speed (colour scale, sound-speed check)
     render_modes: tuple = ("speed",)  # stacked panels: speed | phase | flat | pressure (render.Renderer)
     mat_colors: tuple = None          # per material: an RGB colour (sediment) or None (by speed)
+    speed_scale: float = 0.0          # top of the speed colour bar (m/s); 0: u_max
     pressure_scale: float = 0.0       # top of the "pressure" panel's colour bar (Pa)
+    bed_panel: Callable = None        # bed_panel(x0, x1, n) -> (x, bed change): a panel under the frame
+    bed_label: str = ""               # what the bed panel's label adds (the morphological factor)
+    bed_surface: Callable = None      # bed_surface(x) -> z_b: the sand under it is filled in sand colour
 
 
 _PARTS = {cls: {f.name for f in dataclasses.fields(cls)} for cls in (Model, Observers, Picture)}

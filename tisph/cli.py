@@ -41,6 +41,8 @@ def make_parser(scene, description=""):
     p.add_argument("--restart", metavar="PATH", help="continue from a checkpoint.h5")
     p.add_argument("--force", action="store_true", help="allow --restart with a changed config")
     p.add_argument("--quiet", action="store_true", help="no progress bar and no messages but errors")
+    p.add_argument("--describe", action="store_true",
+                   help="print every config key with its default, what is allowed and what it means, and exit")
     return p
 
 

@@ -12,12 +12,13 @@ import difflib
 import math
 import os
 import sys
-from dataclasses import dataclass, asdict
 
 if sys.version_info >= (3, 11):
     import tomllib
 else:  # pragma: no cover - exercised on 3.9/3.10 only
     import tomli as tomllib
+
+from .switches import Physics, physics_from_config  # noqa: F401  (re-exported: scenes import them here)
 
 
 class ConfigError(ValueError):
@@ -29,6 +30,24 @@ class ConfigError(ValueError):
         if hint:
             msg += f" ({hint})"
         super().__init__(msg)
+
+
+class ConfigErrors(ConfigError):
+    """Several bad inputs at once, one line each; field, value and allowed are the first's."""
+
+    def __init__(self, errors):
+        self.errors = list(errors)
+        first = self.errors[0]
+        self.field, self.value, self.allowed = first.field, first.value, first.allowed
+        ValueError.__init__(self, "\n".join(str(e) for e in self.errors))
+
+
+def _collect(errors):
+    """Raise what was collected: one error as itself, several together."""
+    if len(errors) == 1:
+        raise errors[0]
+    if errors:
+        raise ConfigErrors(errors)
 
 
 # Keys every scene shares. Scenes add [geometry] and [materials.*] and may change these values.
@@ -61,7 +80,11 @@ SHARED_DEFAULTS = {
         "probe_interval": 0.005,     # simulated seconds between probe samples
         "width": 640,                # frame width in pixels (height follows the domain)
         "quiet": False,
-        "speed_scale": 0.0,          # colour bar top (m/s); 0: u_max
+        "speed_scale": 0.0,          # colour bar top (m/s); 0: the scene's expected peak speed
+        "view": [],                  # [x0, x1, y0, y1] (m) the frames show; []: the scene's
+        "field": "",                 # speed | pressure | density | material | vorticity; "": the scene's panels
+        "range": [],                 # [lo, hi] of the colour bar; []: automatic (the scene's, or percentiles)
+        "min_height": 160,           # px: a lower panel gets more room above the view (air)
         "snapshot_every": -1.0,      # simulated s between HDF5 snapshots; -1: frame_interval; 0: off
         "checkpoint_every": 0.0,     # simulated s between checkpoints; 0: only on SIGINT/SIGTERM
     },
@@ -73,6 +96,7 @@ CHOICES = {
     "numerics.kernel": ("cubic", "wendland"),
     "numerics.wall": ("dynamic", "repulsive"),
     "numerics.density_diffusion": ("none", "molteni", "fourtakas"),
+    "output.field": ("", "speed", "pressure", "density", "material", "vorticity"),
 }
 
 # (low, high, low_inclusive, high_inclusive); None is unbounded.
@@ -91,6 +115,7 @@ RANGES = {
     "output.frame_interval": (0.0, None, False, True),
     "output.probe_interval": (0.0, None, False, True),
     "output.width": (64, 4096, True, True),
+    "output.min_height": (0, 4096, True, True),
     "output.speed_scale": (0.0, None, True, True),
     "output.snapshot_every": (-1.0, None, True, True),
     "output.checkpoint_every": (0.0, None, True, True),
@@ -183,22 +208,30 @@ def _coerce(path, default, value):
     raise ConfigError(path, value, _type_name(default))
 
 
-def merge(base: dict, override: dict, prefix: str = "") -> dict:
-    """Return base updated by override; unknown keys are refused with the closest valid name."""
+def merge(base: dict, override: dict, prefix: str = "", errors=None) -> dict:
+    """Return base updated by override; unknown keys are refused with the closest valid name.
+    Every bad key is reported (errors: the list a caller collects them in; None: raise them)."""
+    top = errors is None
+    errors = [] if top else errors
     out = copy.deepcopy(base)
     for key, value in override.items():
         path = f"{prefix}{key}"
-        if key not in base:
-            close = difflib.get_close_matches(key, list(base.keys()), n=1, cutoff=0.5)
-            hint = f"did you mean '{prefix}{close[0]}'?" if close else ""
-            raise ConfigError(path, value, "one of: " + ", ".join(sorted(f"{prefix}{k}" for k in base)),
-                              hint or "unknown key")
-        if isinstance(base[key], dict):
-            if not isinstance(value, dict):
-                raise ConfigError(path, value, "a table")
-            out[key] = merge(base[key], value, path + ".")
-        else:
-            out[key] = _coerce(path, base[key], value)
+        try:
+            if key not in base:
+                close = difflib.get_close_matches(key, list(base.keys()), n=1, cutoff=0.5)
+                hint = f"did you mean '{prefix}{close[0]}'?" if close else ""
+                raise ConfigError(path, value, "one of: " + ", ".join(sorted(f"{prefix}{k}" for k in base)),
+                                  hint or "unknown key")
+            if isinstance(base[key], dict):
+                if not isinstance(value, dict):
+                    raise ConfigError(path, value, "a table")
+                out[key] = merge(base[key], value, path + ".", errors)
+            else:
+                out[key] = _coerce(path, base[key], value)
+        except ConfigError as e:
+            errors.append(e)
+    if top:
+        _collect(errors)
     return out
 
 
@@ -207,21 +240,37 @@ def validate(cfg: dict, extra_ranges: dict | None = None, extra_choices: dict | 
     ranges = dict(RANGES, **(extra_ranges or {}))
     choices = dict(CHOICES, **(extra_choices or {}))
 
+    errors = []
+
+    def check(path, prefix, k, v):
+        if path in choices and v not in choices[path]:
+            raise ConfigError(path, v, "one of " + ", ".join(repr(c) for c in choices[path]))
+        if path in ranges:
+            _check_range(path, v, ranges[path])
+        if prefix.startswith("materials.") and k in MATERIAL_RANGES:
+            _check_range(path, v, MATERIAL_RANGES[k])
+        if prefix.startswith("materials.") and k in MATERIAL_CHOICES and v not in MATERIAL_CHOICES[k]:
+            raise ConfigError(path, v, "one of " + ", ".join(repr(c) for c in MATERIAL_CHOICES[k]))
+
     def walk(d, prefix):
         for k, v in d.items():
             path = f"{prefix}{k}"
             if isinstance(v, dict):
                 walk(v, path + ".")
                 continue
-            if path in choices and v not in choices[path]:
-                raise ConfigError(path, v, "one of " + ", ".join(repr(c) for c in choices[path]))
-            if path in ranges:
-                _check_range(path, v, ranges[path])
-            if prefix.startswith("materials.") and k in MATERIAL_RANGES:
-                _check_range(path, v, MATERIAL_RANGES[k])
-            if prefix.startswith("materials.") and k in MATERIAL_CHOICES and v not in MATERIAL_CHOICES[k]:
-                raise ConfigError(path, v, "one of " + ", ".join(repr(c) for c in MATERIAL_CHOICES[k]))
+            try:
+                check(path, prefix, k, v)
+            except ConfigError as e:
+                errors.append(e)
     walk(cfg, "")
+    out = cfg.get("output", {})
+    for key, what in (("view", "[x0, x1, y0, y1] in m with x0 < x1 and y0 < y1"), ("range", "[lo, hi] with lo < hi")):
+        v = out.get(key)
+        n = 4 if key == "view" else 2
+        if v and (len(v) != n or not all(isinstance(a, (int, float)) and not isinstance(a, bool) and math.isfinite(a)
+                                         for a in v) or any(v[k] >= v[k + 1] for k in range(0, n, 2))):
+            errors.append(ConfigError(f"output.{key}", v, f"{what}, or [] for the default"))
+    _collect(errors)
     return cfg
 
 
@@ -268,15 +317,22 @@ def build_config(scene_defaults: dict, toml_path=None, overrides: dict | None = 
                  extra_ranges=None, extra_choices=None) -> dict:
     """Defaults <- TOML file <- CLI overrides (dotted paths), validated."""
     base = merge(SHARED_DEFAULTS, {}) if not scene_defaults else _deep_union(SHARED_DEFAULTS, scene_defaults)
-    cfg = base
+    cfg, errors = base, []
     if toml_path:
-        cfg = merge(cfg, read_toml(toml_path))
+        cfg = merge(cfg, read_toml(toml_path), errors=errors)
     if overrides:
         ov: dict = {}
         for path, value in overrides.items():
             set_path(ov, path, value)
-        cfg = merge(cfg, ov)
-    return validate(cfg, extra_ranges, extra_choices)
+        cfg = merge(cfg, ov, errors=errors)
+    try:
+        validate(cfg, extra_ranges, extra_choices)
+    except ConfigErrors as e:
+        errors += e.errors
+    except ConfigError as e:
+        errors.append(e)
+    _collect(errors)
+    return cfg
 
 
 def _deep_union(a: dict, b: dict) -> dict:
@@ -319,57 +375,3 @@ def dump_toml(d: dict) -> str:
 
     table("", d)
     return "\n".join(lines)
-
-
-@dataclass(frozen=True)
-class Physics:
-    """Which terms exist. Read with ti.static: a term that is off is never compiled."""
-    kernel: str = "cubic"
-    wall: str = "dynamic"
-    artificial_viscosity: bool = True
-    laminar_viscosity: bool = False
-    xsph: bool = False
-    density_diffusion: str = "none"
-    shepard: bool = False
-    rheology: bool = False      # some material is Bingham or Cross: effective-viscosity field
-    periodic_x: bool = False
-    noslip: bool = False        # Morris no-slip walls in the viscous terms (paper 002 eq. 39)
-    paddle: str = "none"        # none | piston | flap: MOVING particles follow a prescribed motion
-    damping: tuple = ()         # (x0, x1, rate 1/s): absorbing zone, damping grows as ((x-x0)/(x1-x0))^2
-    inflow: tuple = ()          # (x0, x1, rate 1/s, material, y_bed, u*, z0): a zone relaxing that
-                                # material's velocity to the log law (paper 002 eq. 32)
-    sps: bool = False           # SPS (Smagorinsky) turbulence in Newtonian materials (paper 002 eq. 10)
-    drag: bool = False          # fluid-sediment drag between different materials (paper 002 eq. 16)
-    dem: bool = False           # DEM spring-dashpot contacts between sediment particles (paper 002 eqs. 17-28)
-    moving_bed: bool = False    # BED particles follow a morphodynamic bed z_b(x) (tisph/sediment)
-
-    def as_dict(self):
-        return asdict(self)
-
-
-def physics_from_config(cfg: dict, periodic_x=False, noslip=False, materials_used=None,
-                        paddle="none", damping=(), sps=False, drag=False, dem=False, inflow=()) -> Physics:
-    """The switches of a case. materials_used: names of the materials its particles carry (all
-    configured materials if None); rheology is compiled only if one of them is non-Newtonian."""
-    n = cfg["numerics"]
-    mats = cfg.get("materials", {})
-    used = mats.keys() if materials_used is None else materials_used
-    rheo = any(isinstance(mats[k], dict) and mats[k].get("rheology", "newtonian") != "newtonian" for k in used)
-    return Physics(
-        rheology=rheo,
-        periodic_x=periodic_x,
-        noslip=noslip,
-        paddle=paddle,
-        damping=tuple(float(v) for v in damping),
-        inflow=tuple(float(v) for v in inflow),
-        sps=sps,
-        drag=drag,
-        dem=dem,
-        kernel=n["kernel"],
-        wall=n["wall"],
-        artificial_viscosity=n["artificial_viscosity"] > 0.0,
-        laminar_viscosity=bool(n["laminar_viscosity"]) or rheo,
-        xsph=n["xsph"] > 0.0,
-        density_diffusion=n["density_diffusion"],
-        shepard=n["shepard_every"] > 0,
-    )

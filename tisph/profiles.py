@@ -79,12 +79,15 @@ def streamlines_png(path, st, xlim, ylim, dx, title, figsize, density=1.6, circl
     ax.scatter(x[~w, 0], x[~w, 1], s=1.5, color=SAND, lw=0)
     speed = np.hypot(u, vv)
     if speed.max() > 0:
-        ax.streamplot(xm, ym, u.T, vv.T, color=speed.T, cmap="viridis", density=density, linewidth=0.6,
-                      arrowsize=0.6)
+        sp = ax.streamplot(xm, ym, u.T, vv.T, color=speed.T, cmap="viridis", density=density, linewidth=0.6,
+                           arrowsize=0.6)
+        fig.colorbar(sp.lines, ax=ax, label="speed (m/s)", fraction=0.03, pad=0.01)
     if circle is not None:
         ax.add_patch(plt.Circle(circle[:2], circle[2], color="0.5"))
     ax.set_xlim(*xlim)
     ax.set_ylim(*ylim)
     ax.set_aspect("equal")
+    ax.set_xlabel("x (m)")
+    ax.set_ylabel("y (m)")
     ax.set_title(title, fontsize=9)
     save(fig, path, dpi=100)

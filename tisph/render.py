@@ -1,10 +1,10 @@
-"""Offscreen rendering: a Taichi kernel splats particles into an image (no window, no Vulkan);
-PIL adds the time label and colour bar; imageio writes PNG frames and an MP4 (imageio-ffmpeg)."""
+"""Offscreen rendering: NumPy splats particles from arrays into an image (no window, no GPU; the
+live run and tisph.view share it); PIL adds the labels and colour bars; imageio writes PNG
+frames and an MP4 (imageio-ffmpeg)."""
 import os
 import warnings
 
 import numpy as np
-import taichi as ti
 
 from .io import atomic_path, OutputError
 from .particles import BED, FLUID
@@ -18,7 +18,7 @@ BACKGROUND = (1.0, 1.0, 1.0)
 BOUNDARY = (0.55, 0.55, 0.55)
 WATER = (0.36, 0.62, 0.90)
 SAND = (0.86, 0.70, 0.42)
-MODES = {"speed": 0, "phase": 1, "flat": 2, "pressure": 3}
+MODES = ("speed", "phase", "flat", "material", "pressure", "density", "vorticity")
 
 
 def colormap(values):
@@ -29,114 +29,244 @@ def colormap(values):
     return _VIRIDIS[i] * (1 - f) + _VIRIDIS[i + 1] * f
 
 
-@ti.data_oriented
+FIELDS = ("speed", "pressure", "density", "material", "vorticity")   # output.field
+UNITS = {"speed": "|u| (m/s)", "pressure": "p (kPa)", "density": "rho (kg/m3)", "vorticity": "curl u (1/s)"}
+STATE = ("x", "v", "p", "rho", "kind", "mat")   # what a frame reads
+_DIVERGING = np.array([[0.23, 0.30, 0.75], [0.55, 0.69, 0.99], [0.87, 0.87, 0.87], [0.96, 0.60, 0.48],
+                       [0.71, 0.02, 0.15]])   # blue - grey - red, for signed fields
+
+
+def diverging(values):
+    """Blue-grey-red RGB for values in [0, 1] (0.5: zero)."""
+    v = np.clip(np.asarray(values, float), 0, 1) * (len(_DIVERGING) - 1)
+    i = np.minimum(v.astype(int), len(_DIVERGING) - 2)
+    f = (v - i)[..., None]
+    return _DIVERGING[i] * (1 - f) + _DIVERGING[i + 1] * f
+
+
+def vorticity(x, v, dx):
+    """dv/dx - du/dy at each point, from the velocities binned on a grid of 2 dx."""
+    cell = 2.0 * dx
+    lo = x.min(0)
+    ij = np.floor((x - lo) / cell).astype(int)
+    nx, ny = ij.max(0) + 1
+    n = np.zeros((nx, ny))
+    u = np.zeros((nx, ny))
+    w = np.zeros((nx, ny))
+    np.add.at(n, (ij[:, 0], ij[:, 1]), 1.0)
+    np.add.at(u, (ij[:, 0], ij[:, 1]), v[:, 0])
+    np.add.at(w, (ij[:, 0], ij[:, 1]), v[:, 1])
+    with np.errstate(invalid="ignore", divide="ignore"):
+        u, w = np.where(n > 0, u / n, 0.0), np.where(n > 0, w / n, 0.0)
+    if nx < 2 or ny < 2:
+        return np.zeros(len(x))
+    curl = np.gradient(w, cell, axis=0) - np.gradient(u, cell, axis=1)
+    return curl[ij[:, 0], ij[:, 1]]
+
+
 class Renderer:
-    """Draws a solver's particles, grey boundaries, fluid in one or more stacked panels:
-    "speed" colours every fluid by speed; "phase" draws materials that have a colour (sediment)
-    in it, darker where they move, and the rest (water) by speed; "flat" gives every material
-    its plain colour (water blue, sediment sand); "pressure" colours every fluid by its pressure
-    (0 to pressure_scale)."""
+    """Draws particles from arrays (a solver's state or a snapshot's), so the live run and
+    tisph.view make the same picture: grey boundaries, BED particles sand, fluid in one or more
+    stacked panels. Panels: "speed" colours every fluid by speed; "phase" draws materials that
+    have a colour (sediment) in it, darker where they move, and water by speed; "flat" (or
+    "material") gives every material its plain colour; "pressure", "density" and "vorticity"
+    colour every fluid by that field. A header strip carries the title and time, a side strip
+    the colour bar with its title; text scales with the width and never covers particles.
 
-    BAR = 96  # colour-bar strip width in pixels
+    vrange: (lo, hi) of the colour bar; None: speed from speed_scale (the scene's expected peak
+    speed) or else the 99th percentile, pressure from pressure_scale, density and vorticity from
+    robust percentiles of each frame. min_height: a panel shorter than this (px) gets more room
+    above the view's top (air), not a squashed picture."""
 
-    def __init__(self, solver, view, width=640, speed_scale=1.0, title="", modes=("speed",),
-                 mat_colors=None, pressure_scale=0.0):
+    def __init__(self, view, width=640, dx=0.01, speed_scale=0.0, title="", modes=("speed",), mat_colors=None,
+                 pressure_scale=0.0, bed_panel=None, bed_label="", vrange=None, min_height=0, bed_surface=None):
         (x0, y0), (x1, y1) = view
-        self.solver = solver
-        self.view = ((float(x0), float(y0)), (float(x1), float(y1)))
         W = max(16, int(width) // 16 * 16)
-        H = max(16, int(round(W * (y1 - y0) / (x1 - x0) / 16)) * 16)
-        self.W, self.H = W, H
         self.scale = W / (x1 - x0)
-        self.radius = max(1.0, 0.8 * solver.dx * self.scale)
+        H = max(16, int(round((y1 - y0) * self.scale / 16)) * 16)
+        if H < min_height:
+            H = int(np.ceil(min_height / 16)) * 16
+            y1 = y0 + H / self.scale
+        self.view = ((float(x0), float(y0)), (float(x1), float(y1)))
+        self.W, self.H = W, H
+        self.radius = max(1.0, 0.9 * dx * self.scale)
+        self.dx = dx
         self.speed_scale = float(speed_scale)
         self.title = title
-        self.img = ti.Vector.field(3, ti.f32, shape=(W, H))
-        self.lut = ti.Vector.field(3, ti.f32, shape=256)
-        self.lut.from_numpy(colormap(np.linspace(0, 1, 256)).astype(np.float32))
         for m in modes:
             if m not in MODES:
                 raise ValueError(f"render mode {m!r}: expected one of {sorted(MODES)}")
         self.modes = tuple(modes)
+        self.vrange = tuple(vrange) if vrange else None
         self.pressure_scale = float(pressure_scale) if pressure_scale > 0 else 1000.0 * 9.81 * (y1 - y0)
-        nmat = len(solver.materials)
-        cols = list(mat_colors or [None] * nmat)
-        self.mcol = ti.Vector.field(3, ti.f32, shape=nmat)
-        self.has_col = ti.field(ti.i32, shape=nmat)
-        for k in range(nmat):
-            c = cols[k] if k < len(cols) else None
-            self.has_col[k] = int(c is not None)
-            self.mcol[k] = c if c is not None else (WATER if k == 0 else SAND)
+        self.mat_colors = list(mat_colors or [])
+        self.bed_panel, self.bed_label, self.bed_surface = bed_panel, bed_label, bed_surface
+        self.font_px = max(11, W // 85)
+        self.BAR = int(np.ceil(7 * self.font_px / 16)) * 16     # strips in multiples of 16 px (the MP4's blocks)
+        self.strip = int(np.ceil(1.8 * self.font_px / 16)) * 16
+        r = int(np.ceil(self.radius))
+        oy, ox = np.mgrid[-r:r + 1, -r:r + 1]
+        keep = ox ** 2 + oy ** 2 <= self.radius ** 2
+        self.offsets = np.column_stack([ox[keep], oy[keep]])
+        self.bars = []                  # (title, lo, hi, cmap) of each panel's colour bar, None: none
+        self._speed_hi = max(self.speed_scale, 1e-6)
 
-    @ti.kernel
-    def _draw(self, vmax: ti.f32, mode: ti.i32, pmax: ti.f32):
-        for I in ti.grouped(self.img):
-            self.img[I] = ti.Vector(BACKGROUND)
-        p = self.solver.p
-        for i in range(self.solver.n):
-            k = p.kind[i]
-            if k >= 0:
-                col = ti.Vector(BOUNDARY)
-                if k == BED:
-                    col = ti.Vector(SAND)
-                if k == FLUID:
-                    s = ti.min(p.v[i].norm() / vmax, 1.0)
-                    col = self.lut[ti.cast(s * 255.0, ti.i32)]
-                    mt = p.mat[i]
-                    if mode == 2:
-                        col = self.mcol[mt]
-                    elif mode == 3:
-                        sp = ti.min(ti.max(p.p[i] / pmax, 0.0), 1.0)
-                        col = self.lut[ti.cast(sp * 255.0, ti.i32)]
-                    elif mode == 1 and self.has_col[mt] == 1:
-                        col = self.mcol[mt] * (1.0 - 0.45 * s)
-                cx = (p.x[i][0] - self.view[0][0]) * self.scale
-                cy = (p.x[i][1] - self.view[0][1]) * self.scale
-                r = self.radius
-                for px in range(ti.cast(ti.floor(cx - r), ti.i32), ti.cast(ti.ceil(cx + r), ti.i32) + 1):
-                    for py in range(ti.cast(ti.floor(cy - r), ti.i32), ti.cast(ti.ceil(cy + r), ti.i32) + 1):
-                        if 0 <= px < self.W and 0 <= py < self.H:
-                            ddx = px + 0.5 - cx
-                            ddy = py + 0.5 - cy
-                            if ddx * ddx + ddy * ddy <= r * r:
-                                self.img[px, py] = col
+    def _colour_range(self, field, values):
+        if self.vrange:
+            return self.vrange
+        if field == "speed":
+            hi = self.speed_scale if self.speed_scale > 0 else float(np.percentile(values, 99)) if len(values) else 1.0
+            return 0.0, max(hi, 1e-6)
+        if field == "pressure":
+            return 0.0, self.pressure_scale
+        if field == "vorticity":
+            w = float(np.percentile(np.abs(values), 98)) if len(values) else 1.0
+            return -max(w, 1e-6), max(w, 1e-6)
+        lo, hi = (np.percentile(values, [1, 99]) if len(values) else (0.0, 1.0))
+        return float(lo), float(max(hi, lo + 1e-6))
 
-    def frame(self, t):
-        """RGB uint8 image (rows top to bottom) of the current state, annotated."""
-        panels = []
-        for m in self.modes:
-            self._draw(self.speed_scale, MODES[m], self.pressure_scale)
-            core = (np.clip(self.img.to_numpy(), 0, 1) * 255).astype(np.uint8)
-            panels.append(np.flipud(core.transpose(1, 0, 2)))
-        core = np.ascontiguousarray(np.concatenate(panels, axis=0))
-        Ht = core.shape[0]
-        bar = np.full((Ht, self.BAR, 3), 255, np.uint8)
-        top, bot = int(0.15 * Ht), int(0.85 * Ht)
-        if bot - top > 4:
-            ramp = colormap(np.linspace(1, 0, bot - top))
-            bar[top:bot, 12:32] = (ramp[:, None, :] * 255).astype(np.uint8)
-        img = np.concatenate([core, bar], axis=1)
-        return self._annotate(img, t, top, bot)
+    def _colours(self, mode, st):
+        kind, mat = st["kind"], st["mat"]
+        fl = kind == FLUID
+        col = np.tile(np.array(BOUNDARY), (len(kind), 1))
+        col[kind == BED] = SAND
+        field = {"phase": "speed", "flat": None, "material": None}.get(mode, mode)
+        speed = np.hypot(st["v"][:, 0], st["v"][:, 1])
+        if field is not None:
+            vals = {"speed": speed, "pressure": st["p"], "density": st["rho"]}.get(field)
+            if field == "vorticity":
+                vals = np.zeros(len(kind))
+                if fl.any():
+                    vals[fl] = vorticity(st["x"][fl], st["v"][fl], self.dx)
+            lo, hi = self._colour_range(field, vals[fl])
+            s01 = (vals[fl] - lo) / (hi - lo)
+            cmap = diverging if field == "vorticity" else colormap
+            col[fl] = cmap(s01)
+            unit = UNITS[field]
+            if field == "pressure":
+                lo, hi = lo / 1000.0, hi / 1000.0
+            self.bars.append((unit, lo, hi, cmap))
+            if field == "speed":
+                self._speed_hi = hi
+        else:
+            self.bars.append(None)
+        flat = field is None or mode == "phase"
+        for k in np.unique(mat[fl]) if flat else ():
+            c = self.mat_colors[k] if k < len(self.mat_colors) else None
+            sel = fl & (mat == k)
+            if mode == "phase" and c is None:
+                continue                                   # water keeps its speed colour
+            base = np.array(c if c is not None else (WATER if k == 0 else SAND))
+            shade = 1.0 - 0.45 * np.minimum(speed[sel] / self._speed_hi, 1.0) if mode == "phase" else 1.0
+            col[sel] = base * (shade[:, None] if mode == "phase" else 1.0)
+        return col
 
-    def _annotate(self, img, t, top, bot):
+    def _splat(self, st, col):
+        img = np.empty((self.H, self.W, 3), np.uint8)
+        img[:] = (np.array(BACKGROUND) * 255).astype(np.uint8)
+        (x0, y0), _ = self.view
+        if self.bed_surface is not None:      # a bed below particle scale: sand under its surface
+            zb = self.bed_surface(x0 + (np.arange(self.W) + 0.5) / self.scale)
+            top = np.clip(np.floor((zb - y0) * self.scale).astype(int), 0, self.H)
+            rows = np.arange(self.H)[:, None]
+            img[(self.H - 1 - rows) < top[None, :]] = (np.array(SAND) * 255).astype(np.uint8)
+        cx = np.floor((st["x"][:, 0] - x0) * self.scale).astype(int)
+        cy = np.floor((st["x"][:, 1] - y0) * self.scale).astype(int)
+        order = np.argsort(st["kind"] == FLUID, kind="stable")     # boundaries first, fluid on top
+        inview = (cx[order] > -self.radius - 2) & (cx[order] < self.W + self.radius + 2) & \
+                 (cy[order] > -self.radius - 2) & (cy[order] < self.H + self.radius + 2)
+        order = order[inview]
+        c8 = (np.clip(col[order], 0, 1) * 255).astype(np.uint8)
+        for ox, oy in self.offsets:
+            px, py = cx[order] + ox, cy[order] + oy
+            ok = (px >= 0) & (px < self.W) & (py >= 0) & (py < self.H)
+            img[self.H - 1 - py[ok], px[ok]] = c8[ok]
+        return img
+
+    def frame(self, st, t):
+        """RGB uint8 image (rows top to bottom) of the state st (arrays x, v, p, rho, kind, mat)."""
+        self.bars = []
+        st = {k: np.asarray(v) for k, v in st.items() if k in STATE}
+        st["x"] = st["x"][:, :2]
+        st["v"] = st["v"][:, :2]
+        panels = [self._splat(st, self._colours(m, st)) for m in self.modes]
+        bed = None
+        if self.bed_panel is not None:
+            bed = self._bed_image()
+            panels.append(bed)
+        core = np.concatenate(panels, axis=0)
+        head = np.full((self.strip, core.shape[1], 3), 255, np.uint8)
+        foot = np.full((self.strip if bed is not None else 0, core.shape[1], 3), 255, np.uint8)
+        body = np.concatenate([head, core, foot], axis=0)
+        side = np.full((body.shape[0], self.BAR, 3), 255, np.uint8)
+        img = np.ascontiguousarray(np.concatenate([body, side], axis=1))
+        return self._annotate(img, t, head.shape[0])
+
+    BED_RANGE = (0.005, 0.01, 0.02, 0.04, 0.08, 0.16)   # m: the bed panel's half-height steps
+
+    def _bed_image(self):
+        """The bed change along the view as a sand profile about a zero line, vertically
+        exaggerated: the range grows in steps so the scale holds still while the bed changes."""
+        (x0, _), (x1, _) = self.view
+        xs, dz = self.bed_panel(x0, x1, self.W)
+        dz = np.asarray(dz, float)
+        peak = float(np.nanmax(np.abs(dz))) if np.isfinite(dz).any() else 0.0
+        rng = next((r for r in self.BED_RANGE if peak <= 0.9 * r), self.BED_RANGE[-1])
+        self.bed_range = max(getattr(self, "bed_range", 0.0), rng)
+        Hp = max(48, self.W // 8) // 16 * 16
+        img = np.full((Hp, self.W, 3), 255, np.uint8)
+        rows = np.arange(Hp)[:, None]                          # 0 at the top
+        level = 0.5 * Hp * (1.0 - np.nan_to_num(dz) / self.bed_range)
+        sand = (rows >= level[None, :]) & np.isfinite(dz)[None, :]
+        img[sand] = (np.array(SAND) * 255).astype(np.uint8)
+        img[Hp // 2, :] = (110, 110, 110)
+        self.bed_exaggeration = (0.5 * Hp / self.bed_range) / self.scale
+        return img
+
+    def _annotate(self, img, t, head):
         from PIL import Image, ImageDraw, ImageFont
         im = Image.fromarray(img)
         d = ImageDraw.Draw(im)
+        fp = self.font_px
         try:
-            font = ImageFont.load_default(size=max(10, self.H // 40))
+            font = ImageFont.load_default(size=fp)
         except TypeError:  # Pillow < 10.1
             font = ImageFont.load_default()
         label = f"t = {t:.3f} s"
         if self.title:
             label = f"{self.title}   {label}"
-        d.text((8, 6), label, fill=(0, 0, 0), font=font)
-        bx = self.W + 36
-        d.text((bx, top - 4), f"{self.speed_scale:.2g}", fill=(0, 0, 0), font=font)
-        d.text((bx, bot - 10), "0", fill=(0, 0, 0), font=font)
-        d.text((self.W + 6, top - 26), "|u| m/s", fill=(0, 0, 0), font=font)
-        if "pressure" in self.modes:   # the same bar reads 0 to pressure_scale in the pressure panel
-            d.text((self.W + 6, bot + 8), f"p: 0-{self.pressure_scale / 1000:.2g} kPa", fill=(0, 0, 0), font=font)
+        d.text((6, int(0.35 * fp)), label, fill=(0, 0, 0), font=font)
+        # one colour bar per coloured panel, beside it
+        for k, bar in enumerate(self.bars[:len(self.modes)]):
+            if bar is None:
+                continue
+            title, lo, hi, cmap = bar
+            top = head + k * self.H
+            y0, y1 = top + int(1.4 * fp), top + self.H - int(0.6 * fp)
+            if y1 - y0 > 4:
+                ramp = cmap(np.linspace(1, 0, y1 - y0))
+                img_bar = (ramp[:, None, :] * 255).astype(np.uint8).repeat(int(0.9 * fp), axis=1)
+                im.paste(Image.fromarray(np.ascontiguousarray(img_bar)), (self.W + int(0.4 * fp), y0))
+            d.text((self.W + int(0.3 * fp), top + int(0.15 * fp)), title, fill=(0, 0, 0), font=font)
+            d.text((self.W + int(1.6 * fp), y0 - int(0.2 * fp)), f"{hi:.3g}", fill=(0, 0, 0), font=font)
+            d.text((self.W + int(1.6 * fp), y1 - fp), f"{lo:.3g}", fill=(0, 0, 0), font=font)
+        if self.bed_panel is not None:
+            d.text((6, img.shape[0] - int(1.5 * fp)), f"bed change below, vertical x{self.bed_exaggeration:.0f} "
+                   f"(+-{100 * self.bed_range:g} cm){self.bed_label}", fill=(0, 0, 0), font=font)
         return np.asarray(im)
+
+
+def make_renderer(pic, outc, dx, title, speed_scale):
+    """The Renderer for a scene's Picture and the [output] table (view, field, range, width)."""
+    view = pic.view
+    if outc.get("view"):
+        x0, x1, y0, y1 = outc["view"]
+        view = ((x0, y0), (x1, y1))
+    modes = (outc["field"],) if outc.get("field") else pic.render_modes
+    return Renderer(view, outc["width"], dx, speed_scale, title=title, modes=modes, mat_colors=pic.mat_colors,
+                    pressure_scale=pic.pressure_scale, bed_panel=pic.bed_panel, bed_label=pic.bed_label,
+                    vrange=outc.get("range") or None, min_height=outc.get("min_height", 0),
+                    bed_surface=pic.bed_surface)
 
 
 def write_png(path, img):

@@ -108,15 +108,22 @@ def wave_height(t, eta, t0, t1, period):
 # ---------------------------------------------------------------- a paddle from a scene's config
 # The [paddle] table every wave scene shares (flume, beach): its defaults, ranges and checks,
 # the paddle's particles and motion, and the linear wave it makes.
-PADDLE_DEFAULTS = {"type": "piston", "stroke": 0.04, "period": 0.8, "ramp_periods": 2.0, "series": ""}
+PADDLE_DEFAULTS = {
+    "type": "piston",       # piston (translates) | flap (hinged at the floor)
+    "stroke": 0.04,         # m: piston travel, or the flap's travel at the still-water level
+    "period": 0.8,          # s
+    "ramp_periods": 2.0,    # periods over which the stroke ramps up (no start-up transient)
+    "series": "",           # CSV of t, displacement (m or rad): a measured paddle signal instead of a sine
+}
 PADDLE_RANGES = {"paddle.stroke": (0.0, None, False, True), "paddle.period": (0.0, None, False, True),
                  "paddle.ramp_periods": (0.0, None, True, True)}
 
 
 def check_paddle(cfg, depth, length):
     p, dx = cfg["paddle"], cfg["numerics"]["dx"]
-    if p["stroke"] > 0.5 * depth:
-        raise ConfigError("paddle.stroke", p["stroke"], f"at most half the depth at the paddle ({0.5 * depth:g} m)")
+    # a shallow-water piston moves the whole column: a stroke beyond the depth makes a bore, not a wave
+    if p["stroke"] > depth:
+        raise ConfigError("paddle.stroke", p["stroke"], f"at most the depth at the paddle ({depth:g} m)")
     if not p["series"] and p["stroke"] < dx:
         raise ConfigError("paddle.stroke", p["stroke"], f"at least dx = {dx:g} m (the paddle must move a particle spacing)")
     if p["series"]:

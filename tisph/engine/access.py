@@ -15,17 +15,20 @@ class SolverAPI:
     # ------------------------------------------------------------------ stepping
     def prime(self):
         """Bin the particles and evaluate forces at t = 0 (a zero-length step) to get a^0, dt^0."""
-        self.prm[None].dt = 0.0
-        self._step()
+        self._set_dt(0.0)
+        self._dt = float(self._step())
         self._primed = True
 
     def step(self):
         """Advance one time step; returns the dt taken."""
         if not self._primed:
             self.prime()
-        if self.motion is not None:
-            self.set_paddle(self.time + self.dt)  # the kernel moves the paddle to t + dt
-        dt = float(self._step())
+        dt = self.dt                              # what _step will take (prm.dt, as it returns it)
+        if self.motion is not None and "pd" in self.param_decl:   # the paddle module is on
+            self.set_paddle(self.time + dt)       # the kernel moves the paddle to t + dt
+        # _step returns the next dt: no read of the parameter struct from Python per step
+        # (building a Taichi struct there cost about 1 ms, a third of a beach step)
+        self._dt = float(self._step())
         self.steps += 1
         self.time += dt
         for m in self.hooks["after_step"]:
@@ -36,8 +39,7 @@ class SolverAPI:
     def set_paddle(self, t):
         """Paddle displacement and rate at time t, from the case's motion(t)."""
         d, r = self.motion(t)
-        self.prm[None].pd = d
-        self.prm[None].pv = r
+        self._set_motion(d, r)
 
     def set_drive(self, gx, gy=0.0):
         """The driving pressure gradient / rho_water of a periodic current (m/s2)."""
@@ -55,7 +57,10 @@ class SolverAPI:
     # ------------------------------------------------------------------ reading
     @property
     def dt(self):
-        return float(self.prm[None].dt)
+        """The next step's dt (f32-rounded as the step kernel returns it)."""
+        if getattr(self, "_dt", None) is None:
+            self._dt = float(np.float32(self.prm[None].dt))
+        return self._dt
 
     def check(self):
         """None if the state is healthy, else (code, id of the first particle that went bad)."""
@@ -129,7 +134,8 @@ class SolverAPI:
                     setattr(self.prm[None], k, tuple(v) if isinstance(v, list) else v)
         self.time = float(scalars["time"])
         self.steps = int(scalars["steps"])
-        self.prm[None].dt = float(scalars["dt"])
+        self._set_dt(float(scalars["dt"]))
+        self._dt = None
         self.stats[None].leaked = int(scalars["leaked"])
         self.stats[None].rhodev = float(scalars.get("rhodev", 0.0))
         self._primed = bool(int(scalars["primed"]))
@@ -152,6 +158,15 @@ class SolverAPI:
         return {k: getattr(self.bak, k).to_numpy()[inv] for k in names}
 
     # ------------------------------------------------------------------ kernels of the API
+    @ti.kernel
+    def _set_motion(self, d: ti.f64, r: ti.f64):
+        self.prm[None].pd = ti.cast(d, self.real)
+        self.prm[None].pv = ti.cast(r, self.real)
+
+    @ti.kernel
+    def _set_dt(self, dt: ti.f64):
+        self.prm[None].dt = ti.cast(dt, self.real)
+
     @ti.kernel
     def _backup(self):
         for i in range(self.n):

@@ -266,6 +266,7 @@ class Solver(SolverAPI):
     # ------------------------------------------------------------------ the step
     @ti.kernel
     def _step(self) -> ti.f32:
+        """One step; returns the next step's dt."""
         dt = self.prm[None].dt
         ncell = self.grid.ncells
         for i in range(self.n):
@@ -283,4 +284,4 @@ class Solver(SolverAPI):
             self.grid.fcnt[c] = 0
         for _ in range(1):   # one serial task after the parallel loops
             next_dt(self)
-        return dt
+        return self.prm[None].dt

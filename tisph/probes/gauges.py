@@ -52,16 +52,21 @@ def surface_at(st, xg, dx, h, floor=0.0, mat=0):
 def velocity_at(st, points, h, mat=0):
     """SPH velocity of material `mat` at the given points, Shepard-normalised (sum V_j u_j W /
     sum V_j W, so a point near the bed or the surface is not biased low); NaN where no water is
-    within the kernel."""
+    within the kernel. All points at once: every (point, particle) pair in each point's column."""
     pts = np.asarray(points, float).reshape(-1, 2)
     x, v, vol, lo, hi = _near_columns(st, mat, pts[:, 0], K.support * h)
     out = np.full((len(pts), 2), np.nan)
-    for k in range(len(pts)):
-        if hi[k] <= lo[k]:
-            continue
-        xn = x[lo[k]:hi[k]]
-        w = K.shape_np(np.hypot(xn[:, 0] - pts[k, 0], xn[:, 1] - pts[k, 1]) / h) * vol[lo[k]:hi[k]]
-        sw = w.sum()
-        if sw > 0:
-            out[k] = (w[:, None] * v[lo[k]:hi[k]]).sum(0) / sw
+    counts = np.maximum(hi - lo, 0)
+    if counts.sum() == 0:
+        return out
+    k = np.repeat(np.arange(len(pts)), counts)
+    first = np.cumsum(counts) - counts
+    j = np.repeat(lo, counts) + (np.arange(counts.sum()) - np.repeat(first, counts))
+    w = K.shape_np(np.hypot(x[j, 0] - pts[k, 0], x[j, 1] - pts[k, 1]) / h) * vol[j]
+    sw = np.bincount(k, w, minlength=len(pts))
+    su = np.bincount(k, w * v[j, 0], minlength=len(pts))
+    sv = np.bincount(k, w * v[j, 1], minlength=len(pts))
+    ok = sw > 0
+    out[ok, 0] = su[ok] / sw[ok]
+    out[ok, 1] = sv[ok] / sw[ok]
     return out

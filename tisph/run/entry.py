@@ -42,6 +42,10 @@ def run_scene(scene, argv=None):
     130/143 stopped by SIGINT/SIGTERM."""
     parser = make_parser(scene.NAME, (scene.__doc__ or "").strip())
     args = parser.parse_args(argv)
+    if args.describe:
+        from ..describe import describe
+        print(describe(scene))
+        return 0
     try:
         cfg = resolve(scene, args.config, overrides_from_args(args))
         summary = simulate(scene, cfg=cfg, restart=args.restart, force=args.force, echo=True)

@@ -1,5 +1,6 @@
 """The time loop of one run: build the solver, step it, check its health, call the outputs,
 stop cleanly on instability or a signal."""
+import math
 import os
 import signal as _signal
 import sys
@@ -62,13 +63,11 @@ class Run(Outputs):
         if not self.render:
             return
         from ..io import ensure_dir
-        from ..render import MovieWriter, Renderer
+        from ..render import MovieWriter, make_renderer
         outc, pic = self.cfg["output"], self.case.picture
         ensure_dir(os.path.join(self.out, "frames"))
-        speed = outc["speed_scale"] if outc["speed_scale"] > 0 else pic.u_max
-        self.renderer = Renderer(self.solver, pic.view, outc["width"], speed, title=self.name,
-                                 modes=pic.render_modes, mat_colors=pic.mat_colors,
-                                 pressure_scale=pic.pressure_scale)
+        speed = outc["speed_scale"] if outc["speed_scale"] > 0 else (pic.speed_scale or pic.u_max)
+        self.renderer = make_renderer(pic, outc, self.solver.dx, self.name, speed)
         self.movie = MovieWriter(os.path.join(self.out, f"{self.name}.mp4"), outc["fps"])
         if self.restart:  # the movie is rebuilt from the frames already on disk
             import imageio.v2 as imageio
@@ -156,6 +155,9 @@ class Run(Outputs):
         s, obs = self.solver, self.case.observers
         t_end, max_steps = self.cfg["run"]["end_time"], self.cfg["run"]["max_steps"]
         last_bar = time.perf_counter()
+        # off a terminal (a log being tailed, a batch job) a progress line every 5 % instead of the bar
+        report = not self.cfg["output"]["quiet"] and (bar is None or bar.disable)
+        next_pct = math.floor(20.0 * s.time / t_end + 1e-9) + 1
         while s.time < t_end - 1e-12 and (max_steps == 0 or s.steps < max_steps):
             ts = time.perf_counter()
             s.step()
@@ -171,8 +173,11 @@ class Run(Outputs):
             self.outputs()
             if self.signal is not None:
                 raise KeyboardInterrupt
+            if report and s.time >= next_pct * t_end / 20.0 - 1e-12:
+                self._progress_line(t_end)
+                next_pct = math.floor(20.0 * s.time / t_end + 1e-9) + 1
             now = time.perf_counter()
-            if bar is not None and now - last_bar > 0.25:
+            if bar is not None and not bar.disable and now - last_bar > 0.25:
                 bar.n = min(s.time, t_end)
                 bar.set_postfix_str(f"dt={s.dt:.2e} s, {s.n * (s.steps - self.steps0) / max(self.step_s, 1e-9):.3g} "
                                     f"particle-steps/s", refresh=False)
@@ -183,6 +188,14 @@ class Run(Outputs):
             raise SimulationError(describe_instability(s, *bad))
         if not self.probes or self.probes[-1][0] < s.time:
             self.sample()
+
+    def _progress_line(self, t_end):
+        s = self.solver
+        wall = self.wall_so_far()
+        rate = s.n * (s.steps - self.steps0) / max(self.step_s, 1e-9)
+        left = max(wall / max(s.time, 1e-12) * (t_end - s.time), 0.0)
+        self.log(f"progress {100.0 * s.time / t_end:3.0f} %: t = {s.time:.4g} of {t_end:g} s, step {s.steps}, "
+                 f"dt = {s.dt:.3g} s, {rate:.3g} particle-steps/s, wall {wall:.0f} s, about {left:.0f} s left")
 
     def _on_unstable(self, message):
         s = self.solver

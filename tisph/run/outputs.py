@@ -15,13 +15,26 @@ from .setup import _strip, config_changes
 FLUSH_S = 0.5   # wall seconds between rewrites of probes.csv and run.log during a run
 
 
+class _Ref:
+    """Stands for another persisted observer in a checkpoint (an attribute that points at it)."""
+
+    def __init__(self, k):
+        self.k = k
+
+
 def observer_state(persist):
     """The observers' history as bytes (pickle: a checkpoint is tisph's own file, read back by
-    tisph): lists and dicts by content, other objects by their attributes."""
+    tisph): lists and dicts by content, other objects by their attributes; an attribute that is
+    another persisted observer is kept as a reference to it, so a restart rewires it to the live
+    object instead of a stale copy."""
     import pickle
+    ids = {id(o): k for k, o in enumerate(persist)}
     out = []
     for o in persist:
-        out.append(list(o) if isinstance(o, list) else dict(o) if isinstance(o, dict) else dict(vars(o)))
+        if isinstance(o, (list, dict)):
+            out.append(list(o) if isinstance(o, list) else dict(o))
+        else:
+            out.append({a: (_Ref(ids[id(v)]) if id(v) in ids else v) for a, v in vars(o).items()})
     return pickle.dumps(out)
 
 
@@ -40,7 +53,7 @@ def restore_observers(persist, blob):
             o.clear()
             o.update(st)
         else:
-            vars(o).update(st)
+            vars(o).update({a: (persist[v.k] if isinstance(v, _Ref) else v) for a, v in st.items()})
 
 
 class Outputs:
@@ -49,7 +62,7 @@ class Outputs:
         from ..render import write_png
         from ..io import ensure_dir
         ensure_dir(os.path.join(self.out, "stills"))
-        write_png(os.path.join(self.out, "stills", f"t{t:.3f}.png"), self.renderer.frame(state["t"]))
+        write_png(os.path.join(self.out, "stills", f"t{t:.3f}.png"), self.renderer.frame(state, state["t"]))
 
     def fire_events(self):
         while self.events and self.solver.time >= self.events[0][0] - 1e-12:
@@ -86,7 +99,8 @@ class Outputs:
 
     def frame(self):
         from ..render import write_png
-        img = self.renderer.frame(self.solver.time)
+        from ..render import STATE
+        img = self.renderer.frame(self.solver.state(STATE), self.solver.time)
         write_png(os.path.join(self.out, "frames", f"{self.frame_no:05d}.png"), img)
         self.movie.append(img)
         self.frame_no += 1

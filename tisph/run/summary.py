@@ -65,6 +65,7 @@ def summarize(run, status, message, wall, step_s, nsteps, compile_s, segment=Non
         max_density_error=s.max_density_error, frames=run.frame_no,
         snapshots=len(run.snapshots), c0=float(s.c0), h=float(s.h),
         physics=case.physics.as_dict(), modules=[m.name for m in s.modules],
+        physics_notes=physics_notes(cfg, case.physics),
         warnings=list(case.warnings), mass=mass_balance(case.particles, final), metrics=metrics,
     )
     if run.restart:
@@ -83,3 +84,12 @@ def summarize(run, status, message, wall, step_s, nsteps, compile_s, segment=Non
     if metrics:
         run.log("metrics: " + json.dumps(_finite(metrics)))
     return summary
+
+
+def physics_notes(cfg, physics):
+    """Why a compiled switch differs from what the config says."""
+    notes = []
+    if physics.laminar_viscosity and not cfg["numerics"]["laminar_viscosity"] and physics.rheology:
+        notes.append("laminar_viscosity is on although numerics.laminar_viscosity = false: a non-Newtonian "
+                     "material's stress is its rheology's viscosity, which the laminar term applies")
+    return notes

@@ -1,27 +1,31 @@
-"""Sand beach in front of a wave maker (paper 000 section 5, Table 5, Figs. 17-28): a piston
-paddle at the left makes waves that shoal and break on a sloping sand beach and reshape the bed.
+"""Sand beach in front of a wave maker: a piston paddle at the left makes waves that shoal and
+break on a sloping sand beach and reshape the bed.
 
-Water 1000 kg/m3 (Newtonian, 0.001 Pa s); sand a Bingham fluid, 1950 kg/m3, mu_B = 0.1 Pa s,
-tau_B = 200 Pa (scenes/beach.toml) or 1000 Pa (scenes/beach_tau1000.toml); dx = 0.04 m as in
-Table 5. The table's time step (2e-5 s) is what an explicit step with the full Bingham viscosity
-needs; here the effective viscosity is capped where its explicit viscous step would fall below
-the acoustic one, and sand whose stress stays below the yield stress is held at rest (a rigid
-plug on a fixed bed, materials.sand.unyielded = "rest") instead of creeping at stress / cap.
+Default (scenes/beach.toml): the sand is the morphodynamic bed below particle scale
+(sediment.model = "bedload", tisph/sediment, tisph/scenes/_beach_bedload.py) under SPH water, and
+ripples form on it. Why this geometry: Wiberg & Harris (1994) orbital ripples are 0.62 d0 long,
+and in shallow water a piston moves the whole column, so the near-bed orbital diameter d0 is
+about the stroke; for ripples of at least 8 dx at dx = 0.02 the stroke must be about 0.26 m,
+which needs at least that much water (paddle.stroke <= depth). So: still water 0.3 m deep over
+0.1 m of sand, flat to x = 1.5 m and then 1:20 to above the waterline at 7.5 m, 8 m long; T =
+2.5 s (kh = 0.45), stroke 0.26 m, Biesel H = 0.12 m, 0.3 mm quartz sand, morfac 30 (16 s of
+flow move the bed as 480 s would: 190 wave periods). The lee vortex (sediment.lee_vortex,
+separation_*) is what grows ripples from the 5 mm random perturbation the bed starts with; the
+README says what it does and what is measured.
 
-Geometry (the paper gives none; chosen for plunging breakers on the slope): still water 0.4 m
-deep over a flat sand layer 0.12 m thick, which rises at 1:6 from x = 3 m to above the
-waterline; the sand lies on a rigid ramp (a Bingham bed with tau_B = 200 Pa cannot hold a thick
-1:6 slope by itself: the static shear stress of 0.12 m of submerged sand on 1:6 is 180 Pa).
-Waves: period 1.6 s, stroke 0.16 m, so kh = 0.86 at the paddle and Biesel gives H = 0.14 m
-(H/h = 0.34); the surf-similarity number tan(a)/sqrt(H/L0) = 0.9 makes plunging breakers.
+The paper's case (paper 000 section 5, Table 5, Figs. 17-28), scenes/beach_bingham_tau200.toml
+and beach_bingham_tau1000.toml: the sand as Bingham particles, 1950 kg/m3, mu_B = 0.1 Pa s,
+tau_B = 200 or 1000 Pa, dx = 0.04 m as in Table 5; still water 0.4 m over 0.12 m of sand rising
+at 1:6 from x = 3 m on a rigid ramp (the paper gives no geometry; chosen for plunging breakers),
+T = 1.6 s, stroke 0.16 m. The table's time step (2e-5 s) is what an explicit step with the full
+Bingham viscosity needs; here the effective viscosity is capped where its explicit viscous step
+would fall below the acoustic one, and sand below the yield stress is held at rest
+(materials.sand.unyielded = "rest"). That bed changes, but makes no ripples.
 
-Outputs besides the usual: bed_profile.csv (sand surface along x at every frame), probes.csv
-with ripple_length, ripple_height, bed_change_rms (of the bed change over the active zone),
-bed_profile.png, stills at t = 0, 0.7, 2, 4, 8, 16 s and streamline panels of the water velocity
-at the same times (stills/streamlines_t*.png), and ripple_prediction.csv: the Wiberg & Harris
-ripples for the near-bed orbital motion measured along the beach. At dx = 0.04 those ripples
-(8 to 18 cm) are two to four spacings long and do not form; tisph.scenes.tunnel asks the
-question at a resolution that resolves them.
+Outputs besides the usual: bed_profile.csv (the bed along x at every probe), probes.csv with the
+ripple statistics, bed_profile.png, ripple_prediction.csv (the Wiberg & Harris ripple for the
+near-bed orbital motion measured along the beach) and stills at t = 0, 0.7, 2, 4, 8, 16 s (the
+Bingham beach adds streamline panels, stills/streamlines_t*.png).
 """
 import math
 import os
@@ -43,6 +47,8 @@ from ..materials import BINGHAM_SAND, WATER
 from ..probes.gauges import surface_at, surface_heights
 from ..wavemaker import PADDLE_DEFAULTS, PADDLE_RANGES, check_paddle, linear_wave, paddle
 from ..probes.plots import pyplot, save
+from ..sediment import coupling
+from ._beach_bedload import build_bedload
 
 NAME = "beach"
 # Bedforms longer than this many wavelengths (bars, the shoreline's retreat) are filtered out before
@@ -52,25 +58,32 @@ RIPPLE_WINDOW = 0.25
 
 DEFAULTS = {
     "run": {"end_time": 16.0},
-    "numerics": {"dx": 0.04, "h_factor": 1.3, "artificial_viscosity": 0.05,
+    # alpha 0.01, not the Bingham beach's 0.05: alpha h c0 / 8 is an eddy viscosity whose Stokes layer
+    # (5 cm at 0.05) would slow the near-bed flow the bed load reads
+    "numerics": {"dx": 0.015, "h_factor": 1.3, "artificial_viscosity": 0.01,
                  "density_diffusion": "fourtakas", "delta": 0.1},
     "geometry": {"length": 8.0,            # paddle (x = 0) to the end wall (m)
-                 "depth": 0.4,             # still water over the flat sand (m)
-                 "sand_thickness": 0.12,   # sand layer over the floor and the ramp (m)
-                 "toe_x": 3.0,             # where the beach starts to rise (m)
-                 "slope": 6.0,             # 1 : slope (horizontal run per unit rise)
-                 "wall_height": 1.0,
-                 # for the Wiberg & Harris ripple prediction only (the Bingham bed has no grains);
-                 # the paper gives none: a medium sand
+                 "depth": 0.3,             # still water over the flat sand (m)
+                 "sand_thickness": 0.1,    # sand layer over the floor and the ramp (m)
+                 "toe_x": 1.5,             # where the beach starts to rise (m)
+                 "slope": 20.0,            # 1 : slope (horizontal run per unit rise)
+                 "wall_height": 0.6,       # the side walls' height above the floor (m)
+                 # d50: the bed load's grain, and the Wiberg & Harris ripple prediction; a medium sand
                  "grain_diameter": 0.0003},
-    "paddle": dict(PADDLE_DEFAULTS, stroke=0.16, period=1.6, ramp_periods=1.0),
+    "paddle": dict(PADDLE_DEFAULTS, stroke=0.26, period=2.5, ramp_periods=1.0),
     "materials": {"water": dict(WATER), "sand": dict(BINGHAM_SAND)},
+    # sediment.model = "bedload": the bed below particle scale (tisph/sediment, scenes/beach.toml);
+    # "particles": the paper's Bingham sand (scenes/beach_bingham_tau200.toml)
+    "sediment": dict(coupling.DEFAULTS, model="bedload", grain_density=2650.0, morfac=30.0, lee_vortex=0.5,
+                     separation_excursion=1.0, seed_rms=0.005, reference_height=2.5),
     "output": {"frame_interval": 0.04, "probe_interval": 0.04, "width": 1280},
 }
 RANGES = {f"geometry.{k}": (0.0, None, False, True) for k in DEFAULTS["geometry"]}
 RANGES["geometry.slope"] = (1.0, None, True, True)
 RANGES.update(PADDLE_RANGES)
-CHOICES = {"paddle.type": ("piston", "flap")}
+RANGES.update(coupling.RANGES)
+RANGES["sediment.grain_density"] = (1000.0, None, False, True)
+CHOICES = dict(coupling.CHOICES, **{"paddle.type": ("piston", "flap")})
 STILLS = (0.0, 0.7, 2.0, 4.0, 8.0, 16.0)
 
 
@@ -89,10 +102,14 @@ def check(cfg):
                           f"longer than the shoreline position + 0.2 m ({shore + 0.2:.3g} m) for this toe_x and slope")
     if g["toe_x"] < 1.0:
         raise ConfigError("geometry.toe_x", g["toe_x"], "at least 1 m (room for the waves to form)")
-    check_paddle(cfg, g["depth"] + g["sand_thickness"], g["length"])
+    # the bed-load bed's paddle stands on the bed, the Bingham bed's on the floor under the sand
+    bedload = cfg["sediment"]["model"] == "bedload"
+    check_paddle(cfg, g["depth"] + (0.0 if bedload else g["sand_thickness"]), g["length"])
 
 
 def build(cfg):
+    if cfg["sediment"]["model"] == "bedload":
+        return build_bedload(cfg, NAME, STILLS)
     geo, num, p = cfg["geometry"], cfg["numerics"], cfg["paddle"]
     dx, Lf, d, ts, Hw = num["dx"], geo["length"], geo["depth"], geo["sand_thickness"], geo["wall_height"]
     yw = ts + d                                   # still-water level
@@ -293,7 +310,7 @@ class BedRecord:
             r = arr[np.argmin(np.abs(arr[:, 0] - t))]
             a1.plot(stations, r[1:], lw=0.9, label=f"t = {r[0]:.1f} s")
             a2.plot(stations, r[1:] - arr[0, 1:], lw=0.9)
-        a1.axhline(self.yw, color="tab:blue", lw=0.6, ls="--")
+        a1.axhline(self.yw, color="tab:blue", lw=0.6, ls="--", label="still water")
         a1.set_ylabel("sand surface (m)")
         a1.legend(fontsize=7, ncol=3)
         a2.axvspan(stations[active][0], stations[active][-1], color="0.93")
@@ -337,7 +354,7 @@ def _streamlines_event(yw, Lf, dx):
     def cb(st, t):
         d = os.path.join(st["out"], "stills")
         os.makedirs(d, exist_ok=True)
-        streamlines_png(os.path.join(d, f"streamlines_t{t:.1f}.png"), st, (0.0, Lf), (0.0, yw + 0.3), dx,
+        streamlines_png(os.path.join(d, f"streamlines_t{t:.3f}.png"), st, (0.0, Lf), (0.0, yw + 0.3), dx,
                         f"water velocity streamlines, t = {t:.1f} s", (12, 2.4), density=(4, 1))
     return cb
 

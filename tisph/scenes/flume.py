@@ -4,7 +4,7 @@ height two wavelengths from the paddle is checked against Biesel's linear wave-m
 (tisph.wavemaker): piston H/S = 2 (cosh 2kh - 1)/(sinh 2kh + 2kh).
 
 Default (scenes/flume_piston.toml is the same case, spelled out): depth 0.25 m, period 0.8 s
-(kh = 1.70, wavelength 0.92 m), piston stroke 4 cm, so Biesel gives H = 6.1 cm (H/L = 0.066:
+(kh = 1.68, wavelength 0.93 m), piston stroke 4 cm, so Biesel gives H = 6.1 cm (H/L = 0.065:
 mild, linear theory applies within a few per cent). The measurement window starts when the
 fully ramped waves have reached the gauge at the group velocity and ends before any reflection
 from the flume's end could return.
@@ -42,7 +42,8 @@ DEFAULTS = {
     "geometry": {"length": 4.5, "depth": 0.25, "wall_height": 0.45,
                  "damping_length": 1.2,          # absorbing zone at the far end (m); 0: none
                  "damping_rate": 10.0,           # its strongest velocity relaxation rate (1/s)
-                 "gauges": [1.0, 2.0]},          # gauge positions in wavelengths from the paddle
+                 "gauges_x": [],                 # gauge positions (m from the paddle's mean position)
+                 "gauges_wavelengths": [1.0, 2.0]},   # or in wavelengths, when gauges_x is empty
     "paddle": dict(PADDLE_DEFAULTS),
     "materials": {"water": {"rho0": 1000.0, "viscosity": 1.0e-3}},
     "output": {"frame_interval": 0.04, "probe_interval": 0.01},
@@ -61,9 +62,9 @@ def check(cfg):
         raise ConfigError("geometry.depth", g["depth"], f"below geometry.wall_height = {g['wall_height']}")
     if g["damping_length"] >= 0.8 * g["length"]:
         raise ConfigError("geometry.damping_length", g["damping_length"], f"under 80 % of the flume length ({0.8 * g['length']:g} m)")
-    for v in g["gauges"]:
-        if not isinstance(v, (int, float)) or v <= 0:
-            raise ConfigError("geometry.gauges", g["gauges"], "a list of positive numbers (wavelengths from the paddle)")
+    for key, unit in (("gauges_x", "m"), ("gauges_wavelengths", "wavelengths")):
+        if not isinstance(g[key], list) or any(not isinstance(v, (int, float)) or v <= 0 for v in g[key]):
+            raise ConfigError(f"geometry.{key}", g[key], f"a list of positive numbers ({unit} from the paddle)")
     check_paddle(cfg, g["depth"], g["length"])
 
 
@@ -85,20 +86,21 @@ def build(cfg):
     damping = ()
     if geo["damping_length"] > 0:
         damping = (Lf - geo["damping_length"], Lf, geo["damping_rate"])
-    xg = [w * wavelength for w in geo["gauges"]]
-    for x in xg:
-        if x >= Lf - geo["damping_length"]:
-            raise ConfigError("geometry.gauges", geo["gauges"],
-                              f"gauges in front of the absorbing zone (x < {Lf - geo['damping_length']:g} m; "
-                              f"one wavelength is {wavelength:.3g} m)")
+    xg = gauge_positions(geo, wavelength)
     cols = tuple(f"eta_{i}" for i in range(len(xg)))
+    zero = []
 
     def probe(st):
-        return tuple(surface_at(st, x, dx, h) - d for x in xg)
+        # zeroed in the still water of t = 0, as a laboratory gauge is: the SPH surface of a
+        # particle lattice reads about dx/2 below the water's mass level
+        eta = [surface_at(st, x, dx, h) - d for x in xg]
+        if not zero:
+            zero.extend(eta)
+        return tuple(e - z for e, z in zip(eta, zero))
 
     # the gauge nearest two wavelengths measures H; its window: fully ramped waves have arrived
     # (group velocity) and no reflection from the end can be back yet
-    gi = int(np.argmin([abs(w - 2.0) for w in geo["gauges"]])) if xg else None
+    gi = int(np.argmin([abs(x - 2.0 * wavelength) for x in xg])) if xg else None
     t_ramp = p["ramp_periods"] * p["period"]
 
     seen = {}
@@ -106,7 +108,7 @@ def build(cfg):
     def metrics(c):
         seen.update(c)
         out = dict(kh=k * d, wavelength=wavelength, group_velocity=cg, biesel_H_over_S=hs_ratio,
-                   biesel_wave_height=H_biesel, gauges_x=xg)
+                   biesel_wave_height=H_biesel, gauges_x=xg, gauge_zero_offset=list(zero))
         if gi is None or p["series"]:
             return out
         x = xg[gi]
@@ -144,7 +146,20 @@ def build(cfg):
                 physics=physics_from_config(cfg, paddle=p["type"], damping=damping),
                 view=((x_left - margin, -margin), (Lf + margin, Hw + margin)), u_max=u_max,
                 probe_columns=cols, probe=probe, metrics=metrics, finalize=finalize,
-                container=(-reach - dx, 0.0, Lf, float("inf"), Hw))
+                container=(-reach - dx, 0.0, Lf, float("inf"), Hw), persist=(zero,))
+
+
+def gauge_positions(geo, wavelength):
+    """Gauge x (m): geometry.gauges_x, or gauges_wavelengths times the wavelength; each in front
+    of the absorbing zone."""
+    key = "gauges_x" if geo["gauges_x"] else "gauges_wavelengths"
+    xg = [float(w) for w in geo["gauges_x"]] or [w * wavelength for w in geo["gauges_wavelengths"]]
+    end = geo["length"] - geo["damping_length"]
+    for x in xg:
+        if x >= end:
+            raise ConfigError(f"geometry.{key}", geo[key], f"gauges in front of the absorbing zone "
+                              f"(x < {end:g} m; one wavelength is {wavelength:.3g} m)")
+    return xg
 
 
 def _particles(cfg, c0):

@@ -384,7 +384,7 @@ def _streamlines(Lx, ytop, dx, xc, yc, R):
     def cb(st, t):
         d = os.path.join(st["out"], "stills")
         os.makedirs(d, exist_ok=True)
-        streamlines_png(os.path.join(d, f"streamlines_t{t:.2f}.png"), st, (0.0, Lx), (0.0, ytop), dx,
+        streamlines_png(os.path.join(d, f"streamlines_t{t:.3f}.png"), st, (0.0, Lx), (0.0, ytop), dx,
                         f"streamlines of the water velocity, t = {t:.2f} s", (8, 8 * ytop / Lx + 0.6),
                         circle=(xc, yc, R))
     return cb

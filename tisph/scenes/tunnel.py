@@ -39,7 +39,7 @@ NAME = "tunnel"
 
 
 DEFAULTS = {
-    "run": {"end_time": 20.0},
+    "run": {"end_time": 40.0},
     "numerics": {"dx": 0.01, "h_factor": 1.3, "artificial_viscosity": 0.02,
                  "density_diffusion": "fourtakas", "delta": 0.1},
     "geometry": {"length": 1.2,                 # periodic length (m)
@@ -50,14 +50,16 @@ DEFAULTS = {
                  "grain_diameter": 0.0003,      # for the Wiberg & Harris prediction (m)
                  # > 0: the bed starts rippled, crest to trough this high (m), at the predicted
                  # length rounded to fit the periodic length: does the bed keep, grow or lose them?
-                 "seed_ripple_height": 0.0},
+                 "seed_ripple_height": 0.0,
+                 "seed_ripple_length": 0.0},    # m; 0: the predicted length (rounded to fit the periodic length)
     "materials": {"water": dict(WATER), "sand": dict(BINGHAM_SAND)},     # the beach's water and sand
     # sediment.model = "bedload": the bed below particle scale (tisph/sediment); grain_density is
     # the grains' own (quartz), not the saturated bed's
-    "sediment": dict(coupling.DEFAULTS, grain_density=2650.0),
+    "sediment": dict(coupling.DEFAULTS, model="bedload", grain_density=2650.0, morfac=10.0, lee_vortex=0.5,
+                     separation_excursion=1.0, seed_rms=0.003),
     "output": {"frame_interval": 0.05, "probe_interval": 0.05, "width": 960},
 }
-RANGES = {f"geometry.{k}": (0.0, None, k == "seed_ripple_height", True) for k in DEFAULTS["geometry"]}
+RANGES = {f"geometry.{k}": (0.0, None, k.startswith("seed_ripple"), True) for k in DEFAULTS["geometry"]}
 RANGES.update(coupling.RANGES)
 RANGES["sediment.grain_density"] = (1000.0, None, False, True)
 CHOICES = dict(coupling.CHOICES)
@@ -102,6 +104,12 @@ class TunnelDrive:
         self.ctl.update(s, u_t - self.u_free(st if st is not None else s.state(("x", "v", "kind", "mat"))), dudt)
 
 
+def seed_count(geo, lam_wh):
+    """How many seeded ripples fit the periodic length: of seed_ripple_length, or the predicted."""
+    lam = geo["seed_ripple_length"] or lam_wh
+    return max(1, int(round(geo["length"] / lam))) if lam > 0 else 1
+
+
 def free_stream(t, Um, omega, period):
     """U(t) = U_m r(t) sin(omega t), r = sin^2(pi t / 2T) over the first period, then 1; and its
     time derivative, the drive."""
@@ -127,7 +135,7 @@ def build(cfg):
     h = num["h_factor"] * dx
     ytop = hs + hw
     lam_wh, eta_wh, regime = wiberg_harris(geo["orbital_diameter"], geo["grain_diameter"])
-    n_seed = max(1, int(round(Lx / lam_wh))) if lam_wh > 0 else 1
+    n_seed = seed_count(geo, lam_wh)
     a_seed = 0.5 * geo["seed_ripple_height"]
 
     ps = _particles(cfg, c0, a_seed, n_seed)
@@ -245,7 +253,7 @@ def _build_bedload(cfg):
     L, h = num["wall_layers"], num["h_factor"] * dx
     ytop = hs + hw
     lam_wh, eta_wh, regime = wiberg_harris(d0, geo["grain_diameter"])
-    n_seed = max(1, int(round(Lx / lam_wh))) if lam_wh > 0 else 1
+    n_seed = seed_count(geo, lam_wh)
     stations = (np.arange(int(round(Lx / dx))) + 0.5) * dx
     z = hs + 0.5 * geo["seed_ripple_height"] * np.sin(2 * np.pi * n_seed * stations / Lx)
     z = coupling.initial_bed(stations, z, sed, dx)
@@ -257,7 +265,7 @@ def _build_bedload(cfg):
     physics = dataclasses.replace(physics_from_config(cfg, periodic_x=True, materials_used=["water"]),
                                   moving_bed=True)
     bed = coupling.BedCoupler(sed, stations, z, dx, h, geo["grain_diameter"], sed["grain_density"],
-                              amplitude=0.5 * d0, periodic=True, rho_w=rw)
+                              amplitude=0.5 * d0, periodic=True, rho_w=rw, omega=drive.omega)
     rows = []
 
     def control(s):
@@ -299,7 +307,11 @@ def _build_bedload(cfg):
                                                  "u_target", "max_bed_shear"),
                      probe=probe, metrics=metrics, finalize=finalize, container=(-1e9, float(z.min()) - L * dx, 1e9,
                                                                                 float("inf")),
-                     control=control, control_every=sed["update_every"], persist=(drive.ctl, bed, rows))
+                     control=control, control_every=sed["update_every"], persist=(drive.ctl, bed, rows),
+                     bed_surface=lambda x: np.interp(x, stations, bed.bed.z, period=Lx),
+                     bed_panel=lambda x0, x1, n: (np.linspace(x0, x1, n), np.interp(np.linspace(x0, x1, n), stations,
+                                                                                  bed.bed.z - bed.z0, period=Lx)),
+                     bed_label=f", morfac {sed['morfac']:g}: the bed moves {sed['morfac']:g}x as fast")
 
 
 def _bedload_particles(cfg, stations, z, c0):

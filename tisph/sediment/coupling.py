@@ -12,6 +12,8 @@ Each update (every sediment.update_every steps):
 """
 import numpy as np
 
+from ..constants import G
+
 from ..particles import BED
 from ..probes.gauges import velocity_at
 from .bed import Bed
@@ -32,18 +34,21 @@ DEFAULTS = {
     "reference_height": 1.5,       # z_r / dx: where the near-bed velocity is read
     "filter_time": 0.05,           # s: time constant of the near-bed velocity's filter
     "update_every": 10,            # steps between bed updates
-    "lee_vortex": 0.0,             # experimental: shear in a crest's lee reversed to this fraction of the crest's (0: off)
+    "lee_vortex": 0.0,             # shear in a separated lee reversed to this fraction of the crest's (0: off; beach, tunnel: 0.5)
     "separation_length": 6.0,      # the lee zone's length in crest heights (flow reattaches about 6 step heights on)
     "separation_slope": 10.0,      # degrees: a lee steeper than this separates
+    "separation_excursion": 0.0,   # the lee zone at most this many orbital amplitudes A = d0/2 long (0: no cap)
     "seed_rms": 0.0,               # m: RMS of a random initial bed perturbation (smoothed over 2 dx)
     "seed": 1,                     # its random seed
+    # (the scenes add grain_density: the grains' own density, kg/m3, quartz 2650)
 }
 RANGES = {"sediment.porosity": (0.0, 0.9, True, True), "sediment.repose_angle": (5.0, 60.0, True, True),
           "sediment.shields_critical": (0.0, 1.0, True, True), "sediment.saturation_length": (0.0, None, True, True),
           "sediment.gravity_coefficient": (0.0, 10.0, True, True), "sediment.morfac": (1.0, 1000.0, True, True),
           "sediment.reference_height": (0.5, 5.0, True, True), "sediment.filter_time": (0.0, None, True, True),
           "sediment.update_every": (1, 1000, True, True), "sediment.lee_vortex": (0.0, 1.0, True, True),
-          "sediment.separation_length": (0.0, 50.0, True, True), "sediment.separation_slope": (0.0, 60.0, True, True), "sediment.seed_rms": (0.0, None, True, True),
+          "sediment.separation_length": (0.0, 50.0, True, True), "sediment.separation_slope": (0.0, 60.0, True, True),
+          "sediment.separation_excursion": (0.0, 10.0, True, True), "sediment.seed_rms": (0.0, None, True, True),
           "sediment.seed": (0, None, True, True)}
 CHOICES = {"sediment.model": ("particles", "bedload"), "sediment.formula": ("mpm", "nielsen"),
            "sediment.shear": ("waves", "log")}
@@ -74,7 +79,12 @@ def add_bed_particles(ps, stations, zb, dx, layers, rho_w, density):
 
 
 class BedCoupler:
-    def __init__(self, sed, stations, z, dx, h, d50, rho_s, amplitude=0.0, periodic=True, rho_w=1000.0):
+    def __init__(self, sed, stations, z, dx, h, d50, rho_s, amplitude=0.0, periodic=True, rho_w=1000.0,
+                 omega=0.0):
+        """amplitude: the near-bed orbital amplitude A (Swart's f_w, the lee zone's cap), a number;
+        None: measured at each station from the filtered near-bed velocity over the last wave
+        period 2 pi / omega, A = (u_max - u_min) / (2 omega): Wiberg & Harris's d0 = U_m T / pi
+        with U_m the peak orbital velocity (a beach, where A varies and the waves are not sines)."""
         self.sed, self.dx, self.h, self.rho_w = sed, dx, h, rho_w
         self.stations = np.asarray(stations, float)
         self.bed = Bed(stations, z, d50, rho_s, rho_w, porosity=sed["porosity"], repose_deg=sed["repose_angle"],
@@ -83,7 +93,10 @@ class BedCoupler:
                        gravity_coefficient=sed["gravity_coefficient"], morfac=sed["morfac"], periodic=periodic)
         self.z0 = self.bed.z.copy()
         self.v0 = self.bed.volume()
-        self.d50, self.amplitude = d50, amplitude
+        self.d50, self.omega = d50, omega
+        self.measured = amplitude is None
+        self.amplitude = np.zeros(len(stations)) if self.measured else amplitude
+        self.history = []               # (t, filtered u) over the last wave period, when measured
         self.u = np.zeros(len(stations))
         self.tau = np.zeros(len(stations))
         self.t = 0.0
@@ -103,9 +116,16 @@ class BedCoupler:
         else:
             tau = shear_log_law(u, self.sed["reference_height"] * self.dx, self.d50, self.rho_w)
         if self.sed["lee_vortex"] > 0:
-            tau = lee_vortex_shear(tau, self.bed.z, self.dx, float(np.sign(np.mean(u))), self.sed,
-                                   self.bed.periodic)
+            tau = lee_vortex_shear(tau, self.bed.z, self.dx, u, self.sed, self.bed.periodic, self.amplitude,
+                                   self.mobility())
         return tau
+
+    def mobility(self):
+        """Mobility number psi = (A omega)^2 / ((s - 1) g d50) at the stations (0: no omega)."""
+        if not self.omega:
+            return np.zeros(len(self.stations))
+        U = np.broadcast_to(np.asarray(self.amplitude, float), (len(self.stations),)) * self.omega
+        return U * U / ((self.bed.s - 1.0) * G * self.d50)
 
     def update(self, s, st=None):
         """One bed update from the solver's state (st: it, if the caller has it already): shear,
@@ -121,6 +141,13 @@ class BedCoupler:
         tf = self.sed["filter_time"]
         a = dt / (tf + dt) if tf > 0 else 1.0
         self.u += a * (u - self.u)
+        if self.measured:
+            period = 2.0 * np.pi / self.omega
+            self.history.append((s.time, self.u.copy()))
+            while self.history[0][0] < s.time - period:
+                self.history.pop(0)
+            us = np.array([u for _, u in self.history])
+            self.amplitude = 0.5 * (us.max(0) - us.min(0)) / self.omega
         self.tau = self.shear(self.u)
         dz = self.bed.step(self.tau, dt)
         s.set_bed(self.bed.z - self.z0, dz / dt)
@@ -129,39 +156,63 @@ class BedCoupler:
         return abs(self.bed.volume() - self.v0) / abs(self.v0) if self.v0 else 0.0
 
 
-def lee_vortex_shear(tau, z, dx, direction, sed, periodic=True):
+def sheet_flow_factor(psi):
+    """1 for mobility psi <= 190, falling linearly to 0 at 240 and above: the factor n of van der A
+    et al. (2013)'s ripple predictor, where ripples wash out into sheet flow."""
+    return np.clip((240.0 - np.asarray(psi, float)) / 50.0, 0.0, 1.0)
+
+
+def lee_vortex_shear(tau, z, dx, u, sed, periodic=True, amplitude=0.0, mobility=0.0):
     """Experimental (a reduced-complexity lee vortex, after the separation-zone picture of
     Nienhuis et al. 2014): downstream of each crest whose lee is steeper than separation_slope,
     over separation_length crest heights, the flow has separated and its vortex drives the bed
-    back towards the crest: tau there is -lee_vortex times the crest's shear. The lee's steepest
-    slope between the crest and its trough decides whether the flow separates."""
-    if direction == 0:
-        return tau
+    back towards the crest: tau there is -lee_vortex times the crest's shear. Downstream is the
+    direction of the near-bed flow u at the crest (a number, or one per station). The lee's
+    steepest slope between the crest and its trough decides whether the flow separates. With
+    separation_excursion > 0 the zone is at most that many orbital amplitudes long (amplitude: A,
+    a number or one per station): a vortex shed in a half period cannot reach farther than the
+    water travels past the crest, so neighbours beyond it no longer feed a crest. The vortex's
+    strength is scaled by sheet_flow_factor(mobility): ripples wash out above psi = 240. That is
+    imposed from the ripple predictor, not computed: the bed load has no suspension."""
     n = len(z)
     out = np.array(tau, float)
-    zz = z if direction > 0 else z[::-1]
-    tt = out if direction > 0 else out[::-1]
+    u = np.broadcast_to(np.asarray(u, float), (n,))
+    amp = np.broadcast_to(np.asarray(amplitude, float), (n,))
+    strength = sed["lee_vortex"] * np.broadcast_to(sheet_flow_factor(mobility), (n,))
     t_sep = np.tan(np.radians(sed["separation_slope"]))
+    cap = sed.get("separation_excursion", 0.0)
+
+    def nxt(k, d):
+        j = k + d
+        if 0 <= j < n:
+            return j
+        return j % n if periodic else None
+
     for c in range(n):
-        left = zz[c - 1] if (c > 0 or periodic) else zz[c]
-        right = zz[(c + 1) % n] if (c < n - 1 or periodic) else zz[c]
-        if not (zz[c] >= left and zz[c] > right):
+        d = int(np.sign(u[c]))
+        if d == 0:
+            continue
+        left, right = nxt(c, -d), nxt(c, d)
+        up = z[left] if left is not None else z[c]
+        down = z[right] if right is not None else z[c]
+        if not (z[c] >= up and z[c] > down):
             continue                               # not a crest
-        k, trough, steepest = c, zz[c], 0.0
+        k, trough, steepest = c, z[c], 0.0
         while True:                                # down the lee to the trough
-            j = (k + 1) % n if periodic else min(k + 1, n - 1)
-            if j == c or zz[j] > zz[k] or j == k:
+            j = nxt(k, d)
+            if j is None or j == c or z[j] > z[k]:
                 break
-            steepest = max(steepest, (zz[k] - zz[j]) / dx)
-            k, trough = j, zz[j]
-        if steepest < t_sep:
+            steepest = max(steepest, (z[k] - z[j]) / dx)
+            k, trough = j, z[j]
+        if steepest < t_sep or strength[c] <= 0:
             continue                               # a gentle lee: no separation
-        L = int(np.ceil(sed["separation_length"] * (zz[c] - trough) / dx))
-        for m in range(1, L + 1):
-            j = c + m
-            if j >= n:
-                if not periodic:
-                    break
-                j -= n
-            tt[j] = -sed["lee_vortex"] * abs(tt[c]) * direction   # towards the crest, against the flow
-    return out if direction > 0 else tt[::-1].copy()
+        length = sed["separation_length"] * (z[c] - trough)
+        if cap > 0 and amp[c] > 0:
+            length = min(length, cap * amp[c])
+        j = c
+        for _ in range(int(np.ceil(length / dx))):
+            j = nxt(j, d)
+            if j is None:
+                break
+            out[j] = -strength[c] * abs(tau[c]) * d   # towards the crest, against the flow
+    return out

@@ -1,0 +1,101 @@
+"""`python -m tisph.scenes.NAME --describe`: every config key of a scene with its default, what is
+allowed and what it means, generated from the code (the defaults, the range and choice tables,
+the engine modules' Params, and the comment written beside each default), so it cannot go stale.
+"""
+import inspect
+import io
+import tokenize
+
+from . import config
+from .config import CHOICES, MATERIAL_CHOICES, MATERIAL_RANGES, RANGES, _describe_range
+
+
+
+def comments(module):
+    """{key: the comment written beside its default} from a module's source: a comment on the
+    key's own line, or else the comment lines right above it."""
+    out = {}
+    try:
+        src = inspect.getsource(module)
+    except (OSError, TypeError):
+        return out
+    toks = list(tokenize.generate_tokens(io.StringIO(src).readline))
+    notes, keys, code_lines = {}, {}, set()
+    for k, tok in enumerate(toks):
+        if tok.type == tokenize.COMMENT and (tok.start[1] > 0 or tok.line[:tok.start[1]].strip()):
+            # indented or after code: a key's note (a comment at column 0 heads a section)
+            notes[tok.start[0]] = tok.string.lstrip("#").strip()
+        elif tok.type not in (tokenize.NL, tokenize.NEWLINE, tokenize.INDENT, tokenize.DEDENT):
+            code_lines.add(tok.start[0])
+            nxt = toks[k + 1] if k + 1 < len(toks) else None
+            if tok.type == tokenize.STRING and nxt is not None and nxt.string == ":":
+                keys[tok.start[0]] = tok.string.strip("\"'")
+    for line, key in keys.items():
+        text = notes.get(line)
+        if text is None:                       # a block of comment lines right above
+            above, n = [], line - 1
+            while n in notes and n not in code_lines:
+                above.insert(0, notes[n])
+                n -= 1
+            text = " ".join(above) or None
+        if text:
+            out.setdefault(key, text)
+    return out
+
+
+def _module_docs():
+    docs = {}
+    for p in config._module_keys():
+        docs[p.key] = f"{p.doc} ({p.unit})" if p.unit not in ("", "-") else p.doc
+    return docs
+
+
+def _flatten(d, prefix=""):
+    for k, v in d.items():
+        if isinstance(v, dict):
+            yield from _flatten(v, f"{prefix}{k}.")
+        else:
+            yield f"{prefix}{k}", v
+
+
+def rows(scene):
+    """(key, default, allowed, meaning) of every key the scene's config has."""
+    cfg = config.build_config(scene.DEFAULTS, None, {}, getattr(scene, "RANGES", None), getattr(scene, "CHOICES", None))
+    ranges = dict(RANGES, **getattr(scene, "RANGES", {}))
+    choices = dict(CHOICES, **getattr(scene, "CHOICES", {}))
+    from . import materials, wavemaker
+    from .sediment import coupling
+    docs = {}
+    for m in (materials, wavemaker, coupling, config, scene):   # the scene's own words win
+        docs.update(comments(m))
+    mod_docs = _module_docs()
+    out = []
+    for key, v in _flatten(cfg):
+        leaf = key.split(".")[-1]
+        if key in choices:
+            allowed = "one of " + ", ".join(repr(c) for c in choices[key])
+        elif key in ranges:
+            allowed = _describe_range(*ranges[key])
+        elif key.startswith("materials.") and leaf in MATERIAL_CHOICES:
+            allowed = "one of " + ", ".join(repr(c) for c in MATERIAL_CHOICES[leaf])
+        elif key.startswith("materials.") and leaf in MATERIAL_RANGES:
+            allowed = _describe_range(*MATERIAL_RANGES[leaf])
+        else:
+            allowed = config._type_name(v)
+        out.append((key, repr(v) if isinstance(v, str) else str(v).lower() if isinstance(v, bool) else str(v),
+                    allowed, mod_docs.get(key) or docs.get(leaf, "")))
+    return out
+
+
+def describe(scene):
+    """The table as text, one key per line, grouped by table."""
+    lines = [f"Config keys of {scene.NAME} (defaults; set them in a case file with --config, "
+             f"see scenes/*.toml):", ""]
+    last = None
+    for key, default, allowed, meaning in rows(scene):
+        table = key.rsplit(".", 1)[0]
+        if table != last:
+            lines.append(f"[{table}]")
+            last = table
+        lines.append(f"  {key.rsplit('.', 1)[1]} = {default}    ({allowed}){'  ' + meaning if meaning else ''}")
+    return "\n".join(lines)

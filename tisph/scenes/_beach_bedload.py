@@ -1,0 +1,199 @@
+"""The beach over the morphodynamic bed (sediment.model = "bedload", the default): SPH water over
+a height field z_b(x) whose boundary particles follow it (tisph/sediment), in front of the paddle.
+
+The bed starts at sand_thickness above the floor, flat to toe_x, then rising at 1:slope past the
+shoreline to the end wall; the first RIGID metres in front of the paddle are a rigid floor at
+that level (the paddle's own start-up flow is not a wave's). Both ends of the bed are closed, so
+its sand volume is conserved. The near-bed orbital amplitude A that Swart's friction factor and
+the lee vortex need is measured at every station from the near-bed velocity (it grows as the
+waves shoal), and so is the Wiberg & Harris (1994) ripple the measured d0 = 2 A predicts.
+"""
+import math
+import os
+
+import numpy as np
+
+from ..constants import G
+from ..config import physics_from_config
+from ..io import write_csv
+from ..particles import ParticleSet, block, density_from_pressure, tait_B, FLUID, WALL, MOVING
+from ..ripples import MIN_LENGTH_DX, ripple_stats, wiberg_harris, last_finite
+from ..case import make_case
+from ..run import common_params, sound_speed
+from ..probes.gauges import surface_at
+from ..probes.plots import pyplot, save
+from ..sediment import coupling
+from ..wavemaker import linear_wave, paddle, wave_height
+
+RIGID = 0.5           # m of rigid floor in front of the paddle
+RIPPLE_WINDOW = 0.6   # m: bedforms longer than this (the profile's bar and shoreline) are not ripples
+
+
+def bed_profile(geo, x):
+    """The initial bed level: flat at sand_thickness, then 1:slope from toe_x."""
+    return geo["sand_thickness"] + np.maximum(0.0, (np.asarray(x, float) - geo["toe_x"]) / geo["slope"])
+
+
+def build_bedload(cfg, name, stills):
+    geo, num, p, sed = cfg["geometry"], cfg["numerics"], cfg["paddle"], cfg["sediment"]
+    dx, Lf, d, ts, Hw = num["dx"], geo["length"], geo["depth"], geo["sand_thickness"], geo["wall_height"]
+    yw = ts + d
+    rw = cfg["materials"]["water"]["rho0"]
+    omega, k, wavelength, cg, hs_ratio = linear_wave(cfg, d)
+    H_biesel = hs_ratio * p["stroke"]
+    c0, u_max = sound_speed(cfg, math.sqrt(G * (d + H_biesel)))
+    L, h = num["wall_layers"], num["h_factor"] * dx
+    T = L * dx
+    stations = RIGID + (np.arange(int(round((Lf - RIGID) / dx))) + 0.5) * dx
+    z = coupling.initial_bed(stations, bed_profile(geo, stations), sed, dx)
+
+    def density(y):
+        return density_from_pressure(rw * G * np.maximum(yw - y, 0.0), rw, c0)
+
+    ps = ParticleSet()
+    lattice = block(0.0, ts, Lf, yw, dx)
+    zl = np.interp(lattice[:, 0], stations, z, left=ts)
+    xw = lattice[lattice[:, 1] >= zl + 0.5 * dx]
+    ps.add(xw, FLUID, 0, density(xw[:, 1]), rw * dx * dx)
+    pad_pts, motion, extra, reach = paddle(cfg, d, Hw, floor_y=ts)
+    x_left = -reach - 2 * T
+    walls = np.vstack([block(x_left, ts - T, RIGID, ts, dx),
+                       block(Lf, float(z.min()) - 0.1 - T, Lf + T, Hw, dx)])
+    ps.add(walls, WALL, 0, density(walls[:, 1]), rw * dx * dx)
+    ps.add(pad_pts, MOVING, 0, density(pad_pts[:, 1]), rw * dx * dx)
+    coupling.add_bed_particles(ps, stations, z, dx, L, rw, density)
+
+    params = common_params(cfg, c0, G, depth=yw)
+    params.update(extra)
+    params["bed_stations"] = len(stations)
+    pad = 3 * T + 4 * h
+    floor = float(z.min()) - 0.1                      # the bed may erode 0.1 m below its lowest point
+    domain = ((x_left - pad, floor - T - pad), (Lf + T + pad, 2 * Hw + pad))
+    import dataclasses
+    physics = dataclasses.replace(physics_from_config(cfg, paddle=p["type"], materials_used=["water"]),
+                                  moving_bed=True)
+    bed = coupling.BedCoupler(sed, stations, z, dx, h, geo["grain_diameter"], sed["grain_density"],
+                              amplitude=None, periodic=False, rho_w=rw, omega=omega)
+    rec = BeachBed(cfg, bed, stations, omega, k, wavelength, cg, H_biesel)
+    # the frame: the shoaling slope, where ripples are predicted, to the swash
+    x0 = max(RIGID, geo["toe_x"] + 0.25 * (Lf - geo["toe_x"]))
+    view = ((x0, float(bed_profile(geo, x0)) - 0.05), (Lf, min(Hw, yw + 0.1)))
+    # colour top: three times the near-bed orbital speed at the paddle (linear waves), not the
+    # bore speed that bounds the sound speed: the shoaling waves are what the frame shows
+    u_col = 3.0 * 0.5 * H_biesel * omega / math.sinh(k * d)
+    return make_case(name=name, particles=ps, materials=[dict(cfg["materials"]["water"], name="water",
+                                                               B=tait_B(rw, c0))],
+                     domain=domain, params=params, physics=physics, view=view, u_max=u_max, speed_scale=u_col,
+                     probe_columns=BeachBed.COLUMNS, probe=rec.probe, metrics=rec.metrics,
+                     finalize=rec.finalize, stills=stills, container=(-reach - dx, floor - T, Lf, float("inf"), Hw),
+                     control=bed.update, control_every=sed["update_every"], persist=(bed, rec),
+                     bed_panel=rec.panel, bed_surface=rec.surface, bed_label=f", morfac {sed['morfac']:g}: the bed moves {sed['morfac']:g}x as fast")
+
+
+class BeachBed:
+    """Probes, metrics and plots of the bed-load beach: ripples on the bed change (high-passed
+    over RIPPLE_WINDOW) over the zone where the measured near-bed motion predicts ripples of at
+    least MIN_LENGTH_DX spacings, against Wiberg & Harris there."""
+    COLUMNS = ("ripple_length", "ripple_height", "ripple_count", "bed_change_rms", "eta_toe",
+               "predicted_ripple_length", "max_bed_shear")
+
+    def __init__(self, cfg, bed, stations, omega, k, wavelength, cg, H_biesel):
+        self.cfg, self.bed, self.stations = cfg, bed, stations
+        self.dx = cfg["numerics"]["dx"]
+        self.omega, self.k, self.wavelength, self.cg, self.H_biesel = omega, k, wavelength, cg, H_biesel
+        geo = cfg["geometry"]
+        self.yw = geo["sand_thickness"] + geo["depth"]
+        self.toe, self.grain = geo["toe_x"], geo["grain_diameter"]
+        self.rows, self.zone = [], None
+
+    def predicted(self):
+        """Wiberg & Harris length at every station for the measured d0 = 2 A (0 where dry)."""
+        lam = np.zeros(len(self.stations))
+        for i, a in enumerate(self.bed.amplitude):
+            if a > 0:
+                lam[i] = wiberg_harris(2.0 * a, self.grain)[0]
+        return lam
+
+    def ripple_zone(self, lam):
+        """Stations 2 dx or more under still water where the measured motion predicts ripples at
+        least MIN_LENGTH_DX spacings long."""
+        wet = self.bed.bed.z < self.yw - 2 * self.dx
+        return wet & (lam >= MIN_LENGTH_DX * self.dx)
+
+    def probe(self, st):
+        zb = self.bed.bed.z
+        self.rows.append((st["t"],) + tuple(zb))
+        lam_p = self.predicted()
+        zone = self.ripple_zone(lam_p)
+        lam = hr = float("nan")
+        count = 0
+        if zone.sum() > 8:
+            x = self.stations[zone]
+            dz = (zb - self.bed.z0)[zone]
+            lam, hr, _ = ripple_stats(x, dz, window=RIPPLE_WINDOW, min_length=MIN_LENGTH_DX * self.dx,
+                                      min_height=0.1 * self.dx)
+            count = int(round((x[-1] - x[0]) / lam)) if np.isfinite(lam) and lam > 0 else 0
+            self.zone = zone
+        rms = float(np.sqrt(np.mean((zb - self.bed.z0) ** 2)))
+        eta = surface_at(st, self.toe, self.dx, self.cfg["numerics"]["h_factor"] * self.dx, mat=0) - self.yw
+        lp = float(lam_p[zone].mean()) if zone.any() else float("nan")
+        return lam, hr, count, rms, eta, lp, float(np.abs(self.bed.tau).max())
+
+    def metrics(self, c):
+        p, sed = self.cfg["paddle"], self.cfg["sediment"]
+        out = dict(kh_paddle=self.k * self.cfg["geometry"]["depth"], wavelength=self.wavelength,
+                   biesel_wave_height=self.H_biesel, sediment_model="bedload", morfac=sed["morfac"],
+                   theta_cr=self.bed.bed.theta_cr, sand_volume_error=self.bed.volume_error())
+        out.update(last_finite(c, ("ripple_length", "ripple_height", "bed_change_rms", "predicted_ripple_length")))
+        out["ripple_count"] = int(c["ripple_count"][-1]) if len(c["ripple_count"]) else 0
+        lam, lp = out["ripple_length"], out["predicted_ripple_length"]
+        out["ripple_length_over_prediction"] = lam / lp if lp > 0 else float("nan")
+        out["ripple_steepness"] = out["ripple_height"] / lam if lam > 0 else float("nan")
+        if self.zone is not None:
+            out["ripple_zone"] = [float(self.stations[self.zone][0]), float(self.stations[self.zone][-1])]
+        t0 = p["ramp_periods"] * p["period"] + self.toe / self.cg + p["period"]
+        H, n = wave_height(c["t"], c["eta_toe"], t0, float(c["t"][-1]), p["period"])
+        out["wave_height_at_toe"] = H
+        out["periods_measured_at_toe"] = n
+        return out
+
+    def finalize(self, out, metrics):
+        if not self.rows:
+            return
+        write_csv(os.path.join(out, "bed_profile.csv"), ("t",) + tuple(f"x{x:.3f}" for x in self.stations),
+                  self.rows)
+        lam = self.predicted()
+        write_csv(os.path.join(out, "ripple_prediction.csv"),
+                  ("x", "bed_initial", "orbital_amplitude", "orbital_diameter_d0", "wiberg_harris_length"),
+                  [(float(x), float(z0), float(a), float(2 * a), float(lp))
+                   for x, z0, a, lp in zip(self.stations, self.bed.z0, self.bed.amplitude, lam)])
+        self.plot(os.path.join(out, "bed_profile.png"), lam)
+
+    def plot(self, path, lam):
+        plt = pyplot()
+        arr = np.array(self.rows)
+        x = self.stations
+        fig, (a1, a2) = plt.subplots(2, 1, figsize=(9, 5.5), sharex=True)
+        for t in np.linspace(arr[0, 0], arr[-1, 0], 5)[1:]:
+            r = arr[np.argmin(np.abs(arr[:, 0] - t))]
+            a1.plot(x, 1e3 * (r[1:] - self.bed.z0), lw=0.8, label=f"t = {r[0]:.1f} s")
+        if self.zone is not None:
+            a1.axvspan(x[self.zone][0], x[self.zone][-1], color="0.93", label="ripple zone")
+        a1.set_ylabel("bed change (mm)")
+        a1.legend(fontsize=7, ncol=5, loc="lower left")
+        a2.plot(x, 100 * lam, label="Wiberg & Harris length (measured d0)")
+        a2.axhline(100 * 8 * self.dx, color="k", lw=0.8, ls=":", label="8 dx")
+        a2.set_ylabel("ripple length (cm)")
+        a2.set_xlabel("x (m)")
+        a2.legend(fontsize=7, loc="upper left")
+        fig.suptitle(f"beach over a bed-load sand bed (morfac {self.cfg['sediment']['morfac']:g})", fontsize=10)
+        save(fig, path)
+
+    def surface(self, x):
+        """z_b at x (the rigid floor's level left of the bed)."""
+        return np.interp(x, self.stations, self.bed.bed.z, left=self.cfg["geometry"]["sand_thickness"])
+
+    def panel(self, x0, x1, width):
+        """(x, bed change) for the movie's bed panel over [x0, x1] at `width` samples."""
+        xs = np.linspace(x0, x1, width)
+        return xs, np.interp(xs, self.stations, self.bed.bed.z - self.bed.z0, left=np.nan, right=np.nan)

@@ -1,0 +1,148 @@
+"""Engine speed: particle-steps/s of the dam break and the tank over a range of sizes, cold and
+warm compile, and the same cases on another git revision, run back to back.
+
+    python -m tisph.bench --speed [--against REV] [--repeats N] [--quick] [--out renders/bench]
+
+Each measurement runs in its own process (Taichi compiles once per process): build the case,
+prime, one warm-up step, then a fixed number of steps timed with a field read at the end (it
+waits for the last kernel). With --against, every case is run on this tree and on REV (checked
+out into a temporary git worktree) alternately, --repeats times, and the ratio is the median of
+the pairs: these machines are shared and drift, so only ratios from one run mean anything.
+Writes OUT/speed.md and OUT/speed.csv.
+"""
+import json
+import os
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+# (name, scene, overrides, steps): sizes from 3.4e3 to 6.5e5 particles
+CASES = [
+    ("dam break dx 0.03", "dam_break", {"numerics.dx": 0.03}, 1000),
+    ("dam break dx 0.015", "dam_break", {"numerics.dx": 0.015}, 400),
+    ("tank 4.4e4", "tank", {"numerics.dx": 0.01, "geometry.width": 2.1, "geometry.depth": 2.1,
+                            "geometry.tank_height": 2.2}, 150),
+    ("tank 1.8e5", "tank", {"numerics.dx": 0.005, "geometry.width": 2.1, "geometry.depth": 2.1,
+                            "geometry.tank_height": 2.2}, 50),
+    ("tank 6.5e5", "tank", {"numerics.dx": 0.0025, "geometry.width": 2.0, "geometry.depth": 2.0,
+                            "geometry.tank_height": 2.1}, 20),
+]
+QUICK = 3   # --quick: the first three
+
+# Runs in the tree under test (this one or REV's): only APIs every revision since the engine
+# refactor has (resolve, build_case, Log, tisph.solver.Solver).
+CHILD = r"""
+import json, os, sys, time, importlib
+t0 = time.perf_counter()
+from tisph import runtime
+from tisph.run import build_case, Log, resolve
+from tisph.solver import Solver
+runtime.init("cpu", "f32")
+scene = importlib.import_module("tisph.scenes." + sys.argv[1])
+ov = json.loads(sys.argv[2]); ov["output.quiet"] = True
+steps = int(sys.argv[3])
+cfg = resolve(scene, overrides=ov)
+case = build_case(scene, cfg, Log(os.devnull, True))
+s = Solver(case.physics, case.particles, case.materials, case.domain, case.params)
+t1 = time.perf_counter()
+s.prime(); s.step(); s.dt
+t2 = time.perf_counter()
+for _ in range(steps):
+    s.step()
+s.dt
+el = time.perf_counter() - t2
+fb = s.field_bytes() / s.n if hasattr(s, "field_bytes") else float("nan")
+print(json.dumps(dict(particles=s.n, steps=steps, seconds=el, pps=s.n * steps / el, setup=t1 - t0,
+                      compile=t2 - t1, field_bytes=fb)))
+"""
+
+
+def measure(tree, scene, overrides, steps, cache=None):
+    """One measurement in a fresh process on the tree at `tree`; cache: Taichi's offline cache
+    folder (a new empty one for a cold compile)."""
+    env = dict(os.environ, PYTHONPATH=tree)
+    if cache:
+        env["TI_OFFLINE_CACHE_FILE_PATH"] = cache
+    r = subprocess.run([sys.executable, "-c", CHILD, scene, json.dumps(overrides), str(steps)], cwd=tree,
+                       capture_output=True, text=True, env=env, timeout=3600)
+    if r.returncode != 0:
+        raise RuntimeError(f"{scene} {overrides} on {tree} failed: {r.stderr[-1500:]}")
+    return json.loads(r.stdout.strip().splitlines()[-1])
+
+
+def worktree(rev, base):
+    """REV checked out (detached) under base; returns its path."""
+    path = os.path.join(base, "rev")
+    r = subprocess.run(["git", "-C", ROOT, "worktree", "add", "--detach", path, rev], capture_output=True, text=True)
+    if r.returncode != 0:
+        raise SystemExit(f"python -m tisph.bench --speed: --against {rev!r}: not a revision of {ROOT} "
+                         f"({r.stderr.strip()})")
+    return path
+
+
+def run(a, log):
+    cases = CASES[:QUICK] if a.quick else CASES
+    rows = []
+    with tempfile.TemporaryDirectory() as tmp:
+        old = worktree(a.against, tmp) if a.against else None
+        try:
+            # compile, cold (an empty offline cache) then warm (the same cache again)
+            cache = os.path.join(tmp, "cache")
+            cold = measure(ROOT, *cases[0][1:3], 5, cache)["compile"]
+            warm = measure(ROOT, *cases[0][1:3], 5, cache)["compile"]
+            for name, scene, ov, steps in cases:
+                new_pps, old_pps = [], []
+                for k in range(a.repeats):
+                    m = measure(ROOT, scene, ov, steps)
+                    new_pps.append(m["pps"])
+                    if old:
+                        old_pps.append(measure(old, scene, ov, steps)["pps"])
+                    log(f"{name}: {m['particles']} particles, {new_pps[-1]:.3g} particle-steps/s"
+                        + (f", {a.against}: {old_pps[-1]:.3g}" if old else ""))
+                row = dict(case=name, particles=m["particles"], steps=steps, pps=statistics.median(new_pps),
+                           field_bytes=round(m["field_bytes"], 1))
+                if old:
+                    row["pps_against"] = statistics.median(old_pps)
+                    row["ratio"] = statistics.median(n / o for n, o in zip(new_pps, old_pps))
+                rows.append(row)
+        finally:
+            if old:
+                subprocess.run(["git", "-C", ROOT, "worktree", "remove", "--force", old], capture_output=True)
+    return rows, cold, warm
+
+
+def report(a, rows, cold, warm):
+    hdr = "| case | particles | steps | particle-steps/s | field bytes/particle |"
+    sep = "|---|---|---|---|---|"
+    if a.against:
+        hdr += f" {a.against} particle-steps/s | ratio (median of {a.repeats} pairs) |"
+        sep += "---|---|"
+    lines = ["# tisph engine speed", "",
+             f"{time.strftime('%Y-%m-%d %H:%M')}, CPU backend, f32, {os.cpu_count()} threads; each figure the "
+             f"median of {a.repeats} runs, each in a fresh process"
+             + (f", alternating with {a.against} back to back" if a.against else "") + ".", "",
+             hdr, sep]
+    for r in rows:
+        line = f"| {r['case']} | {r['particles']} | {r['steps']} | {r['pps']:.3g} | {r['field_bytes']} |"
+        if a.against:
+            line += f" {r['pps_against']:.3g} | {r['ratio']:.2f} |"
+        lines.append(line)
+    lines += ["", f"Compile (dam break dx 0.03, set-up excluded): cold {cold:.2f} s (empty offline cache), "
+              f"warm {warm:.2f} s (Taichi's offline kernel cache).", ""]
+    return lines
+
+
+def main(a):
+    from .io import ensure_dir, write_csv, write_text
+    log = lambda m: print(m, file=sys.stderr, flush=True)
+    ensure_dir(a.out)
+    rows, cold, warm = run(a, log)
+    lines = report(a, rows, cold, warm)
+    write_text(os.path.join(a.out, "speed.md"), "\n".join(lines) + "\n")
+    write_csv(os.path.join(a.out, "speed.csv"), tuple(rows[0]), [tuple(r.values()) for r in rows])
+    print("\n".join(lines))
+    return 0

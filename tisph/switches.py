@@ -1,0 +1,57 @@
+"""The compile-time physics switches of a case (config.Physics): which terms the engine compiles
+in, from the config and what the scene uses."""
+from dataclasses import dataclass, asdict
+
+
+@dataclass(frozen=True)
+class Physics:
+    """Which terms exist. Read with ti.static: a term that is off is never compiled."""
+    kernel: str = "cubic"
+    wall: str = "dynamic"
+    artificial_viscosity: bool = True
+    laminar_viscosity: bool = False
+    xsph: bool = False
+    density_diffusion: str = "none"
+    shepard: bool = False
+    rheology: bool = False      # some material is Bingham or Cross: effective-viscosity field
+    periodic_x: bool = False
+    noslip: bool = False        # Morris no-slip walls in the viscous terms (paper 002 eq. 39)
+    paddle: str = "none"        # none | piston | flap: MOVING particles follow a prescribed motion
+    damping: tuple = ()         # (x0, x1, rate 1/s): absorbing zone, damping grows as ((x-x0)/(x1-x0))^2
+    inflow: tuple = ()          # (x0, x1, rate 1/s, material, y_bed, u*, z0): a zone relaxing that
+                                # material's velocity to the log law (paper 002 eq. 32)
+    sps: bool = False           # SPS (Smagorinsky) turbulence in Newtonian materials (paper 002 eq. 10)
+    drag: bool = False          # fluid-sediment drag between different materials (paper 002 eq. 16)
+    dem: bool = False           # DEM spring-dashpot contacts between sediment particles (paper 002 eqs. 17-28)
+    moving_bed: bool = False    # BED particles follow a morphodynamic bed z_b(x) (tisph/sediment)
+
+    def as_dict(self):
+        return asdict(self)
+
+
+def physics_from_config(cfg: dict, periodic_x=False, noslip=False, materials_used=None,
+                        paddle="none", damping=(), sps=False, drag=False, dem=False, inflow=()) -> Physics:
+    """The switches of a case. materials_used: names of the materials its particles carry (all
+    configured materials if None); rheology is compiled only if one of them is non-Newtonian."""
+    n = cfg["numerics"]
+    mats = cfg.get("materials", {})
+    used = mats.keys() if materials_used is None else materials_used
+    rheo = any(isinstance(mats[k], dict) and mats[k].get("rheology", "newtonian") != "newtonian" for k in used)
+    return Physics(
+        rheology=rheo,
+        periodic_x=periodic_x,
+        noslip=noslip,
+        paddle=paddle,
+        damping=tuple(float(v) for v in damping),
+        inflow=tuple(float(v) for v in inflow),
+        sps=sps,
+        drag=drag,
+        dem=dem,
+        kernel=n["kernel"],
+        wall=n["wall"],
+        artificial_viscosity=n["artificial_viscosity"] > 0.0,
+        laminar_viscosity=bool(n["laminar_viscosity"]) or rheo,
+        xsph=n["xsph"] > 0.0,
+        density_diffusion=n["density_diffusion"],
+        shepard=n["shepard_every"] > 0,
+    )

@@ -1,0 +1,165 @@
+"""Render a run's HDF5 snapshots to PNG or a new MP4, as `pysph view` does for PySPH, with the
+renderer the live run uses (tisph/render.py) and the scene's own framing and colours.
+
+    python -m tisph.view OUT [--field F] [--time T | --all] [--view X0 X1 Y0 Y1]
+                             [--range LO HI] [--width W] [--mp4] [--fps N]
+
+OUT is a run's output folder (with snapshots/*.h5) or one snapshot file. Without --time or
+--all the last snapshot is drawn. Pictures go to OUT/view/FIELD_tT.png (and OUT/view/FIELD.mp4).
+The scene's framing (view, colour scales, sand colours) comes from rebuilding its case from the
+config stored in the snapshot; the bed panel of a bed-load scene is not redrawn (the bed's
+history is in bed_profile.csv, not in the snapshots).
+"""
+import argparse
+import glob
+import importlib
+import os
+import sys
+
+import numpy as np
+
+from .config import ConfigError
+from .io import OutputError, ensure_dir, load
+from .render import FIELDS, MovieWriter, Renderer, write_png
+
+KEYS = {"position": "x", "velocity": "v", "pressure": "p", "density": "rho", "kind": "kind", "material": "mat"}
+
+
+def snapshot_files(path):
+    """The snapshots of a run folder in time order (numbered files only), or [path] for a file."""
+    if os.path.isfile(path):
+        return [path]
+    files = sorted(glob.glob(os.path.join(path, "snapshots", "[0-9]*.h5")))
+    if not files:
+        raise OutputError(f"{path!r} holds no snapshots (expected {os.path.join(path, 'snapshots', '00000.h5')}; "
+                          f"a run writes them unless output.snapshot_every = 0)")
+    return files
+
+
+def state_of(arrays):
+    missing = [k for k in KEYS if k not in arrays]
+    if missing:
+        raise OutputError(f"snapshot lacks {', '.join(missing)}: not a tisph snapshot")
+    return {v: arrays[k] for k, v in KEYS.items()}
+
+
+def read_toml_text(text):
+    from .config import tomllib
+    return tomllib.loads(text)
+
+
+def scene_picture(attrs):
+    """(picture, dx, cfg) from the scene's case rebuilt from the snapshot's config; (None, dx, None)
+    if that fails."""
+    cfg_text, name = attrs.get("config", ""), attrs.get("scene", "")
+    try:
+        from .run import resolve
+        scene = importlib.import_module(f"tisph.scenes.{name}")
+        cfg = resolve(scene, None, flatten(read_toml_text(cfg_text)))
+        return scene.build(cfg).picture, cfg["numerics"]["dx"], cfg
+    except Exception:      # an old or foreign snapshot: frame the particles instead
+        try:
+            dx = float(read_toml_text(cfg_text)["numerics"]["dx"])
+        except Exception:
+            dx = None
+        return None, dx, None
+
+
+def flatten(d, prefix=""):
+    out = {}
+    for k, v in d.items():
+        if isinstance(v, dict):
+            out.update(flatten(v, f"{prefix}{k}."))
+        else:
+            out[f"{prefix}{k}"] = v
+    return out
+
+
+def make_parser():
+    p = argparse.ArgumentParser(prog="python -m tisph.view", description=__doc__,
+                                formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("out", help="a run's output folder, or one snapshot .h5")
+    p.add_argument("--field", choices=FIELDS, default=None, help="colour by this field (default: the scene's panels)")
+    g = p.add_mutually_exclusive_group()
+    g.add_argument("--time", type=float, default=None, help="the snapshot nearest this time (s)")
+    g.add_argument("--all", action="store_true", help="every snapshot")
+    p.add_argument("--view", type=float, nargs=4, metavar=("X0", "X1", "Y0", "Y1"), help="region to draw (m)")
+    p.add_argument("--range", type=float, nargs=2, metavar=("LO", "HI"), help="colour bar range")
+    p.add_argument("--width", type=int, default=1280, help="picture width in pixels (default 1280)")
+    p.add_argument("--mp4", action="store_true", help="also write the pictures as an MP4")
+    p.add_argument("--fps", type=int, default=25)
+    return p
+
+
+def main(argv=None):
+    args = make_parser().parse_args(argv)
+    try:
+        return view(args)
+    except (OutputError, ConfigError) as e:
+        print(f"python -m tisph.view: {e}", file=sys.stderr)
+        return 2
+
+
+def check_args(args):
+    if args.width < 64 or args.width > 4096:
+        raise ConfigError("--width", args.width, "64 to 4096 pixels")
+    if args.view and not (args.view[0] < args.view[1] and args.view[2] < args.view[3]):
+        raise ConfigError("--view", args.view, "X0 < X1 and Y0 < Y1")
+    if args.range and not args.range[0] < args.range[1]:
+        raise ConfigError("--range", args.range, "LO < HI")
+
+
+def view(args):
+    check_args(args)
+    files = snapshot_files(args.out)
+    times = [float(load(f)[1].get("time", 0.0)) for f in files]
+    if args.time is not None:
+        files = [files[int(np.argmin(np.abs(np.array(times) - args.time)))]]
+    elif not args.all:
+        files = files[-1:]
+    arrays, attrs = load(files[0])
+    pic, dx, _ = scene_picture(attrs)
+    st = state_of(arrays)
+    if dx is None:
+        dx = float(np.median(np.abs(np.diff(np.unique(np.round(st["x"][:, 0], 6)))))) or 0.01
+    if args.view:
+        x0, x1, y0, y1 = args.view
+        region = ((x0, y0), (x1, y1))
+    elif pic is not None:
+        region = pic.view
+    else:
+        lo, hi = st["x"].min(0) - dx, st["x"].max(0) + dx
+        region = ((lo[0], lo[1]), (hi[0], hi[1]))
+    modes = (args.field,) if args.field else (pic.render_modes if pic is not None else ("speed",))
+    r = Renderer(region, args.width, dx, (pic.speed_scale or pic.u_max) if pic is not None else 0.0,
+                 title=attrs.get("scene", ""), modes=modes, mat_colors=pic.mat_colors if pic else None,
+                 pressure_scale=pic.pressure_scale if pic else 0.0, vrange=args.range, min_height=160)
+    src = args.out if os.path.isdir(args.out) else os.path.dirname(os.path.dirname(os.path.abspath(args.out)))
+    dest = ensure_dir(os.path.join(src, "view"))
+    tag = args.field or "+".join(modes)
+    movie = MovieWriter(os.path.join(dest, f"{tag}.mp4"), args.fps) if args.mp4 else None
+    written = []
+    try:
+        for f in files:
+            arrays, attrs = load(f)
+            t = float(attrs.get("time", 0.0))
+            img = r.frame(state_of(arrays), t)
+            path = os.path.join(dest, f"{tag}_t{t:.3f}.png")
+            write_png(path, img)
+            written.append(path)
+            if movie is not None:
+                movie.append(img)
+    except BaseException:
+        if movie is not None:
+            movie.abort()
+        raise
+    if movie is not None:
+        movie.close()
+        written.append(movie.path)
+    for p in written if len(written) <= 3 else written[:1] + ["..."] + written[-2:]:
+        print(p)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
