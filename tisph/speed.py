@@ -20,10 +20,12 @@ import time
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
-# (name, scene, overrides, steps): sizes from 3.4e3 to 6.5e5 particles
+# (name, scene, overrides, steps): sizes from 3.4e3 to 6.5e5 particles, and the flume's paddle
 CASES = [
     ("dam break dx 0.03", "dam_break", {"numerics.dx": 0.03}, 1000),
     ("dam break dx 0.015", "dam_break", {"numerics.dx": 0.015}, 400),
+    # a paddle: the Python side of a step (its motion is set every step)
+    ("flume dx 0.0125 (paddle)", "flume", {}, 600),
     ("tank 4.4e4", "tank", {"numerics.dx": 0.01, "geometry.width": 2.1, "geometry.depth": 2.1,
                             "geometry.tank_height": 2.2}, 150),
     ("tank 1.8e5", "tank", {"numerics.dx": 0.005, "geometry.width": 2.1, "geometry.depth": 2.1,
