@@ -123,6 +123,7 @@ def test_tunnel_bedload_moves_the_bed_particles_and_keeps_the_sand(tmp_path):
     m = summary["metrics"]
     assert m["sand_volume_error"] < 1e-6
     assert m["bed_change_rms"] > 1e-5          # the bed moved
+    assert (tmp_path / "ripple_growth.png").exists() and (tmp_path / "bed_profile.png").exists()
     assert "moving_bed" in summary["modules"]
     st = r.solver.state(("x", "kind"))
     zb = np.loadtxt(tmp_path / "bed_profile.csv", delimiter=",", skiprows=1)[-1, 1:]   # z_b, last row

@@ -188,7 +188,9 @@ def test_beach_runs_and_writes_a_frame_and_bed_statistics(tmp_path):
     assert (out / "stills" / "t0.000.png").exists()
     header = (out / "bed_profile.csv").read_text().splitlines()[0].split(",")
     assert header[0] == "t" and len(header) > 100
-    assert (out / "probes.csv").read_text().splitlines()[0] == "t," + ",".join(beach_bed.BeachBed.COLUMNS)
+    gauges = tuple(f"eta_x{x:.2f}" for x in beach.DEFAULTS["geometry"]["gauges_x"])
+    assert (out / "probes.csv").read_text().splitlines()[0] == "t," + ",".join(beach_bed.BeachBed.COLUMNS + gauges)
+    assert s["metrics"]["gauges_x"] == beach.DEFAULTS["geometry"]["gauges_x"]
     assert (out / "ripple_prediction.csv").exists() and (out / "bed_profile.png").exists()
     m = s["metrics"]
     assert m["sediment_model"] == "bedload" and m["morfac"] == beach.DEFAULTS["sediment"]["morfac"]

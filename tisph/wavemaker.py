@@ -105,6 +105,34 @@ def wave_height(t, eta, t0, t1, period):
     return (float(np.mean(hs)) if hs else float("nan")), len(hs)
 
 
+class Gauges:
+    """Wave gauges at x (m from the paddle's mean position): the free surface minus the still-water
+    level, zeroed at the first reading (the still water of t = 0), as a laboratory gauge is: the
+    SPH surface of a particle lattice reads about dx/2 under the water's mass level."""
+
+    def __init__(self, xs, dx, h, level, columns=None):
+        self.xs = [float(x) for x in xs]
+        self.dx, self.h, self.level = dx, h, level
+        self.columns = tuple(columns or (f"eta_x{x:.2f}" for x in self.xs))
+        self.zero = []
+
+    def read(self, st):
+        from .probes.gauges import surface_at
+        eta = [surface_at(st, x, self.dx, self.h) - self.level for x in self.xs]
+        if not self.zero:
+            self.zero = list(eta)
+        return tuple(e - z for e, z in zip(eta, self.zero))
+
+    def metrics(self, c, p, cg):
+        """gauges_x and the mean wave height at each over whole periods once the ramped waves
+        have reached it at the group velocity cg (at the paddle's depth: on a slope, where waves
+        slow, an early bound) and to the end of the run."""
+        t1, T = float(c["t"][-1]), p["period"]
+        t0 = lambda x: p["ramp_periods"] * T + x / cg + T
+        return dict(gauges_x=list(self.xs), wave_height_at_gauges=[
+            wave_height(c["t"], c[col], t0(x), t1, T)[0] for x, col in zip(self.xs, self.columns)])
+
+
 # ---------------------------------------------------------------- a paddle from a scene's config
 # The [paddle] table every wave scene shares (flume, beach): its defaults, ranges and checks,
 # the paddle's particles and motion, and the linear wave it makes.

@@ -44,7 +44,11 @@ def summarize(run, status, message, wall, step_s, nsteps, compile_s, segment=Non
     final = s.state(("x", "v", "kind", "rho", "p", "mat", "m"))
     if obs.final_metrics:
         metrics.update(obs.final_metrics(final))
-    undefined = [k for k, v in metrics.items() if isinstance(v, float) and not math.isfinite(v)]
+    def no_value(v):
+        if isinstance(v, (list, tuple)):
+            return any(no_value(x) for x in v)
+        return isinstance(v, float) and not math.isfinite(v)
+    undefined = [k for k, v in metrics.items() if no_value(v)]
     if undefined:   # a metric with no value is said, not left as a silent null
         w = (f"{len(undefined)} metric(s) have no value: {', '.join(undefined)} (the run may be too short "
              f"for their analysis window, t = {s.time:.4g} s, or the quantity never occurred)")

@@ -23,7 +23,7 @@ from ..run import common_params, sound_speed
 from ..probes.gauges import surface_at
 from ..probes.plots import pyplot, save
 from ..sediment import coupling
-from ..wavemaker import linear_wave, paddle, wave_height
+from ..wavemaker import Gauges, linear_wave, paddle, wave_height
 
 RIGID = 0.5           # m of rigid floor in front of the paddle
 RIPPLE_WINDOW = 0.6   # m: bedforms longer than this (the profile's bar and shoreline) are not ripples
@@ -84,7 +84,7 @@ def build_bedload(cfg, name, stills):
     return make_case(name=name, particles=ps, materials=[dict(cfg["materials"]["water"], name="water",
                                                                B=tait_B(rw, c0))],
                      domain=domain, params=params, physics=physics, view=view, u_max=u_max, speed_scale=u_col,
-                     probe_columns=BeachBed.COLUMNS, probe=rec.probe, metrics=rec.metrics,
+                     probe_columns=BeachBed.COLUMNS + rec.gauges.columns, probe=rec.probe, metrics=rec.metrics,
                      finalize=rec.finalize, stills=stills, container=(-reach - dx, floor - T, Lf, float("inf"), Hw),
                      control=bed.update, control_every=sed["update_every"], persist=(bed, rec),
                      bed_panel=rec.panel, bed_surface=rec.surface, bed_label=f", morfac {sed['morfac']:g}: the bed moves {sed['morfac']:g}x as fast")
@@ -105,6 +105,7 @@ class BeachBed:
         self.yw = geo["sand_thickness"] + geo["depth"]
         self.toe, self.grain = geo["toe_x"], geo["grain_diameter"]
         self.rows, self.zone = [], None
+        self.gauges = Gauges(geo["gauges_x"], self.dx, cfg["numerics"]["h_factor"] * self.dx, self.yw)
 
     def predicted(self):
         """Wiberg & Harris length at every station for the measured d0 = 2 A (0 where dry)."""
@@ -137,7 +138,7 @@ class BeachBed:
         rms = float(np.sqrt(np.mean((zb - self.bed.z0) ** 2)))
         eta = surface_at(st, self.toe, self.dx, self.cfg["numerics"]["h_factor"] * self.dx, mat=0) - self.yw
         lp = float(lam_p[zone].mean()) if zone.any() else float("nan")
-        return lam, hr, count, rms, eta, lp, float(np.abs(self.bed.tau).max())
+        return (lam, hr, count, rms, eta, lp, float(np.abs(self.bed.tau).max())) + self.gauges.read(st)
 
     def metrics(self, c):
         p, sed = self.cfg["paddle"], self.cfg["sediment"]
@@ -155,6 +156,7 @@ class BeachBed:
         H, n = wave_height(c["t"], c["eta_toe"], t0, float(c["t"][-1]), p["period"])
         out["wave_height_at_toe"] = H
         out["periods_measured_at_toe"] = n
+        out.update(self.gauges.metrics(c, p, self.cg))
         return out
 
     def finalize(self, out, metrics):

@@ -69,7 +69,10 @@ DEFAULTS = {
                  "slope": 20.0,            # 1 : slope (horizontal run per unit rise)
                  "wall_height": 0.6,       # the side walls' height above the floor (m)
                  # d50: the bed load's grain, and the Wiberg & Harris ripple prediction; a medium sand
-                 "grain_diameter": 0.0003},
+                 "grain_diameter": 0.0003,
+                 # wave gauges (m from the paddle's mean position): probes.csv eta_x..., and the
+                 # wave height at each in summary.json (wave_height_at_gauges)
+                 "gauges_x": [1.0, 3.0, 4.5, 5.5, 6.5]},
     "paddle": dict(PADDLE_DEFAULTS, stroke=0.26, period=2.5, ramp_periods=1.0),
     "materials": {"water": dict(WATER), "sand": dict(BINGHAM_SAND)},
     # sediment.model = "bedload": the bed below particle scale (tisph/sediment, scenes/beach.toml);
@@ -78,7 +81,7 @@ DEFAULTS = {
                      separation_excursion=1.0, seed_rms=0.005, reference_height=2.5),
     "output": {"frame_interval": 0.04, "probe_interval": 0.04, "width": 1280},
 }
-RANGES = {f"geometry.{k}": (0.0, None, False, True) for k in DEFAULTS["geometry"]}
+RANGES = {f"geometry.{k}": (0.0, None, False, True) for k in DEFAULTS["geometry"] if k != "gauges_x"}
 RANGES["geometry.slope"] = (1.0, None, True, True)
 RANGES.update(PADDLE_RANGES)
 RANGES.update(coupling.RANGES)
@@ -100,6 +103,9 @@ def check(cfg):
     if shore >= g["length"] - 0.2:
         raise ConfigError("geometry.length", g["length"],
                           f"longer than the shoreline position + 0.2 m ({shore + 0.2:.3g} m) for this toe_x and slope")
+    if not isinstance(g["gauges_x"], list) or any(isinstance(x, bool) or not isinstance(x, (int, float))
+                                                   or not 0 < x < g["length"] for x in g["gauges_x"]):
+        raise ConfigError("geometry.gauges_x", g["gauges_x"], f"a list of positions in m, each in (0, {g['length']:g})")
     if g["toe_x"] < 1.0:
         raise ConfigError("geometry.toe_x", g["toe_x"], "at least 1 m (room for the waves to form)")
     # the bed-load bed's paddle stands on the bed, the Bingham bed's on the floor under the sand
@@ -133,7 +139,7 @@ def build(cfg):
     return make_case(name=NAME, particles=ps, materials=materials, domain=domain, params=params,
                      physics=physics_from_config(cfg, paddle=p["type"]),
                      view=((x_left - margin, -margin), (Lf + margin, min(Hw, yw + 0.35) + margin)), u_max=u_max,
-                     probe_columns=("ripple_length", "ripple_height", "bed_change_rms", "eta_toe"),
+                     probe_columns=("ripple_length", "ripple_height", "bed_change_rms", "eta_toe") + bed.gauges.columns,
                      probe=bed.probe, metrics=bed.metrics, finalize=bed.finalize, events=events, stills=STILLS,
                      container=(-reach - dx, 0.0, Lf, float("inf"), Hw),
                      render_modes=("phase",), mat_colors=(None, SAND), persist=(bed,))
@@ -221,6 +227,7 @@ class BedRecord:
         shore = self.toe + self.d * geo["slope"]
         self.active = (self.stations >= max(0.5, self.toe - 0.5 * self.wavelength)) & (self.stations <= shore + 0.2)
         self.rows, self.bed0, self.u_near, self.pred_rows = [], None, [], None
+        self.gauges = wm.Gauges(geo["gauges_x"], self.dx, h, self.yw)
 
     def probe(self, st):
         dx, h, stations, active = self.dx, self.h, self.stations, self.active
@@ -233,7 +240,7 @@ class BedRecord:
         lam, hr, rms = ripple_stats(stations[active], z[active], window=RIPPLE_WINDOW * self.wavelength,
                                     min_length=MIN_LENGTH_DX * dx, min_height=MIN_HEIGHT_DX * dx)
         eta = surface_at(st, self.toe, dx, h, mat=0) - self.yw
-        return lam, hr, rms, eta
+        return (lam, hr, rms, eta) + self.gauges.read(st)
 
     def metrics(self, c):
         p, stations, active, d, k = self.p, self.stations, self.active, self.d, self.k
@@ -245,6 +252,7 @@ class BedRecord:
         H, n = wm.wave_height(c["t"], c["eta_toe"], t0, float(c["t"][-1]), p["period"])
         out["wave_height_at_toe"] = H
         out["periods_measured_at_toe"] = n
+        out.update(self.gauges.metrics(c, p, self.cg))
         if n:
             d0 = float(orbital_diameter(H, k, d))
             out["orbital_diameter_d0"] = d0

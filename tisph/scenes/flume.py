@@ -21,7 +21,6 @@ from ..case import make_case
 from ..run import common_params, run_scene, sound_speed
 from .. import wavemaker as wm
 from ..constants import G
-from ..probes.gauges import surface_at
 from ..wavemaker import PADDLE_DEFAULTS, PADDLE_RANGES, check_paddle, linear_wave, paddle
 from ..probes.plots import pyplot, save
 
@@ -88,15 +87,7 @@ def build(cfg):
         damping = (Lf - geo["damping_length"], Lf, geo["damping_rate"])
     xg = gauge_positions(geo, wavelength)
     cols = tuple(f"eta_{i}" for i in range(len(xg)))
-    zero = []
-
-    def probe(st):
-        # zeroed in the still water of t = 0, as a laboratory gauge is: the SPH surface of a
-        # particle lattice reads about dx/2 below the water's mass level
-        eta = [surface_at(st, x, dx, h) - d for x in xg]
-        if not zero:
-            zero.extend(eta)
-        return tuple(e - z for e, z in zip(eta, zero))
+    gauges = wm.Gauges(xg, dx, h, d, cols)
 
     # the gauge nearest two wavelengths measures H; its window: fully ramped waves have arrived
     # (group velocity) and no reflection from the end can be back yet
@@ -108,7 +99,7 @@ def build(cfg):
     def metrics(c):
         seen.update(c)
         out = dict(kh=k * d, wavelength=wavelength, group_velocity=cg, biesel_H_over_S=hs_ratio,
-                   biesel_wave_height=H_biesel, gauges_x=xg, gauge_zero_offset=list(zero))
+                   biesel_wave_height=H_biesel, gauges_x=xg, gauge_zero_offset=list(gauges.zero))
         if gi is None or p["series"]:
             return out
         x = xg[gi]
@@ -144,9 +135,14 @@ def build(cfg):
                 viscosity=cfg["materials"]["water"]["viscosity"], B=tait_B(rho0, c0))],
                 domain=domain, params=params,
                 physics=physics_from_config(cfg, paddle=p["type"], damping=damping),
-                view=((x_left - margin, -margin), (Lf + margin, Hw + margin)), u_max=u_max,
-                probe_columns=cols, probe=probe, metrics=metrics, finalize=finalize,
-                container=(-reach - dx, 0.0, Lf, float("inf"), Hw), persist=(zero,))
+                # the frame: the paddle to half a wavelength past the last gauge (a long flume drawn
+                # whole is a strip); output.view draws another region
+                view=((x_left - margin, -margin), (min(Lf + margin, max(xg, default=Lf) + 0.5 * wavelength),
+                                                   min(Hw, 1.6 * d) + margin)), u_max=u_max,
+                # colour top: twice the linear surface orbital speed, not the sound-speed bound
+                speed_scale=2.0 * 0.5 * H_biesel * omega / math.tanh(k * d),
+                probe_columns=cols, probe=gauges.read, metrics=metrics, finalize=finalize,
+                container=(-reach - dx, 0.0, Lf, float("inf"), Hw), persist=(gauges,))
 
 
 def gauge_positions(geo, wavelength):

@@ -240,6 +240,32 @@ def _plot_bed(path, arr, stations, geo, dx, lam_wh, eta_wh, level=None):
     save(fig, path)
 
 
+def _plot_growth(path, arr, stations, geo, dx, morfac):
+    """Ripple length / d0 and steepness against bed periods (t morfac / T), with the bands of
+    Wiberg & Harris and van der A (0.5-0.75 d0, steepness 0.10-0.20)."""
+    d0, Tp, hs = geo["orbital_diameter"], geo["period"], geo["sand_depth"]
+    per, lam, st = [], [], []
+    for r in arr:
+        lm, hr, _ = ripple_stats(stations, r[1:] - hs, window=0.5 * geo["length"], min_length=MIN_LENGTH_DX * dx,
+                                 min_height=0.1 * dx)
+        per.append(r[0] * morfac / Tp)
+        lam.append(lm / d0)
+        st.append(hr / lm if lm > 0 else np.nan)
+    plt = pyplot()
+    fig, (a1, a2) = plt.subplots(2, 1, figsize=(7, 4.5), sharex=True)
+    a1.plot(per, lam, lw=1.0)
+    a1.axhspan(0.5, 0.75, color="0.9", label="0.5-0.75 d0")
+    a1.set_ylabel("ripple length / d0")
+    a1.legend(fontsize=7, loc="upper left")
+    a2.plot(per, st, lw=1.0)
+    a2.axhspan(0.10, 0.20, color="0.9", label="0.10-0.20")
+    a2.set_ylabel("steepness")
+    a2.set_xlabel(f"bed periods (t x morfac {morfac:g} / T)")
+    a2.legend(fontsize=7, loc="upper left")
+    fig.suptitle(f"ripple growth, d0 = {d0:g} m, T = {Tp:g} s", fontsize=10)
+    save(fig, path)
+
+
 def _build_bedload(cfg):
     """The tunnel over a morphodynamic bed: water only, over BED particles that follow z_b."""
     import dataclasses
@@ -299,6 +325,7 @@ def _build_bedload(cfg):
             write_csv(os.path.join(out, "bed_profile.csv"), ("t",) + tuple(f"x{x:.3f}" for x in stations), rows)
             _plot_bed(os.path.join(out, "bed_profile.png"), np.array(rows), stations, geo, dx, lam_wh, eta_wh,
                       level=hs)
+            _plot_growth(os.path.join(out, "ripple_growth.png"), np.array(rows), stations, geo, dx, sed["morfac"])
 
     return make_case(name=NAME, particles=ps, materials=[dict(cfg["materials"]["water"], name="water",
                                                                B=tait_B(rw, c0))],
