@@ -36,3 +36,16 @@ def test_view_refuses_bad_input_by_name(tmp_path, capsys):
                          "output.snapshot_every": 0.001}, out=str(out))
     assert view.main([str(out), "--view", "1", "0", "0", "1"]) == 2
     assert "--view" in capsys.readouterr().err
+
+
+def test_view_finds_a_bed_load_bed_from_its_particles():
+    """The sand under a bed-load bed is filled from its BED particles: z_b = top layer + dx/2."""
+    from tisph.particles import BED, FLUID
+    dx = 0.02
+    xs = (np.arange(10) + 0.5) * dx
+    zb = 0.1 + 0.01 * np.sin(xs * 20)
+    x = np.vstack([np.column_stack([xs, zb - (k + 0.5) * dx]) for k in range(3)] + [[[0.05, 0.3]]])
+    kind = np.array([BED] * 30 + [FLUID])
+    f = view.bed_surface_of(dict(x=x, kind=kind), dx)
+    assert np.allclose(f(xs), zb)
+    assert view.bed_surface_of(dict(x=x[-1:], kind=kind[-1:]), dx) is None

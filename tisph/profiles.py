@@ -81,7 +81,9 @@ def streamlines_png(path, st, xlim, ylim, dx, title, figsize, density=1.6, circl
     if speed.max() > 0:
         sp = ax.streamplot(xm, ym, u.T, vv.T, color=speed.T, cmap="viridis", density=density, linewidth=0.6,
                            arrowsize=0.6)
-        fig.colorbar(sp.lines, ax=ax, label="speed (m/s)", fraction=0.03, pad=0.01)
+        wide = (xlim[1] - xlim[0]) > 3 * (ylim[1] - ylim[0])     # a strip: the bar goes under it
+        fig.colorbar(sp.lines, ax=ax, label="speed (m/s)", orientation="horizontal" if wide else "vertical",
+                     fraction=0.08 if wide else 0.03, pad=0.3 if wide else 0.01, aspect=50 if wide else 20)
     if circle is not None:
         ax.add_patch(plt.Circle(circle[:2], circle[2], color="0.5"))
     ax.set_xlim(*xlim)

@@ -7,8 +7,8 @@ renderer the live run uses (tisph/render.py) and the scene's own framing and col
 OUT is a run's output folder (with snapshots/*.h5) or one snapshot file. Without --time or
 --all the last snapshot is drawn. Pictures go to OUT/view/FIELD_tT.png (and OUT/view/FIELD.mp4).
 The scene's framing (view, colour scales, sand colours) comes from rebuilding its case from the
-config stored in the snapshot; the bed panel of a bed-load scene is not redrawn (the bed's
-history is in bed_profile.csv, not in the snapshots).
+config stored in the snapshot; a bed-load bed's surface comes from its BED particles, but its
+bed-change panel is not redrawn (the bed's history is in bed_profile.csv, not in the snapshots).
 """
 import argparse
 import glob
@@ -73,6 +73,21 @@ def flatten(d, prefix=""):
         else:
             out[f"{prefix}{k}"] = v
     return out
+
+
+def bed_surface_of(st, dx):
+    """z_b(x) of a bed below particle scale from its BED particles (top layer + dx/2), or None."""
+    from .particles import BED
+    bed = st["kind"] == BED
+    if not bed.any():
+        return None
+    x = st["x"][bed]
+    col = np.floor(x[:, 0] / dx).astype(int)
+    cols, inv = np.unique(col, return_inverse=True)
+    top = np.full(len(cols), -np.inf)
+    np.maximum.at(top, inv, x[:, 1])
+    xc, zc = (cols + 0.5) * dx, top + 0.5 * dx
+    return lambda xs: np.interp(xs, xc, zc)
 
 
 def make_parser():
@@ -143,7 +158,9 @@ def view(args):
         for f in files:
             arrays, attrs = load(f)
             t = float(attrs.get("time", 0.0))
-            img = r.frame(state_of(arrays), t)
+            st = state_of(arrays)
+            r.bed_surface = bed_surface_of(st, dx)       # the sand under a bed-load bed, filled
+            img = r.frame(st, t)
             path = os.path.join(dest, f"{tag}_t{t:.3f}.png")
             write_png(path, img)
             written.append(path)

@@ -16,5 +16,5 @@ def save(fig, path, dpi=110, tight=True):
     if tight:
         fig.tight_layout()
     with atomic_path(path) as tmp:
-        fig.savefig(tmp, dpi=dpi, format="png")
+        fig.savefig(tmp, dpi=dpi, format="png", bbox_inches="tight", pad_inches=0.08)   # titles never clipped
     plt.close(fig)
