@@ -5,6 +5,7 @@ import imageio.v2 as imageio
 import numpy as np
 
 from tisph import view
+from tisph.render import Renderer
 from tisph.run import simulate
 from tisph.scenes import dam_break
 
@@ -16,7 +17,7 @@ def test_view_renders_snapshots_to_png_and_mp4(tmp_path, capsys):
     assert view.main([str(out), "--field", "pressure", "--time", "0.04", "--width", "480"]) == 0
     png = out / "view" / "pressure_t0.040.png"
     img = imageio.imread(png)
-    assert img.shape[1] == 480 + view.Renderer(((0, 0), (1, 1)), 480).BAR
+    assert img.shape[1] == 480 + Renderer(((0, 0), (1, 1)), 480).BAR
     # the scene's own framing: the same as the live run's frames would have
     assert view.main([str(out), "--all", "--mp4", "--width", "320"]) == 0
     pngs = sorted(p for p in os.listdir(out / "view") if p.startswith("speed_t"))

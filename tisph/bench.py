@@ -12,10 +12,8 @@ Timings are for this machine and this run; compare them as ratios within one run
 """
 import argparse
 import dataclasses
-import json
 import math
 import os
-import resource
 import subprocess
 import sys
 import time
@@ -94,45 +92,20 @@ def convergence_order(dxs, errs):
 
 
 # ---------------------------------------------------------------------------- scaling
-def _scaling_child(n, steps):
-    """One scaling point, in its own process so its peak RSS is its own."""
-    from . import runtime
-    from .run import build_case, Log, resolve
-    from .scenes import tank
-    from .solver import Solver
-    runtime.init("cpu", "f32")
-    dx = 0.01
-    side = math.sqrt(n) * dx
-    cfg = resolve(tank, overrides={"numerics.dx": dx, "geometry.width": side, "geometry.depth": side,
-                                   "geometry.tank_height": side * 1.05, "output.quiet": True})
-    case = build_case(tank, cfg, Log(os.devnull, True))
-    s = Solver(case.physics, case.particles, case.materials, case.domain, case.params)
-    s.prime()
-    s.step()
-    t0 = time.perf_counter()
-    for _ in range(steps):
-        s.step()
-    s.dt  # a field read: waits for the last kernel
-    el = time.perf_counter() - t0
-    rss = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
-    print(json.dumps(dict(particles=s.n, steps=steps, seconds=round(el, 3),
-                          particle_steps_per_s=round(s.n * steps / el),
-                          field_bytes_per_particle=round(s.field_bytes() / s.n, 1),
-                          peak_rss_mb=round(rss / 2**20, 1))))
-
-
 def scaling(sizes, steps=100):
     """Particle-steps/s and memory of the hydrostatic tank at about the given particle counts,
-    each in a fresh process. The RSS cost of a particle is the slope of peak RSS against
-    particle count between consecutive sizes (the Taichi runtime's own footprint cancels)."""
-    env = dict(os.environ, PYTHONPATH=ROOT + os.pathsep + os.environ.get("PYTHONPATH", ""))
+    each in a fresh process (tisph/speed.py's measurement). The RSS cost of a particle is the
+    slope of peak RSS against particle count between consecutive sizes (the Taichi runtime's own
+    footprint cancels)."""
+    from .speed import ROOT as TREE, measure
     rows = []
     for n in sizes:
-        r = subprocess.run([sys.executable, "-c", f"from tisph.bench import _scaling_child; _scaling_child({n}, {steps})"],
-                           capture_output=True, text=True, env=env, timeout=3600)
-        if r.returncode != 0:
-            raise RuntimeError(f"scaling run with {n} particles failed: {r.stderr[-1500:]}")
-        row = json.loads(r.stdout.strip().splitlines()[-1])
+        side = math.sqrt(n) * 0.01
+        m = measure(TREE, "tank", {"numerics.dx": 0.01, "geometry.width": side, "geometry.depth": side,
+                                   "geometry.tank_height": side * 1.05}, steps)
+        row = dict(particles=m["particles"], steps=steps, seconds=round(m["seconds"], 3),
+                   particle_steps_per_s=round(m["pps"]), field_bytes_per_particle=round(m["field_bytes"], 1),
+                   peak_rss_mb=round(m["peak_rss_mb"], 1))
         if rows:
             p = rows[-1]
             row["rss_bytes_per_particle"] = round((row["peak_rss_mb"] - p["peak_rss_mb"]) * 2**20 /

@@ -307,6 +307,17 @@ def set_path(d: dict, path: str, value):
     d[keys[-1]] = value
 
 
+def flatten(d: dict, prefix: str = "") -> dict:
+    """{dotted path: value} of a nested config (the inverse of set_path)."""
+    out = {}
+    for k, v in d.items():
+        if isinstance(v, dict):
+            out.update(flatten(v, f"{prefix}{k}."))
+        else:
+            out[f"{prefix}{k}"] = v
+    return out
+
+
 def get_path(d: dict, path: str):
     for k in path.split("."):
         d = d[k]

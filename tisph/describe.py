@@ -50,14 +50,6 @@ def _module_docs():
     return docs
 
 
-def _flatten(d, prefix=""):
-    for k, v in d.items():
-        if isinstance(v, dict):
-            yield from _flatten(v, f"{prefix}{k}.")
-        else:
-            yield f"{prefix}{k}", v
-
-
 def rows(scene):
     """(key, default, allowed, meaning) of every key the scene's config has."""
     cfg = config.build_config(scene.DEFAULTS, None, {}, getattr(scene, "RANGES", None), getattr(scene, "CHOICES", None))
@@ -70,7 +62,7 @@ def rows(scene):
         docs.update(comments(m))
     mod_docs = _module_docs()
     out = []
-    for key, v in _flatten(cfg):
+    for key, v in config.flatten(cfg).items():
         leaf = key.split(".")[-1]
         if key in choices:
             allowed = "one of " + ", ".join(repr(c) for c in choices[key])

@@ -148,6 +148,18 @@ def load(path):
     return arrays, attrs
 
 
+def load_attrs(path):
+    """A snapshot's or checkpoint's attributes only (its time, scene, config), without its arrays."""
+    import h5py
+    try:
+        with h5py.File(path, "r") as f:
+            return {k: (v.decode() if isinstance(v, bytes) else v) for k, v in f.attrs.items()}
+    except FileNotFoundError:
+        raise OutputError(f"{path!r} does not exist") from None
+    except OSError as e:
+        raise OutputError(f"{path!r} is not a readable tisph HDF5 file ({e})") from None
+
+
 def write_xdmf(path, snapshots):
     """XDMF 3 temporal collection over the snapshot files, so ParaView and VisIt open the run.
 

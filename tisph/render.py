@@ -101,6 +101,7 @@ class Renderer:
         self.pressure_scale = float(pressure_scale) if pressure_scale > 0 else 1000.0 * 9.81 * (y1 - y0)
         self.mat_colors = list(mat_colors or [])
         self.bed_panel, self.bed_label, self.bed_surface = bed_panel, bed_label, bed_surface
+        self.bed_range = 0.0            # m: the bed panel's half-height, only ever grows (a steady scale)
         self.font_px = max(11, W // 85)
         self.BAR = int(np.ceil(7 * self.font_px / 16)) * 16     # strips in multiples of 16 px (the MP4's blocks)
         self.strip = int(np.ceil(1.8 * self.font_px / 16)) * 16
@@ -212,7 +213,7 @@ class Renderer:
         dz = np.asarray(dz, float)
         peak = float(np.nanmax(np.abs(dz))) if np.isfinite(dz).any() else 0.0
         rng = next((r for r in self.BED_RANGE if peak <= 0.9 * r), self.BED_RANGE[-1])
-        self.bed_range = max(getattr(self, "bed_range", 0.0), rng)
+        self.bed_range = max(self.bed_range, rng)
         Hp = max(48, self.W // 8) // 16 * 16
         img = np.full((Hp, self.W, 3), 255, np.uint8)
         rows = np.arange(Hp)[:, None]                          # 0 at the top

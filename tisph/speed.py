@@ -38,7 +38,7 @@ QUICK = 3   # --quick: the first three
 # Runs in the tree under test (this one or REV's): only APIs every revision since the engine
 # refactor has (resolve, build_case, Log, tisph.solver.Solver).
 CHILD = r"""
-import json, os, sys, time, importlib
+import json, os, sys, time, importlib, resource
 t0 = time.perf_counter()
 from tisph import runtime
 from tisph.run import build_case, Log, resolve
@@ -58,8 +58,9 @@ for _ in range(steps):
 s.dt
 el = time.perf_counter() - t2
 fb = s.field_bytes() / s.n if hasattr(s, "field_bytes") else float("nan")
+rss = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
 print(json.dumps(dict(particles=s.n, steps=steps, seconds=el, pps=s.n * steps / el, setup=t1 - t0,
-                      compile=t2 - t1, field_bytes=fb)))
+                      compile=t2 - t1, field_bytes=fb, peak_rss_mb=rss)))
 """
 
 

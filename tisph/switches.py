@@ -30,7 +30,8 @@ class Physics:
 
 
 def physics_from_config(cfg: dict, periodic_x=False, noslip=False, materials_used=None,
-                        paddle="none", damping=(), sps=False, drag=False, dem=False, inflow=()) -> Physics:
+                        paddle="none", damping=(), sps=False, drag=False, dem=False, inflow=(),
+                        moving_bed=False) -> Physics:
     """The switches of a case. materials_used: names of the materials its particles carry (all
     configured materials if None); rheology is compiled only if one of them is non-Newtonian."""
     n = cfg["numerics"]
@@ -47,6 +48,7 @@ def physics_from_config(cfg: dict, periodic_x=False, noslip=False, materials_use
         sps=sps,
         drag=drag,
         dem=dem,
+        moving_bed=moving_bed,
         kernel=n["kernel"],
         wall=n["wall"],
         artificial_viscosity=n["artificial_viscosity"] > 0.0,

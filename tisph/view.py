@@ -11,6 +11,7 @@ config stored in the snapshot; a bed-load bed's surface comes from its BED parti
 bed-change panel is not redrawn (the bed's history is in bed_profile.csv, not in the snapshots).
 """
 import argparse
+import dataclasses
 import glob
 import importlib
 import os
@@ -18,11 +19,11 @@ import sys
 
 import numpy as np
 
-from .config import ConfigError
-from .io import OutputError, ensure_dir, load
-from .render import FIELDS, MovieWriter, Renderer, write_png
+from .config import ConfigError, flatten, tomllib
+from .io import SNAPSHOT_FIELDS, OutputError, ensure_dir, load, load_attrs
+from .render import FIELDS, STATE, MovieWriter, make_renderer, write_png
 
-KEYS = {"position": "x", "velocity": "v", "pressure": "p", "density": "rho", "kind": "kind", "material": "mat"}
+KEYS = {SNAPSHOT_FIELDS[k][0]: k for k in STATE}   # dataset name -> what a frame reads
 
 
 def snapshot_files(path):
@@ -43,36 +44,20 @@ def state_of(arrays):
     return {v: arrays[k] for k, v in KEYS.items()}
 
 
-def read_toml_text(text):
-    from .config import tomllib
-    return tomllib.loads(text)
-
-
 def scene_picture(attrs):
-    """(picture, dx, cfg) from the scene's case rebuilt from the snapshot's config; (None, dx, None)
+    """(picture, dx) from the scene's case rebuilt from the snapshot's config; (None, dx or None)
     if that fails."""
     cfg_text, name = attrs.get("config", ""), attrs.get("scene", "")
     try:
         from .run import resolve
         scene = importlib.import_module(f"tisph.scenes.{name}")
-        cfg = resolve(scene, None, flatten(read_toml_text(cfg_text)))
-        return scene.build(cfg).picture, cfg["numerics"]["dx"], cfg
+        cfg = resolve(scene, None, flatten(tomllib.loads(cfg_text)))
+        return scene.build(cfg).picture, cfg["numerics"]["dx"]
     except Exception:      # an old or foreign snapshot: frame the particles instead
         try:
-            dx = float(read_toml_text(cfg_text)["numerics"]["dx"])
+            return None, float(tomllib.loads(cfg_text)["numerics"]["dx"])
         except Exception:
-            dx = None
-        return None, dx, None
-
-
-def flatten(d, prefix=""):
-    out = {}
-    for k, v in d.items():
-        if isinstance(v, dict):
-            out.update(flatten(v, f"{prefix}{k}."))
-        else:
-            out[f"{prefix}{k}"] = v
-    return out
+            return None, None
 
 
 def bed_surface_of(st, dx):
@@ -127,31 +112,27 @@ def check_args(args):
 def view(args):
     check_args(args)
     files = snapshot_files(args.out)
-    times = [float(load(f)[1].get("time", 0.0)) for f in files]
     if args.time is not None:
-        files = [files[int(np.argmin(np.abs(np.array(times) - args.time)))]]
+        times = np.array([float(load_attrs(f).get("time", 0.0)) for f in files])
+        files = [files[int(np.argmin(np.abs(times - args.time)))]]
     elif not args.all:
         files = files[-1:]
-    arrays, attrs = load(files[0])
-    pic, dx, _ = scene_picture(attrs)
-    st = state_of(arrays)
-    if dx is None:
-        dx = float(np.median(np.abs(np.diff(np.unique(np.round(st["x"][:, 0], 6)))))) or 0.01
-    if args.view:
-        x0, x1, y0, y1 = args.view
-        region = ((x0, y0), (x1, y1))
-    elif pic is not None:
-        region = pic.view
-    else:
-        lo, hi = st["x"].min(0) - dx, st["x"].max(0) + dx
-        region = ((lo[0], lo[1]), (hi[0], hi[1]))
-    modes = (args.field,) if args.field else (pic.render_modes if pic is not None else ("speed",))
-    r = Renderer(region, args.width, dx, (pic.speed_scale or pic.u_max) if pic is not None else 0.0,
-                 title=attrs.get("scene", ""), modes=modes, mat_colors=pic.mat_colors if pic else None,
-                 pressure_scale=pic.pressure_scale if pic else 0.0, vrange=args.range, min_height=160)
+    attrs = load_attrs(files[0])
+    pic, dx = scene_picture(attrs)
+    if pic is None or dx is None:            # frame what the first snapshot holds
+        from .case import Picture
+        x = state_of(load(files[0])[0])["x"]
+        dx = dx or float(np.median(np.abs(np.diff(np.unique(np.round(x[:, 0], 6)))))) or 0.01
+        lo, hi = x.min(0) - dx, x.max(0) + dx
+        pic = pic or Picture(view=((lo[0], lo[1]), (hi[0], hi[1])), u_max=0.0)
+    # the rebuilt case's bed is the initial one: its panel is not redrawn, its sand comes from the BED particles
+    pic = dataclasses.replace(pic, bed_panel=None, bed_label="", bed_surface=None)
+    outc = dict(width=args.width, view=list(args.view or []), field=args.field or "",
+                range=list(args.range or []), min_height=160)
+    r = make_renderer(pic, outc, dx, attrs.get("scene", ""), pic.speed_scale or pic.u_max)
     src = args.out if os.path.isdir(args.out) else os.path.dirname(os.path.dirname(os.path.abspath(args.out)))
     dest = ensure_dir(os.path.join(src, "view"))
-    tag = args.field or "+".join(modes)
+    tag = "+".join(r.modes)
     movie = MovieWriter(os.path.join(dest, f"{tag}.mp4"), args.fps) if args.mp4 else None
     written = []
     try:

@@ -12,6 +12,7 @@ import numpy as np
 from .config import ConfigError
 from .constants import G
 from .particles import block
+from .probes.gauges import surface_at
 
 
 class Motion:
@@ -105,6 +106,18 @@ def wave_height(t, eta, t0, t1, period):
     return (float(np.mean(hs)) if hs else float("nan")), len(hs)
 
 
+def arrival_time(p, x, cg):
+    """When the fully ramped waves of paddle table p have reached x at group velocity cg, plus
+    one period: the start of a wave-height window there."""
+    return p["ramp_periods"] * p["period"] + x / cg + p["period"]
+
+
+def height_at(c, column, x, p, cg):
+    """(mean wave height, periods) of probe column c[column] at x, from the ramped waves' arrival
+    to the end of the run."""
+    return wave_height(c["t"], c[column], arrival_time(p, x, cg), float(c["t"][-1]), p["period"])
+
+
 class Gauges:
     """Wave gauges at x (m from the paddle's mean position): the free surface minus the still-water
     level, zeroed at the first reading (the still water of t = 0), as a laboratory gauge is: the
@@ -117,7 +130,6 @@ class Gauges:
         self.zero = []
 
     def read(self, st):
-        from .probes.gauges import surface_at
         eta = [surface_at(st, x, self.dx, self.h) - self.level for x in self.xs]
         if not self.zero:
             self.zero = list(eta)
@@ -127,10 +139,8 @@ class Gauges:
         """gauges_x and the mean wave height at each over whole periods once the ramped waves
         have reached it at the group velocity cg (at the paddle's depth: on a slope, where waves
         slow, an early bound) and to the end of the run."""
-        t1, T = float(c["t"][-1]), p["period"]
-        t0 = lambda x: p["ramp_periods"] * T + x / cg + T
-        return dict(gauges_x=list(self.xs), wave_height_at_gauges=[
-            wave_height(c["t"], c[col], t0(x), t1, T)[0] for x, col in zip(self.xs, self.columns)])
+        return dict(gauges_x=list(self.xs),
+                    wave_height_at_gauges=[height_at(c, col, x, p, cg)[0] for x, col in zip(self.xs, self.columns)])
 
 
 # ---------------------------------------------------------------- a paddle from a scene's config

@@ -58,7 +58,7 @@ class SolverAPI:
     @property
     def dt(self):
         """The next step's dt (f32-rounded as the step kernel returns it)."""
-        if getattr(self, "_dt", None) is None:
+        if self._dt is None:
             self._dt = float(np.float32(self.prm[None].dt))
         return self._dt
 

@@ -116,6 +116,7 @@ class Solver(SolverAPI):
         self.steps = 0
         self.time = 0.0
         self._primed = False
+        self._dt = None          # the next step's dt as the step kernel returned it (None: read prm)
 
     def has_stat(self, name):
         return name in self.stat_decl

@@ -157,7 +157,9 @@ class Run(Outputs):
         last_bar = time.perf_counter()
         # off a terminal (a log being tailed, a batch job) a progress line every 5 % instead of the bar
         report = not self.cfg["output"]["quiet"] and (bar is None or bar.disable)
-        next_pct = math.floor(20.0 * s.time / t_end + 1e-9) + 1
+        def next_pct():
+            return (math.floor(20.0 * s.time / t_end + 1e-9) + 1) * t_end / 20.0
+        t_report = next_pct()
         while s.time < t_end - 1e-12 and (max_steps == 0 or s.steps < max_steps):
             ts = time.perf_counter()
             s.step()
@@ -173,9 +175,9 @@ class Run(Outputs):
             self.outputs()
             if self.signal is not None:
                 raise KeyboardInterrupt
-            if report and s.time >= next_pct * t_end / 20.0 - 1e-12:
+            if report and s.time >= t_report - 1e-12:
                 self._progress_line(t_end)
-                next_pct = math.floor(20.0 * s.time / t_end + 1e-9) + 1
+                t_report = next_pct()
             now = time.perf_counter()
             if bar is not None and not bar.disable and now - last_bar > 0.25:
                 bar.n = min(s.time, t_end)

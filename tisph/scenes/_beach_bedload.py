@@ -23,7 +23,7 @@ from ..run import common_params, sound_speed
 from ..probes.gauges import surface_at
 from ..probes.plots import pyplot, save
 from ..sediment import coupling
-from ..wavemaker import Gauges, linear_wave, paddle, wave_height
+from ..wavemaker import Gauges, height_at, linear_wave, paddle
 
 RIGID = 0.5           # m of rigid floor in front of the paddle
 RIPPLE_WINDOW = 0.6   # m: bedforms longer than this (the profile's bar and shoreline) are not ripples
@@ -69,9 +69,7 @@ def build_bedload(cfg, name, stills):
     pad = 3 * T + 4 * h
     floor = float(z.min()) - 0.1                      # the bed may erode 0.1 m below its lowest point
     domain = ((x_left - pad, floor - T - pad), (Lf + T + pad, 2 * Hw + pad))
-    import dataclasses
-    physics = dataclasses.replace(physics_from_config(cfg, paddle=p["type"], materials_used=["water"]),
-                                  moving_bed=True)
+    physics = physics_from_config(cfg, paddle=p["type"], materials_used=["water"], moving_bed=True)
     bed = coupling.BedCoupler(sed, stations, z, dx, h, geo["grain_diameter"], sed["grain_density"],
                               amplitude=None, periodic=False, rho_w=rw, omega=omega)
     rec = BeachBed(cfg, bed, stations, omega, k, wavelength, cg, H_biesel)
@@ -87,7 +85,7 @@ def build_bedload(cfg, name, stills):
                      probe_columns=BeachBed.COLUMNS + rec.gauges.columns, probe=rec.probe, metrics=rec.metrics,
                      finalize=rec.finalize, stills=stills, container=(-reach - dx, floor - T, Lf, float("inf"), Hw),
                      control=bed.update, control_every=sed["update_every"], persist=(bed, rec),
-                     bed_panel=rec.panel, bed_surface=rec.surface, bed_label=f", morfac {sed['morfac']:g}: the bed moves {sed['morfac']:g}x as fast")
+                     **bed.picture(left=ts))
 
 
 class BeachBed:
@@ -152,8 +150,7 @@ class BeachBed:
         out["ripple_steepness"] = out["ripple_height"] / lam if lam > 0 else float("nan")
         if self.zone is not None:
             out["ripple_zone"] = [float(self.stations[self.zone][0]), float(self.stations[self.zone][-1])]
-        t0 = p["ramp_periods"] * p["period"] + self.toe / self.cg + p["period"]
-        H, n = wave_height(c["t"], c["eta_toe"], t0, float(c["t"][-1]), p["period"])
+        H, n = height_at(c, "eta_toe", self.toe, p, self.cg)
         out["wave_height_at_toe"] = H
         out["periods_measured_at_toe"] = n
         out.update(self.gauges.metrics(c, p, self.cg))
@@ -190,12 +187,3 @@ class BeachBed:
         a2.legend(fontsize=7, loc="upper left")
         fig.suptitle(f"beach over a bed-load sand bed (morfac {self.cfg['sediment']['morfac']:g})", fontsize=10)
         save(fig, path)
-
-    def surface(self, x):
-        """z_b at x (the rigid floor's level left of the bed)."""
-        return np.interp(x, self.stations, self.bed.bed.z, left=self.cfg["geometry"]["sand_thickness"])
-
-    def panel(self, x0, x1, width):
-        """(x, bed change) for the movie's bed panel over [x0, x1] at `width` samples."""
-        xs = np.linspace(x0, x1, width)
-        return xs, np.interp(xs, self.stations, self.bed.bed.z - self.bed.z0, left=np.nan, right=np.nan)

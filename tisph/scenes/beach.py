@@ -5,10 +5,11 @@ Default (scenes/beach.toml): the sand is the morphodynamic bed below particle sc
 (sediment.model = "bedload", tisph/sediment, tisph/scenes/_beach_bedload.py) under SPH water, and
 ripples form on it. Why this geometry: Wiberg & Harris (1994) orbital ripples are 0.62 d0 long,
 and in shallow water a piston moves the whole column, so the near-bed orbital diameter d0 is
-about the stroke; for ripples of at least 8 dx at dx = 0.02 the stroke must be about 0.26 m,
-which needs at least that much water (paddle.stroke <= depth). So: still water 0.3 m deep over
+about the stroke; for ripples of at least 8 dx at dx = 0.015 (0.12 m, d0 about 0.2 m where the
+waves have lost some height) the stroke must be about 0.26 m, which needs at least that much
+water (paddle.stroke <= depth). So: still water 0.3 m deep over
 0.1 m of sand, flat to x = 1.5 m and then 1:20 to above the waterline at 7.5 m, 8 m long; T =
-2.5 s (kh = 0.45), stroke 0.26 m, Biesel H = 0.12 m, 0.3 mm quartz sand, morfac 30 (16 s of
+2.5 s (kh = 0.45), stroke 0.26 m, Biesel H = 0.12 m, 0.3 mm quartz sand, dx 0.015, morfac 30 (16 s of
 flow move the bed as 480 s would: 190 wave periods). The lee vortex (sediment.lee_vortex,
 separation_*) is what grows ripples from the 5 mm random perturbation the bed starts with; the
 README says what it does and what is measured.
@@ -248,8 +249,8 @@ class BedRecord:
                    active_zone=[float(stations[active][0]), float(stations[active][-1])])
         out.update(last_finite(c, ("ripple_length", "ripple_height", "bed_change_rms")))
         # wave height at the toe after the ramp (incident plus what the beach reflects)
-        t0 = p["ramp_periods"] * p["period"] + self.toe / self.cg + p["period"]
-        H, n = wm.wave_height(c["t"], c["eta_toe"], t0, float(c["t"][-1]), p["period"])
+        t0 = wm.arrival_time(p, self.toe, self.cg)
+        H, n = wm.height_at(c, "eta_toe", self.toe, p, self.cg)
         out["wave_height_at_toe"] = H
         out["periods_measured_at_toe"] = n
         out.update(self.gauges.metrics(c, p, self.cg))

@@ -92,7 +92,6 @@ def build(cfg):
     # the gauge nearest two wavelengths measures H; its window: fully ramped waves have arrived
     # (group velocity) and no reflection from the end can be back yet
     gi = int(np.argmin([abs(x - 2.0 * wavelength) for x in xg])) if xg else None
-    t_ramp = p["ramp_periods"] * p["period"]
 
     seen = {}
 
@@ -103,7 +102,7 @@ def build(cfg):
         if gi is None or p["series"]:
             return out
         x = xg[gi]
-        t0 = t_ramp + x / cg + p["period"]
+        t0 = wm.arrival_time(p, x, cg)
         t1 = float(c["t"][-1])
         if geo["damping_length"] < 0.5 * wavelength:
             # no absorbing zone worth the name: stop before the end wall's reflection is back

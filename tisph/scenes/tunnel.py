@@ -240,17 +240,15 @@ def _plot_bed(path, arr, stations, geo, dx, lam_wh, eta_wh, level=None):
     save(fig, path)
 
 
-def _plot_growth(path, arr, stations, geo, dx, morfac):
-    """Ripple length / d0 and steepness against bed periods (t morfac / T), with the bands of
-    Wiberg & Harris and van der A (0.5-0.75 d0, steepness 0.10-0.20)."""
-    d0, Tp, hs = geo["orbital_diameter"], geo["period"], geo["sand_depth"]
-    per, lam, st = [], [], []
-    for r in arr:
-        lm, hr, _ = ripple_stats(stations, r[1:] - hs, window=0.5 * geo["length"], min_length=MIN_LENGTH_DX * dx,
-                                 min_height=0.1 * dx)
-        per.append(r[0] * morfac / Tp)
-        lam.append(lm / d0)
-        st.append(hr / lm if lm > 0 else np.nan)
+def _plot_growth(path, c, geo, morfac):
+    """Ripple length / d0 and steepness (the probe columns c) against bed periods (t morfac / T),
+    with the bands of Wiberg & Harris and van der A (0.5-0.75 d0, steepness 0.10-0.20)."""
+    d0, Tp = geo["orbital_diameter"], geo["period"]
+    lm, hr = np.asarray(c["ripple_length"], float), np.asarray(c["ripple_height"], float)
+    per = np.asarray(c["t"], float) * morfac / Tp
+    lam = lm / d0
+    with np.errstate(invalid="ignore", divide="ignore"):
+        st = np.where(lm > 0, hr / lm, np.nan)
     plt = pyplot()
     fig, (a1, a2) = plt.subplots(2, 1, figsize=(7, 4.5), sharex=True)
     a1.plot(per, lam, lw=1.0)
@@ -268,7 +266,6 @@ def _plot_growth(path, arr, stations, geo, dx, morfac):
 
 def _build_bedload(cfg):
     """The tunnel over a morphodynamic bed: water only, over BED particles that follow z_b."""
-    import dataclasses
     geo, num, sed = cfg["geometry"], cfg["numerics"], cfg["sediment"]
     dx, Lx, hw, hs = num["dx"], geo["length"], geo["water_depth"], geo["sand_depth"]
     d0 = geo["orbital_diameter"]
@@ -288,8 +285,7 @@ def _build_bedload(cfg):
     params["bed_stations"] = len(stations)
     pad = 4 * h
     domain = ((0.0, float(z.min()) - (L + 2) * dx - pad), (Lx, 2.0 * ytop + pad))
-    physics = dataclasses.replace(physics_from_config(cfg, periodic_x=True, materials_used=["water"]),
-                                  moving_bed=True)
+    physics = physics_from_config(cfg, periodic_x=True, materials_used=["water"], moving_bed=True)
     bed = coupling.BedCoupler(sed, stations, z, dx, h, geo["grain_diameter"], sed["grain_density"],
                               amplitude=0.5 * d0, periodic=True, rho_w=rw, omega=drive.omega)
     rows = []
@@ -307,7 +303,10 @@ def _build_bedload(cfg):
         rms = float(np.sqrt(np.mean((zb - bed.z0) ** 2)))
         return lam, hr, rms, drive.u_free(st), drive.target(st["t"]), float(np.abs(bed.tau).max())
 
+    seen = {}                             # the probe columns, for the growth plot
+
     def metrics(c):
+        seen.update(c)
         out = dict(velocity_amplitude=Um, predicted_ripple_length=lam_wh, predicted_ripple_height=eta_wh,
                    predicted_regime=regime, morfac=sed["morfac"], sediment_model="bedload",
                    theta_cr=bed.bed.theta_cr, sand_volume_error=bed.volume_error(),
@@ -325,7 +324,7 @@ def _build_bedload(cfg):
             write_csv(os.path.join(out, "bed_profile.csv"), ("t",) + tuple(f"x{x:.3f}" for x in stations), rows)
             _plot_bed(os.path.join(out, "bed_profile.png"), np.array(rows), stations, geo, dx, lam_wh, eta_wh,
                       level=hs)
-            _plot_growth(os.path.join(out, "ripple_growth.png"), np.array(rows), stations, geo, dx, sed["morfac"])
+            _plot_growth(os.path.join(out, "ripple_growth.png"), seen, geo, sed["morfac"])
 
     return make_case(name=NAME, particles=ps, materials=[dict(cfg["materials"]["water"], name="water",
                                                                B=tait_B(rw, c0))],
@@ -335,10 +334,7 @@ def _build_bedload(cfg):
                      probe=probe, metrics=metrics, finalize=finalize, container=(-1e9, float(z.min()) - L * dx, 1e9,
                                                                                 float("inf")),
                      control=control, control_every=sed["update_every"], persist=(drive.ctl, bed, rows),
-                     bed_surface=lambda x: np.interp(x, stations, bed.bed.z, period=Lx),
-                     bed_panel=lambda x0, x1, n: (np.linspace(x0, x1, n), np.interp(np.linspace(x0, x1, n), stations,
-                                                                                  bed.bed.z - bed.z0, period=Lx)),
-                     bed_label=f", morfac {sed['morfac']:g}: the bed moves {sed['morfac']:g}x as fast")
+                     **bed.picture())
 
 
 def _bedload_particles(cfg, stations, z, c0):

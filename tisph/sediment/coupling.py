@@ -10,10 +10,11 @@ Each update (every sediment.update_every steps):
   3. Bed.step (tisph/sediment/bed.py) over the elapsed time; the solver's bed particles move
      with the new z_b (solver.set_bed).
 """
+import collections
+
 import numpy as np
 
 from ..constants import G
-
 from ..particles import BED
 from ..probes.gauges import velocity_at
 from .bed import Bed
@@ -96,7 +97,7 @@ class BedCoupler:
         self.d50, self.omega = d50, omega
         self.measured = amplitude is None
         self.amplitude = np.zeros(len(stations)) if self.measured else amplitude
-        self.history = []               # (t, filtered u) over the last wave period, when measured
+        self.history = collections.deque()   # (t, filtered u) over the last wave period, when measured
         self.u = np.zeros(len(stations))
         self.tau = np.zeros(len(stations))
         self.t = 0.0
@@ -145,12 +146,32 @@ class BedCoupler:
             period = 2.0 * np.pi / self.omega
             self.history.append((s.time, self.u.copy()))
             while self.history[0][0] < s.time - period:
-                self.history.pop(0)
+                self.history.popleft()
             us = np.array([u for _, u in self.history])
             self.amplitude = 0.5 * (us.max(0) - us.min(0)) / self.omega
         self.tau = self.shear(self.u)
         dz = self.bed.step(self.tau, dt)
         s.set_bed(self.bed.z - self.z0, dz / dt)
+
+    def surface(self, x, left=None):
+        """z_b at x: periodic over the bed, or `left` (the rigid floor's level) before its first station."""
+        if self.bed.periodic:
+            return np.interp(x, self.stations, self.bed.z, period=len(self.stations) * self.dx)
+        return np.interp(x, self.stations, self.bed.z, left=left)
+
+    def change(self, x0, x1, n):
+        """(x, z_b - z_b0) at n points over [x0, x1]: the movie's bed panel (NaN off a closed bed)."""
+        xs = np.linspace(x0, x1, n)
+        dz = self.bed.z - self.z0
+        if self.bed.periodic:
+            return xs, np.interp(xs, self.stations, dz, period=len(self.stations) * self.dx)
+        return xs, np.interp(xs, self.stations, dz, left=np.nan, right=np.nan)
+
+    def picture(self, left=None):
+        """The make_case parts that draw this bed: sand under z_b, the bed-change panel, morfac."""
+        m = self.sed["morfac"]
+        return dict(bed_surface=lambda x: self.surface(x, left), bed_panel=self.change,
+                    bed_label=f", morfac {m:g}: the bed moves {m:g}x as fast")
 
     def volume_error(self):
         return abs(self.bed.volume() - self.v0) / abs(self.v0) if self.v0 else 0.0
@@ -163,7 +184,7 @@ def sheet_flow_factor(psi):
 
 
 def lee_vortex_shear(tau, z, dx, u, sed, periodic=True, amplitude=0.0, mobility=0.0):
-    """Experimental (a reduced-complexity lee vortex, after the separation-zone picture of
+    """A reduced-complexity lee vortex (after the separation-zone picture of
     Nienhuis et al. 2014): downstream of each crest whose lee is steeper than separation_slope,
     over separation_length crest heights, the flow has separated and its vortex drives the bed
     back towards the crest: tau there is -lee_vortex times the crest's shear. Downstream is the
