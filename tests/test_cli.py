@@ -155,3 +155,19 @@ def test_describe_lists_every_key_with_default_range_and_meaning():
     assert "0.5" in line and ">= 0.0 and <= 1.0" in line and "lee" in line.split(")", 1)[1]
     r = run_cli(["--describe"], ROOT)
     assert r.returncode == 0 and "[numerics]" in r.stdout and "dx = 0.03" in r.stdout
+
+
+def test_arch_gpu_without_a_gpu_falls_back_to_the_cpu_with_a_warning(tmp_path):
+    import taichi as ti
+    try:   # a machine with a GPU runs there: nothing to fall back from
+        has_gpu = any(ti.lang.misc.is_arch_supported(a) for a in (ti.cuda, ti.vulkan, ti.metal))
+    except Exception:
+        has_gpu = False
+    if has_gpu:
+        pytest.skip("this machine has a GPU backend")
+    r = run_cli(["--arch", "gpu", "--dx", "0.1", "--end-time", "0.02", "--no-render", "--out", str(tmp_path / "o")],
+                tmp_path)
+    assert r.returncode == 0, r.stderr[-2000:]
+    assert "warning: no GPU backend found, running on the CPU" in r.stderr
+    s = json.load(open(tmp_path / "o" / "summary.json"))
+    assert s["status"] == "ok" and s["steps"] > 0

@@ -1,14 +1,15 @@
 """Engine speed: particle-steps/s of the dam break and the tank over a range of sizes, cold and
 warm compile, and the same cases on another git revision, run back to back.
 
-    python -m tisph.bench --speed [--against REV] [--repeats N] [--quick] [--out renders/bench]
+    python -m tisph.bench --speed [--against REV] [--repeats N] [--quick] [--peer pysph] [--out renders/bench]
 
 Each measurement runs in its own process (Taichi compiles once per process): build the case,
 prime, one warm-up step, then a fixed number of steps timed with a field read at the end (it
 waits for the last kernel). With --against, every case is run on this tree and on REV (checked
 out into a temporary git worktree) alternately, --repeats times, and the ratio is the median of
 the pairs: these machines are shared and drift, so only ratios from one run mean anything.
-Writes OUT/speed.md and OUT/speed.csv.
+With --peer pysph, PySPH's dam_break_2d beside ours (tisph/peer.py). Writes OUT/speed.md and
+OUT/speed.csv.
 """
 import json
 import os
@@ -145,6 +146,9 @@ def main(a):
     ensure_dir(a.out)
     rows, cold, warm = run(a, log)
     lines = report(a, rows, cold, warm)
+    if getattr(a, "peer", None) == "pysph":
+        from . import peer
+        lines += peer.compare(a.out, log, getattr(a, "peer_venv", None))
     write_text(os.path.join(a.out, "speed.md"), "\n".join(lines) + "\n")
     write_csv(os.path.join(a.out, "speed.csv"), tuple(rows[0]), [tuple(r.values()) for r in rows])
     print("\n".join(lines))

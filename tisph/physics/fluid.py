@@ -53,7 +53,7 @@ class ArtificialViscosity(Module):
     @ti.func
     def pair(self, S, i, j, r, r2, nb, acc: ti.template()):
         prm = S.prm[None]
-        mu = monaghan_mu(S.h, nb.v_ij, r, r2)
+        mu = monaghan_mu(S.h, nb.v_ij, r, nb.ie)
         acc.a += artificial_viscosity(nb.m_j, prm.alpha, prm.c0, mu, acc.inv_rhoi, nb.ir_j, nb.gw)
         acc.mu = ti.max(acc.mu, -mu)
 
@@ -80,7 +80,7 @@ class LaminarViscosity(Module):
             else:
                 mu_j = S.mat_mu[s.mat[j]]
         acc.a += laminar_viscosity(nb.m_j, harmonic_pair(acc.mui, mu_j), acc.inv_rhoi, nb.ir_j,
-                                   nb.v_visc, r, r2, nb.gw, S.eta2)
+                                   nb.v_visc, r, nb.ie, nb.gw)
 
 
 @ti.data_oriented
@@ -127,7 +127,7 @@ class DensityDiffusion(Module):
             if ti.static(S.physics.density_diffusion == "fourtakas"):
                 hyd = hydrostatic_density_difference(acc.rho0_c02, prm.g, r)
             acc.drho += density_diffusion(prm.delta, S.h, prm.c0, nb.vol_j, acc.rhoi,
-                                          nb.rho_j, hyd, r, r2, nb.gw)
+                                          nb.rho_j, hyd, r, nb.ie, nb.gw)
 
 
 @ti.data_oriented

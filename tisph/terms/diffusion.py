@@ -2,14 +2,15 @@ import taichi as ti
 
 
 @ti.func
-def density_diffusion(delta, h, c0, vol_j, rho_i, rho_j, rho_hyd_ji, r, r2, gw):
+def density_diffusion(delta, h, c0, vol_j, rho_i, rho_j, rho_hyd_ji, r, inv_r2e, gw):
     """delta-SPH density diffusion, Brookshaw Laplacian of the density:
     2 delta h c0 sum_j V_j ((rho_i - rho_j) + rho^H_ji) (r_ij . grad W)/(r^2 + 0.01 h^2).
 
     rho^H_ji = 0 is Molteni & Colagrossi (2009); the hydrostatic difference rho^H_j - rho^H_i
     makes it Fourtakas et al. (2019), which does not diffuse the hydrostatic gradient away.
+    inv_r2e = 1 / (r^2 + 0.01 h^2), one division per pair shared by every term.
     """
-    return 2.0 * delta * h * c0 * vol_j * ((rho_i - rho_j) + rho_hyd_ji) * r.dot(gw) / (r2 + 0.01 * h * h)
+    return 2.0 * delta * h * c0 * vol_j * ((rho_i - rho_j) + rho_hyd_ji) * r.dot(gw) * inv_r2e
 
 
 @ti.func
