@@ -85,13 +85,11 @@ class SolverAPI:
 
     def field_bytes(self):
         """Bytes the particle and grid fields take on the device (from their shapes and types)."""
-        per = 0
-        for k, t in self._member_types.items():
-            n = getattr(t, "n", 1)
-            dt = getattr(t, "dtype", t)
-            per += n * (8 if dt in (ti.f64, ti.i64) else 4)
+        def size(types):
+            return sum(getattr(t, "n", 1) * (8 if getattr(t, "dtype", t) in (ti.f64, ti.i64) else 4)
+                       for t in types.values())
         copies = 2 + (self.bak is not None)          # particles, the sorted copy, the backup
-        return per * self.n * copies + self.grid.nbytes()
+        return (size(self._member_types) * copies + size(self._eval_types)) * self.n + self.grid.nbytes()
 
     def neighbour_stats(self):
         """Per particle id: how many neighbours the cell grid finds, and the sum of their ids."""

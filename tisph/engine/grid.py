@@ -39,11 +39,17 @@ class Grid:
         self.key = ti.field(ti.i32, n)
         self.order = ti.field(ti.i32, n)
         self.cnt = ti.field(ti.i32, self.ncells + 2)
-        self.fcnt = ti.field(ti.i32, self.ncells + 2)  # fluid particles per cell
+        # whether a cell holds fluid (a flag, written without atomics: every writer writes 1);
+        # a byte on the CPU, where it saves 3 bytes a cell (28 of 232 bytes a particle in the
+        # dam break); 32 bits on a GPU, where 8-bit storage is an optional Vulkan/Metal feature
+        cpu = str(ti.lang.impl.current_cfg().arch).split(".")[-1] in ("x64", "arm64")
+        self.fdtype = ti.u8 if cpu else ti.i32
+        self.fcnt = ti.field(self.fdtype, self.ncells + 2)
+        self.fbytes = 1 if cpu else 4
         self.start = ti.field(ti.i32, self.ncells + 2)
 
     def nbytes(self):
-        return 3 * (self.ncells + 2) * 4 + 2 * self.n * 4
+        return (8 + self.fbytes) * (self.ncells + 2) + 2 * self.n * 4
 
     @ti.func
     def cell_of(self, x):

@@ -34,11 +34,18 @@ class ParticleFields:
 
 
 def core_members(real):
-    """Members every case has. ir = 1 / rhoe, set once per particle so the pair loop divides by
-    no density."""
+    """The state every case has: what a step carries over, the reorder permutes, a checkpoint
+    and the backup keep (p is kept for the snapshots)."""
     vec2 = ti.types.vector(2, real)
     return dict(x=vec2, v=vec2, a=vec2, rho=real, drho=real, m=real, kind=ti.i32, mat=ti.i32, id=ti.i32,
-                ve=vec2, rhoe=real, p=real, ir=real)
+                p=real)
+
+
+def eval_members(real):
+    """The evaluation state, rebuilt from the state in every step's gather and read by the pair
+    loop: only the sorted copy has it (16 bytes a particle less in the particles and the backup).
+    ir = 1 / rhoe, set once per particle so the pair loop divides by no density."""
+    return dict(ve=ti.types.vector(2, real), rhoe=real, ir=real)
 
 
 # Per-material parameters of the core: rest density, Tait B, and the viscosity (Newtonian mu,
