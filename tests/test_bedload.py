@@ -55,6 +55,28 @@ def test_uniform_current_threshold_and_mpm_flux(theta_over_cr):
         12 * math.sqrt(theta) * max(theta - bed.theta_cr, 0.0))
 
 
+def test_deposition_length_spreads_the_load_that_settles_out():
+    """A shear step on a closed bed: where the capacity jumps up the flux rises over l_s; where
+    it drops the load settles out over the deposition length, as l dq/dx + q = q_b says
+    (q - q_b decays by a / (1 + a) a station, a = l / dx, the upwind form of exp(-x / l))."""
+    n, dx = 400, 0.0025
+    x = (np.arange(n) + 0.5) * dx
+    tc = 0.0374 * (RHO_S - 1000.0) * 9.81 * D50
+    tau = np.where((x > 0.25) & (x < 0.5), 20 * tc, 2 * tc)     # the fast 'gap' from 0.25 to 0.5 m
+    for l_d in (None, 0.15):
+        bed = Bed(x, np.full(n, 0.1), D50, RHO_S, saturation_length=dx, deposition_length=l_d, periodic=False)
+        qb = bed.equilibrium_flux(tau)
+        q = bed.saturate(qb)
+        lo, hi = qb[x < 0.25].max(), qb[(x > 0.25) & (x < 0.5)].min()
+        k_up = int(np.argmax(x > 0.25))
+        assert q[k_up + 10] == pytest.approx(hi, rel=1e-3)          # picked up within ten l_s = dx
+        k = int(np.argmax(x > 0.5))
+        a = (l_d or dx) / dx
+        want = lo + (q[k - 1] - lo) * (a / (1 + a)) ** np.arange(1, 41)
+        assert np.allclose(q[k:k + 40], want, rtol=1e-6, atol=1e-9 * hi), l_d
+        assert (q[k + 39] - lo) / (hi - lo) > 0.4 if l_d else (q[k + 39] - lo) / (hi - lo) < 1e-9
+
+
 def test_volume_conserved_periodic():
     rng = np.random.default_rng(1)
     x = (np.arange(200) + 0.5) * 0.005

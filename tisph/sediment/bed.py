@@ -24,7 +24,8 @@ from .transport import (FORMULAE, shields_critical, shields_number, slope_factor
 
 class Bed:
     def __init__(self, x, z, d50, rho_s, rho_w=1000.0, porosity=0.4, repose_deg=32.0, theta_cr=None,
-                 formula="mpm", saturation_length=None, gravity_coefficient=1.0, morfac=1.0, periodic=True):
+                 formula="mpm", saturation_length=None, gravity_coefficient=1.0, morfac=1.0, periodic=True,
+                 deposition_length=None):
         self.x = np.asarray(x, float)
         self.dx = float(self.x[1] - self.x[0])
         self.z = np.array(z, float)
@@ -35,6 +36,9 @@ class Bed:
         self.theta_cr = shields_critical(d50, self.s) if theta_cr is None else theta_cr
         self.phi = FORMULAE[formula]
         self.l_s = self.dx if saturation_length is None else saturation_length
+        # where the load exceeds what the flow carries it settles out over its own length (sand
+        # thrown up by a jet lands u h / w_s on); picking up stays at l_s
+        self.l_d = self.l_s if deposition_length is None else deposition_length
         self.K_g = gravity_coefficient
         self.morfac = morfac
         self.periodic = periodic
@@ -64,10 +68,11 @@ class Bed:
         return qb - self.K_g * np.abs(qb) * dzdx / self.tan_repose
 
     def saturate(self, qb):
-        """Solve l_s dq/dx + q = q_b along the local flow direction (upwind, Gauss-Seidel sweeps;
-        three laps settle a periodic bed to round-off for l_s of a few dx)."""
-        a = self.l_s / self.dx
-        if a <= 0:
+        """Solve l dq/dx + q = q_b along the local flow direction (upwind, Gauss-Seidel sweeps;
+        three laps settle a periodic bed to round-off for l of a few dx), l = l_s where the bed
+        picks sand up (|q| < |q_b|) and the deposition length where it drops it."""
+        a, ad = self.l_s / self.dx, self.l_d / self.dx
+        if a <= 0 and ad <= 0:
             return qb.copy()
         n = len(qb)
         q = self.q.copy()                   # the last flux: the sweeps start from it
@@ -76,11 +81,13 @@ class Bed:
             for i in range(n):              # flow to +x: upwind neighbour on the left
                 if fwd[i]:
                     up = q[i - 1] if (i > 0 or self.periodic) else 0.0
-                    q[i] = (qb[i] + a * up) / (1.0 + a)
+                    k = a if up <= qb[i] else ad
+                    q[i] = (qb[i] + k * up) / (1.0 + k)
             for i in range(n - 1, -1, -1):  # flow to -x: upwind neighbour on the right
                 if not fwd[i]:
                     up = q[(i + 1) % n] if (i < n - 1 or self.periodic) else 0.0
-                    q[i] = (qb[i] + a * up) / (1.0 + a)
+                    k = a if up >= qb[i] else ad
+                    q[i] = (qb[i] + k * up) / (1.0 + k)
         return q
 
     def face_fluxes(self, q):

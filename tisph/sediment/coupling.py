@@ -29,12 +29,16 @@ DEFAULTS = {
     "shields_critical": 0.0,       # critical Shields number; 0: Soulsby & Whitehouse (1997) for d50
     "formula": "mpm",              # mpm: Meyer-Peter & Mueller | nielsen: Nielsen (1992), for waves
     "saturation_length": 0.0,      # l_s of l_s dq/dx + q = q_b (m); 0: one dx
+    "deposition_length": 0.0,      # l_s where the load settles out (q > q_b), m; 0: saturation_length
     "gravity_coefficient": 1.0,    # K_g of the downslope term K_g |q_b| (dz/dx) / tan(phi)
     "morfac": 1.0,                 # morphological acceleration: the bed moves morfac times as fast
-    "shear": "waves",              # waves: Swart's friction factor | log: the log law (currents)
+    # waves: Swart's friction factor | log: the log law (currents) | log_far_field: the log law
+    # scaled so the far field's median shear is the current's rho u*^2 (scenes that set it)
+    "shear": "waves",
     "reference_height": 1.5,       # z_r / dx: where the near-bed velocity is read
     "filter_time": 0.05,           # s: time constant of the near-bed velocity's filter
     "update_every": 10,            # steps between bed updates
+    "morph_start": 0.0,            # s: the bed stays put until then while the flow spins up (Delft3D's MorStt)
     "lee_vortex": 0.0,             # shear in a separated lee reversed to this fraction of the crest's (0: off; beach, tunnel: 0.5)
     "separation_length": 6.0,      # the lee zone's length in crest heights (flow reattaches about 6 step heights on)
     "separation_slope": 10.0,      # degrees: a lee steeper than this separates
@@ -45,14 +49,16 @@ DEFAULTS = {
 }
 RANGES = {"sediment.porosity": (0.0, 0.9, True, True), "sediment.repose_angle": (5.0, 60.0, True, True),
           "sediment.shields_critical": (0.0, 1.0, True, True), "sediment.saturation_length": (0.0, None, True, True),
+          "sediment.deposition_length": (0.0, None, True, True),
           "sediment.gravity_coefficient": (0.0, 10.0, True, True), "sediment.morfac": (1.0, 1000.0, True, True),
           "sediment.reference_height": (0.5, 5.0, True, True), "sediment.filter_time": (0.0, None, True, True),
-          "sediment.update_every": (1, 1000, True, True), "sediment.lee_vortex": (0.0, 1.0, True, True),
+          "sediment.update_every": (1, 1000, True, True), "sediment.morph_start": (0.0, None, True, True),
+          "sediment.lee_vortex": (0.0, 1.0, True, True),
           "sediment.separation_length": (0.0, 50.0, True, True), "sediment.separation_slope": (0.0, 60.0, True, True),
           "sediment.separation_excursion": (0.0, 10.0, True, True), "sediment.seed_rms": (0.0, None, True, True),
           "sediment.seed": (0, None, True, True)}
 CHOICES = {"sediment.model": ("particles", "bedload"), "sediment.formula": ("mpm", "nielsen"),
-           "sediment.shear": ("waves", "log")}
+           "sediment.shear": ("waves", "log", "log_far_field")}
 
 
 def initial_bed(stations, z, sed, dx):
@@ -72,29 +78,39 @@ def initial_bed(stations, z, sed, dx):
 
 def add_bed_particles(ps, stations, zb, dx, layers, rho_w, density):
     """BED particles: at each station a column `layers` deep under z_b, spaced dx; density(y)
-    gives their rest-state density (hydrostatic)."""
+    gives their rest-state density (hydrostatic). Their wall normal is up and their distance
+    behind the surface (k + 1/2) dx, for a no-slip wall (NoSlip, paper 002 eq. 39)."""
     for k in range(layers):
         y = zb - (k + 0.5) * dx
         pts = np.column_stack([stations, y])
-        ps.add(pts, BED, 0, density(y), rho_w * dx * dx, station=np.arange(len(stations)))
+        ps.add(pts, BED, 0, density(y), rho_w * dx * dx, station=np.arange(len(stations)), normal=(0.0, 1.0),
+               wall_dist=(k + 0.5) * dx)
 
 
 class BedCoupler:
     def __init__(self, sed, stations, z, dx, h, d50, rho_s, amplitude=0.0, periodic=True, rho_w=1000.0,
-                 omega=0.0):
+                 omega=0.0, z0=None, far_field=None):
         """amplitude: the near-bed orbital amplitude A (Swart's f_w, the lee zone's cap), a number;
         None: measured at each station from the filtered near-bed velocity over the last wave
         period 2 pi / omega, A = (u_max - u_min) / (2 omega): Wiberg & Harris's d0 = U_m T / pi
-        with U_m the peak orbital velocity (a beach, where A varies and the waves are not sines)."""
+        with U_m the peak orbital velocity (a beach, where A varies and the waves are not sines).
+        z0: the log law's roughness for shear = "log" (None: the grains', 2.5 d50 / 30).
+        far_field: (mask of stations, tau_inf) for shear = "log_far_field": the log-law shear is
+        scaled so its median over those stations is tau_inf. An SPH current over a wall at
+        dx = D/20 does not keep a rough-wall log profile near the bed (measured in the pipeline's
+        Mao case: the log law through the SPH velocity 3 dx up gave 2.5 times the current's
+        rho u*^2 on the undisturbed bed), so the current's u* is taken as given and the SPH
+        supplies the shear's amplification around the structure, tau / tau_inf = (u / u_far)^2."""
         self.sed, self.dx, self.h, self.rho_w = sed, dx, h, rho_w
         self.stations = np.asarray(stations, float)
         self.bed = Bed(stations, z, d50, rho_s, rho_w, porosity=sed["porosity"], repose_deg=sed["repose_angle"],
                        theta_cr=sed["shields_critical"] or None, formula=sed["formula"],
                        saturation_length=sed["saturation_length"] or None,
+                       deposition_length=sed["deposition_length"] or None,
                        gravity_coefficient=sed["gravity_coefficient"], morfac=sed["morfac"], periodic=periodic)
         self.z0 = self.bed.z.copy()
         self.v0 = self.bed.volume()
-        self.d50, self.omega = d50, omega
+        self.d50, self.omega, self.z0_log, self.far_field = d50, omega, z0, far_field
         self.measured = amplitude is None
         self.amplitude = np.zeros(len(stations)) if self.measured else amplitude
         self.history = collections.deque()   # (t, filtered u) over the last wave period, when measured
@@ -115,7 +131,11 @@ class BedCoupler:
         if self.sed["shear"] == "waves":
             tau = shear_waves(u, self.amplitude, self.d50, self.rho_w)
         else:
-            tau = shear_log_law(u, self.sed["reference_height"] * self.dx, self.d50, self.rho_w)
+            tau = shear_log_law(u, self.sed["reference_height"] * self.dx, self.d50, self.rho_w, self.z0_log)
+            if self.sed["shear"] == "log_far_field":
+                mask, tau_inf = self.far_field
+                ref = float(np.median(np.abs(tau[mask])))
+                tau = tau * (tau_inf / ref) if ref > 0 else tau
         if self.sed["lee_vortex"] > 0:
             tau = lee_vortex_shear(tau, self.bed.z, self.dx, u, self.sed, self.bed.periodic, self.amplitude,
                                    self.mobility())
@@ -150,6 +170,9 @@ class BedCoupler:
             us = np.array([u for _, u in self.history])
             self.amplitude = 0.5 * (us.max(0) - us.min(0)) / self.omega
         self.tau = self.shear(self.u)
+        if s.time <= self.sed["morph_start"]:
+            return
+        dt = min(dt, s.time - self.sed["morph_start"])
         dz = self.bed.step(self.tau, dt)
         s.set_bed(self.bed.z - self.z0, dz / dt)
 

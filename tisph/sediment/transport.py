@@ -18,10 +18,12 @@ def grain_roughness(d50):
     return ks, ks / 30.0
 
 
-def shear_log_law(u_r, z_r, d50, rho=1000.0):
+def shear_log_law(u_r, z_r, d50, rho=1000.0, z0=None):
     """Bed shear stress (Pa, signed with u_r) from the velocity u_r at height z_r above the bed
-    through the rough-wall log law u* = kappa u_r / ln(z_r / z0), tau = rho u*^2."""
-    _, z0 = grain_roughness(d50)
+    through the rough-wall log law u* = kappa u_r / ln(z_r / z0), tau = rho u*^2; z0: the
+    grain roughness's k_s / 30 unless given (a current's own roughness)."""
+    if z0 is None:
+        _, z0 = grain_roughness(d50)
     ustar = KAPPA * np.abs(u_r) / np.log(np.maximum(z_r, 2.0 * z0) / z0)
     return rho * ustar * ustar * np.sign(u_r)
 
