@@ -1,5 +1,7 @@
-"""Pipeline-scour physics: SPS stress, fluid-sediment drag (momentum conserved), the scene runs."""
+"""Pipeline-scour physics: SPS stress, fluid-sediment drag (momentum conserved), the scene runs
+with both sand models, the bed-load bed scours the gap."""
 import json
+import os
 
 import numpy as np
 import pytest
@@ -10,6 +12,8 @@ from tisph.particles import ParticleSet, block, FLUID, tait_B
 from tisph.run import run_scene
 from tisph.solver import Solver
 from tisph.terms.sps import sps_stress, CS, CI
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 
 def test_sps_stress_of_a_simple_shear():
@@ -74,7 +78,8 @@ def test_drag_conserves_momentum_and_couples_the_phases():
 def test_pipeline_scour_command_runs_and_writes_its_files(tmp_path):
     from tisph.scenes import pipeline_scour
     out = tmp_path / "ps"
-    code = run_scene(pipeline_scour, ["--dx", "0.0125", "--end-time", "0.1", "--out", str(out), "--quiet",
+    code = run_scene(pipeline_scour, ["--config", os.path.join(ROOT, "scenes", "pipeline_scour_two_phase.toml"),
+                                      "--dx", "0.0125", "--end-time", "0.1", "--out", str(out), "--quiet",
                                       "--frame-interval", "0.05"])
     assert code == 0
     s = json.load(open(out / "summary.json"))
@@ -86,6 +91,41 @@ def test_pipeline_scour_command_runs_and_writes_its_files(tmp_path):
     assert (out / "scour_profile.csv").exists() and (out / "frames" / "00000.png").exists()
     m = s["metrics"]
     assert np.isfinite(m["scour_depth_over_D"]) and abs(m["mean_velocity_end"] - 0.4) < 0.1
+
+
+def test_bedload_pipeline_scours_the_gap_under_the_pipe(tmp_path):
+    """The default scene (bed-load bed) a few thousand steps: the gap flow's bed shear exceeds the
+    undisturbed bed's, sand leaves the gap (S/D grows), the periodic bed keeps its sand."""
+    from tisph.scenes import pipeline_scour
+    out = tmp_path / "bl"
+    code = run_scene(pipeline_scour, ["--dx", "0.0125", "--end-time", "0.7", "--out", str(out), "--quiet",
+                                      "--no-render"])   # the bed moves after 0.5 s of spin-up
+    assert code == 0
+    s = json.load(open(out / "summary.json"))
+    assert s["status"] == "ok" and s["leaked_particles"] == 0 and s["steps"] > 300
+    assert s["physics"]["moving_bed"] and s["physics"]["noslip"] and not s["physics"]["dem"]
+    m = s["metrics"]
+    assert m["sediment_model"] == "bedload"
+    assert m["gap_shear_over_far_field"] > 1.5, m
+    assert m["scour_depth_over_D"] > m["initial_scour_depth_over_D"] + 1e-4, m
+    assert m["sand_volume_error"] < 1e-6
+
+
+def test_mao_reference_and_the_equilibrium_fit():
+    """Mao's own profile scores 0 and a profile 0.1 D deeper scores 0.1; the clock of a depth
+    inverts depth_at; the exponential fit recovers a known S_eq and time scale."""
+    from tisph.validation import mao
+    from tisph.scenes._pipeline_bedload import equilibrium_fit
+    ref = mao.PROFILES[18.0]
+    assert mao.scour_profile_error(18.0, ref[:, 0], ref[:, 1]) < 1e-12
+    assert abs(mao.scour_profile_error(18.0, ref[:, 0], ref[:, 1] - 0.1 * mao.D) - 0.1) < 1e-9
+    for t in (2.0, 5.0, 12.0):
+        assert abs(mao.time_of_depth(float(mao.depth_at(t))) - t) < 0.05
+    assert mao.time_of_depth(0.0) == 0.0
+    t = np.linspace(0.0, 20.0, 81)
+    s_eq, T = equilibrium_fit(t, 0.1 + 0.7 * (1.0 - np.exp(-t / 6.0)))
+    assert abs(s_eq - 0.8) < 0.01 and abs(T - 6.0) < 0.2
+    assert np.isnan(equilibrium_fit(t, 0.1 + 0.001 * t)[0])      # still rising linearly: no plateau to tell
 
 
 # ---------------------------------------------------------------------------- DEM contacts

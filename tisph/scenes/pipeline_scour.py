@@ -1,63 +1,54 @@
 """Current-induced scour beneath a marine pipeline (paper 002, section 4.2; Mao 1986).
 
 A pipe of diameter D lies on a sand bed in a current; the flow through the gap under the pipe
-scours a tunnel (tunnel erosion), then a lee-wake hole forms. Two phases: water (Newtonian, with
-the SPS turbulence closure of paper 002 eq. 10) and sand (Cross rheology, eqs. 29-30, with the
-paper's mu_inf = 0.07 Pa s, tau_B = 25 Pa read as mu0 = 1000 mu_inf, K = mu0 / tau_B), coupled by
-pressure, viscosity and a drag term (eq. 16, made dimensionally consistent; see tisph/terms/drag.py).
-The pipe is a ring of boundary particles with the no-slip ghost velocity of eq. 39. The current
-is periodic in x, starts from the log law (eq. 32, kappa = 0.42) and is held at its mean
-velocity by a body force with feedback.
+scours a tunnel (tunnel erosion), then a lee-wake hole forms. The current is periodic in x,
+starts from the log law (eq. 32, kappa = 0.42), is held at its mean velocity by a driving
+pressure gradient with feedback, and an inflow zone at the seam relaxes the water back to the log
+law (the periodic seam would feed the pipe its own wake). The pipe is a ring of boundary
+particles with the no-slip ghost velocity of eq. 39. The water is Newtonian with the SPS closure
+of eq. 10.
 
-Defaults: D = 0.1 m, water 0.35 m deep above the bed, mean velocity 0.4 m/s with Mao's Shields
-number 0.065, sand d50 = 0.36 mm, a domain 10 D long (periodic) with a sand layer 1.5 D deep,
-dx = D/10, and an initial gap of 0.3 D under the pipe over a sinusoidal dip 0.1 D deep, as the
-paper does to start tunnel erosion (a smaller gap holds no jet at this dx; see DEFAULTS).
+sediment.model = "bedload" (the default; tisph/scenes/_pipeline_bedload.py): the sand is a bed
+below particle scale (Shields threshold, bed load, Exner, avalanching; tisph/sediment) with its
+shear from the near-bed flow through the log law, as grid models of this experiment do (Liang,
+Cheng & Li 2005). scenes/pipeline_scour_mao.toml: Mao's D = 5 cm live-bed case against his
+measured S/D(t) and profiles (tisph/validation/mao.py).
+
+sediment.model = "particles" (scenes/pipeline_scour_two_phase.toml): paper 002's two-phase model,
+sand particles with Cross rheology (eqs. 29-30), DEM contacts (eqs. 17-28) and fluid-sediment
+drag (eq. 16); that file says why its contact diameter is 0.7 dx. It reaches S/D 0.19 in 20 s
+from a dip of 0.10: the onset of scour, not tunnel erosion (1 cm particles of yield-stress sand
+either do not move or creep as a layer).
+
+Defaults: paper 002's theta = 0.065 case, D = 0.1 m, water 0.35 m deep, 0.4 m/s, d50 = 0.36 mm, a
+periodic domain 10 D long, dx = D/10, an initial gap of 0.3 D over a sinusoidal dip 0.1 D deep
+(the paper opens one "for numerical requirements"; a gap of one spacing holds no jet).
 scenes/pipeline_scour_theta098.toml: 0.5 m/s (Shields 0.098). scenes/pipe_on_rigid_bed.toml:
 D = 5 cm on a rigid bed, U = 0.197 m/s (Oner et al. 2008).
-
-The periodic seam would feed the pipe its own wake; an inflow zone relaxes the water back to the
-log law there, as the paper's log-law inlet does. The body force that holds the mean velocity
-stands for a pressure gradient, so sand feels it at rho_w / rho_s of its weight (tisph/solver.py).
-
-Sand particles also touch as DEM grains (paper 002 eqs. 17-28, Table 3 constants). Eq. 28 puts
-the contact at the grain diameter d_s, which two SPH particles a spacing apart never reach; with
-the contact at one spacing every resting neighbour is a frictional contact and the bed is a
-granular solid of 1 cm grains, whose Shields number under this current is 0.002: it did not move
-in 4 s (0.0075 D of scour). Resting sand particles here are never closer than 0.84 dx (measured
-over a 5 s run), so a contact diameter of 0.7 dx makes DEM what the paper says it is for, the
-collisions of grains thrown together during scouring, and leaves the resting bed to the Cross
-rheology. The DEM step limit dt_c/20 (eq. 27) is a third of the acoustic step at the default dx;
-the solver takes it only while some grains touch or are about to (tisph/solver.py), which in the
-default run is rare.
-The paper ran 6.5 min of flow at dt = 1e-5 s; the default here is 20 s (9 to 15 minutes on two
-cores), in which the hole under the pipe deepens from 0.10 D (the imposed dip) to about 0.19 D.
 """
 import math
 import types
-import os
 import sys
 
 import numpy as np
 
 from ..constants import G
 from ..config import ConfigError, physics_from_config
-from ..io import write_csv
 from ..particles import ParticleSet, block, density_from_pressure, layered_pressure, tait_B, FLUID, WALL
 from ..render import SAND
 from ..case import make_case
 from ..run import common_params, run_scene, sound_speed
-from ..profiles import streamlines_png
 from ..constants import KAPPA
-from ..probes.control import PIDrive
-from ..probes.gauges import surface_heights
-from ..probes.plots import pyplot, save
+from ..sediment import coupling
+from ._pipeline_record import ScourRecord, streamlines_event
 
 NAME = "pipeline_scour"
 
 
 DEFAULTS = {
-    "run": {"end_time": 20.0},   # 9 to 15 minutes here; the paper ran 6.5 min of flow
+    # 40 s of flow with morfac 10: the bed moves as in 6.7 min (the paper's Fig. 10 ends at 6.5 min);
+    # 138,462 steps, 14 minutes on one thread of a shared machine
+    "run": {"end_time": 40.0},
     # Wendland kernel (paper 002 eq. 6), laminar viscosity + SPS (eq. 10), Shepard every 200 steps
     # is an option (shepard_every = 200); density diffusion is the default
     # c0 = 18 m/s: Table 3's c_0m
@@ -90,11 +81,19 @@ DEFAULTS = {
         "inflow_length": 0.2,
         "inflow_rate": 20.0,        # its relaxation rate (1/s); a particle crosses it in ~0.5 s
         "profile_offsets": [-2.0, 0.0, 2.0],   # velocity profiles at x = x_pipe + offset * D
+        "reference": "none",        # mao: compare with Mao's S/D(t) and profiles (bedload; D = 5 cm)
     },
     # DEM contacts between sand particles, paper 002 Table 3 (its eta_s unit "N/m" is N s/m)
     "dem": {"enabled": True, "kn": 1.0e6, "ks": 1.0e5, "eta_n": 20.0, "eta_s": 40.0, "friction": 0.57,
             # in particle spacings; see the module docstring for why 0.7 and not 1
             "contact_diameter": 0.7},
+    # sediment.model = "bedload": the bed below particle scale (tisph/sediment); its shear by the
+    # log law through the near-bed velocity 3 dx above the bed (1.5 dx sits in the wall's no-slip
+    # layer) with the current's own z0, scaled to rho u*^2 in the far field (BedCoupler says why);
+    # the gap jet's sand settles out 3 D on: deposition_length 3 D (scenes/pipeline_scour_mao.toml)
+    "sediment": dict(coupling.DEFAULTS, model="bedload", grain_density=2650.0, shear="log_far_field",
+                     reference_height=3.0, filter_time=0.1, update_every=10, deposition_length=0.3,
+                     morph_start=0.5, morfac=10.0),
     "materials": {
         "water": {"rho0": 1000.0, "viscosity": 1.0e-3},
         # Cross: mu_inf = 0.07 Pa s, tau_B = 25 Pa read as mu0 = 1000 mu_inf, K = mu0 / tau_B
@@ -111,6 +110,9 @@ RANGES = {f"geometry.{k}": (0.0, None, k in ("sand_depth", "gap", "perturbation"
 RANGES["geometry.porosity"] = (0.0, 1.0, True, False)
 RANGES.update({f"dem.{k}": (0.0, None, k.startswith("eta"), True) for k in ("kn", "ks", "eta_n", "eta_s", "friction")})
 RANGES["dem.contact_diameter"] = (0.0, 1.5, False, True)
+RANGES.update(coupling.RANGES)
+RANGES["sediment.grain_density"] = (1000.0, None, False, True)
+CHOICES = dict(coupling.CHOICES, **{"geometry.reference": ("none", "mao")})
 
 
 def check(cfg):
@@ -126,10 +128,18 @@ def check(cfg):
     if g["inflow_length"] > 0.5 * g["length"] - 2 * D:
         raise ConfigError("geometry.inflow_length", g["inflow_length"],
                           f"at most half the length minus 2 D ({0.5 * g['length'] - 2 * D:.3g} m): the zone must end 2 D before the pipe")
+    if bedload(cfg):
+        from ._pipeline_bedload import far_field
+        far_field(geometry(cfg), np.arange(0.5 * dx, g["length"], dx), g["inflow_length"])
     if 0 < g["sand_depth"] < 4 * dx:
         raise ConfigError("geometry.sand_depth", g["sand_depth"], f"0 (rigid bed) or at least 4 dx ({4 * dx:g} m)")
     if g["perturbation"] > 0.5 * g["sand_depth"]:
         raise ConfigError("geometry.perturbation", g["perturbation"], "at most half the sand depth")
+
+
+def bedload(cfg):
+    """Whether the sand is the bed-load bed (a rigid bed, sand_depth = 0, has no sand model)."""
+    return cfg["sediment"]["model"] == "bedload" and cfg["geometry"]["sand_depth"] > 0
 
 
 def log_law(z, ustar, z0):
@@ -157,6 +167,8 @@ def geometry(cfg):
                               L=num["wall_layers"], h=num["h_factor"] * num["dx"], geo=geo)
     mats = cfg["materials"]
     g.rw, g.rs = mats["water"]["rho0"], mats["sand"]["rho0"]
+    if bedload(cfg):   # the bed's grains, not the two-phase model's bulk sand
+        g.rs = cfg["sediment"]["grain_density"]
     g.R = 0.5 * g.D
     g.xc = 0.5 * g.Lx
     g.yc = g.hs + geo["gap"] + g.R
@@ -171,6 +183,9 @@ def geometry(cfg):
 
 
 def build(cfg):
+    if bedload(cfg):
+        from ._pipeline_bedload import build_bedload
+        return build_bedload(cfg)
     geo = cfg["geometry"]
     g = geometry(cfg)
     dx, hs, L, mats = g.dx, g.hs, g.L, cfg["materials"]
@@ -197,7 +212,7 @@ def build(cfg):
     events = [(t, rec.on_profile_sample) for t in np.arange(0.5 * t_end, t_end + 1e-9, 0.05)]
     stills_at = (0.0, 0.5 * t_end, t_end)
     if cfg["output"]["render"]:
-        events += [(t, _streamlines(g.Lx, g.ytop, dx, g.xc, g.yc, g.R)) for t in stills_at]
+        events += [(t, streamlines_event(g)) for t in stills_at]
     return make_case(name=NAME, particles=ps, materials=materials, domain=domain, params=params, physics=physics,
                      view=((0.0, -L * dx), (g.Lx, g.ytop + 2 * dx)), u_max=u_max,
                      probe_columns=("scour_depth_over_D", "transport_rate_phi", "max_bed_shear", "u_mean",
@@ -241,153 +256,19 @@ def _particles(g, c0):
     floor = block(0.0, -L * dx, g.Lx, 0.0, dx)
     ps.add(floor, WALL, 0, density_from_pressure(pressure(floor[:, 1], hs), rw, c0), rw * dx * dx,
            normal=(0.0, 1.0), wall_dist=-floor[:, 1])
-    for k in range(L):
-        r_k = g.R - (k + 0.5) * dx
-        if r_k <= 0:
-            break
-        pts, nrm = ring(g.xc, g.yc, r_k, dx)
-        ps.add(pts, WALL, 0, density_from_pressure(pressure(pts[:, 1], 0.0), rw, c0), rw * dx * dx,
-               normal=nrm, wall_dist=g.R - r_k)
+    add_pipe(ps, g, lambda y: density_from_pressure(pressure(y, 0.0), rw, c0))
     return ps
 
 
-class ScourRecord:
-    """The drive's control, the bed under and around the pipe, the transport through the
-    section under it, the bed shear, and the velocity profiles of the second half of the run."""
-
-    def __init__(self, cfg, g):
-        self.cfg, self.g = cfg, g
-        # driving: a body force g_x = u*^2 / h (uniform channel flow) plus feedback on the mean velocity
-        self.g0 = g.ustar ** 2 / g.hw
-        self.ctl = PIDrive(0.5, start=self.g0)
-        self.stations = np.arange(0.5 * g.dx, g.Lx, g.dx)
-        self.under = np.abs(self.stations - g.xc) < 0.5 * g.D
-        self.rows, self.bed0 = [], None
-        self.offsets = cfg["geometry"]["profile_offsets"]
-        self.prof = {o: [] for o in self.offsets}
-
-    def control(self, s):
-        st = s.state(("v", "kind", "mat"))
-        w = (st["kind"] == FLUID) & (st["mat"] == 0)
-        e = self.g.U - float(st["v"][w, 0].mean())
-        self.ctl.update(s, e, self.g0)
-
-    def probe(self, st):
-        g, dx, stations = self.g, self.g.dx, self.stations
-        fl = st["kind"] == FLUID
-        sedm = fl & (st["mat"] == 1)
-        wat = fl & (st["mat"] == 0)
-        u_mean = float(st["v"][wat, 0].mean())
-        if g.hs <= 0:
-            return float("nan"), float("nan"), float("nan"), u_mean, self.ctl.value
-        b = surface_heights(st, stations, dx, g.h, mat=1)
-        if self.bed0 is None:
-            self.bed0 = b
-        self.rows.append((st["t"],) + tuple(b))
-        # scour depth: below the undisturbed bed as first measured (the median level, away from the dip)
-        depth = float(np.median(self.bed0) - b[self.under].min()) / g.D
-        # sediment flux through the section under the pipe: sum of V u_x over a band dx wide
-        band = sedm & (np.abs(st["x"][:, 0] - g.xc) < 0.5 * dx)
-        q = float((st["m"][band] / st["rho"][band] * st["v"][band, 0]).sum() / dx)
-        phi = q / math.sqrt((g.rs / g.rw - 1) * G * g.d50 ** 3)
-        # bed shear stress from the log law through the water velocity 1.5 dx above the bed
-        tau = 0.0
-        xw_, vw_ = st["x"][wat], st["v"][wat]
-        col = np.clip(((xw_[:, 0]) / dx).astype(int), 0, len(stations) - 1)
-        zrel = xw_[:, 1] - b[col]
-        near = (zrel > dx) & (zrel < 2 * dx)
-        if near.any():
-            z = zrel[near]
-            u = np.abs(vw_[near, 0])
-            tau = float((g.rw * (KAPPA * u / np.log(z / g.z0)) ** 2).max())
-        return depth, phi, tau, u_mean, self.ctl.value
-
-    def on_profile_sample(self, st, t):
-        g = self.g
-        wat = (st["kind"] == FLUID) & (st["mat"] == 0)
-        for o in self.offsets:
-            xo = (g.xc + o * g.D) % g.Lx
-            m = wat & (np.abs(st["x"][:, 0] - xo) < g.dx)
-            self.prof[o].append((st["x"][m, 1], st["v"][m, 0]))
-
-    def metrics(self, c):
-        g = self.g
-        out = dict(friction_velocity=g.ustar, shields_parameter=g.ustar ** 2 / ((g.rs / g.rw - 1) * G * g.d50),
-                   mean_velocity_end=float(c["u_mean"][-1]), body_force_end=float(c["body_force"][-1]),
-                   pipe_reynolds=g.U * g.D / 1e-6)
-        if g.hs > 0:
-            d = c["scour_depth_over_D"]
-            out["scour_depth_over_D"] = float(d[-1])
-            # the scour the flow added to the initial dip: S/D, smoothed over 0.5 s (a particle
-            # row is 0.1 D and the bed gauge flickers by about half of that)
-            t = c["t"]
-            w = max(1, int(round(0.5 / max(t[1] - t[0], 1e-9)))) if len(t) > 1 else 1
-            if len(d) < w:   # a run shorter than the window: no smoothing
-                w = 1
-            ds = np.convolve(d, np.ones(w) / w, mode="valid")
-            out["initial_scour_depth_over_D"] = float(d[0])
-            out["scour_depth_over_D_smoothed"] = float(ds[-1])
-            grown = ds[-1] - d[0]
-            k = np.nonzero(ds - d[0] >= 0.5 * grown)[0]
-            # time (end of the 0.5 s window) when half the added depth was first reached
-            out["time_to_half_depth"] = float(t[k[0] + w - 1]) if grown > 0 and len(k) else float("nan")
-            out["max_transport_rate_phi"] = float(np.nanmax(c["transport_rate_phi"]))
-            out["max_bed_shear_end"] = float(c["max_bed_shear"][-1])
-        return out
-
-    def finalize(self, out, metrics):
-        if self.rows:
-            write_csv(os.path.join(out, "scour_profile.csv"), ("t",) + tuple(f"x{x:.3f}" for x in self.stations),
-                      self.rows)
-            self.plot_scour(os.path.join(out, "scour_profile.png"))
-        if any(self.prof.values()):
-            self.velocity_profiles(out)
-
-    def plot_scour(self, path):
-        g, plt = self.g, pyplot()
-        arr = np.array(self.rows)
-        fig, ax = plt.subplots(figsize=(8, 3))
-        for t in np.linspace(arr[0, 0], arr[-1, 0], 5):
-            r = arr[np.argmin(np.abs(arr[:, 0] - t))]
-            ax.plot((self.stations - g.xc) / g.D, (r[1:] - g.hs) / g.D, lw=0.9, label=f"t = {r[0]:.1f} s")
-        ax.add_patch(plt.Circle((0, (g.yc - g.hs) / g.D), 0.5, color="0.5"))
-        ax.set_aspect("equal")
-        ax.set_xlabel("x / D")
-        ax.set_ylabel("bed / D")
-        ax.legend(fontsize=7)
-        save(fig, path)
-
-    def velocity_profiles(self, out):
-        g, plt, offsets = self.g, pyplot(), self.offsets
-        rows = []
-        fig, axes = plt.subplots(1, len(offsets), figsize=(3 * len(offsets), 3.5), sharey=True, squeeze=False)
-        for ax, o in zip(axes[0], offsets):
-            ys = np.concatenate([p[0] for p in self.prof[o]])
-            us = np.concatenate([p[1] for p in self.prof[o]])
-            edges = np.arange(0.0, g.ytop + g.dx, g.dx)
-            n, _ = np.histogram(ys, edges)
-            su, _ = np.histogram(ys, edges, weights=us)
-            with np.errstate(invalid="ignore"):
-                um = su / n
-            yc_ = 0.5 * (edges[1:] + edges[:-1])
-            for y, u in zip(yc_, um):
-                rows.append((o, y, u))
-            ax.plot(um / g.U, (yc_ - (g.hs if g.hs > 0 else 0.0)) / g.D, "o-", ms=2)
-            ax.set_title(f"x - x_pipe = {o:g} D", fontsize=9)
-            ax.set_xlabel("time-averaged u / U")
-        axes[0, 0].set_ylabel("y / D above the bed")
-        save(fig, os.path.join(out, "velocity_profiles.png"))
-        write_csv(os.path.join(out, "velocity_profiles.csv"), ("x_offset_over_D", "y", "u_mean"), rows)
-
-
-def _streamlines(Lx, ytop, dx, xc, yc, R):
-    def cb(st, t):
-        d = os.path.join(st["out"], "stills")
-        os.makedirs(d, exist_ok=True)
-        streamlines_png(os.path.join(d, f"streamlines_t{t:.3f}.png"), st, (0.0, Lx), (0.0, ytop), dx,
-                        f"streamlines of the water velocity, t = {t:.2f} s", (8, 8 * ytop / Lx + 0.6),
-                        circle=(xc, yc, R))
-    return cb
+def add_pipe(ps, g, density):
+    """The pipe: wall_layers rings of wall particles inside its surface, normals outward, with
+    their distance behind the surface for the no-slip ghost velocity (paper 002 eq. 39)."""
+    for k in range(g.L):
+        r_k = g.R - (k + 0.5) * g.dx
+        if r_k <= 0:
+            break
+        pts, nrm = ring(g.xc, g.yc, r_k, g.dx)
+        ps.add(pts, WALL, 0, density(pts[:, 1]), g.rw * g.dx * g.dx, normal=nrm, wall_dist=g.R - r_k)
 
 
 def main(argv=None):

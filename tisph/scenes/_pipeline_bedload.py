@@ -1,0 +1,236 @@
+"""The pipeline over the morphodynamic bed (sediment.model = "bedload", the default): SPH water
+around a no-slip pipe over a height field z_b(x) whose boundary particles follow it
+(tisph/sediment), in a periodic current.
+
+The bed shear is the log law through the filtered near-bed velocity reference_height dx above
+the bed, with the current's own roughness z0 (the one its log-law inflow profile has), so the
+undisturbed bed feels the current's u* and the gap under the pipe, where the flow accelerates,
+feels more. Tunnel erosion needs water under the pipe: the initial dip (geometry.perturbation)
+and gap (geometry.gap) give it, as the paper and the grid models of this experiment open one.
+With geometry.reference = "mao" the run is compared with Mao's measured S/D(t) and bed profiles
+(tisph/validation/mao.py) on the experiment's clock: the run starts where Mao's hole was as deep
+as the initial dip, and the bed's time runs morfac times the flow's.
+"""
+import os
+
+import numpy as np
+
+from ..constants import G
+from ..config import ConfigError, physics_from_config
+from ..io import write_csv
+from ..particles import ParticleSet, block, density_from_pressure, tait_B, FLUID
+from ..case import make_case
+from ..run import common_params, sound_speed
+from ..probes.plots import pyplot, save
+from ..sediment import coupling
+from ..sediment.transport import transport_scale
+from ..validation import mao
+from ._pipeline_record import ScourRecord, streamlines_event
+from .pipeline_scour import NAME, add_pipe, geometry, initial_bed, log_law
+
+APPROACH = 2.0   # the far field: the approach flow from the inflow zone's end to this many D before the pipe
+
+
+def far_field(g, stations, inflow_length):
+    """The undisturbed bed's stations: upstream of the pipe, out of the inflow zone and APPROACH D
+    clear of the pipe. Not downstream: in a periodic domain 10-15 D long the wake and the dune
+    reach the seam (measured: with the downstream stations in it the far field's median shear fell
+    with the wake's and the scaled shear under the pipe ran to 150 Pa)."""
+    m = (stations > inflow_length + g.dx) & (stations < g.xc - APPROACH * g.D)
+    if m.sum() < 3:
+        raise ConfigError("geometry.inflow_length", inflow_length,
+                          f"at most {g.xc - APPROACH * g.D - 4 * g.dx:.4g} m with the bed-load bed: the far-field shear "
+                          f"is read on the approach flow between the inflow zone and {APPROACH:g} D before the pipe")
+    return m
+
+
+def build_bedload(cfg):
+    geo, sed = cfg["geometry"], cfg["sediment"]
+    g = geometry(cfg)
+    dx, L, h, rw = g.dx, g.L, g.h, g.rw
+    c0, u_max = sound_speed(cfg, 2.5 * g.U)      # the gap jet runs at up to about twice U
+    stations = (np.arange(int(round(g.Lx / dx))) + 0.5) * dx
+    z = coupling.initial_bed(stations, initial_bed(g, stations), sed, dx)
+    ps = _particles(g, stations, z, c0)
+    params = common_params(cfg, c0, G, depth=g.ytop)
+    params["bed_stations"] = len(stations)
+    pad = 4 * h
+    floor = -(L + 2) * dx - 0.5 * g.hs           # room for the bed's columns as the hole deepens
+    domain = ((0.0, floor - pad), (g.Lx, 2.0 * g.ytop + pad))
+    inflow = (0.0, geo["inflow_length"], geo["inflow_rate"], 0, g.hs, g.ustar, g.z0) \
+        if geo["inflow_length"] > 0 and geo["inflow_rate"] > 0 else ()
+    physics = physics_from_config(cfg, periodic_x=True, noslip=True, materials_used=["water"], sps=geo["sps"],
+                                  moving_bed=True, inflow=inflow)
+    far = far_field(g, stations, geo["inflow_length"])
+    bed = coupling.BedCoupler(sed, stations, z, dx, h, g.d50, g.rs, amplitude=0.0, periodic=True, rho_w=rw,
+                              z0=g.z0, far_field=(far, rw * g.ustar ** 2))
+    rec = BedScourRecord(cfg, g, bed)
+    t_end = cfg["run"]["end_time"]
+    events = [(t, rec.on_profile_sample) for t in np.arange(0.5 * t_end, t_end + 1e-9, 0.05)]
+    stills_at = (0.0, 0.5 * t_end, t_end)
+    if cfg["output"]["render"]:
+        events += [(t, streamlines_event(g)) for t in stills_at]
+    # frames: the pipe and its hole, 4 D upstream to 8 D downstream, to the surface
+    x0, x1 = max(0.0, g.xc - 4 * g.D), min(g.Lx, g.xc + 8 * g.D)
+    return make_case(name=NAME, particles=ps, materials=[dict(cfg["materials"]["water"], name="water",
+                                                               B=tait_B(rw, c0))],
+                     domain=domain, params=params, physics=physics,
+                     view=((x0, g.hs - 1.2 * g.D), (x1, g.ytop + 2 * dx)), u_max=u_max,
+                     probe_columns=("scour_depth_over_D", "transport_rate_phi", "max_bed_shear", "u_mean",
+                                    "body_force"),
+                     probe=rec.probe, metrics=rec.metrics, finalize=rec.finalize,
+                     events=sorted(events, key=lambda e: e[0]), stills=stills_at,
+                     container=(-1e9, floor, 1e9, float("inf")), control=rec.control,
+                     control_every=sed["update_every"], persist=(rec, bed), **bed.picture())
+
+
+def _particles(g, stations, z, c0):
+    """Water in the log law above the bed z (at least dx/2 clear of it) and outside the pipe;
+    the bed's BED columns; the pipe's rings. Hydrostatic densities."""
+    dx, rw = g.dx, g.rw
+
+    def density(y):
+        return density_from_pressure(rw * G * np.maximum(g.ytop - y, 0.0), rw, c0)
+
+    lattice = block(0.0, float(z.min()), g.Lx, g.ytop, dx)
+    col = np.clip((lattice[:, 0] / dx).astype(int), 0, len(stations) - 1)
+    inside = np.hypot(lattice[:, 0] - g.xc, lattice[:, 1] - g.yc) < g.R + 0.5 * dx
+    keep = (lattice[:, 1] >= z[col] + 0.5 * dx) & ~inside
+    xw = lattice[keep]
+    vw = np.column_stack([log_law(xw[:, 1] - z[col[keep]], g.ustar, g.z0), np.zeros(len(xw))])
+    ps = ParticleSet()
+    ps.add(xw, FLUID, 0, density(xw[:, 1]), rw * dx * dx, v=vw)
+    coupling.add_bed_particles(ps, stations, z, dx, g.L, rw, density)
+    add_pipe(ps, g, density)
+    return ps
+
+
+def equilibrium_fit(tb, s):
+    """Fit S(t) = S0 + (S_eq - S0)(1 - exp(-t / T)) to the scour depth against the bed's time
+    (Sumer & Fredsoe's exponential approach to equilibrium); returns (S_eq, T), NaN when the run
+    is too short to tell (under 5 samples, or the best T beyond 10 times the run)."""
+    tb, s = np.asarray(tb, float), np.asarray(s, float)
+    m = (tb > 0) & np.isfinite(s)
+    if m.sum() < 5:
+        return float("nan"), float("nan")
+    t, y, s0 = tb[m], s[m] - s[0], s[0]
+    best = (np.inf, np.nan, np.nan)
+    for T in np.geomspace(0.05 * t[-1], 10 * t[-1], 200):
+        f = 1.0 - np.exp(-t / T)
+        a = float(f @ y / (f @ f))
+        err = float(np.sum((a * f - y) ** 2))
+        if err < best[0]:
+            best = (err, s0 + a, T)
+    if best[2] >= 9.9 * t[-1]:
+        return float("nan"), float("nan")
+    return float(best[1]), float(best[2])
+
+
+class BedScourRecord(ScourRecord):
+    """ScourRecord over the morphodynamic bed: the bed is z_b, the transport its flux under the
+    pipe; with geometry.reference = "mao", Mao's S/D(t) and profiles beside the run's."""
+
+    def __init__(self, cfg, g, bed):
+        super().__init__(cfg, g)
+        self.bed = bed
+        self.under = np.abs(self.stations - g.xc) < g.D    # Mao's deepest point lies just downstream
+        self.k_pipe = int(np.argmin(np.abs(self.stations - g.xc)))
+        self.scale = transport_scale(g.d50, g.rs / g.rw, G)
+        self.morfac = cfg["sediment"]["morfac"]
+        self.mao = cfg["geometry"]["reference"] == "mao"
+        # Mao's profiles are from his pipe's centre, D/2 above the undisturbed bed; a gap raises
+        # ours, so the comparison is made from where his centre was
+        self.y_ref = g.hs + g.R
+
+    def control(self, s):
+        st = s.state(coupling.STATE)                        # one copy for the drive and the bed
+        w = (st["kind"] == FLUID) & (st["mat"] == 0)
+        self.ctl.update(s, self.g.U - float(st["v"][w, 0].mean()), self.g0)
+        self.bed.update(s, st)
+
+    def probe(self, st):
+        g, zb = self.g, self.bed.bed.z
+        self.rows.append((st["t"],) + tuple(zb))
+        depth = float(g.hs - zb[self.under].min()) / g.D
+        phi = float(self.bed.bed.q[self.k_pipe]) / self.scale
+        wat = (st["kind"] == FLUID) & (st["mat"] == 0)
+        return depth, phi, float(np.abs(self.bed.tau).max()), float(st["v"][wat, 0].mean()), self.ctl.value
+
+    def experiment_time(self, t):
+        """The experiment's clock at the run's time t: from Mao's time of the initial depth, with
+        the bed's time morfac times the flow's once the bed moves (sediment.morph_start)."""
+        d0 = (self.g.hs - self.bed.z0[self.under].min()) / self.g.D
+        t_bed = np.maximum(np.asarray(t, float) - self.bed.sed["morph_start"], 0.0)
+        return mao.time_of_depth(d0) + self.morfac * t_bed
+
+    def metrics(self, c):
+        out = super().metrics(c)
+        g, b = self.g, self.bed
+        far = self.bed.far_field[0]
+        tau_far = float(np.median(np.abs(b.tau[far]))) if far.any() else float("nan")
+        out.update(sediment_model="bedload", morfac=self.morfac, theta_cr=b.bed.theta_cr,
+                   sand_volume_error=b.volume_error(),
+                   shields_far_field=float(np.median(b.bed.theta[far])) if far.any() else float("nan"),
+                   # the gap flow's shear against the undisturbed bed's, at the end
+                   gap_shear_over_far_field=float(np.abs(b.tau[self.under]).max()) / tau_far
+                   if tau_far > 0 else float("nan"))
+        tb = self.morfac * np.maximum(c["t"] - b.sed["morph_start"], 0.0)
+        s_eq, T = equilibrium_fit(tb, c["scour_depth_over_D"])
+        s0 = float(c["scour_depth_over_D"][0])
+        out["equilibrium_depth_fit_over_D"], out["scour_time_scale_fit"] = s_eq, T
+        # the bed's time to half the fitted equilibrium depth (0: the initial dip was deeper)
+        out["time_to_half_equilibrium"] = float(-T * np.log(1.0 - (0.5 * s_eq - s0) / (s_eq - s0))) \
+            if np.isfinite(s_eq) and s_eq > s0 and 0.5 * s_eq > s0 else (0.0 if np.isfinite(s_eq) else float("nan"))
+        if self.mao:
+            te = self.experiment_time(c["t"])
+            out["mao_time_offset"] = float(te[0])
+            out["mao_depth_max_error_15s"], out["mao_depth_rms_error_15s"] = mao.depth_error(
+                te, c["scour_depth_over_D"], 15.0)
+            for tp in mao.PROFILES:
+                out[f"scour_profile_error_{tp:g}s"] = self.profile_error(tp)
+        return out
+
+    def profile_error(self, tp):
+        """scour_profile_error at Mao's time tp from the bed row nearest it (NaN: not reached)."""
+        if not self.rows:
+            return float("nan")
+        arr = np.array(self.rows)
+        te = self.experiment_time(arr[:, 0])
+        if te[-1] < tp - 0.25 * self.morfac:
+            return float("nan")
+        r = arr[int(np.argmin(np.abs(te - tp)))]
+        return mao.scour_profile_error(tp, self.stations - self.g.xc, r[1:] - self.y_ref, self.g.D)
+
+    def finalize(self, out, metrics):
+        super().finalize(out, metrics)
+        if self.mao and self.rows:
+            self.plot_mao(out)
+
+    def plot_mao(self, out):
+        g, plt = self.g, pyplot()
+        arr = np.array(self.rows)
+        te = self.experiment_time(arr[:, 0])
+        s = (g.hs - arr[:, 1:][:, self.under].min(axis=1)) / g.D
+        write_csv(os.path.join(out, "scour_depth_mao.csv"), ("t_experiment", "S_over_D", "S_over_D_mao"),
+                  list(zip(te, s, mao.depth_at(te))))
+        fig, (a1, a2) = plt.subplots(1, 2, figsize=(11, 3.6), gridspec_kw=dict(width_ratios=(1, 1.6)))
+        a1.plot(mao.DEPTH[:, 0], mao.DEPTH[:, 1], "o", ms=3, color="k", label="Mao (1986)")
+        a1.plot(te, s, "-", color="C0", label=f"tisph, morfac {self.morfac:g}")
+        a1.set_xlabel("t (s, the experiment's clock)")
+        a1.set_ylabel("S / D")
+        a1.set_xlim(0, max(30.0, float(te[-1])))
+        a1.legend(fontsize=8)
+        for k, tp in enumerate(mao.PROFILES):
+            ref = mao.PROFILES[tp]
+            a2.plot(ref[:, 0] / g.D, ref[:, 1] / g.D, "o", ms=2.5, color=f"C{k}", label=f"Mao {tp:g} s")
+            if te[-1] >= tp - 0.25 * self.morfac:
+                r = arr[int(np.argmin(np.abs(te - tp)))]
+                a2.plot((self.stations - g.xc) / g.D, (r[1:] - self.y_ref) / g.D, "-", color=f"C{k}", lw=1,
+                        label=f"tisph {tp:g} s")
+        a2.add_patch(plt.Circle((0, (g.yc - self.y_ref) / g.D), 0.5, color="0.6"))
+        a2.set_xlim(-3, 7)
+        a2.set_aspect("equal")
+        a2.set_xlabel("x / D from the pipe's centre (flow to the right)")
+        a2.set_ylabel("bed / D from Mao's pipe centre")
+        a2.legend(fontsize=7, ncol=2)
+        save(fig, os.path.join(out, "scour_mao.png"))
