@@ -157,6 +157,24 @@ def test_describe_lists_every_key_with_default_range_and_meaning():
     assert r.returncode == 0 and "[numerics]" in r.stdout and "dx = 0.03" in r.stdout
 
 
+def test_every_scene_has_a_current_case_file_of_all_its_keys():
+    """scenes/defaults/NAME.toml sets every key at its default with its range and meaning beside
+    it, generated from the code; a change to a default, range or comment must regenerate it
+    (python -m tisph.describe --write scenes/defaults). Loaded, it gives the defaults."""
+    import tomllib
+    from tisph.describe import as_toml, scenes
+    from tisph.config import flatten
+    names = []
+    for scene in scenes():
+        path = os.path.join(ROOT, "scenes", "defaults", f"{scene.NAME}.toml")
+        assert open(path).read() == as_toml(scene), f"{path} is stale: python -m tisph.describe --write scenes/defaults"
+        cfg = build_config(scene.DEFAULTS, None, {}, getattr(scene, "RANGES", None), getattr(scene, "CHOICES", None))
+        with open(path, "rb") as f:
+            assert flatten(tomllib.load(f)) == flatten(cfg)
+        names.append(scene.NAME)
+    assert {"beach", "dam_break", "erodible_bed", "hatch", "pipeline_scour"} <= set(names)
+
+
 def test_arch_gpu_without_a_gpu_falls_back_to_the_cpu_with_a_warning(tmp_path):
     import taichi as ti
     try:   # a machine with a GPU runs there: nothing to fall back from

@@ -357,8 +357,10 @@ def _deep_union(a: dict, b: dict) -> dict:
     return out
 
 
-def dump_toml(d: dict) -> str:
-    """The resolved config as TOML text (scalars, lists and nested tables only)."""
+def dump_toml(d: dict, notes=None) -> str:
+    """The resolved config as TOML text (scalars, lists and nested tables only); notes: {dotted
+    key: text} written as a comment beside the key."""
+    notes = notes or {}
     lines: list[str] = []
 
     def fmt(v):
@@ -377,7 +379,8 @@ def dump_toml(d: dict) -> str:
         if scalars and prefix:
             lines.append(f"[{prefix}]")
         for k, v in scalars.items():
-            lines.append(f"{k} = {fmt(v)}")
+            note = notes.get(f"{prefix}.{k}" if prefix else k)
+            lines.append(f"{k} = {fmt(v)}" + (f"    # {note}" if note else ""))
         if scalars:
             lines.append("")
         for k, v in t.items():

@@ -2,8 +2,12 @@
 allowed and what it means, generated from the code (the defaults, the range and choice tables,
 the engine modules' Params, and the comment written beside each default), so it cannot go stale.
 """
+import importlib
 import inspect
 import io
+import os
+import pkgutil
+import sys
 import tokenize
 
 from . import config
@@ -91,3 +95,40 @@ def describe(scene):
             last = table
         lines.append(f"  {key.rsplit('.', 1)[1]} = {default}    ({allowed}){'  ' + meaning if meaning else ''}")
     return "\n".join(lines)
+
+
+def as_toml(scene):
+    """A case file that sets every key to its default, each with what is allowed and what it
+    means beside it: scenes/defaults/NAME.toml (python -m tisph.describe --write scenes/defaults)."""
+    cfg = config.build_config(scene.DEFAULTS, None, {}, getattr(scene, "RANGES", None), getattr(scene, "CHOICES", None))
+    notes = {key: f"{allowed}" + (f"; {meaning}" if meaning else "") for key, _, allowed, meaning in rows(scene)}
+    head = [f"# Every key of `python -m tisph.scenes.{scene.NAME}` at its default, with what is allowed and",
+            "# what it means: generated from the code by `python -m tisph.describe --write scenes/defaults`",
+            "# (tests/test_describe.py checks it is current). Copy the keys you change into a case file;",
+            f"#   python -m tisph.scenes.{scene.NAME} --config scenes/defaults/{scene.NAME}.toml",
+            "# runs the defaults.", ""]
+    return "\n".join(head) + config.dump_toml(cfg, notes) + "\n"
+
+
+def scenes():
+    """Every runnable scene module (tisph/scenes/NAME.py, not the _helpers)."""
+    from . import scenes as pkg
+    return [importlib.import_module(f"tisph.scenes.{m.name}") for m in pkgutil.iter_modules(pkg.__path__)
+            if not m.name.startswith("_")]
+
+
+def main(argv=None):
+    argv = sys.argv[1:] if argv is None else argv
+    if len(argv) != 2 or argv[0] != "--write":
+        print("usage: python -m tisph.describe --write DIR   (writes DIR/NAME.toml for every scene)", file=sys.stderr)
+        return 2
+    from .io import ensure_dir, write_text
+    ensure_dir(argv[1])
+    for sc in scenes():
+        write_text(os.path.join(argv[1], f"{sc.NAME}.toml"), as_toml(sc))
+        print(f"wrote {os.path.join(argv[1], sc.NAME + '.toml')}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
