@@ -3,10 +3,13 @@ around a no-slip pipe over a height field z_b(x) whose boundary particles follow
 (tisph/sediment), in a periodic current.
 
 The bed shear is the log law through the filtered near-bed velocity reference_height dx above
-the bed, with the current's own roughness z0 (the one its log-law inflow profile has), so the
-undisturbed bed feels the current's u* and the gap under the pipe, where the flow accelerates,
-feels more. Tunnel erosion needs water under the pipe: the initial dip (geometry.perturbation)
-and gap (geometry.gap) give it, as the paper and the grid models of this experiment open one.
+the bed, with the current's own roughness z0 (the one its log-law inflow profile has), scaled so
+that its median over the approach flow is the current's rho u*^2 (sediment.shear =
+"log_far_field"; coupling.BedCoupler says why): the undisturbed bed feels the current's u* and
+the gap under the pipe, where the flow accelerates, feels more. Sand the gap jet throws up
+settles out over sediment.deposition_length. Tunnel erosion needs water under the pipe: the
+initial dip (geometry.perturbation) and gap (geometry.gap) give it, as the paper and the grid
+models of this experiment open one.
 With geometry.reference = "mao" the run is compared with Mao's measured S/D(t) and bed profiles
 (tisph/validation/mao.py) on the experiment's clock: the run starts where Mao's hole was as deep
 as the initial dip, and the bed's time runs morfac times the flow's.
