@@ -28,10 +28,15 @@ from ..probes.plots import pyplot, save
 from ..sediment import coupling
 from ..sediment.transport import transport_scale
 from ..validation import mao
-from ._pipeline_record import ScourRecord, streamlines_event
+from ._pipeline_record import ScourRecord, streamlines_event, water_velocity
 from .pipeline_scour import NAME, add_pipe, geometry, initial_bed, log_law
 
 APPROACH = 2.0   # the far field: the approach flow from the inflow zone's end to this many D before the pipe
+
+
+def bed_stations(g):
+    """The bed's stations: dx apart over the periodic length, from x = dx/2."""
+    return (np.arange(int(round(g.Lx / g.dx))) + 0.5) * g.dx
 
 
 def far_field(g, stations, inflow_length):
@@ -52,7 +57,7 @@ def build_bedload(cfg):
     g = geometry(cfg)
     dx, L, h, rw = g.dx, g.L, g.h, g.rw
     c0, u_max = sound_speed(cfg, 2.5 * g.U)      # the gap jet runs at up to about twice U
-    stations = (np.arange(int(round(g.Lx / dx))) + 0.5) * dx
+    stations = bed_stations(g)
     z = coupling.initial_bed(stations, initial_bed(g, stations), sed, dx)
     ps = _particles(g, stations, z, c0)
     params = common_params(cfg, c0, G, depth=g.ytop)
@@ -96,9 +101,8 @@ def _particles(g, stations, z, c0):
         return density_from_pressure(rw * G * np.maximum(g.ytop - y, 0.0), rw, c0)
 
     lattice = block(0.0, float(z.min()), g.Lx, g.ytop, dx)
-    col = np.clip((lattice[:, 0] / dx).astype(int), 0, len(stations) - 1)
-    inside = np.hypot(lattice[:, 0] - g.xc, lattice[:, 1] - g.yc) < g.R + 0.5 * dx
-    keep = (lattice[:, 1] >= z[col] + 0.5 * dx) & ~inside
+    above, col = coupling.above_bed(lattice, stations, z, dx)
+    keep = above & ~(np.hypot(lattice[:, 0] - g.xc, lattice[:, 1] - g.yc) < g.R + 0.5 * dx)
     xw = lattice[keep]
     vw = np.column_stack([log_law(xw[:, 1] - z[col[keep]], g.ustar, g.z0), np.zeros(len(xw))])
     ps = ParticleSet()
@@ -144,46 +148,55 @@ class BedScourRecord(ScourRecord):
         # Mao's profiles are from his pipe's centre, D/2 above the undisturbed bed; a gap raises
         # ours, so the comparison is made from where his centre was
         self.y_ref = g.hs + g.R
+        # the experiment's clock starts where Mao's hole was as deep as the initial dip
+        self.t0_mao = mao.time_of_depth(float(self.depth(bed.z0)))
+
+    def depth(self, z):
+        """S/D below the undisturbed bed under the pipe, of a bed z (or of each row of beds)."""
+        z = np.asarray(z, float)
+        return (self.g.hs - z[..., self.under].min(axis=-1)) / self.g.D
+
+    def bed_time(self, t):
+        """The bed's time at the run's time t: morfac times the flow's once it moves (morph_start)."""
+        return self.morfac * np.maximum(np.asarray(t, float) - self.bed.sed["morph_start"], 0.0)
+
+    def experiment_time(self, t):
+        """The experiment's clock at the run's time t."""
+        return self.t0_mao + self.bed_time(t)
 
     def control(self, s):
         st = s.state(coupling.STATE)                        # one copy for the drive and the bed
-        w = (st["kind"] == FLUID) & (st["mat"] == 0)
-        self.ctl.update(s, self.g.U - float(st["v"][w, 0].mean()), self.g0)
+        super().control(s, st)
         self.bed.update(s, st)
 
     def probe(self, st):
-        g, zb = self.g, self.bed.bed.z
+        zb = self.bed.bed.z
         self.rows.append((st["t"],) + tuple(zb))
-        depth = float(g.hs - zb[self.under].min()) / g.D
         phi = float(self.bed.bed.q[self.k_pipe]) / self.scale
-        wat = (st["kind"] == FLUID) & (st["mat"] == 0)
-        return depth, phi, float(np.abs(self.bed.tau).max()), float(st["v"][wat, 0].mean()), self.ctl.value
-
-    def experiment_time(self, t):
-        """The experiment's clock at the run's time t: from Mao's time of the initial depth, with
-        the bed's time morfac times the flow's once the bed moves (sediment.morph_start)."""
-        d0 = (self.g.hs - self.bed.z0[self.under].min()) / self.g.D
-        t_bed = np.maximum(np.asarray(t, float) - self.bed.sed["morph_start"], 0.0)
-        return mao.time_of_depth(d0) + self.morfac * t_bed
+        return float(self.depth(zb)), phi, float(np.abs(self.bed.tau).max()), water_velocity(st), self.ctl.value
 
     def metrics(self, c):
         out = super().metrics(c)
-        g, b = self.g, self.bed
+        b = self.bed
         far = self.bed.far_field[0]
-        tau_far = float(np.median(np.abs(b.tau[far]))) if far.any() else float("nan")
+        tau_far = float(np.median(np.abs(b.tau[far])))     # far_field() holds 3 stations or more
         out.update(sediment_model="bedload", morfac=self.morfac, theta_cr=b.bed.theta_cr,
                    sand_volume_error=b.volume_error(),
-                   shields_far_field=float(np.median(b.bed.theta[far])) if far.any() else float("nan"),
+                   shields_far_field=float(np.median(b.bed.theta[far])),
                    # the gap flow's shear against the undisturbed bed's, at the end
                    gap_shear_over_far_field=float(np.abs(b.tau[self.under]).max()) / tau_far
                    if tau_far > 0 else float("nan"))
-        tb = self.morfac * np.maximum(c["t"] - b.sed["morph_start"], 0.0)
-        s_eq, T = equilibrium_fit(tb, c["scour_depth_over_D"])
+        s_eq, T = equilibrium_fit(self.bed_time(c["t"]), c["scour_depth_over_D"])
         s0 = float(c["scour_depth_over_D"][0])
         out["equilibrium_depth_fit_over_D"], out["scour_time_scale_fit"] = s_eq, T
         # the bed's time to half the fitted equilibrium depth (0: the initial dip was deeper)
-        out["time_to_half_equilibrium"] = float(-T * np.log(1.0 - (0.5 * s_eq - s0) / (s_eq - s0))) \
-            if np.isfinite(s_eq) and s_eq > s0 and 0.5 * s_eq > s0 else (0.0 if np.isfinite(s_eq) else float("nan"))
+        if not np.isfinite(s_eq):
+            half = float("nan")
+        elif 0.5 * s_eq > s0:          # then also s_eq > s0
+            half = float(-T * np.log(1.0 - (0.5 * s_eq - s0) / (s_eq - s0)))
+        else:
+            half = 0.0
+        out["time_to_half_equilibrium"] = half
         if self.mao:
             te = self.experiment_time(c["t"])
             out["mao_time_offset"] = float(te[0])
@@ -193,15 +206,19 @@ class BedScourRecord(ScourRecord):
                 out[f"scour_profile_error_{tp:g}s"] = self.profile_error(tp)
         return out
 
+    def row_at(self, arr, te, tp):
+        """The bed row (t, z...) of arr nearest Mao's time tp on the clock te, or None if the run
+        did not reach it (within a quarter of a bed-second per flow-second)."""
+        if te[-1] < tp - 0.25 * self.morfac:
+            return None
+        return arr[int(np.argmin(np.abs(te - tp)))]
+
     def profile_error(self, tp):
         """scour_profile_error at Mao's time tp from the bed row nearest it (NaN: not reached)."""
-        if not self.rows:
-            return float("nan")
         arr = np.array(self.rows)
-        te = self.experiment_time(arr[:, 0])
-        if te[-1] < tp - 0.25 * self.morfac:
+        r = self.row_at(arr, self.experiment_time(arr[:, 0]), tp) if len(arr) else None
+        if r is None:
             return float("nan")
-        r = arr[int(np.argmin(np.abs(te - tp)))]
         return mao.scour_profile_error(tp, self.stations - self.g.xc, r[1:] - self.y_ref, self.g.D)
 
     def finalize(self, out, metrics):
@@ -213,7 +230,7 @@ class BedScourRecord(ScourRecord):
         g, plt = self.g, pyplot()
         arr = np.array(self.rows)
         te = self.experiment_time(arr[:, 0])
-        s = (g.hs - arr[:, 1:][:, self.under].min(axis=1)) / g.D
+        s = self.depth(arr[:, 1:])
         write_csv(os.path.join(out, "scour_depth_mao.csv"), ("t_experiment", "S_over_D", "S_over_D_mao"),
                   list(zip(te, s, mao.depth_at(te))))
         fig, (a1, a2) = plt.subplots(1, 2, figsize=(11, 3.6), gridspec_kw=dict(width_ratios=(1, 1.6)))
@@ -226,8 +243,8 @@ class BedScourRecord(ScourRecord):
         for k, tp in enumerate(mao.PROFILES):
             ref = mao.PROFILES[tp]
             a2.plot(ref[:, 0] / g.D, ref[:, 1] / g.D, "o", ms=2.5, color=f"C{k}", label=f"Mao {tp:g} s")
-            if te[-1] >= tp - 0.25 * self.morfac:
-                r = arr[int(np.argmin(np.abs(te - tp)))]
+            r = self.row_at(arr, te, tp)
+            if r is not None:
                 a2.plot((self.stations - g.xc) / g.D, (r[1:] - self.y_ref) / g.D, "-", color=f"C{k}", lw=1,
                         label=f"tisph {tp:g} s")
         a2.add_patch(plt.Circle((0, (g.yc - self.y_ref) / g.D), 0.5, color="0.6"))

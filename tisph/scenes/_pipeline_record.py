@@ -1,7 +1,6 @@
 """What the pipeline scene measures and writes, for both sand models: the drive's control, the
 scour depth under the pipe, the transport through the section under it, the bed shear, the bed
 profiles (scour_profile.csv/png), the velocity profiles and the streamline stills."""
-import math
 import os
 
 import numpy as np
@@ -13,6 +12,13 @@ from ..probes.control import PIDrive
 from ..probes.gauges import surface_heights
 from ..probes.plots import pyplot, save
 from ..profiles import streamlines_png
+from ..sediment.transport import transport_scale
+
+
+def water_velocity(st):
+    """The mean x-velocity of the water (material 0) particles."""
+    w = (st["kind"] == FLUID) & (st["mat"] == 0)
+    return float(st["v"][w, 0].mean())
 
 
 class ScourRecord:
@@ -30,18 +36,17 @@ class ScourRecord:
         self.offsets = cfg["geometry"]["profile_offsets"]
         self.prof = {o: [] for o in self.offsets}
 
-    def control(self, s):
-        st = s.state(("v", "kind", "mat"))
-        w = (st["kind"] == FLUID) & (st["mat"] == 0)
-        e = self.g.U - float(st["v"][w, 0].mean())
-        self.ctl.update(s, e, self.g0)
+    def control(self, s, st=None):
+        """The drive's feedback on the water's mean velocity (st: the state, if the caller has it)."""
+        st = s.state(("v", "kind", "mat")) if st is None else st
+        self.ctl.update(s, self.g.U - water_velocity(st), self.g0)
 
     def probe(self, st):
         g, dx, stations = self.g, self.g.dx, self.stations
         fl = st["kind"] == FLUID
         sedm = fl & (st["mat"] == 1)
         wat = fl & (st["mat"] == 0)
-        u_mean = float(st["v"][wat, 0].mean())
+        u_mean = water_velocity(st)
         if g.hs <= 0:
             return float("nan"), float("nan"), float("nan"), u_mean, self.ctl.value
         b = surface_heights(st, stations, dx, g.h, mat=1)
@@ -53,7 +58,7 @@ class ScourRecord:
         # sediment flux through the section under the pipe: sum of V u_x over a band dx wide
         band = sedm & (np.abs(st["x"][:, 0] - g.xc) < 0.5 * dx)
         q = float((st["m"][band] / st["rho"][band] * st["v"][band, 0]).sum() / dx)
-        phi = q / math.sqrt((g.rs / g.rw - 1) * G * g.d50 ** 3)
+        phi = q / transport_scale(g.d50, g.rs / g.rw)
         # bed shear stress from the log law through the water velocity 1.5 dx above the bed
         tau = 0.0
         xw_, vw_ = st["x"][wat], st["v"][wat]

@@ -129,8 +129,9 @@ def check(cfg):
         raise ConfigError("geometry.inflow_length", g["inflow_length"],
                           f"at most half the length minus 2 D ({0.5 * g['length'] - 2 * D:.3g} m): the zone must end 2 D before the pipe")
     if bedload(cfg):
-        from ._pipeline_bedload import far_field
-        far_field(geometry(cfg), np.arange(0.5 * dx, g["length"], dx), g["inflow_length"])
+        from ._pipeline_bedload import bed_stations, far_field
+        gm = geometry(cfg)
+        far_field(gm, bed_stations(gm), g["inflow_length"])
     if 0 < g["sand_depth"] < 4 * dx:
         raise ConfigError("geometry.sand_depth", g["sand_depth"], f"0 (rigid bed) or at least 4 dx ({4 * dx:g} m)")
     if g["perturbation"] > 0.5 * g["sand_depth"]:

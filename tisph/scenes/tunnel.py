@@ -344,8 +344,7 @@ def _bedload_particles(cfg, stations, z, c0):
     ytop = geo["sand_depth"] + geo["water_depth"]
     rw = cfg["materials"]["water"]["rho0"]
     lattice = block(0.0, 0.0, Lx, ytop, dx)
-    col = np.clip((lattice[:, 0] / dx).astype(int), 0, len(stations) - 1)
-    xw = lattice[lattice[:, 1] >= z[col] + 0.5 * dx]
+    xw = lattice[coupling.above_bed(lattice, stations, z, dx)[0]]
 
     def density(y):
         return density_from_pressure(rw * G * (ytop - np.minimum(y, ytop)), rw, c0)

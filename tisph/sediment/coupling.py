@@ -76,6 +76,13 @@ def initial_bed(stations, z, sed, dx):
     return z
 
 
+def above_bed(points, stations, z, dx):
+    """(Which points lie at least dx/2 above the bed z, each point's station): the lattice points
+    a scene keeps as water over a bed whose stations lie dx apart from x = dx/2."""
+    col = np.clip((points[:, 0] / dx).astype(int), 0, len(stations) - 1)
+    return points[:, 1] >= z[col] + 0.5 * dx, col
+
+
 def add_bed_particles(ps, stations, zb, dx, layers, rho_w, density):
     """BED particles: at each station a column `layers` deep under z_b, spaced dx; density(y)
     gives their rest-state density (hydrostatic). Their wall normal is up and their distance

@@ -63,16 +63,18 @@ PROFILES = {
 }
 
 
+_BY_TIME = DEPTH[np.argsort(DEPTH[:, 0])]   # the digitised series has one pair out of order
+
+
 def depth_at(t):
-    """Mao's S/D at the times t (linear between the points; the series sorted by time)."""
-    d = DEPTH[np.argsort(DEPTH[:, 0])]
-    return np.interp(t, d[:, 0], d[:, 1])
+    """Mao's S/D at the times t (linear between the points)."""
+    return np.interp(t, _BY_TIME[:, 0], _BY_TIME[:, 1])
 
 
 def time_of_depth(s):
     """The first time Mao's S/D reaches s (0 if s <= 0): the experiment's time at which a run
     that starts from an initial hole of depth s stands."""
-    d = DEPTH[np.argsort(DEPTH[:, 0])]
+    d = _BY_TIME
     if s <= d[0, 1]:
         return 0.0
     k = int(np.argmax(d[:, 1] >= s)) if (d[:, 1] >= s).any() else len(d) - 1
