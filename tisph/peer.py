@@ -1,9 +1,14 @@
 """PySPH peer for the benchmark: install PySPH 1.0b2 in its own virtual environment (under the
 bench output folder) if absent, run its stock dam_break_2d (dx = 0.03, --openmp, two threads,
-tf = 0.7 s; its stock scheme crashes near t = 0.94 s), run our dam break on the same geometry,
-dx and end time, and compare wall time, particle-steps/s and the front error against Martin &
-Moyce, the front taken from both codes' output the same way: the rightmost fluid particle within
-two particle spacings of the floor, plus half a spacing, measured from the back wall's face.
+tf = 0.7 s; its stock scheme crashes near t = 0.94 s) and the same example at dx = 0.015, run our
+dam break on the same geometry, dx and end time, and compare wall time and the front error
+against Martin & Moyce, the front taken from both codes' output the same way: the rightmost
+fluid particle within two particle spacings of the floor, plus half a spacing, measured from the
+back wall's face.
+
+The stock example's --dx changes the lattice and the scheme's h0 but gives every particle the
+module's h and m, which are for dx = 0.03 (its create_particles uses them): at another dx a
+subclass (FINE) sets each particle's h = hdx dx and m = rho0 dx^2.
 """
 import json
 import os
@@ -17,12 +22,14 @@ from .validation import martin_moyce
 
 TF = 0.7
 DX = 0.03
+DXS = (0.03, 0.015)   # the stock example, and twice as fine
 
 EXTRACT = r"""
 import glob, json, sys
 import numpy as np
 from pysph.solver.utils import load
 import re
+dx = float(sys.argv[2])
 files = [f for f in glob.glob(sys.argv[1] + '/*') if re.search(r'_(\d+)\.(npz|hdf5)$', f)]
 files.sort(key=lambda f: int(re.search(r'_(\d+)\.', f).group(1)))
 out = []
@@ -32,13 +39,30 @@ for f in files:
     fl = d['arrays']['fluid']
     x, y = fl.get('x'), fl.get('y')
     if x0 is None:
-        x0 = float(x.min()) - 0.5 * %(dx)r   # the back wall's face
-        y0 = float(y.min()) - 0.5 * %(dx)r   # the floor
-    m = y - y0 < 2 * %(dx)r
-    out.append((float(d['solver_data']['t']), float(x[m].max() + 0.5 * %(dx)r - x0) if m.any() else float('nan'),
+        x0 = float(x.min()) - 0.5 * dx   # the back wall's face
+        y0 = float(y.min()) - 0.5 * dx   # the floor
+    m = y - y0 < 2 * dx
+    out.append((float(d['solver_data']['t']), float(x[m].max() + 0.5 * dx - x0) if m.any() else float('nan'),
                 int(d['solver_data'].get('count', 0)), int(len(x))))
 print(json.dumps(out))
-""" % {"dx": DX}
+"""
+
+FINE = r"""
+from pysph.examples.dam_break_2d import DamBreak2D, ro
+
+
+class DamBreakAtDx(DamBreak2D):
+    def create_particles(self):
+        arrays = super().create_particles()
+        for pa in arrays:
+            pa.h[:] = self.h
+            pa.m[:] = ro * self.dx ** 2
+        return arrays
+
+
+if __name__ == '__main__':
+    DamBreakAtDx(fname='dam_break_2d').run()
+"""
 
 
 def venv_python(root):
@@ -61,16 +85,24 @@ def ensure_pysph(root, log):
     return py
 
 
-def run_pysph(py, out):
-    d = os.path.join(out, "pysph_dam_break_2d")
+def run_pysph(py, out, dx=DX):
+    d = os.path.join(out, f"pysph_dam_break_2d_dx{dx:g}")
     env = dict(os.environ, OMP_NUM_THREADS="2")
+    if dx == DX:
+        cmd = [py, "-m", "pysph.examples.dam_break_2d"]
+    else:
+        os.makedirs(d, exist_ok=True)
+        script = os.path.join(d, "dam_break_at_dx.py")
+        with open(script, "w") as f:
+            f.write(FINE)
+        cmd = [py, script, "--dx", str(dx)]
     t0 = time.perf_counter()
-    r = subprocess.run([py, "-m", "pysph.examples.dam_break_2d", "--openmp", "--tf", str(TF), "-d", d,
-                        "--pfreq", "20"], capture_output=True, text=True, env=env)
+    r = subprocess.run(cmd + ["--openmp", "--tf", str(TF), "-d", d, "--pfreq", str(int(20 * DX / dx))],
+                       capture_output=True, text=True, env=env)
     wall = time.perf_counter() - t0
     if r.returncode != 0:
         raise RuntimeError(f"PySPH run failed: {r.stderr[-2000:]}")
-    e = subprocess.run([py, "-c", EXTRACT, d], capture_output=True, text=True)
+    e = subprocess.run([py, "-c", EXTRACT, d, str(dx)], capture_output=True, text=True)
     if e.returncode != 0:
         raise RuntimeError(f"reading PySPH output failed: {e.stderr[-2000:]}")
     rows = json.loads(e.stdout)
@@ -85,35 +117,53 @@ def run_pysph(py, out):
     return dict(wall_time_s=wall, run_s=run_s, steps=steps, fluid_particles=n, t=t, front=front, log=r.stdout[-3000:])
 
 
-def compare(out, log, venv=None):
-    from .run import simulate
-    from .scenes import dam_break
+def compare(out, log, venv=None, dxs=DXS):
     root = venv or os.path.join(out, "pysph-venv")
     try:
         py = ensure_pysph(root, log)
-        p = run_pysph(py, out)
     except Exception as e:
         log(f"PySPH comparison skipped: {e}")
         return ["## PySPH comparison", "", f"Not run: {e}", ""]
+    md = [f"## PySPH comparison (dam break, t = 0 to {TF:g} s)", "",
+          "| dx | code | fluid particles | steps | wall s (with start-up) | time loop s | front RMS vs Martin & Moyce |",
+          "|---|---|---|---|---|---|---|"]
+    notes = []
+    for dx in dxs:
+        try:
+            p = run_pysph(py, out, dx)
+        except Exception as e:
+            log(f"PySPH at dx {dx:g} skipped: {e}")
+            notes.append(f"dx {dx:g}: PySPH not run: {e}")
+            continue
+        rows, note = _side_by_side(out, log, dx, p)
+        md += rows
+        notes.append(note)
+    md += [""] + notes + ["", "PySPH: stock dam_break_2d (WCSPH, Wendland quintic, PEC integrator, 2 OpenMP threads); "
+                          "at dx other than 0.03 with h and m set for that dx (a subclass, see tisph/peer.py). tisph: "
+                          "the dam_break scene (Taichi CPU, 2 threads, f32). tisph's start-up is Taichi's kernel "
+                          "compilation; PySPH's compiled extension is cached from an earlier run.", ""]
+    return md
+
+
+def _side_by_side(out, log, dx, p):
+    """Our dam break at dx beside PySPH's run p: (table rows, one line of ratios)."""
+    from .run import simulate
+    from .scenes import dam_break
     rms_p, npts = martin_moyce.front_rms_error(p["t"], p["front"], 1.0)
     t0 = time.perf_counter()
-    s = simulate(dam_break, {"numerics.dx": DX, "run.end_time": TF, "output.render": False, "output.quiet": True,
-                             "output.snapshot_every": 0.0}, out=os.path.join(out, "tisph_dam_break_tf07"))
+    s = simulate(dam_break, {"numerics.dx": dx, "run.end_time": TF, "output.render": False, "output.quiet": True,
+                             "output.snapshot_every": 0.0}, out=os.path.join(out, f"tisph_dam_break_tf07_dx{dx:g}"))
     wall = time.perf_counter() - t0
     rms_t = s["metrics"]["front_rms_error"]
     ratio = p["wall_time_s"] / wall
     ratio_run = p["run_s"] / s["wall_time_s"]
-    log(f"PySPH: {p['wall_time_s']:.1f} s ({p['run_s']:.1f} s loop), front RMS {rms_p:.3f}; tisph: {wall:.1f} s "
-        f"({s['wall_time_s']:.1f} s loop), front RMS {rms_t:.3f}; ratio {ratio:.2f}x ({ratio_run:.2f}x loop)")
-    rows = [("PySPH 1.0b2 dam_break_2d (WCSPH, Wendland quintic, 2 OpenMP threads)", p["fluid_particles"],
-             p["steps"], f"{p['wall_time_s']:.1f}", f"{p['run_s']:.1f}", f"{rms_p:.3f}"),
-            ("tisph dam_break (Taichi CPU, 2 threads, f32)", s["fluid_particles"], s["steps"], f"{wall:.1f}",
-             f"{s['wall_time_s']:.1f}", f"{rms_t:.3f}")]
-    md = ["## PySPH comparison (dam break, dx 0.03, t = 0 to 0.7 s)", "",
-          "| code | fluid particles | steps | wall s (with start-up) | time loop s | front RMS vs Martin & Moyce |",
-          "|---|---|---|---|---|---|"] + ["| " + " | ".join(str(c) for c in r) + " |" for r in rows]
-    md += ["", f"tisph is {ratio:.2f}x faster in wall time with start-up and {ratio_run:.2f}x in the time loop "
-           f"(goal: 5x at equal or lower front error); front error over {npts} Martin & Moyce points up to "
-           f"t = 0.7 s. tisph's start-up is Taichi's kernel compilation ({s['compile_time_s']:.1f} s here); "
-           f"PySPH's compiled extension was cached from an earlier run.", ""]
-    return md
+    log(f"dx {dx:g}: PySPH {p['wall_time_s']:.1f} s ({p['run_s']:.1f} s loop), front RMS {rms_p:.3f}; tisph "
+        f"{wall:.1f} s ({s['wall_time_s']:.1f} s loop), front RMS {rms_t:.3f}; ratio {ratio:.2f}x ({ratio_run:.2f}x loop)")
+    rows = [f"| {dx:g} | PySPH 1.0b2 | {p['fluid_particles']} | {p['steps']} | {p['wall_time_s']:.1f} | "
+            f"{p['run_s']:.1f} | {rms_p:.3f} |",
+            f"| {dx:g} | tisph | {s['fluid_particles']} | {s['steps']} | {wall:.1f} | {s['wall_time_s']:.1f} | "
+            f"{rms_t:.3f} |"]
+    note = (f"dx {dx:g}: tisph {ratio:.2f}x faster in wall time with start-up, {ratio_run:.2f}x in the time loop "
+            f"(goal: 4x at equal or lower front error; compile {s['compile_time_s']:.1f} s); front error over "
+            f"{npts} Martin & Moyce points to t = {TF:g} s.")
+    return rows, note

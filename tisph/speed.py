@@ -8,7 +8,7 @@ prime, one warm-up step, then a fixed number of steps timed with a field read at
 waits for the last kernel). With --against, every case is run on this tree and on REV (checked
 out into a temporary git worktree) alternately, --repeats times, and the ratio is the median of
 the pairs: these machines are shared and drift, so only ratios from one run mean anything.
-With --peer pysph, PySPH's dam_break_2d beside ours (tisph/peer.py). Writes OUT/speed.md and
+With --peer pysph, PySPH's dam_break_2d beside ours at dx 0.03 and 0.015 (tisph/peer.py). Writes OUT/speed.md and
 OUT/speed.csv.
 """
 import json
