@@ -6,7 +6,7 @@ import numpy as np
 import taichi as ti
 
 from .health import BAD_NONE
-from .state import ParticleFields
+from .state import ParticleFields, np_dtype, type_bytes
 
 
 class SolverAPI:
@@ -81,13 +81,16 @@ class SolverAPI:
     def state(self, names=("x", "v", "rho", "p", "kind", "mat", "m")):
         """Particle arrays ordered by particle id (the order the scene built them in)."""
         inv = np.argsort(self.p.id.to_numpy())
-        return {k: getattr(self.p, k).to_numpy()[inv] for k in names}
+        out = {k: getattr(self.p, k).to_numpy()[inv] for k in names}
+        for k, a in out.items():   # kind and mat are bytes on the CPU: the outputs keep 32 bits
+            if a.dtype == np.int8:
+                out[k] = a.astype(np.int32)
+        return out
 
     def field_bytes(self):
         """Bytes the particle and grid fields take on the device (from their shapes and types)."""
         def size(types):
-            return sum(getattr(t, "n", 1) * (8 if getattr(t, "dtype", t) in (ti.f64, ti.i64) else 4)
-                       for t in types.values())
+            return sum(type_bytes(t) for t in types.values())
         copies = 2 + (self.bak is not None)          # particles, the sorted copy, the backup
         return (size(self._member_types) * copies + size(self._eval_types)) * self.n + self.grid.nbytes()
 
@@ -121,7 +124,8 @@ class SolverAPI:
         if missing:
             raise ValueError(f"checkpoint lacks particle fields {missing} (built with other physics?)")
         for k in self.members:
-            getattr(self.p, k).from_numpy(arrays[k])
+            f = getattr(self.p, k)
+            f.from_numpy(np.asarray(arrays[k]).astype(np_dtype(f), copy=False))
         for m in self.modules:
             for k, f in getattr(m, "state_fields", {}).items():
                 if f"module.{m.name}.{k}" in arrays:

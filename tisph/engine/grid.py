@@ -9,6 +9,8 @@ import math
 import numpy as np
 import taichi as ti
 
+from .state import on_cpu
+
 
 @ti.data_oriented
 class Grid:
@@ -42,7 +44,7 @@ class Grid:
         # whether a cell holds fluid (a flag, written without atomics: every writer writes 1);
         # a byte on the CPU, where it saves 3 bytes a cell (28 of 232 bytes a particle in the
         # dam break); 32 bits on a GPU, where 8-bit storage is an optional Vulkan/Metal feature
-        cpu = str(ti.lang.impl.current_cfg().arch).split(".")[-1] in ("x64", "arm64")
+        cpu = on_cpu()
         self.fdtype = ti.u8 if cpu else ti.i32
         self.fcnt = ti.field(self.fdtype, self.ncells + 2)
         self.fbytes = 1 if cpu else 4

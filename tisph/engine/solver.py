@@ -108,8 +108,8 @@ class Solver(SolverAPI):
         self.p.v.from_numpy(particles.v.astype(fp))
         self.p.rho.from_numpy(particles.rho.astype(fp))
         self.p.m.from_numpy(particles.m.astype(fp))
-        self.p.kind.from_numpy(particles.kind.astype(np.int32))
-        self.p.mat.from_numpy(particles.mat.astype(np.int32))
+        self.p.kind.from_numpy(particles.kind.astype(st_mod.np_dtype(self.p.kind)))
+        self.p.mat.from_numpy(particles.mat.astype(st_mod.np_dtype(self.p.mat)))
         self.p.id.from_numpy(np.arange(self.n, dtype=np.int32))
         for m in self.modules:
             m.setup(self)
