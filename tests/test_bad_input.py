@@ -28,6 +28,7 @@ CASES = [
     (dam_break, [], "[numerics]\nwall_layers = 0\n", ["numerics.wall_layers", ">= 1"]),
     (dam_break, [], "[numerics]\ncfl = 0\n", ["numerics.cfl", "> 0"]),
     (dam_break, [], "[numerics]\ndx = nan\n", ["numerics.dx", "nan"]),
+    (dam_break, [], "[numerics]\nmixing_length = 0.01\n", ["numerics.mixing_length", "0.01", "without SPS"]),
     (dam_break, [], "[geometry]\ncolumn_height = 5.0\n", ["geometry.column_height", "tank_height"]),
     (dam_break, [], "[geometry]\ncolumn_width = -1.0\n", ["geometry.column_width", "> 0"]),
     (dam_break, [], "[numerics]\ndx = 0.3\n", ["numerics.dx", "4 particles"]),

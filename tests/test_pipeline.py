@@ -21,19 +21,22 @@ def test_sps_stress_of_a_simple_shear():
     nu = ti.field(ti.f32, shape=())
 
     @ti.kernel
-    def k(g: ti.f32, dl: ti.f32):
-        t, n = sps_stress(ti.Matrix([[0.0, g], [0.0, 0.0]]), dl)
+    def k(g: ti.f32, dl: ti.f32, lm: ti.f32):
+        t, n = sps_stress(ti.Matrix([[0.0, g], [0.0, 0.0]]), dl, lm)
         out[None] = t
         nu[None] = n
 
     g, dl = 3.0, 0.01
-    k(g, dl)
+    k(g, dl, 0.0)
     nut = (CS * dl) ** 2 * g                       # |S| = g for u = g y
     assert nu[None] == pytest.approx(nut, rel=1e-5)
     t = out[None].to_numpy()
     iso = 2.0 / 3.0 * CI * dl * dl * g * g
     assert t[1] == pytest.approx(nut * g, rel=1e-5)   # tau_xy / rho = 2 nu_t S_xy
     assert t[0] == pytest.approx(-iso, rel=1e-4) and t[2] == pytest.approx(-iso, rel=1e-4)
+    k(g, dl, 0.02)                                 # a mixing length: nu_t = l_m^2 |S|
+    assert nu[None] == pytest.approx(0.02 ** 2 * g, rel=1e-5)
+    assert out[None].to_numpy()[1] == pytest.approx(0.02 ** 2 * g * g, rel=1e-5)
 
 
 def _two_phase_box(drag_K):

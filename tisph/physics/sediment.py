@@ -99,6 +99,9 @@ class SPS(Module):
     name = "sps"
     on = {"sps": True}
     stats = {"numax": "real"}
+    params = {"mixing_length": Param(0.0, "m", (0.0, None, True, True),
+                                     "the SPS's length C_s dl as a mixing length l_m (nu_t = l_m^2 |S|); "
+                                     "0: C_s dx", key="numerics.mixing_length")}
 
     def fields(self, real):
         return {"sps": ti.types.vector(3, real)}    # SPS stress / rho (xx, xy, yy)
@@ -124,7 +127,7 @@ class SPS(Module):
         if ti.static(S.physics.rheology):
             newtonian = S.mat_rheo[mi] == 0
         if newtonian:
-            tau, nut = sps_stress(acc.gv, S.dx)
+            tau, nut = sps_stress(acc.gv, S.dx, S.prm[None].mixing_length)
         S.p.sps[i] = tau
         ti.atomic_max(S.stats[None].numax, nut + S.mat_mu[mi] / pt.rho)
 

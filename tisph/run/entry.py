@@ -14,6 +14,10 @@ def run_case(case, cfg, out, log, scene_name, restart=None, force=False):
     from .. import runtime
     if case.particles.count(FLUID) == 0:
         raise ConfigError("geometry", "no fluid particles", "a case with at least one fluid particle")
+    lm = cfg["numerics"]["mixing_length"]
+    if lm > 0 and not case.physics.sps:
+        raise ConfigError("numerics.mixing_length", lm, "0 in a case without SPS turbulence (the mixing length "
+                          "sets the SPS's eddy viscosity; the pipeline turns SPS on with geometry.sps = true)")
     r = Run(case, cfg, out, log, scene_name, restart, force)
     r.arch = runtime.current_arch()
     try:
