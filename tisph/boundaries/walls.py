@@ -20,7 +20,7 @@ class DynamicWall(Module):
 
     @ti.func
     def prepare(self, S, a, re, dt):
-        return ti.max(re + 0.5 * dt * S.tmp.drho[a], S.mat_rho0[S.tmp.mat[a]])
+        return ti.max(re + 0.5 * dt * S.tmp.drho[a], S.mat_rho0[ti.cast(S.tmp.mat[a], ti.i32)])
 
     @ti.func
     def boundary_pass(self, S, i, dt):
@@ -28,7 +28,7 @@ class DynamicWall(Module):
         if S.grid.fluid_near(S.tmp.x[i]):  # most wall particles have no fluid near
             S.grid.for_neighbours(S.tmp, i, S.tmp.x[i], self.boundary_pair, acc)
         S.p.drho[i] = acc.drho
-        S.p.rho[i] = ti.max(S.tmp.rho[i] + 0.5 * dt * acc.drho, S.mat_rho0[S.tmp.mat[i]])
+        S.p.rho[i] = ti.max(S.tmp.rho[i] + 0.5 * dt * acc.drho, S.mat_rho0[ti.cast(S.tmp.mat[i], ti.i32)])
 
     @ti.func
     def boundary_pair(self, i, j, r, r2, acc: ti.template()):

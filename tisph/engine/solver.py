@@ -171,7 +171,7 @@ class Solver(SolverAPI):
                     for m in ti.static(self.hooks["position_check"]):
                         m.position_check(self, i)
             if gone:
-                p.kind[i] = OUTFLOW
+                p.kind[i] = ti.cast(OUTFLOW, p.kind.dtype)
             elif self.grid.inside(p.x[i]):
                 key = self.grid.key_of(p.x[i])
                 if p.kind[i] == FLUID:
@@ -179,7 +179,7 @@ class Solver(SolverAPI):
             else:
                 if k == FLUID:
                     report(self.stats, BAD_LEAK, p.id[i])
-                p.kind[i] = OUT
+                p.kind[i] = ti.cast(OUT, p.kind.dtype)
                 ti.atomic_add(self.stats[None].leaked, 1)
         self.grid.key[i] = key
         ti.atomic_add(self.grid.cnt[key], 1)
@@ -204,7 +204,7 @@ class Solver(SolverAPI):
                 for m in ti.static(self.hooks["prepare"]):
                     re = m.prepare(self, a, re, dt)
                 t.rhoe[a] = re
-            mt = t.mat[a]
+            mt = ti.cast(t.mat[a], ti.i32)       # a byte on the CPU; an index here
             t.p[a] = tait(t.rhoe[a], self.mat_rho0[mt], self.mat_B[mt])
             t.ir[a] = 1.0 / t.rhoe[a]
 
@@ -235,7 +235,7 @@ class Solver(SolverAPI):
             fp[i] = ft[i]
         k = t.kind[i]
         if k == FLUID:
-            mi = t.mat[i]
+            mi = ti.cast(t.mat[i], ti.i32)
             acc = self.Acc(0)
             acc.vi, acc.rhoi, acc.pi, acc.inv_rhoi = t.ve[i], t.rhoe[i], t.p[i], t.ir[i]
             acc.mui, acc.mat = self.mat_mu[mi], mi

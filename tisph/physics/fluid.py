@@ -78,7 +78,7 @@ class LaminarViscosity(Module):
             if ti.static(S.physics.rheology):
                 mu_j = s.mu[j]
             else:
-                mu_j = S.mat_mu[s.mat[j]]
+                mu_j = S.mat_mu[ti.cast(s.mat[j], ti.i32)]
         acc.a += laminar_viscosity(nb.m_j, harmonic_pair(acc.mui, mu_j), acc.inv_rhoi, nb.ir_j,
                                    nb.v_visc, r, nb.ie, nb.gw)
 
