@@ -7,7 +7,9 @@ the bed, with the current's own roughness z0 (the one its log-law inflow profile
 that its median over the approach flow is the current's rho u*^2 (sediment.shear =
 "log_far_field"; coupling.BedCoupler says why): the undisturbed bed feels the current's u* and
 the gap under the pipe, where the flow accelerates, feels more. Sand the gap jet throws up
-settles out over sediment.deposition_length. Tunnel erosion needs water under the pipe: the
+settles out over sediment.deposition_length. The bed slope acts through the threshold alone
+(sediment.gravity_coefficient = 0): with Bailard's downslope term on top the sand could not climb
+out of the hole and it stopped at a third of Mao's depth (scenes/pipeline_scour_mao.toml). Tunnel erosion needs water under the pipe: the
 initial dip (geometry.perturbation) and gap (geometry.gap) give it, as the paper and the grid
 models of this experiment open one.
 With geometry.reference = "mao" the run is compared with Mao's measured S/D(t) and bed profiles

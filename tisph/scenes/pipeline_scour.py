@@ -90,10 +90,12 @@ DEFAULTS = {
     # sediment.model = "bedload": the bed below particle scale (tisph/sediment); its shear by the
     # log law through the near-bed velocity 3 dx above the bed (1.5 dx sits in the wall's no-slip
     # layer) with the current's own z0, scaled to rho u*^2 in the far field (BedCoupler says why);
-    # the gap jet's sand settles out 3 D on: deposition_length 3 D (scenes/pipeline_scour_mao.toml)
+    # the gap jet's sand settles out 3 D on: deposition_length 3 D (scenes/pipeline_scour_mao.toml);
+    # the slope enters once, through the threshold (gravity_coefficient 0: in Mao's case the
+    # downslope term on top held the hole at 0.33 D, measured; scenes/pipeline_scour_mao.toml)
     "sediment": dict(coupling.DEFAULTS, model="bedload", grain_density=2650.0, shear="log_far_field",
                      reference_height=3.0, filter_time=0.1, update_every=10, deposition_length=0.3,
-                     morph_start=0.5, morfac=10.0),
+                     morph_start=0.5, morfac=10.0, gravity_coefficient=0.0),
     "materials": {
         "water": {"rho0": 1000.0, "viscosity": 1.0e-3},
         # Cross: mu_inf = 0.07 Pa s, tau_B = 25 Pa read as mu0 = 1000 mu_inf, K = mu0 / tau_B

@@ -30,7 +30,9 @@ DEFAULTS = {
     "formula": "mpm",              # mpm: Meyer-Peter & Mueller | nielsen: Nielsen (1992), for waves
     "saturation_length": 0.0,      # l_s of l_s dq/dx + q = q_b (m); 0: one dx
     "deposition_length": 0.0,      # l_s where the load settles out (q > q_b), m; 0: saturation_length
-    "gravity_coefficient": 1.0,    # K_g of the downslope term K_g |q_b| (dz/dx) / tan(phi)
+    # K_g of the downslope term K_g |q_b| (dz/dx) / tan(phi) (Bailard 1981; 1/tan(phi) = CMS's 1.6);
+    # 0: the slope acts through the threshold alone (REEF3D's bedload_MPM, CMS's Dey option)
+    "gravity_coefficient": 1.0,
     "morfac": 1.0,                 # morphological acceleration: the bed moves morfac times as fast
     # waves: Swart's friction factor | log: the log law (currents) | log_far_field: the log law
     # scaled so the far field's median shear is the current's rho u*^2 (scenes that set it)
