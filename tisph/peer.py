@@ -20,6 +20,7 @@ import time
 
 import numpy as np
 
+from .io import ensure_dir, write_text
 from .validation import martin_moyce
 
 TF = 0.7
@@ -93,10 +94,9 @@ def run_pysph(py, out, dx=DX, tf=TF):
     if dx == DX:
         cmd = [py, "-m", "pysph.examples.dam_break_2d"]
     else:
-        os.makedirs(d, exist_ok=True)
+        ensure_dir(d)
         script = os.path.join(d, "dam_break_at_dx.py")
-        with open(script, "w") as f:
-            f.write(FINE)
+        write_text(script, FINE)
         cmd = [py, script, "--dx", str(dx)]
     t0 = time.perf_counter()
     r = subprocess.run(cmd + ["--openmp", "--tf", str(tf), "-d", d, "--pfreq", str(int(20 * DX / dx))],

@@ -33,6 +33,11 @@ def cache_debug_info():
     ctx.get_pos_info = get_pos_info
 
 
+def arch_name():
+    """The arch Taichi runs on: x64, arm64, cuda, vulkan or metal."""
+    return str(ti.lang.impl.current_cfg().arch).split(".")[-1]
+
+
 def init(arch="cpu", precision="f32", quiet=True):
     """Initialise Taichi; returns the name of the arch actually used.
 
@@ -60,7 +65,7 @@ def init(arch="cpu", precision="f32", quiet=True):
     with contextlib.redirect_stdout(banner):  # "[Taichi] Starting on arch=..." -> run.log
         ti.init(arch=a, **kwargs)
     cache_debug_info()
-    used = str(ti.lang.impl.current_cfg().arch).split(".")[-1]
+    used = arch_name()
     _current = (key, used)
     return used
 

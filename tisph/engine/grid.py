@@ -9,7 +9,7 @@ import math
 import numpy as np
 import taichi as ti
 
-from .state import on_cpu
+from .state import on_cpu, type_bytes
 
 
 @ti.data_oriented
@@ -44,10 +44,9 @@ class Grid:
         # whether a cell holds fluid (a flag, written without atomics: every writer writes 1);
         # a byte on the CPU, where it saves 3 bytes a cell (28 of 232 bytes a particle in the
         # dam break); 32 bits on a GPU, where 8-bit storage is an optional Vulkan/Metal feature
-        cpu = on_cpu()
-        self.fdtype = ti.u8 if cpu else ti.i32
+        self.fdtype = ti.u8 if on_cpu() else ti.i32
         self.fcnt = ti.field(self.fdtype, self.ncells + 2)
-        self.fbytes = 1 if cpu else 4
+        self.fbytes = type_bytes(self.fdtype)
         self.start = ti.field(ti.i32, self.ncells + 2)
 
     def nbytes(self):

@@ -3,6 +3,7 @@ each composed from the declarations of the enabled modules."""
 import numpy as np
 import taichi as ti
 
+from ..runtime import arch_name
 from .module import MatParam, Param
 
 
@@ -34,7 +35,7 @@ class ParticleFields:
 
 
 def on_cpu():
-    return str(ti.lang.impl.current_cfg().arch).split(".")[-1] in ("x64", "arm64")
+    return arch_name() in ("x64", "arm64")
 
 
 def small_int():
@@ -51,17 +52,18 @@ def core_members(real):
                 p=real)
 
 
+NP_TYPES = {ti.i8: np.int8, ti.u8: np.uint8, ti.i32: np.int32, ti.i64: np.int64, ti.f32: np.float32,
+            ti.f64: np.float64}
+
+
 def type_bytes(t):
     """Bytes of one value of a field member type (a scalar type or a vector of one)."""
-    d = getattr(t, "dtype", t)
-    per = 8 if d in (ti.f64, ti.i64) else 1 if d in (ti.i8, ti.u8) else 2 if d in (ti.i16, ti.u16, ti.f16) else 4
-    return getattr(t, "n", 1) * per
+    return getattr(t, "n", 1) * np.dtype(NP_TYPES[getattr(t, "dtype", t)]).itemsize
 
 
 def np_dtype(field):
     """The NumPy dtype a field's from_numpy takes."""
-    return {ti.i8: np.int8, ti.u8: np.uint8, ti.i32: np.int32, ti.f32: np.float32,
-            ti.f64: np.float64}[field.dtype]
+    return NP_TYPES[field.dtype]
 
 
 def eval_members(real):
