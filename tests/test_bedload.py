@@ -197,3 +197,76 @@ def test_velocity_at_is_the_shepard_sph_interpolation():
         w = K.shape_np(np.hypot(*(st["x"] - pts[k]).T) / h) * vol
         assert np.allclose(got[k], (w[:, None] * st["v"]).sum(0) / w.sum(), rtol=1e-12, atol=1e-12)
     assert np.isnan(got[3]).all()
+
+
+def test_solver_samples_the_velocity_as_the_host_probe_does_with_periodic_images():
+    """Solver.sample_velocity (on the device, the engine's cells) against velocity_at on a state
+    read with the particles copied one period left and right; mean_velocity against NumPy."""
+    from tisph.config import Physics
+    from tisph.particles import FLUID, ParticleSet, WALL
+    from tisph.probes.gauges import velocity_at
+    from tisph.solver import Solver
+    rng = np.random.default_rng(5)
+    dx, h, L = 0.01, 0.013, 0.4
+    g = np.stack(np.meshgrid(np.arange(0.5 * dx, L, dx), np.arange(0.05, 0.15, dx)), -1).reshape(-1, 2)
+    ps = ParticleSet()
+    ps.add(g + 0.002 * rng.standard_normal(g.shape), FLUID, 0, 1000.0 + rng.random(len(g)), 0.1,
+           v=rng.standard_normal(g.shape))
+    ps.add(np.column_stack([np.arange(0.5 * dx, L, dx), np.full(40, 0.03)]), WALL, 0, 1000.0, 0.1, v=(5.0, 5.0))
+    mats = [dict(name="w", rho0=1000.0, viscosity=0.0, B=1e5)]
+    s = Solver(Physics(wall="repulsive", artificial_viscosity=False, periodic_x=True), ps, mats,
+               ((0.0, 0.0), (L, 0.3)), dict(dx=dx, h=h, c0=10.0))
+    s.prime()
+    st = s.state(("x", "v", "kind", "mat", "m", "rho"))
+    img = {k: np.concatenate([st[k]] * 3) for k in st}
+    img["x"] = np.concatenate([st["x"] - [L, 0.0], st["x"], st["x"] + [L, 0.0]])
+    pts = np.array([[0.001, 0.1], [0.2, 0.06], [L - 0.002, 0.148], [0.1, 0.035], [0.2, 0.25]])
+    got = s.sample_velocity(pts)
+    want = velocity_at(img, pts, h)
+    assert np.allclose(got[:4], want[:4], rtol=1e-5, atol=1e-6)   # float32 weights on the device
+    assert np.isnan(got[4]).all() and np.isnan(want[4]).all()
+    fl = st["kind"] == FLUID
+    assert s.mean_velocity(0) == pytest.approx(float(st["v"][fl, 0].mean()), rel=1e-6)
+    assert s.mean_velocity(0, above=0.1) == pytest.approx(float(st["v"][fl & (st["x"][:, 1] > 0.1), 0].mean()),
+                                                            rel=1e-6)
+    assert np.isnan(s.mean_velocity(1))
+
+
+def _avalanche_every_face(z, dx, t, periodic, max_sweeps=500):
+    """The avalanche written out: every face of every sweep, in order."""
+    n = len(z)
+    faces = n if periodic else n - 1
+    for sweep in range(max_sweeps):
+        moved = False
+        for i in range(faces):
+            j = (i + 1) % n
+            dz = z[j] - z[i]
+            excess = abs(dz) - t * dx
+            if excess > 1e-12 * dx:
+                d = 0.5 * excess * (1.0 if dz > 0 else -1.0)
+                z[j] -= d
+                z[i] += d
+                moved = True
+        if not moved:
+            return sweep
+    return max_sweeps
+
+
+@pytest.mark.parametrize("periodic", [True, False])
+def test_avalanche_visiting_only_steep_faces_equals_visiting_every_face(periodic):
+    rng = np.random.default_rng(11)
+    x = (np.arange(120) + 0.5) * 0.0025
+    for trial in range(12):
+        z = 0.075 + np.cumsum(rng.standard_normal(len(x))) * 0.002 * rng.random()
+        z[50:60] -= 0.02 * rng.random()                   # a hole with walls past the repose angle
+        bed = Bed(x, z, 0.00036, 2650.0, periodic=periodic)
+        tdx = bed.tan_repose * bed.dx
+        if trial % 2:   # the seam's face gentle until the first face's avalanche lowers z[0]
+            z[:] = 0.075 if trial == 1 else z
+            z[1] = z[0] - 3.0 * tdx
+            z[-1] = z[0] + 0.9 * tdx
+        bed.z = z.copy()
+        ref = z.copy()
+        sweeps = _avalanche_every_face(ref, bed.dx, bed.tan_repose, periodic)
+        assert bed.avalanche() == sweeps and sweeps > 0
+        assert np.array_equal(bed.z, ref)

@@ -5,6 +5,8 @@ import json
 import numpy as np
 import taichi as ti
 
+from ..kernels import CubicSpline2D
+from ..particles import FLUID
 from .health import BAD_NONE
 from .state import ParticleFields, np_dtype, type_bytes
 
@@ -86,6 +88,29 @@ class SolverAPI:
             if a.dtype == np.int8:
                 out[k] = a.astype(np.int32)
         return out
+
+    def sample_velocity(self, points, mat=0):
+        """SPH velocity of fluid material `mat` at each point (n, 2), Shepard-normalised with the
+        cubic spline of support 2h: sum V_j u_j W / sum V_j W; NaN where no such particle is
+        within 2h. The engine's cells and the current state, no copy of it to the host
+        (probes/gauges.velocity_at does the same from a state read: 30x slower at 2.8e4
+        particles); in a periodic case the images across the seam count too."""
+        if not self._primed:
+            self.prime()
+        pts = np.ascontiguousarray(np.asarray(points, np.float64).reshape(-1, 2))
+        out = np.zeros((len(pts), 3), np.float64)
+        if len(pts):
+            self._sample(pts, out, int(mat))
+        u = np.full((len(pts), 2), np.nan)
+        ok = out[:, 2] > 0
+        u[ok] = out[ok, :2] / out[ok, 2:3]
+        return u
+
+    def mean_velocity(self, mat=0, above=-1e30):
+        """Mean x-velocity of the fluid particles of material `mat` higher than y = above (NaN if
+        there are none), summed on the device in one order."""
+        n = self._count(int(mat), float(above))
+        return float(self._sum_u(int(mat), float(above))) / n if n else float("nan")
 
     def field_bytes(self):
         """Bytes the particle and grid fields take on the device (from their shapes and types)."""
@@ -183,6 +208,41 @@ class SolverAPI:
                 self.grid.for_neighbours(self.p, i, self.p.x[i], self.count_pair, acc)
                 cnt[self.p.id[i]] = acc.n
                 idsum[self.p.id[i]] = acc.ids
+
+    @ti.kernel
+    def _sample(self, pts: ti.types.ndarray(dtype=ti.f64, ndim=2), out: ti.types.ndarray(dtype=ti.f64, ndim=2),
+                mat: ti.i32):
+        for k in range(pts.shape[0]):
+            acc = ti.Struct(u=ti.Vector([0.0, 0.0], ti.f64), w=ti.f64(0.0), mat=mat)
+            xk = ti.Vector([pts[k, 0], pts[k, 1]], self.real)
+            self.grid.for_neighbours(self.p, k, xk, self.sample_pair, acc)
+            out[k, 0] = acc.u[0]
+            out[k, 1] = acc.u[1]
+            out[k, 2] = acc.w
+
+    @ti.func
+    def sample_pair(self, k, j, r, r2, acc: ti.template()):
+        if self.p.kind[j] == FLUID and ti.cast(self.p.mat[j], ti.i32) == acc.mat:
+            w = ti.cast(CubicSpline2D.shape(ti.sqrt(r2) * self.inv_h) * self.p.m[j] / self.p.rho[j], ti.f64)
+            acc.w += w
+            acc.u += w * ti.cast(self.p.v[j], ti.f64)
+
+    @ti.kernel
+    def _count(self, mat: ti.i32, above: ti.f64) -> ti.i32:
+        n = 0
+        for i in range(self.n):
+            if self.p.kind[i] == FLUID and ti.cast(self.p.mat[i], ti.i32) == mat and self.p.x[i][1] > above:
+                n += 1
+        return n
+
+    @ti.kernel
+    def _sum_u(self, mat: ti.i32, above: ti.f64) -> ti.f64:
+        s = ti.f64(0.0)
+        ti.loop_config(serialize=True)   # one order: the drive's feedback restarts bit for bit
+        for i in range(self.n):
+            if self.p.kind[i] == FLUID and ti.cast(self.p.mat[i], ti.i32) == mat and self.p.x[i][1] > above:
+                s += ti.cast(self.p.v[i][0], ti.f64)
+        return s
 
     @ti.func
     def count_pair(self, i, j, r, r2, acc: ti.template()):

@@ -167,9 +167,8 @@ class BedScourRecord(ScourRecord):
         return self.t0_mao + self.bed_time(t)
 
     def control(self, s):
-        st = s.state(coupling.STATE)                        # one copy for the drive and the bed
-        super().control(s, st)
-        self.bed.update(s, st)
+        super().control(s)
+        self.bed.update(s)
 
     def probe(self, st):
         zb = self.bed.bed.z

@@ -36,10 +36,9 @@ class ScourRecord:
         self.offsets = cfg["geometry"]["profile_offsets"]
         self.prof = {o: [] for o in self.offsets}
 
-    def control(self, s, st=None):
-        """The drive's feedback on the water's mean velocity (st: the state, if the caller has it)."""
-        st = s.state(("v", "kind", "mat")) if st is None else st
-        self.ctl.update(s, self.g.U - water_velocity(st), self.g0)
+    def control(self, s):
+        """The drive's feedback on the water's mean velocity."""
+        self.ctl.update(s, self.g.U - s.mean_velocity(0), self.g0)
 
     def probe(self, st):
         g, dx, stations = self.g, self.g.dx, self.stations

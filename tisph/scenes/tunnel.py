@@ -91,17 +91,17 @@ class TunnelDrive:
         self.ctl = PIDrive(0.1 * self.period)
 
     def u_free(self, st):
-        """Mean velocity of the water above the lower half of the layer (out of the boundary layer)."""
+        """Mean velocity of the water above the lower half of the layer (out of the boundary layer)
+        in a state read (the probes); the drive reads the same on the device."""
         free = (st["kind"] == FLUID) & (st["mat"] == 0) & (st["x"][:, 1] > self.y_free)
         return float(st["v"][free, 0].mean())
 
     def target(self, t):
         return free_stream(t, self.Um, self.omega, self.period)[0]
 
-    def update(self, s, st=None):
-        """st: the solver's state if the caller has it already (one copy from the device)."""
+    def update(self, s):
         u_t, dudt = free_stream(s.time, self.Um, self.omega, self.period)
-        self.ctl.update(s, u_t - self.u_free(st if st is not None else s.state(("x", "v", "kind", "mat"))), dudt)
+        self.ctl.update(s, u_t - s.mean_velocity(0, above=self.y_free), dudt)
 
 
 def seed_count(geo, lam_wh):
@@ -291,9 +291,8 @@ def _build_bedload(cfg):
     rows = []
 
     def control(s):
-        st = s.state(coupling.STATE)     # one copy for the drive and the bed
-        drive.update(s, st)
-        bed.update(s, st)
+        drive.update(s)
+        bed.update(s)
 
     def probe(st):
         zb = bed.bed.z

@@ -114,17 +114,37 @@ class Bed:
 
     def avalanche(self, max_sweeps=500):
         """Relax every face steeper than the angle of repose to it, giving sand from its high
-        side to its low side (half the excess each way: volume conserved). Returns the sweeps."""
+        side to its low side (half the excess each way: volume conserved), face by face in order
+        (Gauss-Seidel). Returns the sweeps. A sweep visits only the faces that were steep when it
+        began and the face after each one it relaxed (the only ones that can be steep when
+        reached; the periodic bed's last face too, as its far end is z[0]): the same result as
+        visiting every face (tests/test_bedload.py), 6x faster on the Mao case's beds."""
         z, dx, t = self.z, self.dx, self.tan_repose
         n = len(z)
         faces = n if self.periodic else n - 1
         for sweep in range(max_sweeps):
+            dz_all = (np.append(z[1:], z[0]) if self.periodic else z[1:]) - z[:faces]
+            steep = np.nonzero(np.abs(dz_all) - t * dx > 1e-12 * dx)[0].tolist()
+            if self.periodic and (not steep or steep[-1] != faces - 1):
+                steep.append(faces - 1)
             moved = False
-            for i in range(faces):
+            k, i = 0, -1
+            while True:
+                while k < len(steep) and steep[k] <= i:
+                    k += 1
+                if i < 0 or not relaxed:
+                    if k == len(steep):
+                        break
+                    i = steep[k]
+                else:
+                    i += 1
+                    if i >= faces:
+                        break
                 j = (i + 1) % n
                 dz = z[j] - z[i]
                 excess = abs(dz) - t * dx
-                if excess > 1e-12 * dx:
+                relaxed = excess > 1e-12 * dx
+                if relaxed:
                     d = 0.5 * excess * (1.0 if dz > 0 else -1.0)
                     z[j] -= d
                     z[i] += d

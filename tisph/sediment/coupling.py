@@ -16,11 +16,9 @@ import numpy as np
 
 from ..constants import G
 from ..particles import BED
-from ..probes.gauges import velocity_at
 from .bed import Bed
 from .transport import shear_log_law, shear_waves
 
-STATE = ("x", "v", "kind", "mat", "m", "rho")   # what the near-bed velocity reads
 
 DEFAULTS = {
     "model": "particles",          # particles: the paper's Bingham/Cross sand | bedload: a bed below particle scale
@@ -127,12 +125,13 @@ class BedCoupler:
         self.tau = np.zeros(len(stations))
         self.t = 0.0
 
-    def near_bed_velocity(self, st):
-        """Tangential water velocity at z_r above the bed at each station (NaN: no water there)."""
+    def near_bed_velocity(self, s):
+        """Tangential water velocity at z_r above the bed at each station (NaN: no water there),
+        sampled on the solver's own cells (Solver.sample_velocity)."""
         z, zr = self.bed.z, self.sed["reference_height"] * self.dx
         dzdx = self.bed.slope()
         pts = np.column_stack([self.stations, z + zr])
-        u = velocity_at(st, pts, self.h)
+        u = s.sample_velocity(pts)
         n = np.sqrt(1.0 + dzdx * dzdx)
         return (u[:, 0] + u[:, 1] * dzdx) / n
 
@@ -157,16 +156,13 @@ class BedCoupler:
         U = np.broadcast_to(np.asarray(self.amplitude, float), (len(self.stations),)) * self.omega
         return U * U / ((self.bed.s - 1.0) * G * self.d50)
 
-    def update(self, s, st=None):
-        """One bed update from the solver's state (st: it, if the caller has it already): shear,
-        bed step, the bed particles moved."""
+    def update(self, s):
+        """One bed update from the solver's state: shear, bed step, the bed particles moved."""
         dt = s.time - self.t
         if dt <= 0:
             return
         self.t = s.time
-        if st is None:
-            st = s.state(STATE)
-        u = self.near_bed_velocity(st)
+        u = self.near_bed_velocity(s)
         u = np.where(np.isfinite(u), u, 0.0)
         tf = self.sed["filter_time"]
         a = dt / (tf + dt) if tf > 0 else 1.0
