@@ -127,12 +127,12 @@ class Bed:
             steep = np.nonzero(np.abs(dz_all) - t * dx > 1e-12 * dx)[0].tolist()
             if self.periodic and (not steep or steep[-1] != faces - 1):
                 steep.append(faces - 1)
-            moved = False
+            moved = relaxed = False
             k, i = 0, -1
             while True:
                 while k < len(steep) and steep[k] <= i:
                     k += 1
-                if i < 0 or not relaxed:
+                if not relaxed:
                     if k == len(steep):
                         break
                     i = steep[k]
