@@ -31,6 +31,7 @@ class Grid:
                 raise ValueError(f"periodic length {self.period:g} m is shorter than {2 * self.cdiv + 1} cells "
                                  f"of {self.cell:g} m: lengthen the domain or reduce h")
             self.cell_x = self.period / self.nx
+            self.inv_period = 1.0 / self.period   # nearest image: r/P is never near a half in the stencil
         else:
             self.period = 0.0
             self.nx = max(1, int(math.ceil((hi[0] - lo[0]) / self.cell)))
@@ -132,17 +133,36 @@ class Grid:
                         if r2 < self.support * self.support:
                             task(i, j, r, r2, acc)
         else:
-            # periodic in x: cells wrap, so a row is no longer one range; r is the nearest image
-            for dy in range(-self.cdiv, self.cdiv + 1):
+            # periodic in x: a row's five cells are one range, or two where they wrap past the
+            # seam (the wrapped part first where it comes first, so the sum runs in the same
+            # order as cell by cell did); r is the nearest image
+            d = self.cdiv
+            for dy in range(-d, d + 1):
                 cy = c[1] + dy
                 if 0 <= cy < self.ny:
                     row = cy * self.nx
-                    # a runtime loop: unrolled, the 25 copies of every pair task took ~45 s to compile
-                    for dxo in range(-self.cdiv, self.cdiv + 1):
-                        cx = (c[0] + dxo + self.nx) % self.nx
-                        for j in range(self.start[row + cx], self.start[row + cx + 1]):
+                    lo = c[0] - d            # the first cell, and one past the last
+                    hi = c[0] + d + 1
+                    b0 = 0
+                    b1 = 0
+                    if lo < 0:
+                        lo += self.nx
+                        b0 = self.start[row]
+                        b1 = self.start[row + hi]
+                        hi = self.nx
+                    elif hi > self.nx:
+                        b0 = self.start[row]
+                        b1 = self.start[row + hi - self.nx]
+                        hi = self.nx
+                    a0 = self.start[row + lo]
+                    a1 = self.start[row + hi]
+                    for seg in range(2):   # a runtime loop: one copy of the pair tasks
+                        j0, j1 = a0, a1
+                        if seg == 1:
+                            j0, j1 = b0, b1
+                        for j in range(j0, j1):
                             r = xi - src.x[j]
-                            r[0] -= self.period * ti.round(r[0] / self.period)
+                            r[0] -= self.period * ti.round(r[0] * self.inv_period)
                             r2 = r.dot(r)
                             if r2 < self.support * self.support:
                                 task(i, j, r, r2, acc)
