@@ -168,8 +168,13 @@ print(buf.getvalue())
 """
 
 
+def this_tree_env():
+    """The environment of a child Python process that imports this tree's tisph."""
+    return dict(os.environ, PYTHONPATH=ROOT + os.pathsep + os.environ.get("PYTHONPATH", ""))
+
+
 def kernel_profile():
-    env = dict(os.environ, PYTHONPATH=ROOT + os.pathsep + os.environ.get("PYTHONPATH", ""))
+    env = this_tree_env()
     try:
         r = subprocess.run([sys.executable, "-c", PROFILE_SNIPPET], capture_output=True, text=True, env=env,
                            timeout=600)

@@ -20,13 +20,13 @@ import time
 
 import numpy as np
 
+from .bench import this_tree_env
 from .io import ensure_dir, write_text
 from .validation import martin_moyce
 
 TF = 0.7
 DX = 0.03
-DXS = ((0.03, TF), (0.015, 0.55))
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))   # (dx, end time): the stock example, and twice as fine
+DXS = ((0.03, TF), (0.015, 0.55))   # (dx, end time): the stock example, and twice as fine
 
 EXTRACT = r"""
 import glob, json, sys
@@ -156,11 +156,10 @@ def _side_by_side(out, log, dx, tf, p):
     # our side as PySPH's is run, from the command line in a fresh process: the wall time counts
     # the interpreter, the imports and the compile for both (in the bench's own process, after
     # its other work, our start-up measured 2.7-4.2 s against 1.7-1.9 s fresh)
-    env = dict(os.environ, PYTHONPATH=ROOT + os.pathsep + os.environ.get("PYTHONPATH", ""))
     t0 = time.perf_counter()
     r = subprocess.run([sys.executable, "-m", "tisph.scenes.dam_break", "--dx", str(dx), "--end-time", str(tf),
                         "--no-render", "--quiet", "--snapshot-every", "0", "--out", d],
-                       capture_output=True, text=True, env=env)
+                       capture_output=True, text=True, env=this_tree_env())
     wall = time.perf_counter() - t0
     if r.returncode != 0:
         raise RuntimeError(f"tisph's dam break failed (return code {r.returncode}): {r.stderr[-2000:]}")

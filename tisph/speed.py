@@ -6,12 +6,13 @@ warm compile, and the same cases on another git revision, run back to back.
 Each measurement runs in its own process (Taichi compiles once per process): build the case,
 prime, one warm-up step, then a fixed number of steps timed with a field read at the end (it
 waits for the last kernel). With --against, every case is run on this tree and on REV (checked
-out into a temporary git worktree) alternately (every other pair REV first), --repeats times, and the ratio is the median of
-the pairs: these machines are shared and drift, so only ratios from one run mean anything.
-With --peer pysph, PySPH's dam_break_2d beside ours at dx 0.03 and 0.015 (tisph/peer.py). Writes OUT/speed.md and
-OUT/speed.csv.
+out into a temporary git worktree) alternately, every other pair REV first, --repeats times, and
+the ratio is the median of the pairs: these machines are shared and drift, so only ratios from
+one run mean anything. With --peer pysph, PySPH's dam_break_2d beside ours at dx 0.03 and 0.015
+(tisph/peer.py). Writes OUT/speed.md and OUT/speed.csv.
 """
 import json
+import math
 import os
 import statistics
 import subprocess
@@ -128,8 +129,8 @@ def run(a, log):
                            field_bytes=round(m["field_bytes"], 1))
                 if old:
                     row["pps_against"] = statistics.median(old_pps)
-                    row["ratio"] = statistics.median(n / o for n, o in zip(new_pps, old_pps)) \
-                        if all(o == o for o in old_pps) else float("nan")
+                    row["ratio"] = float("nan") if any(math.isnan(o) for o in old_pps) else \
+                        statistics.median(n / o for n, o in zip(new_pps, old_pps))
                 rows.append(row)
         finally:
             if old:

@@ -109,8 +109,8 @@ class SolverAPI:
     def mean_velocity(self, mat=0, above=-1e30):
         """Mean x-velocity of the fluid particles of material `mat` higher than y = above (NaN if
         there are none), summed on the device in one order."""
-        n = self._count(int(mat), float(above))
-        return float(self._sum_u(int(mat), float(above))) / n if n else float("nan")
+        su, n = self._sum_u(int(mat), float(above))
+        return float(su) / n if n else float("nan")
 
     def field_bytes(self):
         """Bytes the particle and grid fields take on the device (from their shapes and types)."""
@@ -228,21 +228,16 @@ class SolverAPI:
             acc.u += w * ti.cast(self.p.v[j], ti.f64)
 
     @ti.kernel
-    def _count(self, mat: ti.i32, above: ti.f64) -> ti.i32:
-        n = 0
-        for i in range(self.n):
-            if self.p.kind[i] == FLUID and ti.cast(self.p.mat[i], ti.i32) == mat and self.p.x[i][1] > above:
-                n += 1
-        return n
-
-    @ti.kernel
-    def _sum_u(self, mat: ti.i32, above: ti.f64) -> ti.f64:
+    def _sum_u(self, mat: ti.i32, above: ti.f64) -> ti.types.vector(2, ti.f64):
+        """(sum of u, count) over the selected particles, in one pass."""
         s = ti.f64(0.0)
+        n = ti.f64(0.0)
         ti.loop_config(serialize=True)   # one order: the drive's feedback restarts bit for bit
         for i in range(self.n):
             if self.p.kind[i] == FLUID and ti.cast(self.p.mat[i], ti.i32) == mat and self.p.x[i][1] > above:
                 s += ti.cast(self.p.v[i][0], ti.f64)
-        return s
+                n += 1.0
+        return ti.Vector([s, n])
 
     @ti.func
     def count_pair(self, i, j, r, r2, acc: ti.template()):
