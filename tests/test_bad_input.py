@@ -48,6 +48,11 @@ CASES = [
     (tunnel, [], "[sediment]\nmodel = \"grains\"\n", ["sediment.model", "grains", "'bedload'"]),
     (tunnel, [], "[sediment]\nrepose_angle = 80.0\n", ["sediment.repose_angle", "80.0", "<= 60"]),
     (tunnel, [], "[sediment]\nmorfac = 0.5\n", ["sediment.morfac", ">= 1"]),
+    (tunnel, [], "[sediment]\nmodel = \"bedload\"\nsuspended = true\n", ["sediment.suspended", "True", "pipeline"]),
+    (pipeline_scour, [], "[sediment]\nmodel = \"particles\"\nsuspended = true\n",
+     ["sediment.suspended", "True", "bedload"]),
+    (pipeline_scour, [], "[sediment]\nsettling_velocity = -0.01\n", ["sediment.settling_velocity", "-0.01", ">= 0"]),
+    (dam_break, [], "[output]\nfield = \"concentration\"\n", ["output.field", "concentration", "sediment.suspended"]),
     # a spacing whose particles cannot fit: refused before anything is allocated
     (dam_break, ["--dx", "1e-6"], None, ["numerics.dx", "1e-06", "fit in this machine's memory", "2e+12 points", "available"]),
     (beach, ["--dx", "1e-6"], None, ["numerics.dx", "fit in this machine's memory", "TB"]),

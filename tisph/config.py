@@ -96,7 +96,7 @@ CHOICES = {
     "numerics.kernel": ("cubic", "wendland"),
     "numerics.wall": ("dynamic", "repulsive"),
     "numerics.density_diffusion": ("none", "molteni", "fourtakas"),
-    "output.field": ("", "speed", "pressure", "density", "material", "vorticity"),
+    "output.field": ("", "speed", "pressure", "density", "material", "vorticity", "concentration"),
 }
 
 # (low, high, low_inclusive, high_inclusive); None is unbounded.

@@ -102,7 +102,7 @@ def read_csv(path):
 SNAPSHOT_FIELDS = {  # solver member -> (dataset name, XDMF attribute type)
     "x": ("position", None), "v": ("velocity", "Vector"), "rho": ("density", "Scalar"),
     "p": ("pressure", "Scalar"), "m": ("mass", "Scalar"), "kind": ("kind", "Scalar"),
-    "mat": ("material", "Scalar"), "id": ("id", "Scalar"),
+    "mat": ("material", "Scalar"), "id": ("id", "Scalar"), "c": ("concentration", "Scalar"),
 }
 
 

@@ -18,7 +18,7 @@ BACKGROUND = (1.0, 1.0, 1.0)
 BOUNDARY = (0.55, 0.55, 0.55)
 WATER = (0.36, 0.62, 0.90)
 SAND = (0.86, 0.70, 0.42)
-MODES = ("speed", "phase", "flat", "material", "pressure", "density", "vorticity")
+MODES = ("speed", "phase", "flat", "material", "pressure", "density", "vorticity", "concentration")
 
 
 def colormap(values):
@@ -29,9 +29,11 @@ def colormap(values):
     return _VIRIDIS[i] * (1 - f) + _VIRIDIS[i + 1] * f
 
 
-FIELDS = ("speed", "pressure", "density", "material", "vorticity")   # output.field
-UNITS = {"speed": "|u| (m/s)", "pressure": "p (kPa)", "density": "rho (kg/m3)", "vorticity": "curl u (1/s)"}
+FIELDS = ("speed", "pressure", "density", "material", "vorticity", "concentration")   # output.field
+UNITS = {"speed": "|u| (m/s)", "pressure": "p (kPa)", "density": "rho (kg/m3)", "vorticity": "curl u (1/s)",
+         "concentration": "sand (%)"}
 STATE = ("x", "v", "p", "rho", "kind", "mat")   # what a frame reads
+OPTIONAL = ("c",)   # what it reads where the case has it (c: suspended sand)
 _DIVERGING = np.array([[0.23, 0.30, 0.75], [0.55, 0.69, 0.99], [0.87, 0.87, 0.87], [0.96, 0.60, 0.48],
                        [0.71, 0.02, 0.15]])   # blue - grey - red, for signed fields
 
@@ -123,6 +125,9 @@ class Renderer:
         if field == "vorticity":
             w = float(np.percentile(np.abs(values), 98)) if len(values) else 1.0
             return -max(w, 1e-6), max(w, 1e-6)
+        if field == "concentration":     # from clear water; most of the water carries none
+            hi = float(np.percentile(values, 99.5)) if len(values) else 0.0
+            return 0.0, max(hi, 1e-6)
         lo, hi = (np.percentile(values, [1, 99]) if len(values) else (0.0, 1.0))
         return float(lo), float(max(hi, lo + 1e-6))
 
@@ -134,7 +139,8 @@ class Renderer:
         field = {"phase": "speed", "flat": None, "material": None}.get(mode, mode)
         speed = np.hypot(st["v"][:, 0], st["v"][:, 1])
         if field is not None:
-            vals = {"speed": speed, "pressure": st["p"], "density": st["rho"]}.get(field)
+            vals = {"speed": speed, "pressure": st["p"], "density": st["rho"],
+                    "concentration": 100.0 * st["c"] if "c" in st else np.zeros(len(kind))}.get(field)
             if field == "vorticity":
                 vals = np.zeros(len(kind))
                 if fl.any():
@@ -187,7 +193,7 @@ class Renderer:
     def frame(self, st, t):
         """RGB uint8 image (rows top to bottom) of the state st (arrays x, v, p, rho, kind, mat)."""
         self.bars = []
-        st = {k: np.asarray(v) for k, v in st.items() if k in STATE}
+        st = {k: np.asarray(v) for k, v in st.items() if k in STATE or k in OPTIONAL}
         st["x"] = st["x"][:, :2]
         st["v"] = st["v"][:, :2]
         panels = [self._splat(st, self._colours(m, st)) for m in self.modes]

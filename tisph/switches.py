@@ -24,6 +24,7 @@ class Physics:
     drag: bool = False          # fluid-sediment drag between different materials (paper 002 eq. 16)
     dem: bool = False           # DEM spring-dashpot contacts between sediment particles (paper 002 eqs. 17-28)
     moving_bed: bool = False    # BED particles follow a morphodynamic bed z_b(x) (tisph/sediment)
+    suspension: bool = False    # the water carries suspended sand exchanged with that bed (physics/suspension.py)
 
     def as_dict(self):
         return asdict(self)
@@ -31,7 +32,7 @@ class Physics:
 
 def physics_from_config(cfg: dict, periodic_x=False, noslip=False, materials_used=None,
                         paddle="none", damping=(), sps=False, drag=False, dem=False, inflow=(),
-                        moving_bed=False) -> Physics:
+                        moving_bed=False, suspension=False) -> Physics:
     """The switches of a case. materials_used: names of the materials its particles carry (all
     configured materials if None); rheology is compiled only if one of them is non-Newtonian."""
     n = cfg["numerics"]
@@ -49,6 +50,7 @@ def physics_from_config(cfg: dict, periodic_x=False, noslip=False, materials_use
         drag=drag,
         dem=dem,
         moving_bed=moving_bed,
+        suspension=suspension,
         kernel=n["kernel"],
         wall=n["wall"],
         artificial_viscosity=n["artificial_viscosity"] > 0.0,

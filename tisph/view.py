@@ -21,7 +21,7 @@ import numpy as np
 
 from .config import ConfigError, flatten, tomllib
 from .io import SNAPSHOT_FIELDS, OutputError, ensure_dir, load, load_attrs
-from .render import FIELDS, STATE, MovieWriter, make_renderer, write_png
+from .render import FIELDS, OPTIONAL, STATE, MovieWriter, make_renderer, write_png
 
 KEYS = {SNAPSHOT_FIELDS[k][0]: k for k in STATE}   # dataset name -> what a frame reads
 
@@ -41,7 +41,11 @@ def state_of(arrays):
     missing = [k for k in KEYS if k not in arrays]
     if missing:
         raise OutputError(f"snapshot lacks {', '.join(missing)}: not a tisph snapshot")
-    return {v: arrays[k] for k, v in KEYS.items()}
+    out = {v: arrays[k] for k, v in KEYS.items()}
+    for k in OPTIONAL:
+        if SNAPSHOT_FIELDS[k][0] in arrays:
+            out[k] = arrays[SNAPSHOT_FIELDS[k][0]]
+    return out
 
 
 def scene_picture(attrs):
@@ -140,6 +144,9 @@ def view(args):
             arrays, attrs = load(f)
             t = float(attrs.get("time", 0.0))
             st = state_of(arrays)
+            if "concentration" in r.modes and "c" not in st:
+                raise ConfigError("--field", "concentration", f"a field {f!r} holds: it has no suspended sand "
+                                  "(a run with sediment.suspended = true writes it)")
             r.bed_surface = bed_surface_of(st, dx)       # the sand under a bed-load bed, filled
             img = r.frame(st, t)
             path = os.path.join(dest, f"{tag}_t{t:.3f}.png")

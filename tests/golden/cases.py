@@ -47,6 +47,8 @@ CASES = [
     ("pipeline_scour_theta098", "tisph.scenes.pipeline_scour", "scenes/pipeline_scour_theta098.toml",
      {"sediment.model": "particles"}),
     ("pipeline_bedload", "tisph.scenes.pipeline_scour", None, {"numerics.dx": 0.0125, "sediment.morph_start": 0.0}),
+    ("pipeline_suspended", "tisph.scenes.pipeline_scour", None,
+     {"numerics.dx": 0.0125, "sediment.morph_start": 0.0, "sediment.suspended": True}),
     ("pipe_on_rigid_bed", "tisph.scenes.pipeline_scour", "scenes/pipe_on_rigid_bed.toml", {}),
     ("poiseuille_bingham", "tisph.validation.poiseuille", None, {"numerics.dx": 0.005}),
 ]

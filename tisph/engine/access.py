@@ -12,7 +12,10 @@ from .state import ParticleFields, np_dtype, type_bytes
 
 
 class SolverAPI:
-    snapshot_members = ("x", "v", "rho", "p", "m", "kind", "mat", "id")
+    @property
+    def snapshot_members(self):
+        """What a snapshot holds: the state, and the suspended sand where the case carries it."""
+        return ("x", "v", "rho", "p", "m", "kind", "mat", "id") + (("c",) if "c" in self.members else ())
 
     # ------------------------------------------------------------------ stepping
     def prime(self):

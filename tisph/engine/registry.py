@@ -12,12 +12,13 @@ from ..physics.fluid import (XSPH, ArtificialViscosity, Continuity, DensityDiffu
                              Pressure, VelocityGradient)
 from ..physics.sediment import DEM, SPS, Drag, Rheology
 from ..physics.shepard import Shepard
+from ..physics.suspension import Suspension
 
 MODULES = (
     RepulsiveWall,        # view: the wall particle mirrors i's pressure; Lennard-Jones force first
     Continuity, Pressure, ArtificialViscosity,
     NoSlip,               # the ghost velocity, before the viscous terms read it
-    LaminarViscosity, VelocityGradient, SPS, DEM, Drag, DensityDiffusion, XSPH,
+    LaminarViscosity, VelocityGradient, SPS, DEM, Drag, DensityDiffusion, XSPH, Suspension,
     Rheology,             # finish: the effective viscosity for the next step (may rest the plug)
     Drive, Damping, Inflow, Paddle, MovingBed, DynamicWall, Outflow, Container, Shepard,
 )

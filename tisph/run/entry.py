@@ -18,6 +18,9 @@ def run_case(case, cfg, out, log, scene_name, restart=None, force=False):
     if lm > 0 and not case.physics.sps:
         raise ConfigError("numerics.mixing_length", lm, "0 in a case without SPS turbulence (the mixing length "
                           "sets the SPS's eddy viscosity; the pipeline turns SPS on with geometry.sps = true)")
+    if cfg["output"]["field"] == "concentration" and not case.physics.suspension:
+        raise ConfigError("output.field", "concentration", "a field this case has: concentration needs suspended "
+                          "sand (sediment.suspended = true, the pipeline over the bed-load bed)")
     r = Run(case, cfg, out, log, scene_name, restart, force)
     r.arch = runtime.current_arch()
     try:

@@ -58,6 +58,11 @@ def restore_observers(persist, blob):
 
 class Outputs:
     # -------------------------------------------------------------- outputs
+    def optional_members(self):
+        """The members a frame draws where the case has them (render.OPTIONAL)."""
+        from ..render import OPTIONAL
+        return tuple(k for k in OPTIONAL if k in self.solver.members)
+
     def _still(self, state, t):
         from ..render import write_png
         from ..io import ensure_dir
@@ -67,7 +72,7 @@ class Outputs:
     def fire_events(self):
         while self.events and self.solver.time >= self.events[0][0] - 1e-12:
             t, cb = self.events.pop(0)
-            st = self.solver.state(("x", "v", "kind", "rho", "p", "m", "mat"))
+            st = self.solver.state(("x", "v", "kind", "rho", "p", "m", "mat") + self.optional_members())
             st["t"] = self.solver.time    # the actual time, at or just after the scheduled t
             st["out"] = self.out
             cb(st, t)
@@ -100,7 +105,8 @@ class Outputs:
     def frame(self):
         from ..render import write_png
         from ..render import STATE
-        img = self.renderer.frame(self.solver.state(STATE), self.solver.time)
+        s = self.solver
+        img = self.renderer.frame(s.state(STATE + self.optional_members()), s.time)
         write_png(os.path.join(self.out, "frames", f"{self.frame_no:05d}.png"), img)
         self.movie.append(img)
         self.frame_no += 1

@@ -12,7 +12,8 @@ settles out over sediment.deposition_length. The bed slope acts through the thre
 out of the hole and it stopped at a third of Mao's depth (scenes/pipeline_scour_mao.toml). Tunnel erosion needs water under the pipe: the
 initial dip (geometry.perturbation) and gap (geometry.gap) give it, as the paper and the grid
 models of this experiment open one.
-With geometry.reference = "mao" the run is compared with Mao's measured S/D(t) and bed profiles
+With sediment.suspended the water also carries sand in suspension (tisph/physics/suspension.py),
+starting from the current's equilibrium (Rouse) profile. With geometry.reference = "mao" the run is compared with Mao's measured S/D(t) and bed profiles
 (tisph/validation/mao.py) on the experiment's clock: the run starts where Mao's hole was as deep
 as the initial dip, and the bed's time runs morfac times the flow's.
 """
@@ -28,7 +29,8 @@ from ..case import make_case
 from ..run import common_params, sound_speed
 from ..probes.plots import pyplot, save
 from ..sediment import coupling
-from ..sediment.transport import transport_scale
+from ..sediment.transport import (reference_concentration, rouse_profile, settling_velocity, shields_critical,
+                                  shields_number, transport_scale)
 from ..validation import mao
 from ._pipeline_record import ScourRecord, streamlines_event, water_velocity
 from .pipeline_scour import NAME, add_pipe, geometry, initial_bed, log_law
@@ -62,6 +64,8 @@ def build_bedload(cfg):
     stations = bed_stations(g)
     z = coupling.initial_bed(stations, initial_bed(g, stations), sed, dx)
     ps = _particles(g, stations, z, c0)
+    if sed["suspended"]:
+        ps.concentration = equilibrium_suspension(g, sed, stations, z, ps)
     params = common_params(cfg, c0, G, depth=g.ytop)
     params["bed_stations"] = len(stations)
     pad = 4 * h
@@ -70,10 +74,13 @@ def build_bedload(cfg):
     inflow = (0.0, geo["inflow_length"], geo["inflow_rate"], 0, g.hs, g.ustar, g.z0) \
         if geo["inflow_length"] > 0 and geo["inflow_rate"] > 0 else ()
     physics = physics_from_config(cfg, periodic_x=True, noslip=True, materials_used=["water"], sps=geo["sps"],
-                                  moving_bed=True, inflow=inflow)
+                                  moving_bed=True, inflow=inflow, suspension=sed["suspended"])
     far = far_field(g, stations, geo["inflow_length"])
     bed = coupling.BedCoupler(sed, stations, z, dx, h, g.d50, g.rs, amplitude=0.0, periodic=True, rho_w=rw,
-                              z0=g.z0, far_field=(far, rw * g.ustar ** 2))
+                              z0=g.z0, far_field=(far, rw * g.ustar ** 2), surface=g.ytop)
+    params["w_s"] = bed.w_s
+    if sed["suspended"]:
+        bed.carrying(float(np.sum(ps.concentration * ps.m)) / rw)
     rec = BedScourRecord(cfg, g, bed)
     t_end = cfg["run"]["end_time"]
     events = [(t, rec.on_profile_sample) for t in np.arange(0.5 * t_end, t_end + 1e-9, 0.05)]
@@ -91,6 +98,7 @@ def build_bedload(cfg):
                      probe=rec.probe, metrics=rec.metrics, finalize=rec.finalize,
                      events=sorted(events, key=lambda e: e[0]), stills=stills_at,
                      container=(-1e9, floor, 1e9, float("inf")), control=rec.control,
+                     render_modes=("speed", "concentration") if sed["suspended"] else ("speed",),
                      control_every=sed["update_every"], persist=(rec, bed), **bed.picture())
 
 
@@ -112,6 +120,24 @@ def _particles(g, stations, z, c0):
     coupling.add_bed_particles(ps, stations, z, dx, g.L, rw, density)
     add_pipe(ps, g, density)
     return ps
+
+
+def equilibrium_suspension(g, sed, stations, z, ps):
+    """The live bed's current arrives carrying its equilibrium load: the Rouse profile of the
+    far field's u* over the bed at each water particle, with van Rijn's c_a at one dx (where the
+    bed exchange reads it); 0 elsewhere. Without it the clear water of the start takes sand from
+    the whole bed at first (measured: 0.016 D of bed in the first 0.9 s of Mao's case)."""
+    s = g.rs / g.rw
+    ws = sed["settling_velocity"] or settling_velocity(g.d50, s)
+    theta = shields_number(g.rw * g.ustar ** 2, g.d50, g.rs, g.rw)
+    crit = sed["shields_critical"] or shields_critical(g.d50, s)
+    ca = float(reference_concentration(theta, crit, g.d50, s, g.dx, sed["porosity"]))
+    fl = ps.kind == FLUID
+    col = np.clip((ps.x[:, 0] / g.dx).astype(int), 0, len(stations) - 1)
+    above = ps.x[:, 1] - z[col]
+    c = np.zeros(len(ps))
+    c[fl] = rouse_profile(above[fl], g.ytop - z[col[fl]], g.dx, ca, ws, g.ustar)
+    return c
 
 
 def equilibrium_fit(tb, s):
@@ -183,6 +209,7 @@ class BedScourRecord(ScourRecord):
         tau_far = float(np.median(np.abs(b.tau[far])))     # far_field() holds 3 stations or more
         out.update(sediment_model="bedload", morfac=self.morfac, theta_cr=b.bed.theta_cr,
                    sand_volume_error=b.volume_error(),
+                   suspended_sand=b.suspended,      # m2 of grains per unit width in the water at the end
                    shields_far_field=float(np.median(b.bed.theta[far])),
                    # the gap flow's shear against the undisturbed bed's, at the end
                    gap_shear_over_far_field=float(np.abs(b.tau[self.under]).max()) / tau_far

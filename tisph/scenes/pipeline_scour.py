@@ -130,6 +130,9 @@ def check(cfg):
     if g["inflow_length"] > 0.5 * g["length"] - 2 * D:
         raise ConfigError("geometry.inflow_length", g["inflow_length"],
                           f"at most half the length minus 2 D ({0.5 * g['length'] - 2 * D:.3g} m): the zone must end 2 D before the pipe")
+    if cfg["sediment"]["suspended"] and not bedload(cfg):
+        raise ConfigError("sediment.suspended", True, "false unless sediment.model = \"bedload\" over sand "
+                          "(geometry.sand_depth > 0): the suspension is exchanged with the bed-load bed")
     if bedload(cfg):
         from ._pipeline_bedload import bed_stations, far_field
         gm = geometry(cfg)

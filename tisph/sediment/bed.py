@@ -101,14 +101,17 @@ class Bed:
             f[0] = f[-1] = 0.0
         return f
 
-    def step(self, tau, dt):
+    def step(self, tau, dt, deposit=None):
         """Advance the bed by dt (seconds of flow; the bed moves morfac times as far) under the
-        shear tau; returns dz_b."""
+        shear tau; deposit: sand volume per unit width each station took from the suspension
+        over dt (m2; negative where the flow picked more up); returns dz_b."""
         q = self.saturate(self.equilibrium_flux(tau))
         self.q = q
         f = self.face_fluxes(q)
         z_old = self.z.copy()
         self.z -= self.morfac * dt / (1.0 - self.porosity) * (f[1:] - f[:-1]) / self.dx
+        if deposit is not None:
+            self.z += self.morfac / (1.0 - self.porosity) * np.asarray(deposit, float) / self.dx
         self.avalanche()
         return self.z - z_old
 

@@ -17,7 +17,8 @@ import numpy as np
 from ..constants import G
 from ..particles import BED
 from .bed import Bed
-from .transport import shear_log_law, shear_waves
+from .transport import (reference_concentration, settling_velocity, shear_log_law, shear_waves, shields_number,
+                        slope_factor)
 
 
 DEFAULTS = {
@@ -43,6 +44,10 @@ DEFAULTS = {
     "separation_length": 6.0,      # the lee zone's length in crest heights (flow reattaches about 6 step heights on)
     "separation_slope": 10.0,      # degrees: a lee steeper than this separates
     "separation_excursion": 0.0,   # the lee zone at most this many orbital amplitudes A = d0/2 long (0: no cap)
+    # suspended load: the water carries sand the bed gives up (van Rijn's pick-up) and lets it
+    # settle back (tisph/physics/suspension.py); the pipeline only
+    "suspended": False,
+    "settling_velocity": 0.0,      # m/s; 0: Soulsby (1997) for d50
     "seed_rms": 0.0,               # m: RMS of a random initial bed perturbation (smoothed over 2 dx)
     "seed": 1,                     # its random seed
     # (the scenes add grain_density: the grains' own density, kg/m3, quartz 2650)
@@ -56,6 +61,7 @@ RANGES = {"sediment.porosity": (0.0, 0.9, True, True), "sediment.repose_angle": 
           "sediment.lee_vortex": (0.0, 1.0, True, True),
           "sediment.separation_length": (0.0, 50.0, True, True), "sediment.separation_slope": (0.0, 60.0, True, True),
           "sediment.separation_excursion": (0.0, 10.0, True, True), "sediment.seed_rms": (0.0, None, True, True),
+          "sediment.settling_velocity": (0.0, None, True, True),
           "sediment.seed": (0, None, True, True)}
 CHOICES = {"sediment.model": ("particles", "bedload"), "sediment.formula": ("mpm", "nielsen"),
            "sediment.shear": ("waves", "log", "log_far_field")}
@@ -96,7 +102,7 @@ def add_bed_particles(ps, stations, zb, dx, layers, rho_w, density):
 
 class BedCoupler:
     def __init__(self, sed, stations, z, dx, h, d50, rho_s, amplitude=0.0, periodic=True, rho_w=1000.0,
-                 omega=0.0, z0=None, far_field=None):
+                 omega=0.0, z0=None, far_field=None, surface=None):
         """amplitude: the near-bed orbital amplitude A (Swart's f_w, the lee zone's cap), a number;
         None: measured at each station from the filtered near-bed velocity over the last wave
         period 2 pi / omega, A = (u_max - u_min) / (2 omega): Wiberg & Harris's d0 = U_m T / pi
@@ -107,7 +113,9 @@ class BedCoupler:
         dx = D/20 does not keep a rough-wall log profile near the bed (measured in the pipeline's
         Mao case: the log law through the SPH velocity 3 dx up gave 2.5 times the current's
         rho u*^2 on the undisturbed bed), so the current's u* is taken as given and the SPH
-        supplies the shear's amplification around the structure, tau / tau_inf = (u / u_far)^2."""
+        supplies the shear's amplification around the structure, tau / tau_inf = (u / u_far)^2.
+        surface: the water surface's height (m), for the suspended load's diffusivity; a scene
+        without it refuses sediment.suspended."""
         self.sed, self.dx, self.h, self.rho_w = sed, dx, h, rho_w
         self.stations = np.asarray(stations, float)
         self.bed = Bed(stations, z, d50, rho_s, rho_w, porosity=sed["porosity"], repose_deg=sed["repose_angle"],
@@ -121,6 +129,13 @@ class BedCoupler:
         self.measured = amplitude is None
         self.amplitude = np.zeros(len(stations)) if self.measured else amplitude
         self.history = collections.deque()   # (t, filtered u) over the last wave period, when measured
+        if sed["suspended"] and surface is None:
+            from ..config import ConfigError
+            raise ConfigError("sediment.suspended", True, "false in this scene: suspended load is built for the "
+                              "pipeline over the bed-load bed (its periodic current has one water surface)")
+        self.water_top = surface
+        self.w_s = sed["settling_velocity"] or settling_velocity(d50, self.bed.s)
+        self.suspended = 0.0                 # sand volume in the water per unit width (m2)
         self.u = np.zeros(len(stations))
         self.tau = np.zeros(len(stations))
         self.t = 0.0
@@ -175,11 +190,35 @@ class BedCoupler:
             us = np.array([u for _, u in self.history])
             self.amplitude = 0.5 * (us.max(0) - us.min(0)) / self.omega
         self.tau = self.shear(self.u)
-        if s.time <= self.sed["morph_start"]:
+        moving = s.time > self.sed["morph_start"]
+        dt = min(dt, s.time - self.sed["morph_start"]) if moving else 0.0
+        deposit = self.exchange(s, dt) if self.sed["suspended"] else None
+        if not moving:
             return
-        dt = min(dt, s.time - self.sed["morph_start"])
-        dz = self.bed.step(self.tau, dt)
+        dz = self.bed.step(self.tau, dt, deposit)
         s.set_bed(self.bed.z - self.z0, dz / dt)
+
+    def carrying(self, volume):
+        """The water starts with this much sand in it (m2 per unit width): it counts in the
+        conserved sand as the bed volume it stands for."""
+        self.v0 += self.sed["morfac"] * (volume - self.suspended) / (1.0 - self.bed.porosity)
+        self.suspended = volume
+
+    def exchange(self, s, dt):
+        """The suspension's exchange with the bed over dt (0: only the diffusivity is set):
+        pick-up E = w_s c_a with van Rijn's c_a at the layer's mid-height (one dx), the
+        friction velocity of the diffusivity the local one, at least the far field's (a wake is
+        no less turbulent than the flow that makes it). Returns the sand each station received."""
+        b = self.bed
+        theta = shields_number(self.tau, b.d50, b.rho_s, b.rho_w)
+        crit = b.theta_cr * slope_factor(b.slope(), self.tau, b.repose)
+        ca = reference_concentration(theta, np.maximum(crit, 1e-12), b.d50, b.s, self.dx, b.porosity)
+        ustar = np.sqrt(np.abs(self.tau) / self.rho_w)
+        if self.far_field is not None:
+            ustar = np.maximum(ustar, np.sqrt(self.far_field[1] / self.rho_w))
+        to_bed, before = s.module("suspension").exchange(s, b.z, self.w_s * ca, ustar, self.water_top, dt)
+        self.suspended = before - float(np.sum(to_bed))
+        return to_bed
 
     def surface(self, x, left=None):
         """z_b at x: periodic over the bed, or `left` (the rigid floor's level) before its first station."""
@@ -202,7 +241,10 @@ class BedCoupler:
                     bed_label=f", morfac {m:g}: the bed moves {m:g}x as fast")
 
     def volume_error(self):
-        return abs(self.bed.volume() - self.v0) / abs(self.v0) if self.v0 else 0.0
+        """Relative change of the sand: the bed's volume and, with suspended load, the sand in
+        the water as the bed volume it came from ((1 - n) V_bed + morfac V_water is conserved)."""
+        v = self.bed.volume() + self.sed["morfac"] * self.suspended / (1.0 - self.bed.porosity)
+        return abs(v - self.v0) / abs(self.v0) if self.v0 else 0.0
 
 
 def sheet_flow_factor(psi):

@@ -85,3 +85,29 @@ def bedload_nielsen(theta, theta_cr):
 
 
 FORMULAE = {"mpm": bedload_mpm, "nielsen": bedload_nielsen}
+
+
+def settling_velocity(d50, s, nu=NU_WATER, g=G):
+    """Settling velocity of a natural sand grain, Soulsby (1997):
+    w_s = nu / d50 (sqrt(10.36^2 + 1.049 D*^3) - 10.36)."""
+    D = dimensionless_grain_size(d50, s, nu, g)
+    return nu / d50 * (math.sqrt(10.36 ** 2 + 1.049 * D ** 3) - 10.36)
+
+
+def reference_concentration(theta, theta_cr, d50, s, a, porosity=0.4, nu=NU_WATER, g=G):
+    """Equilibrium volume concentration at height a above the bed, van Rijn (1984), Sediment
+    transport part II: suspended load transport, J. Hydraul. Eng. 110(11): c_a = 0.015 (d50 / a) T^1.5 / D*^0.3 with the transport stage
+    T = (theta - theta_cr) / theta_cr; capped at the bed's own concentration 1 - n."""
+    T = np.maximum(np.asarray(theta, float) - theta_cr, 0.0) / theta_cr
+    D = dimensionless_grain_size(d50, s, nu, g)
+    return np.minimum(0.015 * d50 / a * T ** 1.5 / D ** 0.3, 1.0 - porosity)
+
+
+def rouse_profile(z, depth, a, c_a, w_s, ustar, kappa=KAPPA):
+    """Equilibrium suspended concentration at height z above the bed under a current (Rouse
+    1937): c = c_a ((H - z) / z * a / (H - a))^(w_s / (kappa u*)) above the reference height a,
+    c_a below it; H the water depth."""
+    z = np.clip(np.asarray(z, float), a, None)
+    H = np.maximum(np.asarray(depth, float), 1.001 * a)
+    ratio = np.clip((H - z) / z * a / (H - a), 0.0, None)
+    return c_a * ratio ** (w_s / (kappa * ustar))
