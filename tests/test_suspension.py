@@ -111,7 +111,7 @@ def test_concentration_panel_and_snapshot_field():
     r = Renderer(((0.0, 0.0), (1.0, 0.5)), 320, dx=0.025, modes=("concentration",))
     img = r.frame(st, 0.0).astype(int)
     unit, lo, hi, _ = r.bars[0]
-    assert unit == "sand (%)" and lo == 0.0 and hi == pytest.approx(0.2)
+    assert unit == "sand (%, log)" and hi == pytest.approx(0.2) and lo == pytest.approx(2e-4)   # three decades
     mid = r.strip + img.shape[0] // 4          # a row inside the particles
     left, right = img[mid, 40], img[mid, 280]
     assert np.abs(left - right).sum() > 100    # clear water and loaded water differ

@@ -31,7 +31,9 @@ def colormap(values):
 
 FIELDS = ("speed", "pressure", "density", "material", "vorticity", "concentration")   # output.field
 UNITS = {"speed": "|u| (m/s)", "pressure": "p (kPa)", "density": "rho (kg/m3)", "vorticity": "curl u (1/s)",
-         "concentration": "sand (%)"}
+         "concentration": "sand (%, log)"}
+DECADES = 3   # a concentration panel spans three decades below its top: suspended sand falls off
+              # exponentially with height (Rouse), so a linear scale shows only the bed's layer
 STATE = ("x", "v", "p", "rho", "kind", "mat")   # what a frame reads
 OPTIONAL = ("c",)   # what it reads where the case has it (c: suspended sand)
 _DIVERGING = np.array([[0.23, 0.30, 0.75], [0.55, 0.69, 0.99], [0.87, 0.87, 0.87], [0.96, 0.60, 0.48],
@@ -116,6 +118,9 @@ class Renderer:
 
     def _colour_range(self, field, values):
         if self.vrange:
+            lo, hi = self.vrange
+            if field == "concentration" and lo <= 0:   # a log scale: DECADES below the top
+                return hi * 10.0 ** -DECADES, hi
             return self.vrange
         if field == "speed":
             hi = self.speed_scale if self.speed_scale > 0 else float(np.percentile(values, 99)) if len(values) else 1.0
@@ -125,9 +130,9 @@ class Renderer:
         if field == "vorticity":
             w = float(np.percentile(np.abs(values), 98)) if len(values) else 1.0
             return -max(w, 1e-6), max(w, 1e-6)
-        if field == "concentration":     # from clear water; most of the water carries none
-            hi = float(np.percentile(values, 99.5)) if len(values) else 0.0
-            return 0.0, max(hi, 1e-6)
+        if field == "concentration":
+            hi = max(float(np.percentile(values, 99.5)) if len(values) else 0.0, 1e-6)
+            return hi * 10.0 ** -DECADES, hi
         lo, hi = (np.percentile(values, [1, 99]) if len(values) else (0.0, 1.0))
         return float(lo), float(max(hi, lo + 1e-6))
 
@@ -146,7 +151,10 @@ class Renderer:
                 if fl.any():
                     vals[fl] = vorticity(st["x"][fl], st["v"][fl], self.dx)
             lo, hi = self._colour_range(field, vals[fl])
-            s01 = (vals[fl] - lo) / (hi - lo)
+            if field == "concentration":
+                s01 = np.log10(np.maximum(vals[fl], lo) / lo) / np.log10(hi / lo)
+            else:
+                s01 = (vals[fl] - lo) / (hi - lo)
             cmap = diverging if field == "vorticity" else colormap
             col[fl] = cmap(s01)
             unit = UNITS[field]
