@@ -3,8 +3,9 @@
 Each fluid particle carries a volume concentration c of sand. Per step, in the neighbour pass:
   dc_i/dt = sum_j V_j (eps_i + eps_j) (c_i - c_j) (r_ij . grad W) / (r^2 + 0.01 h^2)    diffusion
           + 2 w_s sum_j V_j |dW/dy| (c_j [j above i] - c_i [j below i])                settling
-The diffusion is Morris et al.'s (1997) Laplacian with the turbulent diffusivity eps (the
-Rouse profile's kappa u* z (1 - z/H), set per particle at each bed update); the settling is a
+The diffusion is Morris et al.'s (1997) Laplacian with the turbulent diffusivity eps (van Rijn's
+parabolic-constant profile: kappa u* z (1 - z/H), constant at kappa u* H / 4 above mid-depth;
+set per particle at each bed update); the settling is a
 donor-cell (upwind) flux at w_s, the first-order form of w_s dc/dy, which for c linear in y gives
 exactly w_s dc/dy (sum_j V_j (y_j - y_i) dW/dy_i = 1, half from each side). Both exchange sand
 between pairs with equal and opposite rates (V_j the nominal volume m_j / rho0), so the sand in
@@ -135,13 +136,7 @@ class Suspension(Module):
                 if z < LAYER * S.dx:
                     S.p.c[i] = ti.cast(ti.cast(S.p.c[i], ti.f64) * (1.0 - frac[k]) + gain[k], S.real)
                 H = ti.max(top - zb[k], S.dx)
-                zc = ti.min(ti.max(z, 0.5 * S.dx), 0.5 * H)   # the Rouse diffusivity's profile
+                # van Rijn's (1984) parabolic-constant profile: kappa u* z (1 - z/H) in the lower
+                # half, its maximum kappa u* H / 4 above
+                zc = ti.min(ti.max(z, 0.5 * S.dx), 0.5 * H)
                 S.p.eps[i] = ti.cast(KAPPA * ustar[k] * zc * (1.0 - zc / H), S.real)
-
-    @staticmethod
-    def suspended_volume(S):
-        """Sand volume in the water per unit width (m2): sum of c m / rho0 over the fluid."""
-        st = S.state(("c", "m", "kind", "mat"))
-        f = st["kind"] == FLUID
-        rho0 = np.array([m["rho0"] for m in S.materials])[st["mat"][f]]
-        return float(np.sum(st["c"][f].astype(np.float64) * st["m"][f] / rho0))

@@ -17,8 +17,7 @@ import numpy as np
 from ..constants import G
 from ..particles import BED
 from .bed import Bed
-from .transport import (reference_concentration, settling_velocity, shear_log_law, shear_waves, shields_number,
-                        slope_factor)
+from .transport import reference_concentration, settling_velocity, shear_log_law, shear_waves, shields_number
 
 
 DEFAULTS = {
@@ -211,8 +210,9 @@ class BedCoupler:
         no less turbulent than the flow that makes it). Returns the sand each station received."""
         b = self.bed
         theta = shields_number(self.tau, b.d50, b.rho_s, b.rho_w)
-        crit = b.theta_cr * slope_factor(b.slope(), self.tau, b.repose)
-        ca = reference_concentration(theta, np.maximum(crit, 1e-12), b.d50, b.s, self.dx, b.porosity)
+        # van Rijn's transport stage against the flat bed's threshold: his c_a has no slope, and
+        # the slope-reduced threshold falls to 0 on a face at the angle of repose (c_a unbounded)
+        ca = reference_concentration(theta, b.theta_cr, b.d50, b.s, self.dx, b.porosity)
         ustar = np.sqrt(np.abs(self.tau) / self.rho_w)
         if self.far_field is not None:
             ustar = np.maximum(ustar, np.sqrt(self.far_field[1] / self.rho_w))
