@@ -133,7 +133,7 @@ def equilibrium_suspension(g, sed, stations, z, ps):
     crit = sed["shields_critical"] or shields_critical(g.d50, s)
     ca = float(reference_concentration(theta, crit, g.d50, s, g.dx, sed["porosity"]))
     fl = ps.kind == FLUID
-    col = np.clip((ps.x[:, 0] / g.dx).astype(int), 0, len(stations) - 1)
+    _, col = coupling.above_bed(ps.x, stations, z, g.dx)
     above = ps.x[:, 1] - z[col]
     c = np.zeros(len(ps))
     c[fl] = rouse_profile(above[fl], g.ytop - z[col[fl]], g.dx, ca, ws, g.ustar)
