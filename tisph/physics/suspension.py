@@ -43,7 +43,6 @@ class Suspension(Module):
     def allocate(self, S):
         self.nst = int(S.params.get("bed_stations", 1))
         self.dxs = float(S.params.get("bed_spacing", S.dx))
-        self.np_real = S.np_real
 
     def setup(self, S):
         """The initial concentration, where the scene gives one (ParticleSet.concentration)."""

@@ -29,8 +29,7 @@ from ..case import make_case
 from ..run import common_params, sound_speed
 from ..probes.plots import pyplot, save
 from ..sediment import coupling
-from ..sediment.transport import (reference_concentration, rouse_profile, settling_velocity, shields_critical,
-                                  shields_number, transport_scale)
+from ..sediment.transport import rouse_profile, transport_scale
 from ..validation import mao
 from ._pipeline_record import ScourRecord, streamlines_event, water_velocity
 from .pipeline_scour import NAME, add_pipe, geometry, initial_bed, log_law
@@ -64,8 +63,6 @@ def build_bedload(cfg):
     stations = bed_stations(g)
     z = coupling.initial_bed(stations, initial_bed(g, stations), sed, dx)
     ps = _particles(g, stations, z, c0)
-    if sed["suspended"]:
-        ps.concentration = equilibrium_suspension(g, sed, stations, z, ps)
     params = common_params(cfg, c0, G, depth=g.ytop)
     params["bed_stations"] = len(stations)
     pad = 4 * h
@@ -80,6 +77,7 @@ def build_bedload(cfg):
                               z0=g.z0, far_field=(far, rw * g.ustar ** 2), surface=g.ytop)
     params["w_s"] = bed.w_s
     if sed["suspended"]:
+        ps.concentration = equilibrium_suspension(g, bed, ps)
         bed.carrying(float(np.sum(ps.concentration * ps.m)) / rw)
     rec = BedScourRecord(cfg, g, bed)
     t_end = cfg["run"]["end_time"]
@@ -122,21 +120,18 @@ def _particles(g, stations, z, c0):
     return ps
 
 
-def equilibrium_suspension(g, sed, stations, z, ps):
+def equilibrium_suspension(g, bed, ps):
     """The live bed's current arrives carrying its equilibrium load: the Rouse profile of the
     far field's u* over the bed at each water particle, with van Rijn's c_a at one dx (where the
     bed exchange reads it); 0 elsewhere. Without it the clear water of the start takes sand from
     the whole bed at first (measured: 0.016 D of bed in the first 0.9 s of Mao's case)."""
-    s = g.rs / g.rw
-    ws = sed["settling_velocity"] or settling_velocity(g.d50, s)
-    theta = shields_number(g.rw * g.ustar ** 2, g.d50, g.rs, g.rw)
-    crit = sed["shields_critical"] or shields_critical(g.d50, s)
-    ca = float(reference_concentration(theta, crit, g.d50, s, g.dx, sed["porosity"]))
+    ca = float(bed.pickup_concentration(g.rw * g.ustar ** 2))
+    z = bed.bed.z
     fl = ps.kind == FLUID
-    _, col = coupling.above_bed(ps.x, stations, z, g.dx)
+    _, col = coupling.above_bed(ps.x, bed.stations, z, g.dx)
     above = ps.x[:, 1] - z[col]
     c = np.zeros(len(ps))
-    c[fl] = rouse_profile(above[fl], g.ytop - z[col[fl]], g.dx, ca, ws, g.ustar)
+    c[fl] = rouse_profile(above[fl], g.ytop - z[col[fl]], g.dx, ca, bed.w_s, g.ustar)
     return c
 
 

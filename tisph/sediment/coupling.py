@@ -203,16 +203,21 @@ class BedCoupler:
         self.v0 += self.sed["morfac"] * (volume - self.suspended) / (1.0 - self.bed.porosity)
         self.suspended = volume
 
+    def pickup_concentration(self, tau):
+        """van Rijn's c_a at one dx above the bed (the exchange layer's mid-height) under the
+        shear tau, his transport stage against the flat bed's threshold: his c_a has no slope, and
+        the slope-reduced threshold falls to 0 on a face at the angle of repose (c_a unbounded)."""
+        b = self.bed
+        theta = shields_number(tau, b.d50, b.rho_s, b.rho_w)
+        return reference_concentration(theta, b.theta_cr, b.d50, b.s, self.dx, b.porosity)
+
     def exchange(self, s, dt):
         """The suspension's exchange with the bed over dt (0: only the diffusivity is set):
         pick-up E = w_s c_a with van Rijn's c_a at the layer's mid-height (one dx), the
         friction velocity of the diffusivity the local one, at least the far field's (a wake is
         no less turbulent than the flow that makes it). Returns the sand each station received."""
         b = self.bed
-        theta = shields_number(self.tau, b.d50, b.rho_s, b.rho_w)
-        # van Rijn's transport stage against the flat bed's threshold: his c_a has no slope, and
-        # the slope-reduced threshold falls to 0 on a face at the angle of repose (c_a unbounded)
-        ca = reference_concentration(theta, b.theta_cr, b.d50, b.s, self.dx, b.porosity)
+        ca = self.pickup_concentration(self.tau)
         ustar = np.sqrt(np.abs(self.tau) / self.rho_w)
         if self.far_field is not None:
             ustar = np.maximum(ustar, np.sqrt(self.far_field[1] / self.rho_w))
