@@ -104,6 +104,7 @@ SNAPSHOT_FIELDS = {  # solver member -> (dataset name, XDMF attribute type)
     "p": ("pressure", "Scalar"), "m": ("mass", "Scalar"), "kind": ("kind", "Scalar"),
     "mat": ("material", "Scalar"), "id": ("id", "Scalar"), "c": ("concentration", "Scalar"),
 }
+OPTIONAL = ("c",)   # members only some cases carry (c: suspended sand); snapshots and frames take them there
 
 
 def _pad3(a):

@@ -6,7 +6,7 @@ import warnings
 
 import numpy as np
 
-from .io import atomic_path, OutputError
+from .io import OPTIONAL, atomic_path, OutputError
 from .particles import BED, FLUID
 
 # Viridis, sampled at 9 points (matplotlib's data), interpolated linearly.
@@ -34,8 +34,7 @@ UNITS = {"speed": "|u| (m/s)", "pressure": "p (kPa)", "density": "rho (kg/m3)", 
          "concentration": "sand (%, log)"}
 DECADES = 3   # a concentration panel spans three decades below its top: suspended sand falls off
               # exponentially with height (Rouse), so a linear scale shows only the bed's layer
-STATE = ("x", "v", "p", "rho", "kind", "mat")   # what a frame reads
-OPTIONAL = ("c",)   # what it reads where the case has it (c: suspended sand)
+STATE = ("x", "v", "p", "rho", "kind", "mat")   # what a frame reads (and io.OPTIONAL where a case has it)
 _DIVERGING = np.array([[0.23, 0.30, 0.75], [0.55, 0.69, 0.99], [0.87, 0.87, 0.87], [0.96, 0.60, 0.48],
                        [0.71, 0.02, 0.15]])   # blue - grey - red, for signed fields
 

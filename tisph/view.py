@@ -20,8 +20,8 @@ import sys
 import numpy as np
 
 from .config import ConfigError, flatten, tomllib
-from .io import SNAPSHOT_FIELDS, OutputError, ensure_dir, load, load_attrs
-from .render import FIELDS, OPTIONAL, STATE, MovieWriter, make_renderer, write_png
+from .io import OPTIONAL, SNAPSHOT_FIELDS, OutputError, ensure_dir, load, load_attrs
+from .render import FIELDS, STATE, MovieWriter, make_renderer, write_png
 
 KEYS = {SNAPSHOT_FIELDS[k][0]: k for k in STATE}   # dataset name -> what a frame reads
 

@@ -5,6 +5,7 @@ import json
 import numpy as np
 import taichi as ti
 
+from ..io import OPTIONAL
 from ..kernels import CubicSpline2D
 from ..particles import FLUID
 from .health import BAD_NONE
@@ -13,9 +14,14 @@ from .state import ParticleFields, np_dtype, type_bytes
 
 class SolverAPI:
     @property
+    def optional_members(self):
+        """The members of io.OPTIONAL this case carries (the suspended sand c)."""
+        return tuple(k for k in OPTIONAL if k in self.members)
+
+    @property
     def snapshot_members(self):
-        """What a snapshot holds: the state, and the suspended sand where the case carries it."""
-        return ("x", "v", "rho", "p", "m", "kind", "mat", "id") + (("c",) if "c" in self.members else ())
+        """What a snapshot holds: the state, and the optional members this case carries."""
+        return ("x", "v", "rho", "p", "m", "kind", "mat", "id") + self.optional_members
 
     # ------------------------------------------------------------------ stepping
     def prime(self):

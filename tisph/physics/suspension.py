@@ -41,8 +41,7 @@ class Suspension(Module):
                 "eps": real}   # its turbulent diffusivity (m2/s)
 
     def allocate(self, S):
-        self.nst = int(S.params.get("bed_stations", 1))
-        self.dxs = float(S.params.get("bed_spacing", S.dx))
+        self.nst = int(S.params.get("bed_stations", 1))   # the bed's stations, dx apart from x = 0
 
     def setup(self, S):
         """The initial concentration, where the scene gives one (ParticleSet.concentration)."""
@@ -98,8 +97,8 @@ class Suspension(Module):
         gain = np.zeros(n)
         # the layer loses w_s c_b dt per unit bed (a fraction w_s dt dx / area of its sand) and
         # gains E dt (spread evenly); no water over a station: no exchange
-        frac[ok] = np.minimum(ws * dt * self.dxs / area[ok], 1.0)
-        gain[ok] = np.asarray(entrain, float)[ok] * dt * self.dxs / area[ok]
+        frac[ok] = np.minimum(ws * dt * S.dx / area[ok], 1.0)
+        gain[ok] = np.asarray(entrain, float)[ok] * dt * S.dx / area[ok]
         eps_max = float(KAPPA * np.max(ustar) * np.max(top - zb) / 4.0)
         S.prm[None].eps_max = eps_max
         self._layer_apply(S, zb64, frac, gain, np.ascontiguousarray(ustar, np.float64), float(top))
@@ -108,7 +107,7 @@ class Suspension(Module):
 
     @ti.func
     def station(self, S, x):
-        return ti.max(0, ti.min(self.nst - 1, ti.cast(ti.floor(x / self.dxs), ti.i32)))
+        return ti.max(0, ti.min(self.nst - 1, ti.cast(ti.floor(x / S.dx), ti.i32)))
 
     @ti.kernel
     def _layer_sums(self, S: ti.template(), zb: ti.types.ndarray(dtype=ti.f64, ndim=1),

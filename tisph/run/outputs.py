@@ -58,11 +58,6 @@ def restore_observers(persist, blob):
 
 class Outputs:
     # -------------------------------------------------------------- outputs
-    def optional_members(self):
-        """The members a frame draws where the case has them (render.OPTIONAL)."""
-        from ..render import OPTIONAL
-        return tuple(k for k in OPTIONAL if k in self.solver.members)
-
     def _still(self, state, t):
         from ..render import write_png
         from ..io import ensure_dir
@@ -72,7 +67,7 @@ class Outputs:
     def fire_events(self):
         while self.events and self.solver.time >= self.events[0][0] - 1e-12:
             t, cb = self.events.pop(0)
-            st = self.solver.state(("x", "v", "kind", "rho", "p", "m", "mat") + self.optional_members())
+            st = self.solver.state(("x", "v", "kind", "rho", "p", "m", "mat") + self.solver.optional_members)
             st["t"] = self.solver.time    # the actual time, at or just after the scheduled t
             st["out"] = self.out
             cb(st, t)
@@ -106,7 +101,7 @@ class Outputs:
         from ..render import write_png
         from ..render import STATE
         s = self.solver
-        img = self.renderer.frame(s.state(STATE + self.optional_members()), s.time)
+        img = self.renderer.frame(s.state(STATE + s.optional_members), s.time)
         write_png(os.path.join(self.out, "frames", f"{self.frame_no:05d}.png"), img)
         self.movie.append(img)
         self.frame_no += 1
