@@ -39,6 +39,41 @@ def test_sps_stress_of_a_simple_shear():
     assert out[None].to_numpy()[1] == pytest.approx(0.02 ** 2 * g * g, rel=1e-5)
 
 
+def test_k_equation_balances_to_the_mixing_length_and_decays():
+    """The k-l model (tisph/terms/tke.py): under a steady shear |S| its k settles where production
+    meets dissipation, k = l^2 |S|^2 / sqrt(C_mu), so nu_t = l^2 |S| (Prandtl's mixing length);
+    without shear it decays as dk/dt = -C_mu^(3/4) k^(3/2) / l, 1/sqrt(k) = 1/sqrt(k0) + C_mu^(3/4) t / (2 l);
+    its stress is 2 nu_t S_dev - (2/3) k delta."""
+    from tisph.terms.tke import CMU34, eddy_viscosity, strain2, tke_stress, tke_update
+    res = ti.field(ti.f64, shape=3)
+    tau = ti.Vector.field(3, ti.f64, shape=())
+
+    @ti.kernel
+    def run(k0: ti.f64, l: ti.f64, g: ti.f64, dt: ti.f64, n: ti.i32):
+        gv = ti.Matrix([[0.0, g], [0.0, 0.0]], ti.f64)
+        k = k0
+        ti.loop_config(serialize=True)
+        for _ in range(n):
+            k = tke_update(k, l, strain2(gv), 0.0, dt)
+        res[0] = k
+        res[1] = eddy_viscosity(k, l)
+        res[2] = strain2(gv)
+        tau[None] = tke_stress(gv, res[1], k)
+
+    l, g = 0.01, 5.0
+    run(1e-6, l, g, 1e-3, 20000)                  # 20 s: many times l / sqrt(k)
+    assert res[2] == pytest.approx(g * g, rel=1e-12)     # |S|^2 = g^2 for u = g y
+    assert res[0] == pytest.approx(l * l * g * g / 0.3, rel=1e-4)
+    assert res[1] == pytest.approx(l * l * g, rel=1e-4)
+    t = tau[None].to_numpy()
+    assert t[1] == pytest.approx(res[1] * g, rel=1e-6)
+    assert t[0] == pytest.approx(-2.0 / 3.0 * res[0], rel=1e-6) and t[2] == t[0]
+    k0, T = 0.01, 2.0
+    run(k0, l, 0.0, 1e-4, int(T / 1e-4))
+    exact = (1.0 / np.sqrt(k0) + CMU34 * T / (2 * l)) ** -2
+    assert res[0] == pytest.approx(exact, rel=2e-3)       # first order in dt, implicit
+
+
 def _two_phase_box(drag_K):
     """Water and sand blocks side by side, periodic in x, no gravity, random velocities."""
     dx = 0.01

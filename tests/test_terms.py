@@ -133,6 +133,37 @@ def test_xsph(kernel, hf):
 
 
 @pytest.mark.parametrize("kernel,hf", KERNELS)
+def test_shifting(kernel, hf):
+    """Particle shifting (Lind et al. 2012): -A h |u| sum_j V_j grad W over every neighbour (the
+    wall row too), zero where the divergence of position is under 1.5 (the patch's rim)."""
+    from tisph.physics.fluid import Shifting
+    ps = patch(walls=True)
+    params = dict(dx=DX, h=hf * DX, c0=C0, g=(0.0, 0.0), cfl=0.4, dt_max=1e-3, density_band=0.5, shift_A=2.0)
+    mats = [dict(name="water", rho0=RHO0, viscosity=MU, B=B)]
+    s = Solver(Physics(kernel=kernel, wall="dynamic", artificial_viscosity=False, shifting=True), ps, mats,
+               ((-0.1, -0.1), (0.2, 0.2)), params)
+    s.prime()
+    got = s.state(("sh",))["sh"]
+    K = get_kernel(kernel)
+    h = hf * DX
+    x, m, rho = ps.x, ps.m, ps.rho.astype(np.float32).astype(float)
+    r = x[:, None, :] - x[None, :, :]
+    r2 = (r * r).sum(-1)
+    near = (r2 < (K.support * h) ** 2) & (r2 > 0)
+    gw = (K.sigma / h ** 4) * np.where(near, K.fshape_np(np.sqrt(r2) / h), 0.0)[..., None] * r
+    vol = m / rho
+    gc = (vol[None, :, None] * gw).sum(1)
+    divr = -(vol[None, :] * (r * gw).sum(-1)).sum(1)
+    want = -2.0 * h * np.linalg.norm(ps.v, axis=1)[:, None] * gc
+    fl = ps.kind == FLUID
+    inner = fl & (divr >= Shifting.SURFACE_DIV)
+    rim = fl & (divr < Shifting.SURFACE_DIV)
+    assert inner.sum() >= 9 and rim.sum() >= 9
+    close(got, want, inner)
+    assert np.all(got[rim] == 0.0)
+
+
+@pytest.mark.parametrize("kernel,hf", KERNELS)
 def test_repulsive_wall_mirrors_pressure_and_pushes(kernel, hf):
     """Paper 000 eq. 6: the Lennard-Jones force of the wall row, plus the wall particle seen with
     i's density and its pressure shifted by rho_i g . r (the pressure mirror)."""

@@ -70,6 +70,7 @@ SHARED_DEFAULTS = {
         "u_max": 0.0,                # expected peak flow speed (m/s); 0: the scene's estimate
         "laminar_viscosity": False,  # paper 002 eq. 10 with the materials' viscosity
         "density_diffusion": "none", # none | molteni | fourtakas
+        "turbulence": "smagorinsky", # smagorinsky (paper 002 eq. 10) | k_equation (transported k, tisph/terms/tke.py); where SPS is on
         "shepard_every": 0,          # Shepard density filter every N steps (paper 002 eq. 14); 0 off
     },
     "output": {
@@ -96,6 +97,7 @@ CHOICES = {
     "numerics.kernel": ("cubic", "wendland"),
     "numerics.wall": ("dynamic", "repulsive"),
     "numerics.density_diffusion": ("none", "molteni", "fourtakas"),
+    "numerics.turbulence": ("smagorinsky", "k_equation"),
     "output.field": ("", "speed", "pressure", "density", "material", "vorticity", "concentration"),
 }
 

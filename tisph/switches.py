@@ -11,6 +11,7 @@ class Physics:
     artificial_viscosity: bool = True
     laminar_viscosity: bool = False
     xsph: bool = False
+    shifting: bool = False      # particle shifting (Lind et al. 2012; physics/fluid.py Shifting)
     density_diffusion: str = "none"
     shepard: bool = False
     rheology: bool = False      # some material is Bingham or Cross: effective-viscosity field
@@ -21,6 +22,7 @@ class Physics:
     inflow: tuple = ()          # (x0, x1, rate 1/s, material, y_bed, u*, z0): a zone relaxing that
                                 # material's velocity to the log law (paper 002 eq. 32)
     sps: bool = False           # SPS (Smagorinsky) turbulence in Newtonian materials (paper 002 eq. 10)
+    turbulence: str = "smagorinsky"   # with sps: smagorinsky | k_equation (the eddy viscosity from a transported k)
     drag: bool = False          # fluid-sediment drag between different materials (paper 002 eq. 16)
     dem: bool = False           # DEM spring-dashpot contacts between sediment particles (paper 002 eqs. 17-28)
     moving_bed: bool = False    # BED particles follow a morphodynamic bed z_b(x) (tisph/sediment)
@@ -47,6 +49,7 @@ def physics_from_config(cfg: dict, periodic_x=False, noslip=False, materials_use
         damping=tuple(float(v) for v in damping),
         inflow=tuple(float(v) for v in inflow),
         sps=sps,
+        turbulence=n["turbulence"] if sps else "smagorinsky",
         drag=drag,
         dem=dem,
         moving_bed=moving_bed,
@@ -56,6 +59,7 @@ def physics_from_config(cfg: dict, periodic_x=False, noslip=False, materials_use
         artificial_viscosity=n["artificial_viscosity"] > 0.0,
         laminar_viscosity=bool(n["laminar_viscosity"]) or rheo,
         xsph=n["xsph"] > 0.0,
+        shifting=n["shifting"] > 0.0,
         density_diffusion=n["density_diffusion"],
         shepard=n["shepard_every"] > 0,
     )

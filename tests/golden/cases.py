@@ -22,6 +22,7 @@ CASES = [
     ("dam_break", "tisph.scenes.dam_break", None, {"numerics.dx": 0.06}),
     ("dam_break_repulsive", "tisph.scenes.dam_break", "scenes/dam_break.toml",
      {"numerics.dx": 0.06, "numerics.wall": "repulsive", "numerics.xsph": 0.5}),
+    ("dam_break_shifting", "tisph.scenes.dam_break", None, {"numerics.dx": 0.06, "numerics.shifting": 2.0}),
     ("dam_break_alpha0", "tisph.scenes.dam_break", "scenes/dam_break_alpha0.toml", {"numerics.dx": 0.025}),
     ("dam_break_alpha01", "tisph.scenes.dam_break", "scenes/dam_break_alpha01.toml", {"numerics.dx": 0.0125}),
     ("dam_break_alpha04", "tisph.scenes.dam_break", "scenes/dam_break_alpha04.toml", {"numerics.dx": 0.025}),
@@ -49,6 +50,8 @@ CASES = [
     ("pipeline_bedload", "tisph.scenes.pipeline_scour", None, {"numerics.dx": 0.0125, "sediment.morph_start": 0.0}),
     ("pipeline_suspended", "tisph.scenes.pipeline_scour", None,
      {"numerics.dx": 0.0125, "sediment.morph_start": 0.0, "sediment.suspended": True}),
+    ("pipeline_k_equation", "tisph.scenes.pipeline_scour", None,
+     {"numerics.dx": 0.0125, "sediment.morph_start": 0.0, "numerics.turbulence": "k_equation"}),
     ("pipe_on_rigid_bed", "tisph.scenes.pipeline_scour", "scenes/pipe_on_rigid_bed.toml", {}),
     ("poiseuille_bingham", "tisph.validation.poiseuille", None, {"numerics.dx": 0.005}),
 ]

@@ -8,6 +8,7 @@ from ..terms.dem import contact_force, critical_step
 from ..terms.drag import drag_accel
 from ..terms.rheology import BINGHAM, CROSS, RHEOLOGY_CODES, bingham, cross, shear_rate
 from ..terms.sps import sps_accel, sps_stress
+from ..terms.tke import SIGMA_K, eddy_viscosity, strain2, tke_stress, tke_update
 
 DEM_SLOTS = 8   # contacts remembered per particle (a packed 2D lattice has at most 6 within dx)
 
@@ -127,9 +128,60 @@ class SPS(Module):
         if ti.static(S.physics.rheology):
             newtonian = S.mat_rheo[mi] == 0
         if newtonian:
-            tau, nut = sps_stress(acc.gv, S.dx, S.prm[None].mixing_length)
+            if ti.static(S.physics.turbulence == "k_equation"):
+                nut = S.p.nut[i]          # TKE.finish, just before, from this step's k
+                tau = tke_stress(acc.gv, nut, S.p.kt[i])
+            else:
+                tau, nut = sps_stress(acc.gv, S.dx, S.prm[None].mixing_length)
         S.p.sps[i] = tau
         ti.atomic_max(S.stats[None].numax, nut + S.mat_mu[mi] / pt.rho)
+
+
+@ti.data_oriented
+class TKE(Module):
+    """A transported turbulent kinetic energy k for the SPS's eddy viscosity (the k-l model,
+    tisph/terms/tke.py): k moves with the particles, diffuses between them and is made and
+    dissipated per particle; the length l is per particle (the scene sets it; else
+    numerics.mixing_length)."""
+    name = "tke"
+    on = {"sps": True, "turbulence": "k_equation"}
+    acc = {"ki": "real", "nuti": "real", "dk": "real"}
+
+    def fields(self, real):
+        return {"kt": real,    # turbulent kinetic energy k (m2/s2)
+                "lt": real,    # its length scale l (m)
+                "nut": real}   # eddy viscosity C_mu^(1/4) sqrt(k) l (m2/s)
+
+    def setup(self, S):
+        """k and l where the scene gives them (ParticleSet.tke, .turbulence_length), else the
+        floor and numerics.mixing_length."""
+        import numpy as np
+        from ..terms.tke import K_FLOOR
+        k0 = getattr(S.particles, "tke", None)
+        k = np.full(S.n, K_FLOOR) if k0 is None else np.maximum(np.asarray(k0, float), K_FLOOR)
+        l0 = getattr(S.particles, "turbulence_length", None)
+        l = np.full(S.n, float(S.prm[None].mixing_length)) if l0 is None else np.asarray(l0, float)
+        S.p.kt.from_numpy(k.astype(S.np_real))
+        S.p.lt.from_numpy(l.astype(S.np_real))
+        S.p.nut.from_numpy((0.5477226 * np.sqrt(k) * l).astype(S.np_real))
+
+    @ti.func
+    def init_acc(self, S, i, acc: ti.template()):
+        acc.ki = S.tmp.kt[i]
+        acc.nuti = S.tmp.nut[i]
+
+    @ti.func
+    def pair(self, S, i, j, r, r2, nb, acc: ti.template()):
+        if nb.kj == FLUID:      # no flux through walls: k at the wall is the near-wall balance's
+            s = S.tmp
+            acc.dk += nb.vol_j * (acc.nuti + s.nut[j]) * (acc.ki - s.kt[j]) * r.dot(nb.gw) * nb.ie / SIGMA_K
+
+    @ti.func
+    def finish(self, S, i, mi, acc: ti.template(), pt: ti.template()):
+        l = S.tmp.lt[i]
+        k = tke_update(acc.ki, l, strain2(acc.gv), acc.dk, S.prm[None].dt)
+        S.p.kt[i] = k
+        S.p.nut[i] = eddy_viscosity(k, l)
 
 
 @ti.data_oriented

@@ -18,6 +18,14 @@ def run_case(case, cfg, out, log, scene_name, restart=None, force=False):
     if lm > 0 and not case.physics.sps:
         raise ConfigError("numerics.mixing_length", lm, "0 in a case without SPS turbulence (the mixing length "
                           "sets the SPS's eddy viscosity; the pipeline turns SPS on with geometry.sps = true)")
+    turb = cfg["numerics"]["turbulence"]
+    if turb == "k_equation":
+        if not case.physics.sps:
+            raise ConfigError("numerics.turbulence", turb, "smagorinsky in a case without SPS turbulence (the "
+                              "k equation gives the SPS's eddy viscosity; the pipeline turns SPS on with geometry.sps = true)")
+        if getattr(case.particles, "turbulence_length", None) is None and lm <= 0:
+            raise ConfigError("numerics.mixing_length", lm, "> 0 with numerics.turbulence = \"k_equation\" in this "
+                              "scene: it sets no wall distance, so the k equation's length l is this constant")
     if cfg["output"]["field"] == "concentration" and not case.physics.suspension:
         raise ConfigError("output.field", "concentration", "a field this case has: concentration needs suspended "
                           "sand (sediment.suspended = true, the pipeline over the bed-load bed)")
