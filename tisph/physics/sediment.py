@@ -8,7 +8,7 @@ from ..terms.dem import contact_force, critical_step
 from ..terms.drag import drag_accel
 from ..terms.rheology import BINGHAM, CROSS, RHEOLOGY_CODES, bingham, cross, shear_rate
 from ..terms.sps import sps_accel, sps_stress
-from ..terms.tke import SIGMA_K, eddy_viscosity, strain2, tke_stress, tke_update
+from ..terms.tke import K_FLOOR, SIGMA_K, eddy_viscosity, strain2, tke_stress, tke_update
 
 DEM_SLOTS = 8   # contacts remembered per particle (a packed 2D lattice has at most 6 within dx)
 
@@ -156,7 +156,6 @@ class TKE(Module):
         """k and l where the scene gives them (ParticleSet.tke, .turbulence_length), else the
         floor and numerics.mixing_length."""
         import numpy as np
-        from ..terms.tke import K_FLOOR
         k0 = getattr(S.particles, "tke", None)
         k = np.full(S.n, K_FLOOR) if k0 is None else np.maximum(np.asarray(k0, float), K_FLOOR)
         l0 = getattr(S.particles, "turbulence_length", None)
@@ -172,14 +171,18 @@ class TKE(Module):
 
     @ti.func
     def pair(self, S, i, j, r, r2, nb, acc: ti.template()):
-        if nb.kj == FLUID:      # no flux through walls: k at the wall is the near-wall balance's
-            s = S.tmp
+        s = S.tmp
+        # no flux through walls (k at a wall is the near-wall balance's) or into another material
+        if nb.kj == FLUID and s.mat[j] == acc.mat:
             acc.dk += nb.vol_j * (acc.nuti + s.nut[j]) * (acc.ki - s.kt[j]) * r.dot(nb.gw) * nb.ie / SIGMA_K
 
     @ti.func
     def finish(self, S, i, mi, acc: ti.template(), pt: ti.template()):
         l = S.tmp.lt[i]
         k = tke_update(acc.ki, l, strain2(acc.gv), acc.dk, S.prm[None].dt)
+        if ti.static(S.physics.rheology):
+            if S.mat_rheo[mi] != 0:     # the SPS is the Newtonian materials' only
+                k = K_FLOOR
         S.p.kt[i] = k
         S.p.nut[i] = eddy_viscosity(k, l)
 
