@@ -93,7 +93,7 @@ class VelocityGradient(Module):
 
     @staticmethod
     def enabled(S):
-        return S.physics.rheology or S.physics.sps
+        return S.physics.rheology or S.physics.sps or S.physics.shifting
 
     @ti.func
     def pair(self, S, i, j, r, r2, nb, acc: ti.template()):
@@ -139,8 +139,10 @@ class Shifting(Module):
     one), which evens out the clumps and voids of a wake. At the free surface (the divergence of
     position, -sum_j V_j r_ij . grad W_ij, under SURFACE_DIV; 2 inside a 2D fluid) the
     concentration falls for want of neighbours, not of order, so such a particle is not
-    shifted. Applied as a drift velocity one step behind, as XSPH; quantities are not corrected
-    for the shift (its size is a small fraction of dx a step)."""
+    shifted. Applied as a drift velocity one step behind, as XSPH, with the velocity corrected to
+    the shifted position to first order (the Taylor correction of Xu et al. 2009 and Lind et
+    al. 2012); the density is not (its
+    gradient is not at hand, and the shift is a small fraction of dx a step)."""
     name = "shifting"
     on = {"shifting": True}
     SURFACE_DIV = 1.5      # DualSPHysics' 2D free-surface threshold on div r
@@ -167,6 +169,9 @@ class Shifting(Module):
         if acc.divr >= self.SURFACE_DIV:
             w = -S.prm[None].shift_A * S.h * ti.sqrt(pt.v.dot(pt.v)) * acc.gc
         S.p.sh[i] = w
+        # the velocity where the particle is shifted to, v + (dr . grad) v: without it the shift
+        # carries momentum across the flow and mixes it
+        S.p.v[i] = pt.v + S.prm[None].dt * (acc.gv @ w)
 
 
 @ti.data_oriented
