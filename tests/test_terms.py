@@ -138,7 +138,7 @@ def test_shifting(kernel, hf):
     wall row too), zero where the divergence of position is under 1.5 (the patch's rim)."""
     from tisph.physics.fluid import Shifting
     ps = patch(walls=True)
-    params = dict(dx=DX, h=hf * DX, c0=C0, g=(0.0, 0.0), cfl=0.4, dt_max=1e-3, density_band=0.5, shift_A=2.0)
+    params = dict(dx=DX, h=hf * DX, c0=C0, g=(0.0, 0.0), cfl=0.4, dt_max=1e-3, density_band=0.5, shifting=2.0)
     mats = [dict(name="water", rho0=RHO0, viscosity=MU, B=B)]
     s = Solver(Physics(kernel=kernel, wall="dynamic", artificial_viscosity=False, shifting=True), ps, mats,
                ((-0.1, -0.1), (0.2, 0.2)), params)

@@ -146,7 +146,7 @@ class Shifting(Module):
     name = "shifting"
     on = {"shifting": True}
     SURFACE_DIV = 1.5      # DualSPHysics' 2D free-surface threshold on div r
-    params = {"shift_A": Param(0.0, "-", (0.0, 10.0, True, True),
+    params = {"shifting": Param(0.0, "-", (0.0, 10.0, True, True),
                                "particle shifting coefficient A (Skillen et al. 2013: 2); 0 compiles it out",
                                key="numerics.shifting")}
     acc = {"gc": "vec2", "divr": "real"}
@@ -167,7 +167,7 @@ class Shifting(Module):
     def finish(self, S, i, mi, acc: ti.template(), pt: ti.template()):
         w = ti.Vector([0.0, 0.0])
         if acc.divr >= self.SURFACE_DIV:
-            w = -S.prm[None].shift_A * S.h * ti.sqrt(pt.v.dot(pt.v)) * acc.gc
+            w = -S.prm[None].shifting * S.h * ti.sqrt(pt.v.dot(pt.v)) * acc.gc
         S.p.sh[i] = w
         # the velocity where the particle is shifted to, v + (dr . grad) v: without it the shift
         # carries momentum across the flow and mixes it

@@ -8,7 +8,7 @@ from ..terms.dem import contact_force, critical_step
 from ..terms.drag import drag_accel
 from ..terms.rheology import BINGHAM, CROSS, RHEOLOGY_CODES, bingham, cross, shear_rate
 from ..terms.sps import sps_accel, sps_stress
-from ..terms.tke import K_FLOOR, SIGMA_K, eddy_viscosity, strain2, tke_stress, tke_update
+from ..terms.tke import CMU14, K_FLOOR, SIGMA_K, eddy_viscosity, strain2, tke_stress, tke_update
 
 DEM_SLOTS = 8   # contacts remembered per particle (a packed 2D lattice has at most 6 within dx)
 
@@ -162,7 +162,7 @@ class TKE(Module):
         l = np.full(S.n, float(S.prm[None].mixing_length)) if l0 is None else np.asarray(l0, float)
         S.p.kt.from_numpy(k.astype(S.np_real))
         S.p.lt.from_numpy(l.astype(S.np_real))
-        S.p.nut.from_numpy((0.5477226 * np.sqrt(k) * l).astype(S.np_real))
+        S.p.nut.from_numpy((CMU14 * np.sqrt(k) * l).astype(S.np_real))
 
     @ti.func
     def init_acc(self, S, i, acc: ti.template()):

@@ -28,7 +28,7 @@ def common_params(cfg, c0, g=9.81, depth=1.0):
     n = cfg["numerics"]
     dx = n["dx"]
     wall_D = n["wall_strength"] if n["wall_strength"] > 0 else 5.0 * g * depth
-    return dict(dx=dx, h=n["h_factor"] * dx, c0=c0, alpha=n["artificial_viscosity"], xsph=n["xsph"], shift_A=n["shifting"],
+    return dict(dx=dx, h=n["h_factor"] * dx, c0=c0, alpha=n["artificial_viscosity"], xsph=n["xsph"], shifting=n["shifting"],
                 delta=n["delta"], g=(0.0, -g), wall_D=wall_D, wall_r0=dx, cfl=n["cfl"],
                 dt_max=n["dt_max"], density_band=n["density_band"], shepard_every=n["shepard_every"],
                 mixing_length=n["mixing_length"])

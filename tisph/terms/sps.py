@@ -17,21 +17,32 @@ CS, CI = 0.12, 0.0066
 
 
 @ti.func
-def sps_stress(gv, dl, lm=0.0):
-    """(tau_xx, tau_xy, tau_yy) / rho and nu_t from the velocity gradient gv[a, b] = du_a/dx_b;
-    lm > 0: the mixing length instead of C_s dl."""
+def strain2(gv):
+    """|S|^2 = 2 S:S of the velocity gradient gv[a, b] = du_a/dx_b (2D)."""
+    sxy = 0.5 * (gv[0, 1] + gv[1, 0])
+    return 2.0 * (gv[0, 0] * gv[0, 0] + gv[1, 1] * gv[1, 1] + 2.0 * sxy * sxy)
+
+
+@ti.func
+def eddy_stress(gv, nut, iso):
+    """(tau_xx, tau_xy, tau_yy) / rho = 2 nu_t (S - tr(S)/3 delta) - iso delta."""
     sxx = gv[0, 0]
     syy = gv[1, 1]
     sxy = 0.5 * (gv[0, 1] + gv[1, 0])
-    s2 = 2.0 * (sxx * sxx + syy * syy + 2.0 * sxy * sxy)      # |S|^2 = 2 S:S
-    smag = ti.sqrt(s2)
+    tr3 = (sxx + syy) / 3.0
+    return ti.Vector([2.0 * nut * (sxx - tr3) - iso, 2.0 * nut * sxy, 2.0 * nut * (syy - tr3) - iso])
+
+
+@ti.func
+def sps_stress(gv, dl, lm=0.0):
+    """(tau_xx, tau_xy, tau_yy) / rho and nu_t from the velocity gradient gv[a, b] = du_a/dx_b;
+    lm > 0: the mixing length instead of C_s dl."""
+    s2 = strain2(gv)
     ls = CS * dl
     if lm > 0.0:
         ls = lm
-    nut = ls * ls * smag
-    tr3 = (sxx + syy) / 3.0
-    iso = (2.0 / 3.0) * CI * dl * dl * s2
-    return ti.Vector([2.0 * nut * (sxx - tr3) - iso, 2.0 * nut * sxy, 2.0 * nut * (syy - tr3) - iso]), nut
+    nut = ls * ls * ti.sqrt(s2)
+    return eddy_stress(gv, nut, (2.0 / 3.0) * CI * dl * dl * s2), nut
 
 
 @ti.func

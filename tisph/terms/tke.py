@@ -18,17 +18,13 @@ stress then has nu_t from k and k itself in its trace: tau / rho = 2 nu_t S_dev 
 """
 import taichi as ti
 
-CMU14 = 0.5477226    # C_mu^(1/4), C_mu = 0.09
+from .sps import eddy_stress, strain2  # noqa: F401  (strain2: |S|^2, shared with the SPS)
+
+SQRT_CMU = 0.3       # C_mu^(1/2), C_mu = 0.09: k = u*^2 / sqrt(C_mu) in a wall layer in equilibrium
+CMU14 = 0.5477226    # C_mu^(1/4)
 CMU34 = 0.1643168    # C_mu^(3/4)
 SIGMA_K = 1.0
 K_FLOOR = 1e-10      # m2/s2: k = 0 is a fixed point of the equation (no nu_t, no production)
-
-
-@ti.func
-def strain2(gv):
-    """|S|^2 = 2 S:S of the velocity gradient gv[a, b] = du_a/dx_b (2D)."""
-    sxy = 0.5 * (gv[0, 1] + gv[1, 0])
-    return 2.0 * (gv[0, 0] * gv[0, 0] + gv[1, 1] * gv[1, 1] + 2.0 * sxy * sxy)
 
 
 @ti.func
@@ -47,9 +43,4 @@ def tke_update(k, l, s2, diff, dt):
 @ti.func
 def tke_stress(gv, nut, k):
     """(tau_xx, tau_xy, tau_yy) / rho = 2 nu_t S_dev - (2/3) k delta."""
-    sxx = gv[0, 0]
-    syy = gv[1, 1]
-    sxy = 0.5 * (gv[0, 1] + gv[1, 0])
-    tr3 = (sxx + syy) / 3.0
-    iso = (2.0 / 3.0) * k
-    return ti.Vector([2.0 * nut * (sxx - tr3) - iso, 2.0 * nut * sxy, 2.0 * nut * (syy - tr3) - iso])
+    return eddy_stress(gv, nut, (2.0 / 3.0) * k)
