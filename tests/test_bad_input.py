@@ -54,6 +54,8 @@ CASES = [
     (tunnel, [], "[sediment]\nmodel = \"bedload\"\nsuspended = true\n", ["sediment.suspended", "True", "pipeline"]),
     (pipeline_scour, [], "[sediment]\nmodel = \"particles\"\nsuspended = true\n",
      ["sediment.suspended", "True", "bedload"]),
+    (tunnel, [], "[sediment]\nmodel = \"bedload\"\nshear = \"log_far_field\"\n",
+     ["sediment.shear", "log_far_field", "'waves' or 'log'"]),
     (pipeline_scour, [], "[sediment]\nsettling_velocity = -0.01\n", ["sediment.settling_velocity", "-0.01", ">= 0"]),
     (dam_break, [], "[output]\nfield = \"concentration\"\n", ["output.field", "concentration", "sediment.suspended"]),
     # a spacing whose particles cannot fit: refused before anything is allocated

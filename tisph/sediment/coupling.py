@@ -128,8 +128,11 @@ class BedCoupler:
         self.measured = amplitude is None
         self.amplitude = np.zeros(len(stations)) if self.measured else amplitude
         self.history = collections.deque()   # (t, filtered u) over the last wave period, when measured
+        from ..config import ConfigError
+        if sed["shear"] == "log_far_field" and far_field is None:
+            raise ConfigError("sediment.shear", sed["shear"], "'waves' or 'log' in this scene: the far-field "
+                              "scaling needs the undisturbed bed and the current's u*, which the pipeline sets")
         if sed["suspended"] and surface is None:
-            from ..config import ConfigError
             raise ConfigError("sediment.suspended", True, "false in this scene: suspended load is built for the "
                               "pipeline over the bed-load bed (its periodic current has one water surface)")
         self.water_top = surface
