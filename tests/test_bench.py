@@ -2,6 +2,8 @@
 import csv
 import math
 
+import pytest
+
 from tisph import bench
 
 
@@ -45,3 +47,33 @@ def test_speed_report_gives_the_ratio_per_case():
     text = "\n".join(speed.report(a, rows, 1.3, 0.5))
     assert "| dam break dx 0.03 | 3426 | 10 | 3e+06 | 243.4 | 2e+06 | 1.50 |" in text
     assert "cold 1.30 s" in text and "warm 0.50 s" in text
+
+
+def test_wake_spectrum_finds_a_shedding_frequency_and_not_in_noise():
+    """tisph/shedding.py: a 1.4 Hz oscillation sampled every 0.05 s for 3 s, with noise, gives
+    its frequency (within the spectrum's 1/3 Hz resolution), its amplitude / sqrt(2) and most of
+    the power; noise alone spreads its power over the spectrum."""
+    import numpy as np
+    from tisph.shedding import wake_spectrum
+    rng = np.random.default_rng(3)
+    t = np.arange(1.0, 4.0, 0.05)
+    std, f, share = wake_spectrum(t, 0.2 + 0.06 * np.sin(2 * np.pi * 1.4 * t) + 0.005 * rng.standard_normal(len(t)))
+    assert abs(f - 1.4) <= 1.0 / 3.0 / 2 + 1e-9
+    assert abs(std - 0.06 / np.sqrt(2)) < 0.006
+    assert share > 0.5
+    std, f, share = wake_spectrum(t, 0.01 * rng.standard_normal(len(t)))
+    assert share < 0.3
+    assert all(np.isnan(wake_spectrum(t[:5], t[:5])))
+
+
+def test_shedding_bench_dry_run(tmp_path):
+    """--shedding --dry-run: the whole path (the fixed-bed run, the snapshots read and deleted,
+    the table) on a tiny case in seconds."""
+    assert bench.main(["--shedding", "--dry-run", "--out", str(tmp_path)]) == 0
+    md = (tmp_path / "shedding.md").read_text()
+    assert "| 2 | 0.006 |" in md
+    rows = (tmp_path / "shedding.csv").read_text().splitlines()
+    assert len(rows) == 2 and rows[0].startswith("gap_over_D")
+    assert not (tmp_path / "runs" / "shedding_gap2" / "snapshots").exists()
+    with pytest.raises(SystemExit):
+        bench.main(["--gaps", "1.0"])

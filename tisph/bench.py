@@ -2,6 +2,7 @@
 
     python -m tisph.bench [--quick] [--peer pysph] [--out renders/bench] [--only CASE ...]
     python -m tisph.bench --speed [--against REV] [--repeats N] [--quick]   (tisph/speed.py)
+    python -m tisph.bench --shedding [--gaps G ...] [--dx DX] [--end-time T]   (tisph/shedding.py)
 
 Every validation case runs at a ladder of resolutions; each run records particles, steps, wall
 time, Taichi compile time (the first call, separately), particle-steps/s and its error against
@@ -279,6 +280,11 @@ def main(argv=None):
                    help="engine speed only (tisph/speed.py): particle-steps/s from 3.4e3 to 6.5e5 particles, compile")
     p.add_argument("--against", metavar="REV", help="with --speed: the same runs on this git revision, back to back")
     p.add_argument("--repeats", type=int, default=3, help="with --speed: runs (pairs) per case (default 3)")
+    p.add_argument("--shedding", action="store_true",
+                   help="vortex shedding behind a pipe above a fixed bed against the gap (tisph/shedding.py)")
+    p.add_argument("--gaps", type=float, nargs="*", help="with --shedding: gaps in pipe diameters (default 0.5 1 2)")
+    p.add_argument("--dx", type=float, help="with --shedding: particle spacing (default the case file's, D/20)")
+    p.add_argument("--end-time", type=float, help="with --shedding: seconds of flow (default 4)")
     p.add_argument("--dry-run", action="store_true",
                    help="exercise every code path in seconds: one tiny case, tiny scaling, no profile (for tests)")
     a = p.parse_args(argv)
@@ -287,6 +293,14 @@ def main(argv=None):
         return speed.main(a)
     if a.against:
         p.error("--against needs --speed")
+    if a.shedding:
+        from . import shedding
+        if a.dry_run:
+            a.gaps, a.dx, a.end_time = a.gaps or [2.0], a.dx or 0.006, a.end_time or 0.8
+        return shedding.main(a)
+    for name in ("gaps", "dx", "end_time"):
+        if getattr(a, name) is not None:
+            p.error(f"--{name.replace('_', '-')} needs --shedding")
     from . import runtime
     runtime.init("cpu", "f32")
     ensure_dir(a.out)
