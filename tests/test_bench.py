@@ -77,3 +77,14 @@ def test_shedding_bench_dry_run(tmp_path):
     assert not (tmp_path / "runs" / "shedding_gap2" / "snapshots").exists()
     with pytest.raises(SystemExit):
         bench.main(["--gaps", "1.0"])
+
+
+def test_shedding_verdict_needs_a_peak_at_a_strouhal_number():
+    """A wake sheds when a peak at St 0.1-0.4 holds 30 % of the power and v varies by 5 % of U;
+    a strong peak at St 0.05 (the wake's drift) does not count."""
+    from tisph.shedding import verdict
+    U, D = 0.35, 0.05
+    assert verdict([0.05, 0.07], [1.64, 1.64], [0.75, 0.8], U, D) == (1, True)
+    assert verdict([0.01, 0.019], [0.33, 0.33], [0.33, 0.2], U, D) == (0, False)      # drift
+    assert verdict([0.011, 0.019], [1.31, 0.33], [0.54, 0.6], U, D) == (0, True)       # the band's peak decides
+    assert verdict([0.005, 0.008], [1.4, 1.4], [0.9, 0.9], U, D)[1] is False          # too weak
