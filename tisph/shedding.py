@@ -20,7 +20,7 @@ import time
 
 import numpy as np
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+from .bench import ROOT
 POINTS = (1.0, 1.5, 2.0, 3.0)     # x / D behind the pipe's centre, on its axis
 RADIUS = 0.15                     # the averaging disc, in D
 SPIN_UP = 1.0                     # s of flow before the series starts
@@ -76,7 +76,7 @@ def wake_series(snap_dir, xc, yc, D, t0=SPIN_UP):
 
 
 def run_gap(gap, dx, end_time, out, cfg_file):
-    from .run import simulate, resolve
+    from .run import resolve, simulate
     from .scenes import pipeline_scour
     D = resolve(pipeline_scour, cfg_file)["geometry"]["pipe_diameter"]
     ov = {"geometry.gap": gap * D, "geometry.perturbation": 0.0, "sediment.morph_start": 10.0 * end_time,
@@ -84,27 +84,23 @@ def run_gap(gap, dx, end_time, out, cfg_file):
           "output.snapshot_every": SAMPLE}
     if dx:
         ov["numerics.dx"] = dx
+    cfg = resolve(pipeline_scour, cfg_file, ov)
     run_dir = os.path.join(out, "runs", f"shedding_gap{gap:g}")
     t0 = time.perf_counter()
-    s = simulate(pipeline_scour, ov, out=run_dir, config=cfg_file, force=True)
+    s = simulate(pipeline_scour, out=run_dir, cfg=cfg, force=True)
     wall = time.perf_counter() - t0
-    cfg = resolve(pipeline_scour, cfg_file, ov)
     g = pipeline_scour.geometry(cfg)
     t_from = min(SPIN_UP, 0.5 * end_time)
     t, v = wake_series(os.path.join(run_dir, "snapshots"), g.xc, g.yc, g.D, t_from)
     shutil.rmtree(os.path.join(run_dir, "snapshots"), ignore_errors=True)
-    stats = [wake_spectrum(t, v[:, k]) for k in range(len(POINTS))]
-    std = np.array([x[0] for x in stats])
-    freq = np.array([x[1] for x in stats])
-    share = np.array([x[2] for x in stats])
-    U = g.U
-    best, sheds = verdict(std, freq, share, U, g.D)
+    std, freq, share = np.array([wake_spectrum(t, v[:, k]) for k in range(len(POINTS))]).T
+    best, sheds = verdict(std, freq, share, g.U, g.D)
     return dict(gap_over_D=gap, dx=cfg["numerics"]["dx"], particles=s["particles"], steps=s["steps"],
                 sim_time=s["sim_time"], wall_time_s=round(wall, 1), t_from=t_from, samples=len(t),
                 v_std_min=float(np.nanmin(std)), v_std_max=float(np.nanmax(std)),
-                peak_hz=float(freq[best]), strouhal=float(freq[best] * g.D / U),
+                peak_hz=float(freq[best]), strouhal=float(freq[best] * g.D / g.U),
                 peak_share_min=float(np.nanmin(share)), peak_share_max=float(np.nanmax(share)), sheds=sheds,
-                U=U, D=g.D)
+                U=g.U, D=g.D)
 
 
 def main(a):

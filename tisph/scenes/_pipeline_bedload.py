@@ -140,7 +140,7 @@ def equilibrium_suspension(g, bed, ps):
 
 def turbulence_length(g, x, z):
     """Prandtl's length l = min(kappa d, 0.09 H) (Rodi 1993, sec. 2.3.3; the 0.09 H of open
-    channels) at points x over the bed heights z under them (bed_under): d the distance to the
+    channels) at points x over the bed heights z under them (BedCoupler.surface): d the distance to the
     nearer of the bed and the pipe (at least dx/2), H the local depth."""
     d_bed = x[:, 1] - z
     d_pipe = np.hypot(x[:, 0] - g.xc, x[:, 1] - g.yc) - g.R
@@ -148,16 +148,11 @@ def turbulence_length(g, x, z):
     return np.minimum(KAPPA * d, 0.09 * np.maximum(g.ytop - z, g.dx))
 
 
-def bed_under(g, bed, x):
-    """The bed's height under each point, interpolated between its stations across the seam."""
-    return np.interp(x[:, 0], bed.stations, bed.bed.z, period=g.Lx)
-
-
 def equilibrium_turbulence(g, bed, ps):
     """The current's k and l at each particle: k = u*^2 / sqrt(C_mu) (1 - z/H), the equilibrium
     of a wall layer's production and dissipation falling to 0 at the surface (Nezu & Nakagawa
     1993 measure 4.78 u*^2 exp(-2 z/H); the two agree to 30 % over the depth's lower half)."""
-    z = bed_under(g, bed, ps.x)
+    z = bed.surface(ps.x[:, 0])
     H = np.maximum(g.ytop - z, g.dx)
     k = g.ustar ** 2 / SQRT_CMU * np.clip(1.0 - (ps.x[:, 1] - z) / H, 0.0, 1.0)
     return np.where(ps.kind == FLUID, k, 0.0), turbulence_length(g, ps.x, z)
@@ -220,7 +215,7 @@ class BedScourRecord(ScourRecord):
         self.bed.update(s)
         if "lt" in s.members:     # the k-equation's length follows the bed
             x = s.p.x.to_numpy()
-            s.p.lt.from_numpy(turbulence_length(self.g, x, bed_under(self.g, self.bed, x)).astype(s.np_real))
+            s.p.lt.from_numpy(turbulence_length(self.g, x, self.bed.surface(x[:, 0])).astype(s.np_real))
 
     def probe(self, st):
         zb = self.bed.bed.z
