@@ -296,10 +296,13 @@ class BedScourRecord(ScourRecord):
             if r is not None:
                 a2.plot((self.stations - g.xc) / g.D, (r[1:] - self.y_ref) / g.D, "-", color=f"C{k}", lw=1,
                         label=f"tisph {tp:g} s")
-        a2.add_patch(plt.Circle((0, (g.yc - self.y_ref) / g.D), 0.5, color="0.6"))
+        lift = (g.yc - self.y_ref) / g.D    # the run's pipe stands the initial gap above Mao's
+        a2.add_patch(plt.Circle((0, lift), 0.5, color="0.6",
+                                label=f"pipe, {lift:.2g} D above Mao's" if lift > 1e-6 else "pipe"))
         a2.set_xlim(-3, 7)
         a2.set_aspect("equal")
         a2.set_xlabel("x / D from the pipe's centre (flow to the right)")
         a2.set_ylabel("bed / D from Mao's pipe centre")
-        a2.legend(fontsize=7, ncol=2)
+        # below the panel (its equal aspect leaves the room), where it hides no profile
+        a2.legend(fontsize=8, ncol=4, loc="upper center", bbox_to_anchor=(0.5, -0.32), frameon=False)
         save(fig, os.path.join(out, "scour_mao.png"))
