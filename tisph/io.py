@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import csv
+import glob
 import io as _io
 import json
 import math
@@ -147,6 +148,18 @@ def load(path):
             arrays[k] = arrays[k][:, :2]
     arrays.update(groups)
     return arrays, attrs
+
+
+def snapshot_files(path):
+    """The snapshots of a run folder in time order (numbered files only, not last_good.h5), or
+    [path] for a file."""
+    if os.path.isfile(path):
+        return [path]
+    files = sorted(glob.glob(os.path.join(path, "snapshots", "[0-9]*.h5")))
+    if not files:
+        raise OutputError(f"{path!r} holds no snapshots (expected {os.path.join(path, 'snapshots', '00000.h5')}; "
+                          f"a run writes them unless output.snapshot_every = 0)")
+    return files
 
 
 def load_attrs(path):

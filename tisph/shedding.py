@@ -20,7 +20,8 @@ import time
 
 import numpy as np
 
-from .bench import ROOT
+from .bench import ROOT, _table
+
 POINTS = (1.0, 1.5, 2.0, 3.0)     # x / D behind the pipe's centre, on its axis
 RADIUS = 0.15                     # the averaging disc, in D
 SPIN_UP = 1.0                     # s of flow before the series starts
@@ -53,14 +54,13 @@ def verdict(std, freq, share, U, D):
     return best, bool(share[best] >= SHEDS_POWER and np.nanmax(std) >= SHEDS_STD * U)
 
 
-def wake_series(snap_dir, xc, yc, D, t0=SPIN_UP):
+def wake_series(run_dir, xc, yc, D, t0=SPIN_UP):
     """(times, v at each of POINTS) from a run's snapshots, fluid particles within RADIUS D."""
-    from .io import load
+    from .io import load, snapshot_files
     from .particles import FLUID
-    files = sorted(f for f in os.listdir(snap_dir) if f.endswith(".h5"))
     ts, vs = [], []
-    for f in files:
-        a, attrs = load(os.path.join(snap_dir, f))
+    for f in snapshot_files(run_dir):
+        a, attrs = load(f)
         t = float(attrs["time"])
         if t < t0:
             continue
@@ -75,10 +75,10 @@ def wake_series(snap_dir, xc, yc, D, t0=SPIN_UP):
     return np.array(ts), np.array(vs).reshape(len(ts), len(POINTS))
 
 
-def run_gap(gap, dx, end_time, out, cfg_file):
+def run_gap(gap, D, dx, end_time, out, cfg_file):
+    """One fixed-bed run with the pipe gap * D above the bed, and its wake's verdict."""
     from .run import resolve, simulate
     from .scenes import pipeline_scour
-    D = resolve(pipeline_scour, cfg_file)["geometry"]["pipe_diameter"]
     ov = {"geometry.gap": gap * D, "geometry.perturbation": 0.0, "sediment.morph_start": 10.0 * end_time,
           "run.end_time": end_time, "output.render": False, "output.quiet": True,
           "output.snapshot_every": SAMPLE}
@@ -91,7 +91,7 @@ def run_gap(gap, dx, end_time, out, cfg_file):
     wall = time.perf_counter() - t0
     g = pipeline_scour.geometry(cfg)
     t_from = min(SPIN_UP, 0.5 * end_time)
-    t, v = wake_series(os.path.join(run_dir, "snapshots"), g.xc, g.yc, g.D, t_from)
+    t, v = wake_series(run_dir, g.xc, g.yc, g.D, t_from)
     shutil.rmtree(os.path.join(run_dir, "snapshots"), ignore_errors=True)
     std, freq, share = np.array([wake_spectrum(t, v[:, k]) for k in range(len(POINTS))]).T
     best, sheds = verdict(std, freq, share, g.U, g.D)
@@ -105,13 +105,16 @@ def run_gap(gap, dx, end_time, out, cfg_file):
 
 def main(a):
     from .io import ensure_dir, write_csv, write_text
+    from .run import resolve
+    from .scenes import pipeline_scour
     ensure_dir(a.out)
     cfg_file = os.path.join(ROOT, "scenes", "pipeline_scour_mao.toml")
+    D = resolve(pipeline_scour, cfg_file)["geometry"]["pipe_diameter"]
     gaps = a.gaps or ([2.0] if a.quick else [0.5, 1.0, 2.0])
     end = a.end_time or (2.0 if a.quick else 4.0)
     rows = []
     for gap in gaps:
-        r = run_gap(gap, a.dx, end, a.out, cfg_file)
+        r = run_gap(gap, D, a.dx, end, a.out, cfg_file)
         print(f"gap {gap:g} D: {r['particles']} particles, {r['steps']} steps, {r['wall_time_s']:.0f} s; "
               f"v std {r['v_std_min']:.3f}-{r['v_std_max']:.3f} m/s, peak {r['peak_hz']:.2f} Hz "
               f"(St {r['strouhal']:.2f}), {r['peak_share_min']:.0%}-{r['peak_share_max']:.0%} of the power: "
@@ -126,12 +129,12 @@ def main(a):
           f"number of {ST_BAND[0]:g}-{ST_BAND[1]:g} holds at least {SHEDS_POWER:.0%} of the power and v varies by at "
           f"least {SHEDS_STD:.0%} of U. The peak and St columns give that peak (else the largest, the wake's drift). Experiments: regular "
           "shedding at St about 0.2 from a gap of about 0.3 D up (Bearman & Zdravkovich 1978).", "",
-          "| gap / D | dx | particles | steps | wall s | v std (m/s) | peak Hz | St | peak's share | sheds |",
-          "|---|---|---|---|---|---|---|---|---|---|"]
-    for r in rows:
-        md.append(f"| {r['gap_over_D']:g} | {r['dx']:g} | {r['particles']} | {r['steps']} | {r['wall_time_s']:.0f} | "
-                  f"{r['v_std_min']:.3f}-{r['v_std_max']:.3f} | {r['peak_hz']:.2f} | {r['strouhal']:.2f} | "
-                  f"{r['peak_share_min']:.0%}-{r['peak_share_max']:.0%} | {'yes' if r['sheds'] else 'no'} |")
+          _table(("gap / D", "dx", "particles", "steps", "wall s", "v std (m/s)", "peak Hz", "St", "peak's share",
+                  "sheds"),
+                 [(f"{r['gap_over_D']:g}", f"{r['dx']:g}", r["particles"], r["steps"], f"{r['wall_time_s']:.0f}",
+                   f"{r['v_std_min']:.3f}-{r['v_std_max']:.3f}", f"{r['peak_hz']:.2f}", f"{r['strouhal']:.2f}",
+                   f"{r['peak_share_min']:.0%}-{r['peak_share_max']:.0%}", "yes" if r["sheds"] else "no")
+                  for r in rows])]
     write_text(os.path.join(a.out, "shedding.md"), "\n".join(md) + "\n")
     print("\n".join(md))
     return 0

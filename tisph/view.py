@@ -12,7 +12,6 @@ bed-change panel is not redrawn (the bed's history is in bed_profile.csv, not in
 """
 import argparse
 import dataclasses
-import glob
 import importlib
 import os
 import sys
@@ -20,21 +19,10 @@ import sys
 import numpy as np
 
 from .config import ConfigError, flatten, tomllib
-from .io import OPTIONAL, SNAPSHOT_FIELDS, OutputError, ensure_dir, load, load_attrs
+from .io import OPTIONAL, SNAPSHOT_FIELDS, OutputError, ensure_dir, load, load_attrs, snapshot_files
 from .render import FIELDS, STATE, MovieWriter, make_renderer, write_png
 
 KEYS = {SNAPSHOT_FIELDS[k][0]: k for k in STATE}   # dataset name -> what a frame reads
-
-
-def snapshot_files(path):
-    """The snapshots of a run folder in time order (numbered files only), or [path] for a file."""
-    if os.path.isfile(path):
-        return [path]
-    files = sorted(glob.glob(os.path.join(path, "snapshots", "[0-9]*.h5")))
-    if not files:
-        raise OutputError(f"{path!r} holds no snapshots (expected {os.path.join(path, 'snapshots', '00000.h5')}; "
-                          f"a run writes them unless output.snapshot_every = 0)")
-    return files
 
 
 def state_of(arrays):
