@@ -237,6 +237,22 @@ def merge(base: dict, override: dict, prefix: str = "", errors=None) -> dict:
     return out
 
 
+def _wall_support(num):
+    """Dynamic boundary particles must fill the kernel's support (2 h) behind the wall surface, or
+    a fluid particle at the wall sums a truncated kernel: the wall pushes back short and the water
+    is squeezed into it (Mao's case with h = 2 dx and 3 layers: 21 % density error, 4 layers: see
+    scenes/pipeline_scour_mao.toml). Repulsive walls (one line, eq. 6) have no such need."""
+    L, hf = num.get("wall_layers"), num.get("h_factor")
+    if num.get("wall", "dynamic") != "dynamic" or not all(
+            isinstance(v, (int, float)) and not isinstance(v, bool) for v in (L, hf)):
+        return []
+    need = math.ceil(2.0 * hf - 1e-9)
+    if L >= need:
+        return []
+    return [ConfigError("numerics.wall_layers", L, f"at least {need} with numerics.h_factor = {hf}",
+                        f"dynamic wall particles must fill the kernel's support 2 h = {2.0 * hf:g} dx")]
+
+
 def validate(cfg: dict, extra_ranges: dict | None = None, extra_choices: dict | None = None) -> dict:
     """Check choices and ranges of every key that has a rule."""
     ranges = dict(RANGES, **(extra_ranges or {}))
@@ -265,6 +281,7 @@ def validate(cfg: dict, extra_ranges: dict | None = None, extra_choices: dict | 
             except ConfigError as e:
                 errors.append(e)
     walk(cfg, "")
+    errors += _wall_support(cfg.get("numerics", {}))
     out = cfg.get("output", {})
     for key, what in (("view", "[x0, x1, y0, y1] in m with x0 < x1 and y0 < y1"), ("range", "[lo, hi] with lo < hi")):
         v = out.get(key)
