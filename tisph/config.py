@@ -237,22 +237,6 @@ def merge(base: dict, override: dict, prefix: str = "", errors=None) -> dict:
     return out
 
 
-def _wall_support(num):
-    """Dynamic boundary particles must fill the kernel's support (2 h) behind the wall surface, or
-    a fluid particle at the wall sums a truncated kernel and the wall's continuity and pressure
-    come out short. The rule is the kernel's, not a measured fix: Mao's case at h = 1.6 dx gave the
-    same profiles within 0.01 D with 3 and 4 layers. Repulsive walls (paper 000 eq. 6, one line of particles) have no such need."""
-    L, hf = num.get("wall_layers"), num.get("h_factor")
-    if num.get("wall", "dynamic") != "dynamic" or not all(
-            isinstance(v, (int, float)) and not isinstance(v, bool) for v in (L, hf)):
-        return []
-    need = math.ceil(2.0 * hf - 1e-9)
-    if L >= need:
-        return []
-    return [ConfigError("numerics.wall_layers", L, f"at least {need} with numerics.h_factor = {hf}",
-                        f"dynamic wall particles must fill the kernel's support 2 h = {2.0 * hf:g} dx")]
-
-
 def validate(cfg: dict, extra_ranges: dict | None = None, extra_choices: dict | None = None) -> dict:
     """Check choices and ranges of every key that has a rule."""
     ranges = dict(RANGES, **(extra_ranges or {}))
@@ -281,7 +265,6 @@ def validate(cfg: dict, extra_ranges: dict | None = None, extra_choices: dict | 
             except ConfigError as e:
                 errors.append(e)
     walk(cfg, "")
-    errors += _wall_support(cfg.get("numerics", {}))
     out = cfg.get("output", {})
     for key, what in (("view", "[x0, x1, y0, y1] in m with x0 < x1 and y0 < y1"), ("range", "[lo, hi] with lo < hi")):
         v = out.get(key)
