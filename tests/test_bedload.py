@@ -270,3 +270,41 @@ def test_avalanche_visiting_only_steep_faces_equals_visiting_every_face(periodic
         sweeps = _avalanche_every_face(ref, bed.dx, bed.tan_repose, periodic)
         assert bed.avalanche() == sweeps and sweeps > 0
         assert np.array_equal(bed.z, ref)
+
+
+class _FakeSolver:
+    """What BedCoupler.update reads from the solver: time, steps, c0, the near-bed velocity."""
+    def __init__(self, c0, u):
+        self.c0, self.u, self.time, self.steps, self.beds = c0, u, 0.0, 0, []
+
+    def sample_velocity(self, pts):
+        return np.column_stack([np.full(len(pts), self.u), np.zeros(len(pts))])
+
+    def set_bed(self, dz, w):
+        self.beds.append(w)
+
+
+def test_bed_faster_than_the_water_allows_stops_the_run_with_a_message():
+    """A bed the shear moves faster than BED_MACH c0 stops the run naming the step, the station,
+    its speed, the shear and the Shields number (the water would blow up a few steps later with a
+    message about its sound speed); with a sound speed that allows it the same bed moves its
+    particles."""
+    from tisph.run.setup import SimulationError
+    from tisph.sediment.coupling import BED_MACH, DEFAULTS, BedCoupler
+    dx = 0.0025
+    x = (np.arange(80) + 0.5) * dx
+    z = 0.05 + 0.01 * np.exp(-((x - 0.1) / 0.01) ** 2)            # a 1 cm bump under a 2 m/s current
+    sed = dict(DEFAULTS, shear="log", filter_time=0.0, morfac=3.0)
+
+    def run(c0):
+        s = _FakeSolver(c0, 2.0)
+        s.time, s.steps = 0.002, 10
+        BedCoupler(sed, x, z, dx, 1.6 * dx, 0.00036, 2650.0, z0=0.003).update(s)
+        return s
+
+    fast = np.abs(run(1000.0).beds[-1]).max()
+    assert BED_MACH * 1.0 < fast <= BED_MACH * 1000.0
+    with pytest.raises(SimulationError, match=r"step 10, t = 0\.002 s: the bed moved faster than 0\.2 c0; "
+                                               r"station x = [0-9.]+ m, dz_b/dt = -?[0-9.]+ m/s \(c0 = 1 m/s\); "
+                                               r"the bed's highest shear [0-9.]+ Pa \(Shields [0-9.]+\) at x = "):
+        run(1.0)
