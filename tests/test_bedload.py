@@ -274,8 +274,8 @@ def test_avalanche_visiting_only_steep_faces_equals_visiting_every_face(periodic
 
 class _FakeSolver:
     """What BedCoupler.update reads from the solver: time, steps, c0, the near-bed velocity."""
-    def __init__(self, c0, u):
-        self.c0, self.u, self.time, self.steps, self.beds = c0, u, 0.0, 0, []
+    def __init__(self, c0, u, time, steps):
+        self.c0, self.u, self.time, self.steps, self.beds = c0, u, time, steps, []
 
     def sample_velocity(self, pts):
         return np.column_stack([np.full(len(pts), self.u), np.zeros(len(pts))])
@@ -297,8 +297,7 @@ def test_bed_faster_than_the_water_allows_stops_the_run_with_a_message():
     sed = dict(DEFAULTS, shear="log", filter_time=0.0, morfac=3.0)
 
     def run(c0):
-        s = _FakeSolver(c0, 2.0)
-        s.time, s.steps = 0.002, 10
+        s = _FakeSolver(c0, 2.0, 0.002, 10)
         BedCoupler(sed, x, z, dx, 1.6 * dx, 0.00036, 2650.0, z0=0.003).update(s)
         return s
 

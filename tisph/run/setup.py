@@ -98,8 +98,12 @@ def describe_instability(solver, code, pid):
                  f"|v| = {np.hypot(*v):.4g} m/s, rho = {rho:.6g} kg/m3 (rest {rho0:g})")
     else:
         where = f"time step dt = {solver.dt:.3g} s"
-    return (f"unstable at step {solver.steps}, t = {solver.time:.6g} s: {what}; {where}. "
-            f"Likely cause: {cause}.")
+    return unstable(solver, what, where, cause)
+
+
+def unstable(solver, what, where, cause):
+    """The SimulationError message of every instability: when, what went wrong, where, a likely cause."""
+    return f"unstable at step {solver.steps}, t = {solver.time:.6g} s: {what}; {where}. Likely cause: {cause}."
 
 
 # Keys a restart may change: when and how to stop, and what to write.
