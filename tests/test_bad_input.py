@@ -57,6 +57,10 @@ CASES = [
      ["sediment.suspended", "True", "bedload"]),
     (tunnel, [], "[sediment]\nmodel = \"bedload\"\nshear = \"log_far_field\"\n",
      ["sediment.shear", "log_far_field", "'waves' or 'log'"]),
+    (tunnel, [], "[sediment]\nmodel = \"bedload\"\nshear = \"wall_function\"\n",
+     ["sediment.shear", "wall_function", "'waves' or 'log'"]),
+    (pipeline_scour, [], "[sediment]\nshear = \"wall_function\"\n",
+     ["sediment.shear", "wall_function", "'k_equation'", "'smagorinsky'"]),
     (pipeline_scour, [], "[sediment]\nsettling_velocity = -0.01\n", ["sediment.settling_velocity", "-0.01", ">= 0"]),
     (dam_break, [], "[output]\nfield = \"concentration\"\n", ["output.field", "concentration", "sediment.suspended"]),
     # a spacing whose particles cannot fit: refused before anything is allocated

@@ -199,12 +199,11 @@ def test_velocity_at_is_the_shepard_sph_interpolation():
     assert np.isnan(got[3]).all()
 
 
-def test_solver_samples_the_velocity_as_the_host_probe_does_with_periodic_images():
-    """Solver.sample_velocity (on the device, the engine's cells) against velocity_at on a state
-    read with the particles copied one period left and right; mean_velocity against NumPy."""
+def _sampling_solver(**physics):
+    """Fluid with random velocities, jittered, over a wall row, periodic in x; its state read
+    with the particles copied one period left and right (the images the solver sees)."""
     from tisph.config import Physics
     from tisph.particles import FLUID, ParticleSet, WALL
-    from tisph.probes.gauges import velocity_at
     from tisph.solver import Solver
     rng = np.random.default_rng(5)
     dx, h, L = 0.01, 0.013, 0.4
@@ -214,15 +213,30 @@ def test_solver_samples_the_velocity_as_the_host_probe_does_with_periodic_images
            v=rng.standard_normal(g.shape))
     ps.add(np.column_stack([np.arange(0.5 * dx, L, dx), np.full(40, 0.03)]), WALL, 0, 1000.0, 0.1, v=(5.0, 5.0))
     mats = [dict(name="w", rho0=1000.0, viscosity=0.0, B=1e5)]
-    s = Solver(Physics(wall="repulsive", artificial_viscosity=False, periodic_x=True), ps, mats,
+    s = Solver(Physics(wall="repulsive", artificial_viscosity=False, periodic_x=True, **physics), ps, mats,
                ((0.0, 0.0), (L, 0.3)), dict(dx=dx, h=h, c0=10.0))
     s.prime()
-    st = s.state(("x", "v", "kind", "mat", "m", "rho"))
+    return s, L, h
+
+
+def _images(st, L):
     img = {k: np.concatenate([st[k]] * 3) for k in st}
     img["x"] = np.concatenate([st["x"] - [L, 0.0], st["x"], st["x"] + [L, 0.0]])
-    pts = np.array([[0.001, 0.1], [0.2, 0.06], [L - 0.002, 0.148], [0.1, 0.035], [0.2, 0.25]])
-    got = s.sample_velocity(pts)
-    want = velocity_at(img, pts, h)
+    return img
+
+
+SAMPLE_POINTS = np.array([[0.001, 0.1], [0.2, 0.06], [0.398, 0.148], [0.1, 0.035], [0.2, 0.25]])
+
+
+def test_solver_samples_the_velocity_as_the_host_probe_does_with_periodic_images():
+    """Solver.sample_velocity (on the device, the engine's cells) against velocity_at on a state
+    read with the particles copied one period left and right; mean_velocity against NumPy."""
+    from tisph.particles import FLUID
+    from tisph.probes.gauges import velocity_at
+    s, L, h = _sampling_solver()
+    st = s.state(("x", "v", "kind", "mat", "m", "rho"))
+    got = s.sample_velocity(SAMPLE_POINTS)
+    want = velocity_at(_images(st, L), SAMPLE_POINTS, h)
     assert np.allclose(got[:4], want[:4], rtol=1e-5, atol=1e-6)   # float32 weights on the device
     assert np.isnan(got[4]).all() and np.isnan(want[4]).all()
     fl = st["kind"] == FLUID
@@ -230,6 +244,27 @@ def test_solver_samples_the_velocity_as_the_host_probe_does_with_periodic_images
     assert s.mean_velocity(0, above=0.1) == pytest.approx(float(st["v"][fl & (st["x"][:, 1] > 0.1), 0].mean()),
                                                             rel=1e-6)
     assert np.isnan(s.mean_velocity(1))
+    with pytest.raises(ValueError, match="k equation"):
+        s.sample_tke(SAMPLE_POINTS)
+
+
+def test_solver_samples_the_k_equations_k_as_it_samples_the_velocity():
+    """Solver.sample_tke (the wall-function shear's k) is the same Shepard interpolation of the
+    fluid's kt as sample_velocity's of v, periodic images included; the wall's kt does not count."""
+    from tisph.particles import FLUID
+    from tisph.probes.gauges import velocity_at
+    s, L, h = _sampling_solver(sps=True, laminar_viscosity=True, turbulence="k_equation")
+    kind = s.p.kind.to_numpy()
+    kt = np.random.default_rng(7).random(s.n) * 0.01
+    kt[kind != FLUID] = 5.0                       # would show if the wall counted
+    s.p.kt.from_numpy(kt.astype(s.np_real))
+    st = s.state(("x", "v", "kind", "mat", "m", "rho", "kt"))
+    st["v"] = np.column_stack([st["kt"], np.zeros(len(st["kt"]))])   # velocity_at interpolates column 0
+    want = velocity_at(_images(st, L), SAMPLE_POINTS, h)[:, 0]
+    got = s.sample_tke(SAMPLE_POINTS)
+    assert np.allclose(got[:4], want[:4], rtol=1e-5, atol=1e-8)
+    assert np.isnan(got[4]) and np.isnan(want[4])
+    assert got[:4].max() < 0.01
 
 
 def _avalanche_every_face(z, dx, t, periodic, max_sweeps=500):
@@ -273,15 +308,47 @@ def test_avalanche_visiting_only_steep_faces_equals_visiting_every_face(periodic
 
 
 class _FakeSolver:
-    """What BedCoupler.update reads from the solver: time, steps, c0, the near-bed velocity."""
-    def __init__(self, c0, u, time, steps):
-        self.c0, self.u, self.time, self.steps, self.beds = c0, u, time, steps, []
+    """What BedCoupler.update reads from the solver: time, steps, c0, the near-bed velocity (and
+    k): a number or one per station."""
+    def __init__(self, c0, u, time, steps, k=0.0):
+        self.c0, self.u, self.time, self.steps, self.beds, self.k = c0, u, time, steps, [], k
 
     def sample_velocity(self, pts):
-        return np.column_stack([np.full(len(pts), self.u), np.zeros(len(pts))])
+        return np.column_stack([np.broadcast_to(self.u, (len(pts),)), np.zeros(len(pts))])
+
+    def sample_tke(self, pts):
+        return np.broadcast_to(self.k, (len(pts),)).astype(float)
 
     def set_bed(self, dz, w):
         self.beds.append(w)
+
+
+def test_wall_function_shear_is_the_log_law_where_k_is_in_equilibrium_and_grows_as_sqrt_k():
+    """sediment.shear = "wall_function" (Launder & Spalding): where k is in equilibrium with the
+    log law's u* (k = u*^2 / sqrt(C_mu)) it is the far-field-scaled log law; where k is 4 times
+    that it is 2 times the log law, signed with the flow (refused without the k equation:
+    tests/test_bad_input.py)."""
+    from tisph.constants import KAPPA
+    from tisph.sediment.coupling import DEFAULTS, BedCoupler
+    from tisph.terms.tke import SQRT_CMU
+    dx, z0 = 0.0025, 0.003
+    x = (np.arange(40) + 0.5) * dx
+    far = x < 0.05
+    u = np.where(far, 0.2, -0.5)                                  # reversed, faster flow behind
+    sed = dict(DEFAULTS, filter_time=0.0, reference_height=3.0, morfac=1.0)
+    zr = sed["reference_height"] * dx
+    ustar = KAPPA * np.abs(u) / np.log(max(zr, 2 * z0) / z0)
+    taus = {}
+    for shear, k in (("log_far_field", 0.0), ("wall_function", ustar ** 2 / SQRT_CMU),
+                     ("wall_function", np.where(far, 1.0, 4.0) * ustar ** 2 / SQRT_CMU)):
+        b = BedCoupler(dict(sed, shear=shear), x, np.full(40, 0.05), dx, 1.6 * dx, 0.00036, 2650.0, z0=z0,
+                       far_field=(far, 1.5))
+        b.update(_FakeSolver(100.0, u, 0.01, 10, k))
+        taus.setdefault(shear, []).append(b.tau.copy())
+    log = taus["log_far_field"][0]
+    assert np.median(np.abs(log[far])) == pytest.approx(1.5) and (log[~far] < 0).all()
+    assert np.allclose(taus["wall_function"][0], log, rtol=1e-12)
+    assert np.allclose(taus["wall_function"][1], np.where(far, 1.0, 2.0) * log, rtol=1e-12)
 
 
 def test_bed_faster_than_the_water_allows_stops_the_run_with_a_message():

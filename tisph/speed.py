@@ -30,11 +30,12 @@ CASES = [
     ("flume dx 0.0125 (paddle)", "flume", {}, 600),
     # periodic in x with the bed-load bed and SPS: Mao's pipeline case (an older revision that
     # cannot read its case file is reported as not measured)
-    # at 15 D (2.9e4 particles) with the Smagorinsky SPS: the case as the speed figures were measured,
-    # before its file went to 25 D and the k equation (stop 25)
+    # at 15 D (2.9e4 particles) with the Smagorinsky SPS and the log-law shear: the case as the speed
+    # figures were measured, before its file went to 25 D, the k equation (stop 25) and its wall function (26)
     ("pipeline Mao D/20 (periodic)", "pipeline_scour", {"--config": "scenes/pipeline_scour_mao.toml",
                                                        "geometry.length": 0.75,
-                                                       "numerics.turbulence": "smagorinsky"}, 150),
+                                                       "numerics.turbulence": "smagorinsky",
+                                                       "sediment.shear": "log_far_field"}, 150),
     ("tank 4.4e4", "tank", {"numerics.dx": 0.01, "geometry.width": 2.1, "geometry.depth": 2.1,
                             "geometry.tank_height": 2.2}, 150),
     ("tank 1.8e5", "tank", {"numerics.dx": 0.005, "geometry.width": 2.1, "geometry.depth": 2.1,

@@ -73,6 +73,9 @@ def build_bedload(cfg):
         if geo["inflow_length"] > 0 and geo["inflow_rate"] > 0 else ()
     physics = physics_from_config(cfg, periodic_x=True, noslip=True, materials_used=["water"], sps=geo["sps"],
                                   moving_bed=True, inflow=inflow, suspension=sed["suspended"])
+    if sed["shear"] == "wall_function" and physics.turbulence != "k_equation":
+        raise ConfigError("sediment.shear", sed["shear"], "'log_far_field' unless numerics.turbulence = "
+                          f"'k_equation' (the wall function reads its k; here '{physics.turbulence}')")
     far = far_field(g, stations, geo["inflow_length"])
     bed = coupling.BedCoupler(sed, stations, z, dx, h, g.d50, g.rs, amplitude=0.0, periodic=True, rho_w=rw,
                               z0=g.z0, far_field=(far, rw * g.ustar ** 2), surface=g.ytop)

@@ -6,7 +6,10 @@ Each update (every sediment.update_every steps):
      interpolated at every station, filtered in time over filter_time (an exponential average);
   2. the bed shear from it through a wall law with grain roughness k_s = 2.5 d50: for waves
      (shear = "waves") tau = 0.5 rho f_w |u| u with Swart's f_w for the orbital amplitude; for a
-     current (shear = "log") the rough-wall log law through u at z_r;
+     current (shear = "log") the rough-wall log law through u at z_r; with the k equation
+     (shear = "wall_function") Launder & Spalding's (1974, Comput. Methods Appl. Mech. Eng. 3:269)
+     wall function tau = rho C_mu^(1/4) sqrt(k) kappa u / ln(z_r / z0), k filtered as u is: the
+     geometric mean of the log law's shear and rho sqrt(C_mu) k, each scaled to the far field;
   3. Bed.step (tisph/sediment/bed.py) over the elapsed time; the solver's bed particles move
      with the new z_b (solver.set_bed).
 """
@@ -17,6 +20,7 @@ import numpy as np
 from ..constants import G
 from ..particles import BED
 from .bed import Bed
+from ..terms.tke import SQRT_CMU
 from .transport import reference_concentration, settling_velocity, shear_log_law, shear_waves, shields_number
 
 
@@ -33,7 +37,8 @@ DEFAULTS = {
     "gravity_coefficient": 1.0,
     "morfac": 1.0,                 # morphological acceleration: the bed moves morfac times as fast
     # waves: Swart's friction factor | log: the log law (currents) | log_far_field: the log law
-    # scaled so the far field's median shear is the current's rho u*^2 (scenes that set it)
+    # scaled so the far field's median shear is the current's rho u*^2 (scenes that set it) |
+    # wall_function: Launder & Spalding's, from the k equation's k as well, scaled the same way
     "shear": "waves",
     "reference_height": 1.5,       # z_r / dx: where the near-bed velocity is read
     "filter_time": 0.05,           # s: time constant of the near-bed velocity's filter
@@ -63,7 +68,7 @@ RANGES = {"sediment.porosity": (0.0, 0.9, True, True), "sediment.repose_angle": 
           "sediment.settling_velocity": (0.0, None, True, True),
           "sediment.seed": (0, None, True, True)}
 CHOICES = {"sediment.model": ("particles", "bedload"), "sediment.formula": ("mpm", "nielsen"),
-           "sediment.shear": ("waves", "log", "log_far_field")}
+           "sediment.shear": ("waves", "log", "log_far_field", "wall_function")}
 # the fastest the bed may move, in units of the sound speed (BedCoupler.check_speed)
 BED_MACH = 0.2
 
@@ -131,7 +136,7 @@ class BedCoupler:
         self.amplitude = np.zeros(len(stations)) if self.measured else amplitude
         self.history = collections.deque()   # (t, filtered u) over the last wave period, when measured
         from ..config import ConfigError
-        if sed["shear"] == "log_far_field" and far_field is None:
+        if sed["shear"] in ("log_far_field", "wall_function") and far_field is None:
             raise ConfigError("sediment.shear", sed["shear"], "'waves' or 'log' in this scene: the far-field "
                               "scaling needs the undisturbed bed and the current's u*, which the pipeline sets")
         if sed["suspended"] and surface is None:
@@ -141,32 +146,41 @@ class BedCoupler:
         self.w_s = sed["settling_velocity"] or settling_velocity(d50, self.bed.s)
         self.suspended = 0.0                 # sand volume in the water per unit width (m2)
         self.u = np.zeros(len(stations))
+        self.k = np.zeros(len(stations))     # the filtered k at z_r (shear = "wall_function")
         self.tau = np.zeros(len(stations))
         self.t = 0.0
+
+    def near_bed_points(self):
+        return np.column_stack([self.stations, self.bed.z + self.sed["reference_height"] * self.dx])
 
     def near_bed_velocity(self, s):
         """Tangential water velocity at z_r above the bed at each station (NaN: no water there),
         sampled on the solver's own cells (Solver.sample_velocity)."""
-        z, zr = self.bed.z, self.sed["reference_height"] * self.dx
         dzdx = self.bed.slope()
-        pts = np.column_stack([self.stations, z + zr])
-        u = s.sample_velocity(pts)
+        u = s.sample_velocity(self.near_bed_points())
         n = np.sqrt(1.0 + dzdx * dzdx)
         return (u[:, 0] + u[:, 1] * dzdx) / n
 
     def shear(self, u):
-        if self.sed["shear"] == "waves":
+        kind = self.sed["shear"]
+        if kind == "waves":
             tau = shear_waves(u, self.amplitude, self.d50, self.rho_w)
         else:
             tau = shear_log_law(u, self.sed["reference_height"] * self.dx, self.d50, self.rho_w, self.z0_log)
-            if self.sed["shear"] == "log_far_field":
-                mask, tau_inf = self.far_field
-                ref = float(np.median(np.abs(tau[mask])))
-                tau = tau * (tau_inf / ref) if ref > 0 else tau
+            if kind in ("log_far_field", "wall_function"):
+                tau = self.to_far_field(tau)
+            if kind == "wall_function":
+                tau = np.sign(u) * np.sqrt(np.abs(tau) * self.to_far_field(self.rho_w * SQRT_CMU * self.k))
         if self.sed["lee_vortex"] > 0:
             tau = lee_vortex_shear(tau, self.bed.z, self.dx, u, self.sed, self.bed.periodic, self.amplitude,
                                    self.mobility())
         return tau
+
+    def to_far_field(self, tau):
+        """tau scaled so that its median magnitude over the far field's stations is tau_inf."""
+        mask, tau_inf = self.far_field
+        ref = float(np.median(np.abs(tau[mask])))
+        return tau * (tau_inf / ref) if ref > 0 else tau
 
     def mobility(self):
         """Mobility number psi = (A omega)^2 / ((s - 1) g d50) at the stations (0: no omega)."""
@@ -186,6 +200,9 @@ class BedCoupler:
         tf = self.sed["filter_time"]
         a = dt / (tf + dt) if tf > 0 else 1.0
         self.u += a * (u - self.u)
+        if self.sed["shear"] == "wall_function":
+            k = s.sample_tke(self.near_bed_points())
+            self.k += a * (np.where(np.isfinite(k), k, 0.0) - self.k)
         if self.measured:
             period = 2.0 * np.pi / self.omega
             self.history.append((s.time, self.u.copy()))
