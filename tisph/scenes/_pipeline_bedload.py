@@ -6,7 +6,9 @@ The bed shear is the log law through the filtered near-bed velocity reference_he
 the bed, with the current's own roughness z0 (the one its log-law inflow profile has), scaled so
 that its median over the approach flow is the current's rho u*^2 (sediment.shear =
 "log_far_field"; coupling.BedCoupler says why): the undisturbed bed feels the current's u* and
-the gap under the pipe, where the flow accelerates, feels more. Sand the gap jet throws up
+the gap under the pipe, where the flow accelerates, feels more. With the k equation the bed can
+feel its k too (sediment.shear = "wall_function": Launder & Spalding's wall function, each of its
+two factors scaled the same way; Mao's case file). Sand the gap jet throws up
 settles out over sediment.deposition_length. The bed slope acts through the threshold alone
 (sediment.gravity_coefficient = 0): with Bailard's downslope term on top the sand could not climb
 out of the hole and it stopped at a third of Mao's depth (scenes/pipeline_scour_mao.toml). Tunnel erosion needs water under the pipe: the

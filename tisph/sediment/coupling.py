@@ -19,8 +19,8 @@ import numpy as np
 
 from ..constants import G
 from ..particles import BED
-from .bed import Bed
 from ..terms.tke import SQRT_CMU
+from .bed import Bed
 from .transport import reference_concentration, settling_velocity, shear_log_law, shear_waves, shields_number
 
 
