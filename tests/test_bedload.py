@@ -313,11 +313,9 @@ class _FakeSolver:
     def __init__(self, c0, u, time, steps, k=0.0):
         self.c0, self.u, self.time, self.steps, self.beds, self.k = c0, u, time, steps, [], k
 
-    def sample_velocity(self, pts):
-        return np.column_stack([np.broadcast_to(self.u, (len(pts),)), np.zeros(len(pts))])
-
-    def sample_tke(self, pts):
-        return np.broadcast_to(self.k, (len(pts),)).astype(float)
+    def sample_velocity(self, pts, tke=False):
+        u = np.column_stack([np.broadcast_to(self.u, (len(pts),)), np.zeros(len(pts))])
+        return (u, np.broadcast_to(self.k, (len(pts),)).astype(float)) if tke else u
 
     def set_bed(self, dz, w):
         self.beds.append(w)

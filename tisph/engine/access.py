@@ -98,39 +98,33 @@ class SolverAPI:
                 out[k] = a.astype(np.int32)
         return out
 
-    def sample_velocity(self, points, mat=0):
+    def sample_velocity(self, points, mat=0, tke=False):
         """SPH velocity of fluid material `mat` at each point (n, 2), Shepard-normalised with the
         cubic spline of support 2h: sum V_j u_j W / sum V_j W; NaN where no such particle is
         within 2h. The engine's cells and the current state, no copy of it to the host
         (probes/gauges.velocity_at does the same from a state read: 30x slower at 2.8e4
-        particles); in a periodic case the images across the seam count too."""
-        out = self._sampled(points, mat, False)
-        u = np.full((len(out), 2), np.nan)
-        ok = out[:, 2] > 0
-        u[ok] = out[ok, :2] / out[ok, 2:3]
-        return u
-
-    def sample_tke(self, points, mat=0):
-        """The k equation's turbulent kinetic energy at each point, sampled as sample_velocity
-        samples the velocity (NaN where no such particle is within 2h); needs the k equation
-        (numerics.turbulence = "k_equation", the member kt)."""
-        if "kt" not in self.members:
-            raise ValueError("sample_tke needs the k equation's kt (numerics.turbulence = 'k_equation')")
-        out = self._sampled(points, mat, True)
-        k = np.full(len(out), np.nan)
-        ok = out[:, 2] > 0
-        k[ok] = out[ok, 3] / out[ok, 2]
-        return k
-
-    def _sampled(self, points, mat, with_k):
-        """(sum W u, sum W v, sum W, sum W k) at each point (the k column 0 without with_k)."""
+        particles); in a periodic case the images across the seam count too. tke: also the k
+        equation's k at each point, interpolated alike in the same pass; returns (u, k)."""
+        if tke and "kt" not in self.members:
+            raise ValueError("sampling k needs the k equation's kt (numerics.turbulence = 'k_equation')")
         if not self._primed:
             self.prime()
         pts = np.ascontiguousarray(np.asarray(points, np.float64).reshape(-1, 2))
         out = np.zeros((len(pts), 4), np.float64)
         if len(pts):
-            self._sample(pts, out, int(mat), bool(with_k))
-        return out
+            self._sample(pts, out, int(mat), bool(tke))
+        ok = out[:, 2] > 0
+        u = np.full((len(pts), 2), np.nan)
+        u[ok] = out[ok, :2] / out[ok, 2:3]
+        if not tke:
+            return u
+        k = np.full(len(pts), np.nan)
+        k[ok] = out[ok, 3] / out[ok, 2]
+        return u, k
+
+    def sample_tke(self, points, mat=0):
+        """The k equation's turbulent kinetic energy at each point, as sample_velocity(tke=True)."""
+        return self.sample_velocity(points, mat, tke=True)[1]
 
     def mean_velocity(self, mat=0, above=-1e30):
         """Mean x-velocity of the fluid particles of material `mat` higher than y = above (NaN if
@@ -251,24 +245,19 @@ class SolverAPI:
             out[k, 3] = acc.k
 
     @ti.func
-    def sample_weight(self, j, r2, mat):
-        """The Shepard weight V_j W of particle j (0: not fluid of material mat)."""
+    def sample_pair(self, k, j, r, r2, acc: ti.template()) -> ti.f64:
+        """Adds particle j's Shepard weight V_j W and weighted velocity to acc (0: not fluid of
+        material acc.mat); returns the weight."""
         w = ti.f64(0.0)
-        if self.p.kind[j] == FLUID and ti.cast(self.p.mat[j], ti.i32) == mat:
+        if self.p.kind[j] == FLUID and ti.cast(self.p.mat[j], ti.i32) == acc.mat:
             w = ti.cast(CubicSpline2D.shape(ti.sqrt(r2) * self.inv_h) * self.p.m[j] / self.p.rho[j], ti.f64)
+            acc.w += w
+            acc.u += w * ti.cast(self.p.v[j], ti.f64)
         return w
 
     @ti.func
-    def sample_pair(self, k, j, r, r2, acc: ti.template()):
-        w = self.sample_weight(j, r2, acc.mat)
-        acc.w += w
-        acc.u += w * ti.cast(self.p.v[j], ti.f64)
-
-    @ti.func
     def sample_pair_k(self, k, j, r, r2, acc: ti.template()):
-        w = self.sample_weight(j, r2, acc.mat)
-        acc.w += w
-        acc.u += w * ti.cast(self.p.v[j], ti.f64)
+        w = self.sample_pair(k, j, r, r2, acc)
         acc.k += w * ti.cast(self.p.kt[j], ti.f64)
 
     @ti.kernel

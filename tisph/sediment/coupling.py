@@ -71,6 +71,8 @@ CHOICES = {"sediment.model": ("particles", "bedload"), "sediment.formula": ("mpm
            "sediment.shear": ("waves", "log", "log_far_field", "wall_function")}
 # the fastest the bed may move, in units of the sound speed (BedCoupler.check_speed)
 BED_MACH = 0.2
+# the shears scaled to the far field (the pipeline's undisturbed bed and its current's u*)
+FAR_FIELD_SHEARS = ("log_far_field", "wall_function")
 
 
 def initial_bed(stations, z, sed, dx):
@@ -136,7 +138,7 @@ class BedCoupler:
         self.amplitude = np.zeros(len(stations)) if self.measured else amplitude
         self.history = collections.deque()   # (t, filtered u) over the last wave period, when measured
         from ..config import ConfigError
-        if sed["shear"] in ("log_far_field", "wall_function") and far_field is None:
+        if sed["shear"] in FAR_FIELD_SHEARS and far_field is None:
             raise ConfigError("sediment.shear", sed["shear"], "'waves' or 'log' in this scene: the far-field "
                               "scaling needs the undisturbed bed and the current's u*, which the pipeline sets")
         if sed["suspended"] and surface is None:
@@ -150,16 +152,19 @@ class BedCoupler:
         self.tau = np.zeros(len(stations))
         self.t = 0.0
 
-    def near_bed_points(self):
-        return np.column_stack([self.stations, self.bed.z + self.sed["reference_height"] * self.dx])
-
-    def near_bed_velocity(self, s):
-        """Tangential water velocity at z_r above the bed at each station (NaN: no water there),
-        sampled on the solver's own cells (Solver.sample_velocity)."""
+    def near_bed_flow(self, s):
+        """(Tangential water velocity, k or None) at z_r above the bed at each station (NaN: no
+        water there), sampled on the solver's own cells (Solver.sample_velocity); k, in the same
+        pass, for the wall function only."""
+        pts = np.column_stack([self.stations, self.bed.z + self.sed["reference_height"] * self.dx])
+        k = None
+        if self.sed["shear"] == "wall_function":
+            u, k = s.sample_velocity(pts, tke=True)
+        else:
+            u = s.sample_velocity(pts)
         dzdx = self.bed.slope()
-        u = s.sample_velocity(self.near_bed_points())
         n = np.sqrt(1.0 + dzdx * dzdx)
-        return (u[:, 0] + u[:, 1] * dzdx) / n
+        return (u[:, 0] + u[:, 1] * dzdx) / n, k
 
     def shear(self, u):
         kind = self.sed["shear"]
@@ -167,7 +172,7 @@ class BedCoupler:
             tau = shear_waves(u, self.amplitude, self.d50, self.rho_w)
         else:
             tau = shear_log_law(u, self.sed["reference_height"] * self.dx, self.d50, self.rho_w, self.z0_log)
-            if kind in ("log_far_field", "wall_function"):
+            if kind in FAR_FIELD_SHEARS:
                 tau = self.to_far_field(tau)
             if kind == "wall_function":
                 tau = np.sign(u) * np.sqrt(np.abs(tau) * self.to_far_field(self.rho_w * SQRT_CMU * self.k))
@@ -195,13 +200,12 @@ class BedCoupler:
         if dt <= 0:
             return
         self.t = s.time
-        u = self.near_bed_velocity(s)
+        u, k = self.near_bed_flow(s)
         u = np.where(np.isfinite(u), u, 0.0)
         tf = self.sed["filter_time"]
         a = dt / (tf + dt) if tf > 0 else 1.0
         self.u += a * (u - self.u)
-        if self.sed["shear"] == "wall_function":
-            k = s.sample_tke(self.near_bed_points())
+        if k is not None:
             self.k += a * (np.where(np.isfinite(k), k, 0.0) - self.k)
         if self.measured:
             period = 2.0 * np.pi / self.omega
