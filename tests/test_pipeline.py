@@ -43,35 +43,75 @@ def test_k_equation_balances_to_the_mixing_length_and_decays():
     """The k-l model (tisph/terms/tke.py): under a steady shear |S| its k settles where production
     meets dissipation, k = l^2 |S|^2 / sqrt(C_mu), so nu_t = l^2 |S| (Prandtl's mixing length);
     without shear it decays as dk/dt = -C_mu^(3/4) k^(3/2) / l, 1/sqrt(k) = 1/sqrt(k0) + C_mu^(3/4) t / (2 l);
-    its stress is 2 nu_t S_dev - (2/3) k delta."""
+    its stress is 2 nu_t S_dev - (2/3) k delta. Wilcox's stress limiter leaves that equilibrium
+    alone and caps nu_t at sqrt(C_mu) k / (C_lim |S|) where k lags far below it (a fresh shear layer)."""
     from tisph.terms.tke import CMU34, eddy_viscosity, strain2, tke_stress, tke_update
     res = ti.field(ti.f64, shape=3)
     tau = ti.Vector.field(3, ti.f64, shape=())
 
     @ti.kernel
-    def run(k0: ti.f64, l: ti.f64, g: ti.f64, dt: ti.f64, n: ti.i32):
+    def run(k0: ti.f64, l: ti.f64, g: ti.f64, dt: ti.f64, n: ti.i32, clim: ti.f64):
         gv = ti.Matrix([[0.0, g], [0.0, 0.0]], ti.f64)
         k = k0
         ti.loop_config(serialize=True)
         for _ in range(n):
-            k = tke_update(k, l, strain2(gv), 0.0, dt)
+            k = tke_update(k, l, strain2(gv), 0.0, dt, clim)
         res[0] = k
-        res[1] = eddy_viscosity(k, l)
+        res[1] = eddy_viscosity(k, l, strain2(gv), clim)
         res[2] = strain2(gv)
         tau[None] = tke_stress(gv, res[1], k)
 
     l, g = 0.01, 5.0
-    run(1e-6, l, g, 1e-3, 20000)                  # 20 s: many times l / sqrt(k)
-    assert res[2] == pytest.approx(g * g, rel=1e-12)     # |S|^2 = g^2 for u = g y
-    assert res[0] == pytest.approx(l * l * g * g / 0.3, rel=1e-4)
-    assert res[1] == pytest.approx(l * l * g, rel=1e-4)
+    for clim in (0.0, 7.0 / 8.0):
+        run(1e-6, l, g, 1e-3, 20000, clim)            # 20 s: many times l / sqrt(k)
+        assert res[2] == pytest.approx(g * g, rel=1e-12)     # |S|^2 = g^2 for u = g y
+        assert res[0] == pytest.approx(l * l * g * g / 0.3, rel=1e-4)
+        assert res[1] == pytest.approx(l * l * g, rel=1e-4)
     t = tau[None].to_numpy()
     assert t[1] == pytest.approx(res[1] * g, rel=1e-6)
     assert t[0] == pytest.approx(-2.0 / 3.0 * res[0], rel=1e-6) and t[2] == t[0]
+    klow = 0.01 * l * l * g * g / 0.3                  # production 10 times the dissipation
+    run(klow, l, g, 1e-9, 0, 7.0 / 8.0)
+    assert res[1] == pytest.approx(0.3 * klow / (7.0 / 8.0 * g), rel=1e-12)
+    assert res[1] < 0.25 * 0.5477226 * np.sqrt(klow) * l
+    run(klow, l, g, 1e-9, 0, 0.0)
+    assert res[1] == pytest.approx(0.5477226 * np.sqrt(klow) * l, rel=1e-6)
     k0, T = 0.01, 2.0
-    run(k0, l, 0.0, 1e-4, int(T / 1e-4))
+    run(k0, l, 0.0, 1e-4, int(T / 1e-4), 0.0)
     exact = (1.0 / np.sqrt(k0) + CMU34 * T / (2 * l)) ** -2
     assert res[0] == pytest.approx(exact, rel=2e-3)       # first order in dt, implicit
+
+
+def test_omega_keeps_the_wall_layers_length_and_decays_as_wilcoxs():
+    """The omega length scale (numerics.length_scale = "omega"): under a steady shear near a wall
+    (l_wall = 1 cm) k and omega settle on the k-l model's equilibrium, nu_t = l_wall^2 |S|, since
+    omega's own balance sqrt(alpha / beta) |S| lies below the wall's |S| / C_mu^(1/2); without shear
+    and far from walls omega decays as d omega / dt = -beta omega^2."""
+    from tisph.terms.tke import BETA_W, CMU14, eddy_viscosity, omega_update, strain2, tke_update
+    res = ti.field(ti.f64, shape=3)
+
+    @ti.kernel
+    def run(k0: ti.f64, w0: ti.f64, lw: ti.f64, g: ti.f64, dt: ti.f64, n: ti.i32):
+        gv = ti.Matrix([[0.0, g], [0.0, 0.0]], ti.f64)
+        s2 = strain2(gv)
+        k, w = k0, w0
+        ti.loop_config(serialize=True)
+        for _ in range(n):
+            l = ti.min(lw, ti.sqrt(k) / (CMU14 * w))
+            w = omega_update(w, k, lw, s2, 0.0, dt, 0.0)
+            k = tke_update(k, l, s2, 0.0, dt, 0.0)
+        res[0] = k
+        res[1] = w
+        res[2] = eddy_viscosity(k, ti.min(lw, ti.sqrt(k) / (CMU14 * w)), s2, 0.0)
+
+    lw, g = 0.01, 5.0
+    run(1e-6, 1.0, lw, g, 1e-3, 20000)
+    assert res[0] == pytest.approx(lw * lw * g * g / 0.3, rel=1e-4)
+    assert res[1] == pytest.approx(g / 0.3, rel=1e-3)
+    assert res[2] == pytest.approx(lw * lw * g, rel=1e-4)
+    w0, T = 10.0, 2.0
+    run(1e-3, w0, 100.0, 0.0, 1e-4, int(T / 1e-4))
+    assert res[1] == pytest.approx(1.0 / (1.0 / w0 + BETA_W * T), rel=2e-3)
 
 
 def _two_phase_box(drag_K):

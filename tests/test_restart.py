@@ -16,9 +16,10 @@ CASES = [
     (tunnel, {"numerics.dx": 0.02, "sediment.model": "bedload", "sediment.seed_rms": 0.004,
               "sediment.morfac": 20.0}, 0.5),
     # the bed and its suspended load move from the start; the water carries its k, which the
-    # bed's wall-function shear reads (its filtered k is in the checkpoint)
+    # bed's wall-function shear reads (its filtered k is in the checkpoint), and its omega
     (pipeline_scour, {"numerics.dx": 0.0125, "output.probe_interval": 0.01, "sediment.suspended": True,
                       "sediment.morph_start": 0.0, "numerics.turbulence": "k_equation",
+                      "numerics.length_scale": "omega", "numerics.stress_limiter": 0.875,
                       "sediment.shear": "wall_function"}, 0.06),
     (flume, {"numerics.dx": 0.025, "geometry.length": 2.0, "geometry.damping_length": 0.6,
              "geometry.gauges_x": [0.5, 1.0]}, 0.3),

@@ -41,7 +41,8 @@ def fields_of(cls):
 # Every switch off (two builds: the wall kinds exclude each other). Built once for all modules.
 ALL_OFF = dict(artificial_viscosity=False, laminar_viscosity=False, xsph=False, shifting=False, density_diffusion="none",
                shepard=False, rheology=False, periodic_x=False, noslip=False, paddle="none", damping=(),
-               inflow=(), sps=False, turbulence="smagorinsky", drag=False, dem=False, moving_bed=False, suspension=False)
+               inflow=(), sps=False, turbulence="smagorinsky", tke_length="prescribed", drag=False, dem=False,
+               moving_bed=False, suspension=False)
 
 
 @pytest.fixture(scope="module")

@@ -2,7 +2,7 @@
 
     python -m tisph.bench [--quick] [--peer pysph] [--out renders/bench] [--only CASE ...]
     python -m tisph.bench --speed [--against REV] [--repeats N] [--quick]   (tisph/speed.py)
-    python -m tisph.bench --shedding [--gaps G ...] [--dx DX] [--end-time T]   (tisph/shedding.py)
+    python -m tisph.bench --shedding [--gaps G ...] [--dx DX] [--end-time T] [--config F]   (tisph/shedding.py)
 
 Every validation case runs at a ladder of resolutions; each run records particles, steps, wall
 time, Taichi compile time (the first call, separately), particle-steps/s and its error against
@@ -285,6 +285,8 @@ def main(argv=None):
     p.add_argument("--gaps", type=float, nargs="*", help="with --shedding: gaps in pipe diameters (default 0.5 1 2)")
     p.add_argument("--dx", type=float, help="with --shedding: particle spacing (default the case file's, D/20)")
     p.add_argument("--end-time", type=float, help="with --shedding: seconds of flow (default 4)")
+    p.add_argument("--config", help="with --shedding: the pipeline case file whose current and numerics it runs "
+                                    "(default scenes/pipeline_scour_mao.toml)")
     p.add_argument("--dry-run", action="store_true",
                    help="exercise every code path in seconds: one tiny case, tiny scaling, no profile (for tests)")
     a = p.parse_args(argv)
@@ -298,7 +300,7 @@ def main(argv=None):
         if a.dry_run:
             a.gaps, a.dx, a.end_time = a.gaps or [2.0], a.dx or 0.006, a.end_time or 0.8
         return shedding.main(a)
-    for name in ("gaps", "dx", "end_time"):
+    for name in ("gaps", "dx", "end_time", "config"):
         if getattr(a, name) is not None:
             p.error(f"--{name.replace('_', '-')} needs --shedding")
     from . import runtime

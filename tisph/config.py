@@ -71,6 +71,7 @@ SHARED_DEFAULTS = {
         "laminar_viscosity": False,  # paper 002 eq. 10 with the materials' viscosity
         "density_diffusion": "none", # none | molteni | fourtakas
         "turbulence": "smagorinsky", # smagorinsky (paper 002 eq. 10) | k_equation (transported k, tisph/terms/tke.py); where SPS is on
+        "length_scale": "prescribed",  # the k equation's length: prescribed (the scene's wall distance) | omega (transported, bounded by it)
         "shepard_every": 0,          # Shepard density filter every N steps (paper 002 eq. 14); 0 off
     },
     "output": {
@@ -98,6 +99,7 @@ CHOICES = {
     "numerics.wall": ("dynamic", "repulsive"),
     "numerics.density_diffusion": ("none", "molteni", "fourtakas"),
     "numerics.turbulence": ("smagorinsky", "k_equation"),
+    "numerics.length_scale": ("prescribed", "omega"),
     "output.field": ("", "speed", "pressure", "density", "material", "vorticity", "concentration"),
 }
 

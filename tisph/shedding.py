@@ -1,6 +1,6 @@
 """Vortex shedding behind a pipe above a fixed bed, against the gap: does the SPH wake shed?
 
-    python -m tisph.bench --shedding [--gaps 0.5 1 2] [--dx 0.0025] [--end-time 4] [--quick] [--out renders/bench]
+    python -m tisph.bench --shedding [--gaps 0.5 1 2] [--dx 0.0025] [--end-time 4] [--config F] [--quick] [--out renders/bench]
 
 Mao's case (scenes/pipeline_scour_mao.toml: D = 5 cm, 0.35 m/s, the rough-bed log-law current)
 with the bed held still (sediment.morph_start beyond the run) and the pipe raised e = gap * D
@@ -111,7 +111,7 @@ def main(a):
     from .run import resolve
     from .scenes import pipeline_scour
     ensure_dir(a.out)
-    cfg_file = os.path.join(ROOT, "scenes", "pipeline_scour_mao.toml")
+    cfg_file = a.config or os.path.join(ROOT, "scenes", "pipeline_scour_mao.toml")
     D = resolve(pipeline_scour, cfg_file)["geometry"]["pipe_diameter"]
     gaps = a.gaps or ([2.0] if a.quick else [0.5, 1.0, 2.0])
     end = a.end_time or (2.0 if a.quick else 4.0)
@@ -126,7 +126,7 @@ def main(a):
     cols = tuple(rows[0].keys())
     write_csv(os.path.join(a.out, "shedding.csv"), cols, [tuple(r[c] for c in cols) for r in rows])
     md = ["# Vortex shedding behind a pipe above a fixed bed", "",
-          f"{time.strftime('%Y-%m-%d %H:%M')}; Mao's current (U = {rows[0]['U']:g} m/s, D = {rows[0]['D']:g} m), "
+          f"{time.strftime('%Y-%m-%d %H:%M')}; `{os.path.relpath(cfg_file)}`: Mao's current (U = {rows[0]['U']:g} m/s, D = {rows[0]['D']:g} m), "
           f"the bed held still; the wake's vertical velocity {', '.join(f'{p:g}' for p in POINTS)} D behind the "
           f"pipe, snapshots every {SAMPLE:g} s from {rows[0]['t_from']:g} s on. Sheds: a spectral peak at a Strouhal "
           f"number of {ST_BAND[0]:g}-{ST_BAND[1]:g} holds at least {SHEDS_POWER:.0%} of the power and v varies by at "

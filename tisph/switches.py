@@ -23,6 +23,7 @@ class Physics:
                                 # material's velocity to the log law (paper 002 eq. 32)
     sps: bool = False           # SPS (Smagorinsky) turbulence in Newtonian materials (paper 002 eq. 10)
     turbulence: str = "smagorinsky"   # with sps: smagorinsky | k_equation (the eddy viscosity from a transported k)
+    tke_length: str = "prescribed"    # with k_equation: prescribed (the scene's l) | omega (transported omega, l its bound)
     drag: bool = False          # fluid-sediment drag between different materials (paper 002 eq. 16)
     dem: bool = False           # DEM spring-dashpot contacts between sediment particles (paper 002 eqs. 17-28)
     moving_bed: bool = False    # BED particles follow a morphodynamic bed z_b(x) (tisph/sediment)
@@ -50,6 +51,7 @@ def physics_from_config(cfg: dict, periodic_x=False, noslip=False, materials_use
         inflow=tuple(float(v) for v in inflow),
         sps=sps,
         turbulence=n["turbulence"] if sps else "smagorinsky",
+        tke_length=n["length_scale"] if sps and n["turbulence"] == "k_equation" else "prescribed",
         drag=drag,
         dem=dem,
         moving_bed=moving_bed,

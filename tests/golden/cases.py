@@ -52,6 +52,9 @@ CASES = [
      {"numerics.dx": 0.0125, "sediment.morph_start": 0.0, "sediment.suspended": True}),
     ("pipeline_k_equation", "tisph.scenes.pipeline_scour", None,
      {"numerics.dx": 0.0125, "sediment.morph_start": 0.0, "numerics.turbulence": "k_equation"}),
+    ("pipeline_k_omega", "tisph.scenes.pipeline_scour", None,
+     {"numerics.dx": 0.0125, "sediment.morph_start": 0.0, "numerics.turbulence": "k_equation",
+      "numerics.length_scale": "omega", "numerics.stress_limiter": 0.875, "sediment.shear": "wall_function"}),
     ("pipe_on_rigid_bed", "tisph.scenes.pipeline_scour", "scenes/pipe_on_rigid_bed.toml", {}),
     ("poiseuille_bingham", "tisph.validation.poiseuille", None, {"numerics.dx": 0.005}),
 ]

@@ -10,7 +10,7 @@ from ..boundaries.walls import DynamicWall, NoSlip, RepulsiveWall
 from ..boundaries.zones import Container, Damping, Drive, Inflow, Outflow
 from ..physics.fluid import (XSPH, ArtificialViscosity, Continuity, DensityDiffusion, LaminarViscosity,
                              Pressure, Shifting, VelocityGradient)
-from ..physics.sediment import DEM, SPS, TKE, Drag, Rheology
+from ..physics.sediment import DEM, SPS, TKE, Drag, Omega, Rheology
 from ..physics.shepard import Shepard
 from ..physics.suspension import Suspension
 
@@ -18,7 +18,7 @@ MODULES = (
     RepulsiveWall,        # view: the wall particle mirrors i's pressure; Lennard-Jones force first
     Continuity, Pressure, ArtificialViscosity,
     NoSlip,               # the ghost velocity, before the viscous terms read it
-    LaminarViscosity, VelocityGradient, TKE, SPS, DEM, Drag, DensityDiffusion, XSPH, Shifting, Suspension,
+    LaminarViscosity, VelocityGradient, TKE, Omega, SPS, DEM, Drag, DensityDiffusion, XSPH, Shifting, Suspension,
     Rheology,             # finish: the effective viscosity for the next step (may rest the plug)
     Drive, Damping, Inflow, Paddle, MovingBed, DynamicWall, Outflow, Container, Shepard,
 )

@@ -8,7 +8,7 @@ from ..terms.dem import contact_force, critical_step
 from ..terms.drag import drag_accel
 from ..terms.rheology import BINGHAM, CROSS, RHEOLOGY_CODES, bingham, cross, shear_rate
 from ..terms.sps import sps_accel, sps_stress
-from ..terms.tke import CMU14, K_FLOOR, SIGMA_K, eddy_viscosity, strain2, tke_stress, tke_update
+from ..terms.tke import CMU14, K_FLOOR, SIGMA_K, SIGMA_W, eddy_viscosity, omega_update, strain2, tke_stress, tke_update
 
 DEM_SLOTS = 8   # contacts remembered per particle (a packed 2D lattice has at most 6 within dx)
 
@@ -138,6 +138,42 @@ class SPS(Module):
 
 
 @ti.data_oriented
+class Omega(Module):
+    """The k equation's length from a transported specific dissipation omega (Wilcox 2006;
+    tisph/terms/tke.py omega_update), bounded by the prescribed length (numerics.length_scale =
+    "omega"): it moves with the particles, diffuses between them as k does and steps after TKE,
+    which takes its length sqrt(k) / (C_mu^(1/4) omega) from the old omega."""
+    name = "omega"
+    on = {"sps": True, "turbulence": "k_equation", "tke_length": "omega"}
+    acc = {"wi": "real", "dw": "real"}
+
+    def fields(self, real):
+        return {"wt": real}    # specific dissipation omega (1/s)
+
+    def setup(self, S):
+        """omega from the scene's k and l (the wall layer's equilibrium): omega = sqrt(k) / (C_mu^(1/4) l)."""
+        import numpy as np
+        k, l = S.p.kt.to_numpy().astype(float), S.p.lt.to_numpy().astype(float)
+        S.p.wt.from_numpy((np.sqrt(k) / (CMU14 * np.maximum(l, 1e-12))).astype(S.np_real))
+
+    @ti.func
+    def init_acc(self, S, i, acc: ti.template()):
+        acc.wi = S.tmp.wt[i]
+
+    @ti.func
+    def pair(self, S, i, j, r, r2, nb, acc: ti.template()):
+        s = S.tmp
+        if nb.kj == FLUID and s.mat[j] == acc.mat:
+            acc.dw += nb.vol_j * SIGMA_W * (s.nut[i] + s.nut[j]) * (acc.wi - s.wt[j]) * r.dot(nb.gw) * nb.ie
+
+    @ti.func
+    def finish(self, S, i, mi, acc: ti.template(), pt: ti.template()):
+        k = ti.max(S.tmp.kt[i], K_FLOOR)
+        S.p.wt[i] = omega_update(acc.wi, k, S.tmp.lt[i], strain2(acc.gv), acc.dw, S.prm[None].dt,
+                                 S.prm[None].stress_limiter)
+
+
+@ti.data_oriented
 class TKE(Module):
     """A transported turbulent kinetic energy k for the SPS's eddy viscosity (the k-l model,
     tisph/terms/tke.py): k moves with the particles, diffuses between them and is made and
@@ -146,6 +182,9 @@ class TKE(Module):
     name = "tke"
     on = {"sps": True, "turbulence": "k_equation"}
     acc = {"ki": "real", "nuti": "real", "dk": "real"}
+    params = {"stress_limiter": Param(0.0, "-", (0.0, None, True, True),
+                                      "Wilcox's (2006) stress limiter C_lim on the k equation's eddy viscosity "
+                                      "(7/8 in k-omega 2006); 0: off", key="numerics.stress_limiter")}
 
     def fields(self, real):
         return {"kt": real,    # turbulent kinetic energy k (m2/s2)
@@ -179,12 +218,16 @@ class TKE(Module):
     @ti.func
     def finish(self, S, i, mi, acc: ti.template(), pt: ti.template()):
         l = S.tmp.lt[i]
-        k = tke_update(acc.ki, l, strain2(acc.gv), acc.dk, S.prm[None].dt)
+        if ti.static(S.physics.tke_length == "omega"):      # k and omega both step from the old state
+            l = ti.min(l, ti.sqrt(acc.ki) / (CMU14 * S.tmp.wt[i]))
+        s2 = strain2(acc.gv)
+        clim = S.prm[None].stress_limiter
+        k = tke_update(acc.ki, l, s2, acc.dk, S.prm[None].dt, clim)
         if ti.static(S.physics.rheology):
             if S.mat_rheo[mi] != 0:     # the SPS is the Newtonian materials' only
                 k = K_FLOOR
         S.p.kt[i] = k
-        S.p.nut[i] = eddy_viscosity(k, l)
+        S.p.nut[i] = eddy_viscosity(k, l, s2, clim)
 
 
 @ti.data_oriented

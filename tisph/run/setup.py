@@ -28,10 +28,22 @@ def common_params(cfg, c0, g=9.81, depth=1.0):
     n = cfg["numerics"]
     dx = n["dx"]
     wall_D = n["wall_strength"] if n["wall_strength"] > 0 else 5.0 * g * depth
-    return dict(dx=dx, h=n["h_factor"] * dx, c0=c0, alpha=n["artificial_viscosity"], xsph=n["xsph"], shifting=n["shifting"],
-                delta=n["delta"], g=(0.0, -g), wall_D=wall_D, wall_r0=dx, cfl=n["cfl"],
-                dt_max=n["dt_max"], density_band=n["density_band"], shepard_every=n["shepard_every"],
-                mixing_length=n["mixing_length"])
+    return dict(dx=dx, h=n["h_factor"] * dx, c0=c0, g=(0.0, -g), wall_D=wall_D, wall_r0=dx,
+                shepard_every=n["shepard_every"], **keyed_params(cfg))
+
+
+def keyed_params(cfg):
+    """Every runtime parameter a module declares with a config key (Param.key), from the config: a
+    new module's key reaches the solver without a line here (a missed one would run at its default)."""
+    from ..engine.registry import MODULES
+    from ..engine.state import CORE_PARAMS, PARAM_ALIASES
+    out = {}
+    for decl in [CORE_PARAMS] + [m.params for m in MODULES]:
+        for name, p in decl.items():
+            if p.key:
+                sec, key = p.key.split(".")
+                out[PARAM_ALIASES.get(name, name)] = cfg[sec][key]
+    return out
 
 
 class Log:
