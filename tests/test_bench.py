@@ -1,10 +1,13 @@
 """The benchmark's own code paths, in seconds: one tiny case, tiny scaling, no peer, no timing checks."""
 import csv
 import math
+import os
 
 import pytest
 
 from tisph import bench
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 
 def test_bench_dry_run(tmp_path):
@@ -68,15 +71,23 @@ def test_wake_spectrum_finds_a_shedding_frequency_and_not_in_noise():
 
 def test_shedding_bench_dry_run(tmp_path):
     """--shedding --dry-run: the whole path (the fixed-bed run, the snapshots read and deleted,
-    the table) on a tiny case in seconds."""
-    assert bench.main(["--shedding", "--dry-run", "--out", str(tmp_path)]) == 0
+    the table) on a tiny case in seconds, from a case file given with --config (Mao's with the
+    omega length)."""
+    src = open(os.path.join(ROOT, "scenes", "pipeline_scour_mao.toml")).read()
+    assert 'turbulence = "k_equation"\n' in src
+    cfg = tmp_path / "mao_omega.toml"
+    cfg.write_text(src.replace('turbulence = "k_equation"\n', 'turbulence = "k_equation"\nlength_scale = "omega"\n', 1))
+    assert bench.main(["--shedding", "--dry-run", "--out", str(tmp_path), "--config", str(cfg)]) == 0
     md = (tmp_path / "shedding.md").read_text()
-    assert "| 2 | 0.006 |" in md
+    assert "| 2 | 0.006 |" in md and "mao_omega.toml" in md
+    assert "length_scale = \"omega\"" in (tmp_path / "runs" / "shedding_gap2" / "run.log").read_text()
     rows = (tmp_path / "shedding.csv").read_text().splitlines()
     assert len(rows) == 2 and rows[0].startswith("gap_over_D")
     assert not (tmp_path / "runs" / "shedding_gap2" / "snapshots").exists()
     with pytest.raises(SystemExit):
         bench.main(["--gaps", "1.0"])
+    with pytest.raises(SystemExit):
+        bench.main(["--config", str(cfg)])
 
 
 def test_shedding_verdict_needs_a_peak_at_a_strouhal_number():
