@@ -41,6 +41,7 @@ def physics_from_config(cfg: dict, periodic_x=False, noslip=False, materials_use
     n = cfg["numerics"]
     mats = cfg.get("materials", {})
     used = mats.keys() if materials_used is None else materials_used
+    turb = n["turbulence"] if sps else "smagorinsky"
     rheo = any(isinstance(mats[k], dict) and mats[k].get("rheology", "newtonian") != "newtonian" for k in used)
     return Physics(
         rheology=rheo,
@@ -50,8 +51,8 @@ def physics_from_config(cfg: dict, periodic_x=False, noslip=False, materials_use
         damping=tuple(float(v) for v in damping),
         inflow=tuple(float(v) for v in inflow),
         sps=sps,
-        turbulence=n["turbulence"] if sps else "smagorinsky",
-        tke_length=n["length_scale"] if sps and n["turbulence"] == "k_equation" else "prescribed",
+        turbulence=turb,
+        tke_length=n["length_scale"] if turb == "k_equation" else "prescribed",
         drag=drag,
         dem=dem,
         moving_bed=moving_bed,

@@ -8,7 +8,8 @@ from ..terms.dem import contact_force, critical_step
 from ..terms.drag import drag_accel
 from ..terms.rheology import BINGHAM, CROSS, RHEOLOGY_CODES, bingham, cross, shear_rate
 from ..terms.sps import sps_accel, sps_stress
-from ..terms.tke import CMU14, K_FLOOR, SIGMA_K, SIGMA_W, eddy_viscosity, omega_update, strain2, tke_stress, tke_update
+from ..terms.tke import (CMU14, K_FLOOR, SIGMA_K, SIGMA_W, eddy_viscosity, length_of_omega, omega_update, strain2,
+                         tke_stress, tke_update)
 
 DEM_SLOTS = 8   # contacts remembered per particle (a packed 2D lattice has at most 6 within dx)
 
@@ -164,11 +165,11 @@ class Omega(Module):
     def pair(self, S, i, j, r, r2, nb, acc: ti.template()):
         s = S.tmp
         if nb.kj == FLUID and s.mat[j] == acc.mat:
-            acc.dw += nb.vol_j * SIGMA_W * (s.nut[i] + s.nut[j]) * (acc.wi - s.wt[j]) * r.dot(nb.gw) * nb.ie
+            acc.dw += nb.vol_j * SIGMA_W * (acc.nuti + s.nut[j]) * (acc.wi - s.wt[j]) * r.dot(nb.gw) * nb.ie
 
     @ti.func
     def finish(self, S, i, mi, acc: ti.template(), pt: ti.template()):
-        k = ti.max(S.tmp.kt[i], K_FLOOR)
+        k = ti.max(acc.ki, K_FLOOR)     # TKE's acc: this particle's k and nu_t before the step
         S.p.wt[i] = omega_update(acc.wi, k, S.tmp.lt[i], strain2(acc.gv), acc.dw, S.prm[None].dt,
                                  S.prm[None].stress_limiter)
 
@@ -219,7 +220,7 @@ class TKE(Module):
     def finish(self, S, i, mi, acc: ti.template(), pt: ti.template()):
         l = S.tmp.lt[i]
         if ti.static(S.physics.tke_length == "omega"):      # k and omega both step from the old state
-            l = ti.min(l, ti.sqrt(acc.ki) / (CMU14 * S.tmp.wt[i]))
+            l = ti.min(l, length_of_omega(acc.ki, S.tmp.wt[i]))
         s2 = strain2(acc.gv)
         clim = S.prm[None].stress_limiter
         k = tke_update(acc.ki, l, s2, acc.dk, S.prm[None].dt, clim)

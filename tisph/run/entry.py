@@ -36,13 +36,12 @@ def run_case(case, cfg, out, log, scene_name, restart=None, force=False):
         if getattr(case.particles, "turbulence_length", None) is None and lm <= 0:
             raise ConfigError("numerics.mixing_length", lm, "> 0 with numerics.turbulence = \"k_equation\" in this "
                               "scene: it sets no wall distance, so the k equation's length l is this constant")
-    if num["length_scale"] != "prescribed" and case.physics.turbulence != "k_equation":
-        raise ConfigError("numerics.length_scale", num["length_scale"], "\"prescribed\" without the k equation "
-                          "(omega is the k equation's length; it needs numerics.turbulence = \"k_equation\" and SPS on)")
-    lim = num["stress_limiter"]
-    if lim > 0 and case.physics.turbulence != "k_equation":
-        raise ConfigError("numerics.stress_limiter", lim, "0 without the k equation (the limiter caps its eddy "
-                          "viscosity; it needs numerics.turbulence = \"k_equation\" and SPS turbulence on)")
+    # the k equation's own options, off without it
+    for key, off, what in (("length_scale", "prescribed", "omega is the k equation's length"),
+                           ("stress_limiter", 0.0, "the limiter caps the k equation's eddy viscosity")):
+        if num[key] != off and case.physics.turbulence != "k_equation":
+            raise ConfigError(f"numerics.{key}", num[key], f"{off!r} without the k equation ({what}; it needs "
+                              "numerics.turbulence = \"k_equation\" and SPS turbulence on)")
     if cfg["output"]["field"] == "concentration" and not case.physics.suspension:
         raise ConfigError("output.field", "concentration", "a field this case has: concentration needs suspended "
                           "sand (sediment.suspended = true, the pipeline over the bed-load bed)")

@@ -77,6 +77,12 @@ def omega_of_length(k, l):
 
 
 @ti.func
+def length_of_omega(k, w):
+    """The length sqrt(k) / (C_mu^(1/4) omega) of an omega (omega_of_length's inverse)."""
+    return ti.sqrt(k) / (CMU14 * w)
+
+
+@ti.func
 def omega_update(w, k, l_wall, s2, diff, dt, clim):
     """omega one step on (numerics.length_scale = "omega"): production alpha (omega / k) nu_t |S|^2
     and diffusion explicit, destruction beta omega^2 implicit; never below the wall's
@@ -84,9 +90,9 @@ def omega_update(w, k, l_wall, s2, diff, dt, clim):
     0.09 H's under the surface), so a wall layer keeps Prandtl's length."""
     w_wall = omega_of_length(k, l_wall)
     we = ti.max(w, w_wall)
-    nut = eddy_viscosity(k, ti.sqrt(k) / (CMU14 * we), s2, clim)
+    nut = eddy_viscosity(k, length_of_omega(k, we), s2, clim)
     wnew = (w + dt * (ALPHA_W * we / k * nut * s2 + diff)) / (1.0 + dt * BETA_W * we)
-    return ti.max(wnew, omega_of_length(k, l_wall))
+    return ti.max(wnew, w_wall)
 
 
 @ti.func
