@@ -77,6 +77,54 @@ def test_deposition_length_spreads_the_load_that_settles_out():
         assert (q[k + 39] - lo) / (hi - lo) > 0.4 if l_d else (q[k + 39] - lo) / (hi - lo) < 1e-9
 
 
+def test_lee_transit_carries_the_load_over_a_reversed_zone():
+    """sediment.lee_transit: a fast 'gap', then a reversed near-bed zone (a separation bubble),
+    then the current again, on a periodic bed. Without it the gap's load stops where the flow turns
+    and the whole excess lands on one face; with it the load crosses the bubble, settling at
+    a / (1 + a) a station (a = l_d / dx), while the reversed load stops within l_s of where the
+    flow turns forward. Without a reversed station both give the same flux; either way Exner
+    conserves the sand."""
+    n, dx, l_d = 400, 0.0025, 0.15
+    x = (np.arange(n) + 0.5) * dx
+    tc = 0.0374 * (RHO_S - 1000.0) * 9.81 * D50
+    gap, bubble = (x > 0.25) & (x < 0.3), (x > 0.3) & (x < 0.4)
+    tau = np.where(gap, 20 * tc, np.where(bubble, -1.5 * tc, 2 * tc))
+    flux = {}
+    for lt in (False, True):
+        bed = Bed(x, np.full(n, 0.1), D50, RHO_S, saturation_length=dx, deposition_length=l_d, lee_transit=lt)
+        for _ in range(3):                    # the sweeps start from the last flux: let it settle
+            bed.q = bed.saturate(bed.equilibrium_flux(tau))
+        flux[lt] = bed.q
+        if lt:
+            up, back = bed.q_up.copy(), bed.q_back.copy()   # the two loads of lee_transit
+        v0 = bed.volume()
+        bed.step(tau, 0.5)
+        assert abs(bed.volume() - v0) <= 1e-12 * abs(v0)
+    assert np.allclose(up + back, flux[True], rtol=0, atol=1e-12 * abs(flux[True]).max())
+    qb = Bed(x, np.full(n, 0.1), D50, RHO_S).equilibrium_flux(tau)      # on the flat bed
+    k, m = int(np.argmax(bubble)), int(bubble.sum())   # the bubble's first station, its length
+    hi = qb[gap].min()
+    assert up[k - 1] == pytest.approx(hi, rel=1e-3)
+    # without: the gap's load is gone one station into the bubble (the flow there runs back)
+    assert flux[False][k + 1] < 0
+    # with: the load along the current settles out over l_d across the bubble
+    a = l_d / dx
+    assert np.allclose(up[k:k + m], up[k - 1] * (a / (1 + a)) ** np.arange(1, m + 1), rtol=1e-6)
+    assert up[k + m - 1] > 0.5 * hi           # most of it is still moving at the bubble's end
+    # the reversed load is the bubble's own, and stops within a few l_s = dx in the gap
+    assert np.all(back[bubble] < 0) and np.all(back[bubble] >= qb[bubble].min() * (1 + 1e-9))
+    assert abs(back[k - 8]) < 1e-3 * hi and np.abs(back[~bubble & (x > 0.4)]).max() < 1e-12 * hi
+    # no reversed station: the same flux as saturate's
+    tau2 = np.abs(tau)
+    same = []
+    for lt in (False, True):
+        bed = Bed(x, np.full(n, 0.1), D50, RHO_S, saturation_length=dx, deposition_length=l_d, lee_transit=lt)
+        for _ in range(3):
+            bed.q = bed.saturate(bed.equilibrium_flux(tau2))
+        same.append(bed.q)
+    assert np.allclose(same[0], same[1], rtol=1e-12, atol=0)
+
+
 def test_volume_conserved_periodic():
     rng = np.random.default_rng(1)
     x = (np.arange(200) + 0.5) * 0.005

@@ -32,6 +32,10 @@ DEFAULTS = {
     "formula": "mpm",              # mpm: Meyer-Peter & Mueller | nielsen: Nielsen (1992), for waves
     "saturation_length": 0.0,      # l_s of l_s dq/dx + q = q_b (m); 0: one dx
     "deposition_length": 0.0,      # l_s where the load settles out (q > q_b), m; 0: saturation_length
+    # a current's load beyond the capacity crosses a reversed near-bed zone (a separation bubble)
+    # with the outer flow and settles over the deposition length, instead of stopping where the
+    # near-bed flow turns (Bed.saturate_transit); the pipeline's lee
+    "lee_transit": False,
     # K_g of the downslope term K_g |q_b| (dz/dx) / tan(phi) (Bailard 1981; 1/tan(phi) = CMS's 1.6);
     # 0: the slope acts through the threshold alone (REEF3D's bedload_MPM, CMS's Dey option)
     "gravity_coefficient": 1.0,
@@ -130,7 +134,8 @@ class BedCoupler:
                        theta_cr=sed["shields_critical"] or None, formula=sed["formula"],
                        saturation_length=sed["saturation_length"] or None,
                        deposition_length=sed["deposition_length"] or None,
-                       gravity_coefficient=sed["gravity_coefficient"], morfac=sed["morfac"], periodic=periodic)
+                       gravity_coefficient=sed["gravity_coefficient"], morfac=sed["morfac"], periodic=periodic,
+                       lee_transit=sed["lee_transit"])
         self.z0 = self.bed.z.copy()
         self.v0 = self.bed.volume()
         self.d50, self.omega, self.z0_log, self.far_field = d50, omega, z0, far_field
@@ -144,6 +149,10 @@ class BedCoupler:
         if sed["suspended"] and surface is None:
             raise ConfigError("sediment.suspended", True, "false in this scene: suspended load is built for the "
                               "pipeline over the bed-load bed (its periodic current has one water surface)")
+        if sed["lee_transit"] and sed["shear"] == "waves":
+            raise ConfigError("sediment.lee_transit", True, "false with sediment.shear = 'waves': the load crosses "
+                              "a separated lee in the direction of a current (the net flux's), which waves turn "
+                              "every half period")
         self.water_top = surface
         self.w_s = sed["settling_velocity"] or settling_velocity(d50, self.bed.s)
         self.suspended = 0.0                 # sand volume in the water per unit width (m2)
