@@ -97,15 +97,14 @@ class Bed:
         return q
 
     def saturate_transit(self, qb, a, ad):
-        """saturate for a current over a separated lee (sediment.lee_transit): the load is split
+        """saturate for a current over a separated lee (sediment.lee_transit). The load is split
         into the part that travels with the current (the sign of the net q_b) and the part that
-        runs against it under a reversed near-bed flow. Load in excess of the local capacity
-        travels with the current over the reversed zone and settles out over the deposition
-        length (sand a jet throws up crosses the separation bubble above the bed: van Rijn 1987's
-        adaptation of the suspended load, which moves with the outer flow), where the one-way
-        sweeps of saturate stop it where the near-bed flow turns. The load against the current
-        stops within l_s where the flow turns back. The total is the sum; with no reversed
-        station it is saturate's."""
+        runs against it under a reversed near-bed flow. Load beyond the local capacity travels
+        with the current across the reversed zone and settles out over the deposition length, as
+        sand a jet throws up crosses a separation bubble above the bed (van Rijn 1987's
+        adaptation of the suspended load, which moves with the outer flow); saturate stops it
+        where the near-bed flow turns. The load against the current stops within l_s where the
+        flow turns forward. The flux is the sum; with no reversed station it is saturate's."""
         n = len(qb)
         sgn = 1.0 if float(np.sum(qb)) >= 0 else -1.0
         along = sgn * qb >= 0               # with the current, or still (below the threshold)
