@@ -66,6 +66,8 @@ CASES = [
     (pipeline_scour, [], "[sediment]\nshear = \"wall_function\"\n",
      ["sediment.shear", "wall_function", "'k_equation'", "'smagorinsky'"]),
     (tunnel, [], "[sediment]\nmodel = \"bedload\"\nlee_transit = true\n", ["sediment.lee_transit", "True", "waves"]),
+    (pipeline_scour, [], "[sediment]\nlee_stirring = true\n", ["sediment.lee_stirring", "True", "'wall_function'"]),
+    (pipeline_scour, [], "[sediment]\nsettling_delay = true\n", ["sediment.settling_delay", "True", "lee_transit"]),
     (pipeline_scour, [], "[sediment]\nsettling_velocity = -0.01\n", ["sediment.settling_velocity", "-0.01", ">= 0"]),
     (dam_break, [], "[output]\nfield = \"concentration\"\n", ["output.field", "concentration", "sediment.suspended"]),
     # a spacing whose particles cannot fit: refused before anything is allocated

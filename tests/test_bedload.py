@@ -397,6 +397,66 @@ def test_wall_function_shear_is_the_log_law_where_k_is_in_equilibrium_and_grows_
     assert np.allclose(taus["wall_function"][1], np.where(far, 1.0, 2.0) * log, rtol=1e-12)
 
 
+def test_settling_delay_lands_the_jet_s_load_half_a_deposition_length_on():
+    """sediment.settling_delay: the load a jet leaves beyond the capacity of still water lands as
+    a gamma kernel of two stages of l_d / 2 (none where the jet ends, the most l_d / 2 on, mean
+    l_d), where one stage lands the most at once; both conserve the sand and carry the same
+    load out of the jet."""
+    n, dx, l_d = 600, 0.0025, 0.15
+    x = (np.arange(n) + 0.5) * dx
+    end = 0.3
+    tau = np.where((x > 0.2) & (x < end), 3.0, 0.0)             # a jet, then still water
+    out = {}
+    for delay in (False, True):
+        bed = Bed(x, np.full(n, 0.1), D50, RHO_S, saturation_length=dx, deposition_length=l_d, lee_transit=True,
+                  settling_delay=delay, gravity_coefficient=0.0)
+        q = bed.saturate(bed.equilibrium_flux(tau))
+        f = bed.face_fluxes(q)
+        dep = -(f[1:] - f[:-1]) / dx
+        lee = x > end
+        out[delay] = (x[lee][np.argmax(dep[lee])] - end, np.sum(dep[lee] * (x[lee] - end)) / np.sum(dep[lee]),
+                      q[np.argmin(np.abs(x - end + dx))], dep[lee][0] / dep[lee].max())
+        z0 = bed.volume()
+        bed.step(tau, 1.0)
+        assert abs(bed.volume() - z0) < 1e-12 * z0
+    assert out[False][0] < dx and out[False][3] == pytest.approx(1.0)
+    assert out[True][0] == pytest.approx(l_d / 2, abs=2 * dx) and out[True][3] < 0.2   # 0.13: a dx on
+    assert out[True][1] == pytest.approx(l_d, rel=0.1) and out[False][1] == pytest.approx(l_d, rel=0.1)
+    assert out[True][2] == pytest.approx(out[False][2], rel=1e-6)
+
+
+def test_lee_stirring_gives_a_sheltered_lee_the_turbulence_s_shear_along_the_current():
+    """sediment.lee_stirring: where the mean flow's shear is below the far field's and k is high
+    (a lee under a shear layer, its near-bed flow slow or reversed), the shear is rho sqrt(C_mu) k
+    scaled to the far field, along the current; where the mean flow's shear exceeds the far
+    field's (a jet either way) the wall function's stays, and the far field keeps its shear;
+    without the option the reversed lee pushes back."""
+    from tisph.constants import KAPPA
+    from tisph.sediment.coupling import DEFAULTS, BedCoupler
+    from tisph.terms.tke import SQRT_CMU
+    dx, z0 = 0.0025, 0.003
+    x = (np.arange(40) + 0.5) * dx
+    far = x < 0.05
+    lee = ~far
+    u = np.where(far, 0.2, np.where(x < 0.075, -0.03, 0.03))     # reversed, then slow forward
+    jets = np.isin(np.arange(40), (21, 33))
+    u[21], u[33] = -0.4, 0.4                                      # jets, each way, in the lee
+    sed = dict(DEFAULTS, filter_time=0.0, reference_height=3.0, morfac=1.0, shear="wall_function")
+    ustar = KAPPA * 0.2 / np.log(sed["reference_height"] * dx / z0)
+    k = np.where(far, 1.0, 2.0) * ustar ** 2 / SQRT_CMU           # the shear layer: twice the far field's k
+    taus = []
+    for stir in (False, True):
+        b = BedCoupler(dict(sed, lee_stirring=stir), x, np.full(40, 0.05), dx, 1.6 * dx, 0.00036, 2650.0, z0=z0,
+                       far_field=(far, 1.5))
+        b.update(_FakeSolver(100.0, u, 0.01, 10, k))
+        taus.append(b.tau.copy())
+    plain, stirred = taus
+    assert (plain[lee & (u < 0)] < 0).all() and (np.abs(plain[lee & ~jets]) < 1.5).all()
+    assert np.allclose(stirred[lee & ~jets], 3.0, rtol=1e-12)               # 2 x tau_inf, forward
+    assert np.allclose(stirred[far | jets], plain[far | jets], rtol=1e-12)
+    assert plain[21] < -3.0 and plain[33] > 3.0
+
+
 def test_bed_faster_than_the_water_allows_stops_the_run_with_a_message():
     """A bed the shear moves faster than BED_MACH c0 stops the run naming the step, the station,
     its speed, the shear and the Shields number (the water would blow up a few steps later with a

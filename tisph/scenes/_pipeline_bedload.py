@@ -10,7 +10,8 @@ the gap under the pipe, where the flow accelerates, feels more. With the k equat
 feel its k too (sediment.shear = "wall_function": Launder & Spalding's wall function, each of its
 two factors scaled the same way; Mao's case file). Sand the gap jet throws up
 settles out over sediment.deposition_length; with sediment.lee_transit it crosses the still or
-reversed water behind the pipe with the current instead of stopping where the jet dies. The bed
+reversed water behind the pipe with the current instead of stopping where the jet dies, and with
+sediment.settling_delay it lands the most half a deposition length on. The bed
 slope acts through the threshold alone (sediment.gravity_coefficient = 0): with Bailard's downslope term on top the sand could not climb
 out of the hole and it stopped at a third of Mao's depth (scenes/pipeline_scour_mao.toml). Tunnel erosion needs water under the pipe: the
 initial dip (geometry.perturbation) and gap (geometry.gap) give it, as the paper and the grid

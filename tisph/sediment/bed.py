@@ -26,7 +26,7 @@ from .transport import (FORMULAE, shields_critical, shields_number, slope_factor
 class Bed:
     def __init__(self, x, z, d50, rho_s, rho_w=1000.0, porosity=0.4, repose_deg=32.0, theta_cr=None,
                  formula="mpm", saturation_length=None, gravity_coefficient=1.0, morfac=1.0, periodic=True,
-                 deposition_length=None, lee_transit=False):
+                 deposition_length=None, lee_transit=False, settling_delay=False):
         self.x = np.asarray(x, float)
         self.dx = float(self.x[1] - self.x[0])
         self.z = np.array(z, float)
@@ -42,6 +42,8 @@ class Bed:
         self.l_d = self.l_s if deposition_length is None else deposition_length
         self.K_g = gravity_coefficient
         self.lee_transit = lee_transit
+        self.settling_delay = settling_delay
+        self.q_settle = np.zeros_like(self.z)   # settling_delay: the first stage's load
         self.q_up = np.zeros_like(self.z)    # lee_transit: the load along the current, and against it
         self.q_back = np.zeros_like(self.z)
         self.morfac = morfac
@@ -104,27 +106,40 @@ class Bed:
         sand a jet throws up crosses a separation bubble above the bed (van Rijn 1987's
         adaptation of the suspended load, which moves with the outer flow); saturate stops it
         where the near-bed flow turns. The load against the current stops within l_s where the
-        flow turns forward. The flux is the sum; with no reversed station it is saturate's."""
+        flow turns forward. The flux is the sum; with no reversed station it is saturate's.
+        settling_delay: the load along the current relaxes in two stages of l_d / 2 (the first to
+        the capacity, the second to the first): sand the jet throws up must settle down through the
+        water before it lands, so its deposition is a gamma kernel, none where the capacity drops
+        and the most l_d / 2 on, mean l_d (the one stage lands the most at once)."""
         n = len(qb)
         sgn = 1.0 if float(np.sum(qb)) >= 0 else -1.0
         along = sgn * qb >= 0               # with the current, or still (below the threshold)
         cap_up = np.where(along, qb, 0.0)
         cap_back = np.where(along, 0.0, qb)
-        up_q, back_q = self.q_up.copy(), self.q_back.copy()
         order = range(n) if sgn > 0 else range(n - 1, -1, -1)
         step = -1 if sgn > 0 else 1          # the upwind neighbour's offset along the current
-        for _ in range(3):
+
+        def relax(cap, q, kd):
             for i in order:
                 j = i + step
-                up = up_q[j % n] if (0 <= j < n or self.periodic) else 0.0
-                k = a if abs(up) <= abs(cap_up[i]) else ad
-                up_q[i] = (cap_up[i] + k * up) / (1.0 + k)
+                up = q[j % n] if (0 <= j < n or self.periodic) else 0.0
+                k = a if abs(up) <= abs(cap[i]) else kd
+                q[i] = (cap[i] + k * up) / (1.0 + k)
+
+        up_q, back_q = self.q_up.copy(), self.q_back.copy()
+        first = self.q_settle.copy()
+        for _ in range(3):
+            if self.settling_delay:          # two stages of l_d / 2: first down through the water, then out
+                relax(cap_up, first, 0.5 * ad)
+                relax(first, up_q, 0.5 * ad)
+            else:
+                relax(cap_up, up_q, ad)
             for i in reversed(order):
                 j = i - step
                 up = back_q[j % n] if (0 <= j < n or self.periodic) else 0.0
                 k = ad if (not along[i] and abs(up) > abs(cap_back[i])) else a
                 back_q[i] = (cap_back[i] + k * up) / (1.0 + k)
-        self.q_up, self.q_back = up_q, back_q
+        self.q_up, self.q_back, self.q_settle = up_q, back_q, first
         return up_q + back_q
 
     def face_fluxes(self, q):

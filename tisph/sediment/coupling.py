@@ -10,6 +10,7 @@ Each update (every sediment.update_every steps):
      (shear = "wall_function") Launder & Spalding's (1974, Comput. Methods Appl. Mech. Eng. 3:269)
      wall function tau = rho C_mu^(1/4) sqrt(k) kappa u / ln(z_r / z0), k filtered as u is: the
      geometric mean of the log law's shear and rho sqrt(C_mu) k, each scaled to the far field;
+     with lee_stirring, where that is below the far field's, rho sqrt(C_mu) k if larger;
   3. Bed.step (tisph/sediment/bed.py) over the elapsed time; the solver's bed particles move
      with the new z_b (solver.set_bed).
 """
@@ -36,6 +37,13 @@ DEFAULTS = {
     # with the outer flow and settles over the deposition length, instead of stopping where the
     # near-bed flow turns (Bed.saturate_transit); the pipeline's lee
     "lee_transit": False,
+    # with lee_transit: that load first settles down through the water, then out onto the bed: two
+    # stages of l_d / 2 each (deposition peaks l_d / 2 downstream of where it starts, not there)
+    "settling_delay": False,
+    # with shear = "wall_function": where the mean flow's shear is below the far field's (a lee)
+    # the bed feels the turbulence's, rho sqrt(C_mu) k, when that is the larger, along the current
+    # (lee_stirring_shear); the pipeline's lee
+    "lee_stirring": False,
     # K_g of the downslope term K_g |q_b| (dz/dx) / tan(phi) (Bailard 1981; 1/tan(phi) = CMS's 1.6);
     # 0: the slope acts through the threshold alone (REEF3D's bedload_MPM, CMS's Dey option)
     "gravity_coefficient": 1.0,
@@ -135,7 +143,7 @@ class BedCoupler:
                        saturation_length=sed["saturation_length"] or None,
                        deposition_length=sed["deposition_length"] or None,
                        gravity_coefficient=sed["gravity_coefficient"], morfac=sed["morfac"], periodic=periodic,
-                       lee_transit=sed["lee_transit"])
+                       lee_transit=sed["lee_transit"], settling_delay=sed["settling_delay"])
         self.z0 = self.bed.z.copy()
         self.v0 = self.bed.volume()
         self.d50, self.omega, self.z0_log, self.far_field = d50, omega, z0, far_field
@@ -153,6 +161,12 @@ class BedCoupler:
             raise ConfigError("sediment.lee_transit", True, "false with sediment.shear = 'waves': the load crosses "
                               "a separated lee in the direction of a current (the net flux's), which waves turn "
                               "every half period")
+        if sed["settling_delay"] and not sed["lee_transit"]:
+            raise ConfigError("sediment.settling_delay", True, "false unless sediment.lee_transit = true: the "
+                              "delay is a stage of the load that crosses the lee with the current")
+        if sed["lee_stirring"] and sed["shear"] != "wall_function":
+            raise ConfigError("sediment.lee_stirring", True, "false unless sediment.shear = 'wall_function': "
+                              "the stirring is the k equation's turbulence at the bed")
         self.water_top = surface
         self.w_s = sed["settling_velocity"] or settling_velocity(d50, self.bed.s)
         self.suspended = 0.0                 # sand volume in the water per unit width (m2)
@@ -184,7 +198,10 @@ class BedCoupler:
             if kind in FAR_FIELD_SHEARS:
                 tau = self.to_far_field(tau)
             if kind == "wall_function":
-                tau = np.sign(u) * np.sqrt(np.abs(tau) * self.to_far_field(self.rho_w * SQRT_CMU * self.k))
+                tau_k = self.to_far_field(self.rho_w * SQRT_CMU * self.k)
+                tau = np.sign(u) * np.sqrt(np.abs(tau) * tau_k)
+                if self.sed["lee_stirring"]:
+                    tau = self.to_far_field(lee_stirring_shear(tau, tau_k, self.far_field[1]))
         if self.sed["lee_vortex"] > 0:
             tau = lee_vortex_shear(tau, self.bed.z, self.dx, u, self.sed, self.bed.periodic, self.amplitude,
                                    self.mobility())
@@ -312,6 +329,24 @@ def sheet_flow_factor(psi):
     """1 for mobility psi <= 190, falling linearly to 0 at 240 and above: the factor n of van der A
     et al. (2013)'s ripple predictor, where ripples wash out into sheet flow."""
     return np.clip((240.0 - np.asarray(psi, float)) / 50.0, 0.0, 1.0)
+
+
+def lee_stirring_shear(tau, tau_k, tau_inf):
+    """The bed shear in a sheltered lee (sediment.lee_stirring): where the wall function's |tau|
+    is below the undisturbed bed's tau_inf and the turbulence's shear tau_k = rho sqrt(C_mu) k
+    exceeds it, the shear is tau_k along the current (the sign of the net shear). tau_k is the
+    TKE method's (tau = C1 rho k, C1 = 0.19: Kim et al. 2000, J. Hydraul. Eng. 126:399), scaled
+    to the far field as the wall function's factors are, so C1 drops out. Behind a structure the
+    mean near-bed flow is slow or reversed and Launder & Spalding's shear goes with it, but the
+    shear layer shed from the structure reaches the bed there with 1.5-2.5 times the far field's k
+    (measured behind the pipe in Mao's case); its eddies stir the sand and the outer flow carries
+    it downstream: the lee-wake erosion of Sumer & Fredsoe (2002, ch. 2), which a 2D run whose
+    wake does not shed gives no other way. Where the mean flow's shear already exceeds the far
+    field's (the gap's jet) tau is unchanged."""
+    tau = np.asarray(tau, float)
+    sgn = 1.0 if float(np.sum(tau)) >= 0 else -1.0
+    stir = (np.abs(tau) < tau_inf) & (tau_k > np.abs(tau))
+    return np.where(stir, sgn * tau_k, tau)
 
 
 def lee_vortex_shear(tau, z, dx, u, sed, periodic=True, amplitude=0.0, mobility=0.0):
