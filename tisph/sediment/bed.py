@@ -119,26 +119,24 @@ class Bed:
         order = range(n) if sgn > 0 else range(n - 1, -1, -1)
         step = -1 if sgn > 0 else 1          # the upwind neighbour's offset along the current
 
-        def relax(cap, q, kd):
-            for i in order:
+        def relax(cap, q, kd, sweep, step, settles=None):
+            """One upwind sweep of l dq/dx + q = cap: l = kd dx where the load exceeds the
+            capacity (and, with settles, only at those stations), else l_s."""
+            for i in sweep:
                 j = i + step
                 up = q[j % n] if (0 <= j < n or self.periodic) else 0.0
-                k = a if abs(up) <= abs(cap[i]) else kd
+                k = kd if (abs(up) > abs(cap[i]) and (settles is None or settles[i])) else a
                 q[i] = (cap[i] + k * up) / (1.0 + k)
 
         up_q, back_q = self.q_up.copy(), self.q_back.copy()
         first = self.q_settle.copy()
         for _ in range(3):
             if self.settling_delay:          # two stages of l_d / 2: first down through the water, then out
-                relax(cap_up, first, 0.5 * ad)
-                relax(first, up_q, 0.5 * ad)
+                relax(cap_up, first, 0.5 * ad, order, step)
+                relax(first, up_q, 0.5 * ad, order, step)
             else:
-                relax(cap_up, up_q, ad)
-            for i in reversed(order):
-                j = i - step
-                up = back_q[j % n] if (0 <= j < n or self.periodic) else 0.0
-                k = ad if (not along[i] and abs(up) > abs(cap_back[i])) else a
-                back_q[i] = (cap_back[i] + k * up) / (1.0 + k)
+                relax(cap_up, up_q, ad, order, step)
+            relax(cap_back, back_q, ad, reversed(order), -step, settles=~along)
         self.q_up, self.q_back, self.q_settle = up_q, back_q, first
         return up_q + back_q
 
