@@ -68,6 +68,10 @@ CASES = [
     (tunnel, [], "[sediment]\nmodel = \"bedload\"\nlee_transit = true\n", ["sediment.lee_transit", "True", "waves"]),
     (pipeline_scour, [], "[sediment]\nlee_stirring = true\n", ["sediment.lee_stirring", "True", "'wall_function'"]),
     (pipeline_scour, [], "[sediment]\nsettling_delay = true\n", ["sediment.settling_delay", "True", "lee_transit"]),
+    (pipeline_scour, [], "[geometry]\ninitial_profile = \"mao_12s\"\n",
+     ["geometry.initial_profile", "mao_12s", "'mao_11s'"]),
+    (pipeline_scour, [], "[geometry]\ninitial_profile = \"mao_25s\"\nsand_depth = 0.1\npipe_diameter = 0.1\n",
+     ["geometry.initial_profile", "mao_25s", "sand_depth", "deepest point"]),
     (pipeline_scour, [], "[sediment]\nsettling_velocity = -0.01\n", ["sediment.settling_velocity", "-0.01", ">= 0"]),
     (dam_break, [], "[output]\nfield = \"concentration\"\n", ["output.field", "concentration", "sediment.suspended"]),
     # a spacing whose particles cannot fit: refused before anything is allocated

@@ -1,8 +1,10 @@
 """The benchmark's own code paths, in seconds: one tiny case, tiny scaling, no peer, no timing checks."""
 import csv
+import json
 import math
 import os
 
+import numpy as np
 import pytest
 
 from tisph import bench
@@ -88,6 +90,53 @@ def test_shedding_bench_dry_run(tmp_path):
         bench.main(["--gaps", "1.0"])
     with pytest.raises(SystemExit):
         bench.main(["--config", str(cfg)])
+
+
+def test_mao_held_bench_dry_run(tmp_path):
+    """--mao-held --dry-run: Mao's 18 s bed is the run's initial bed (geometry.initial_profile)
+    and stays put; the run writes the bed shear at every probe; the report has the rates by region
+    beside Mao's, and the figure is written."""
+    from tisph.validation import mao
+    assert bench.main(["--mao-held", "--dry-run", "--out", str(tmp_path)]) == 0
+    run = tmp_path / "runs" / "mao_held_18s"
+    summary = json.loads((run / "summary.json").read_text())
+    assert summary["metrics"]["mao_time_offset"] == 18.0          # his clock starts at his bed's time
+    head = (run / "scour_profile.csv").read_text().splitlines()
+    assert (run / "bed_shear.csv").read_text().splitlines()[0] == head[0]
+    x = np.array([float(c[1:]) for c in head[0].split(",")[1:]])
+    z0, z1 = (np.array([float(v) for v in row.split(",")[1:]]) for row in (head[1], head[-1]))
+    xc = 0.5 * 1.25                     # the case file's 25 D, the pipe in the middle
+    hs = float(np.median(z0[np.abs(x - xc) > 8 * mao.D]))
+    assert np.abs(z0 - hs - mao.profile_bed(18.0, x - xc)).max() < 1e-6
+    assert np.array_equal(z0, z1) and len(head) > 3                  # held still
+    md = (tmp_path / "mao_held.md").read_text()
+    for region in ("upstream", "hole", "lee", "dune"):
+        assert f"| 18 s | {region} (" in md
+    rows = (tmp_path / "mao_held.csv").read_text().splitlines()
+    assert rows[0].startswith("t_mao,x_over_D") and len(rows) == 1 + 17
+    assert (tmp_path / "mao_held.png").stat().st_size > 10000
+    with pytest.raises(SystemExit):
+        bench.main(["--times", "18"])
+    with pytest.raises(SystemExit):
+        bench.main(["--mao-held", "--times", "12"])
+
+
+def test_mao_held_rate_is_exner_of_the_bed_model():
+    """The held bed's rate is the case's bed model's Exner rate: none under a uniform shear on a
+    periodic flat bed, erosion where the shear rises along the current and deposition where it
+    falls, and the sand it moves is conserved."""
+    from tisph.mao_held import exner_rate
+    from tisph.sediment import coupling
+    sed = dict(coupling.DEFAULTS, shear="wall_function", lee_transit=True, settling_delay=True,
+               deposition_length=0.3, gravity_coefficient=0.0)
+    st = (np.arange(400) + 0.5) * 0.0025
+    z = np.full(len(st), 0.075)
+    flat = exner_rate(sed, st, z, [np.full(len(st), 2.0)] * 3, 0.00036, 2650.0, 1000.0)
+    assert np.abs(flat).max() < 1e-12
+    tau = 2.0 + 2.0 * np.exp(-((st - 0.5) / 0.05) ** 2)
+    r = exner_rate(sed, st, z, [tau] * 3, 0.00036, 2650.0, 1000.0)
+    assert r[np.argmin(np.abs(st - 0.45))] < 0 < r[np.argmin(np.abs(st - 0.6))]
+    assert abs(r.sum()) < 1e-9 * np.abs(r).sum()
 
 
 def test_shedding_verdict_needs_a_peak_at_a_strouhal_number():

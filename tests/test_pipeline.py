@@ -189,6 +189,19 @@ def test_bedload_pipeline_scours_the_gap_under_the_pipe(tmp_path):
     assert m["sand_volume_error"] < 1e-6
 
 
+def test_mao_profile_bed_is_his_measured_bed_from_the_undisturbed_bed():
+    """geometry.initial_profile's bed: Mao's points (from the pipe's centre, the undisturbed bed
+    D/2 below it) as heights above the undisturbed bed, back to it 2 D beyond the measured ends,
+    and scaled with the pipe."""
+    from tisph.validation import mao
+    ref = mao.PROFILES[25.0]
+    D = mao.D
+    assert np.allclose(mao.profile_bed(25.0, ref[:, 0]), ref[:, 1] + D / 2, atol=1e-12)
+    assert mao.profile_bed(25.0, [ref[0, 0] - 2 * D, ref[-1, 0] + 2.5 * D]).tolist() == [0.0, 0.0]
+    assert abs(mao.profile_bed(25.0, ref[-1, 0] + D) - 0.5 * (ref[-1, 1] + D / 2)) < 1e-12
+    assert np.allclose(mao.profile_bed(25.0, 2 * ref[:, 0], 2 * D), 2 * (ref[:, 1] + D / 2), atol=1e-12)
+
+
 def test_mao_reference_and_the_equilibrium_fit():
     """Mao's own profile scores 0 and a profile 0.1 D deeper scores 0.1; the clock of a depth
     inverts depth_at; the exponential fit recovers a known S_eq and time scale."""

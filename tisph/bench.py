@@ -3,6 +3,7 @@
     python -m tisph.bench [--quick] [--peer pysph] [--out renders/bench] [--only CASE ...]
     python -m tisph.bench --speed [--against REV] [--repeats N] [--quick]   (tisph/speed.py)
     python -m tisph.bench --shedding [--gaps G ...] [--dx DX] [--end-time T] [--config F]   (tisph/shedding.py)
+    python -m tisph.bench --mao-held [--times T ...] [--dx DX] [--end-time T] [--config F]   (tisph/mao_held.py)
 
 Every validation case runs at a ladder of resolutions; each run records particles, steps, wall
 time, Taichi compile time (the first call, separately), particle-steps/s and its error against
@@ -282,11 +283,18 @@ def main(argv=None):
     p.add_argument("--repeats", type=int, default=3, help="with --speed: runs (pairs) per case (default 3)")
     p.add_argument("--shedding", action="store_true",
                    help="vortex shedding behind a pipe above a fixed bed against the gap (tisph/shedding.py)")
+    p.add_argument("--mao-held", action="store_true",
+                   help="the pipeline case over Mao's measured beds held still: does the flow erode them where his "
+                        "did? (tisph/mao_held.py)")
     p.add_argument("--gaps", type=float, nargs="*", help="with --shedding: gaps in pipe diameters (default 0.5 1 2)")
-    p.add_argument("--dx", type=float, help="with --shedding: particle spacing (default the case file's, D/20)")
-    p.add_argument("--end-time", type=float, help="with --shedding: seconds of flow (default 4)")
-    p.add_argument("--config", help="with --shedding: the pipeline case file whose current and numerics it runs "
-                                    "(default scenes/pipeline_scour_mao.toml)")
+    p.add_argument("--times", type=float, nargs="*", choices=[11.0, 18.0, 25.0],
+                   help="with --mao-held: Mao's profiles to hold (default 11 18 25)")
+    p.add_argument("--dx", type=float, help="with --shedding or --mao-held: particle spacing (default the case "
+                                            "file's, D/20)")
+    p.add_argument("--end-time", type=float, help="with --shedding or --mao-held: seconds of flow (default 4; "
+                                                  "2.5 held)")
+    p.add_argument("--config", help="with --shedding or --mao-held: the pipeline case file whose current and "
+                                    "numerics it runs (default scenes/pipeline_scour_mao.toml)")
     p.add_argument("--dry-run", action="store_true",
                    help="exercise every code path in seconds: one tiny case, tiny scaling, no profile (for tests)")
     a = p.parse_args(argv)
@@ -300,9 +308,14 @@ def main(argv=None):
         if a.dry_run:
             a.gaps, a.dx, a.end_time = a.gaps or [2.0], a.dx or 0.006, a.end_time or 0.8
         return shedding.main(a)
-    for name in ("gaps", "dx", "end_time", "config"):
+    if a.mao_held:
+        from . import mao_held
+        if a.dry_run:
+            a.times, a.dx, a.end_time = a.times or [18.0], a.dx or 0.006, a.end_time or 0.3
+        return mao_held.main(a)
+    for name in ("gaps", "times", "dx", "end_time", "config"):
         if getattr(a, name) is not None:
-            p.error(f"--{name.replace('_', '-')} needs --shedding")
+            p.error(f"--{name.replace('_', '-')} needs --shedding or --mao-held")
     from . import runtime
     runtime.init("cpu", "f32")
     ensure_dir(a.out)

@@ -19,7 +19,9 @@ models of this experiment open one.
 With sediment.suspended the water also carries sand in suspension (tisph/physics/suspension.py),
 starting from the current's equilibrium (Rouse) profile. With geometry.reference = "mao" the run is compared with Mao's measured S/D(t) and bed profiles
 (tisph/validation/mao.py) on the experiment's clock: the run starts where Mao's hole was as deep
-as the initial dip, and the bed's time runs morfac times the flow's.
+as the initial dip, and the bed's time runs morfac times the flow's. With
+geometry.initial_profile the bed starts as Mao's measured bed instead, and his clock at its time.
+The bed shear at every probe goes to bed_shear.csv.
 """
 import os
 
@@ -37,7 +39,7 @@ from ..sediment.transport import rouse_profile, transport_scale
 from ..terms.tke import SQRT_CMU
 from ..validation import mao
 from ._pipeline_record import ScourRecord, streamlines_event, water_velocity
-from .pipeline_scour import NAME, add_pipe, geometry, initial_bed, log_law
+from .pipeline_scour import NAME, add_pipe, geometry, initial_bed, log_law, profile_time
 
 APPROACH = 2.0   # the far field: the approach flow from the inflow zone's end to this many D before the pipe
 
@@ -201,8 +203,11 @@ class BedScourRecord(ScourRecord):
         # Mao's profiles are from his pipe's centre, D/2 above the undisturbed bed; a gap raises
         # ours, so the comparison is made from where his centre was
         self.y_ref = g.hs + g.R
-        # the experiment's clock starts where Mao's hole was as deep as the initial dip
-        self.t0_mao = mao.time_of_depth(float(self.depth(bed.z0)))
+        # the experiment's clock starts where Mao's hole was as deep as the initial dip, or at the
+        # time of his bed the run starts from
+        self.shear_rows = []      # (t, the bed shear at each station), at the probes' times
+        start = profile_time(cfg["geometry"])
+        self.t0_mao = mao.time_of_depth(float(self.depth(bed.z0))) if start is None else start
 
     def depth(self, z):
         """S/D below the undisturbed bed under the pipe, of a bed z (or of each row of beds)."""
@@ -227,6 +232,7 @@ class BedScourRecord(ScourRecord):
     def probe(self, st):
         zb = self.bed.bed.z
         self.rows.append((st["t"],) + tuple(zb))
+        self.shear_rows.append((st["t"],) + tuple(self.bed.tau))
         phi = float(self.bed.bed.q[self.k_pipe]) / self.scale
         return float(self.depth(zb)), phi, float(np.abs(self.bed.tau).max()), water_velocity(st), self.ctl.value
 
@@ -279,6 +285,9 @@ class BedScourRecord(ScourRecord):
 
     def finalize(self, out, metrics):
         super().finalize(out, metrics)
+        if self.shear_rows:
+            write_csv(os.path.join(out, "bed_shear.csv"), ("t",) + tuple(f"x{x:.3f}" for x in self.stations),
+                      self.shear_rows)
         if self.mao and self.rows:
             self.plot_mao(out)
 

@@ -40,6 +40,7 @@ from ..case import make_case
 from ..run import common_params, run_scene, sound_speed
 from ..constants import KAPPA
 from ..sediment import coupling
+from ..validation import mao
 from ._pipeline_record import ScourRecord, streamlines_event
 
 NAME = "pipeline_scour"
@@ -82,6 +83,11 @@ DEFAULTS = {
         "inflow_rate": 20.0,        # its relaxation rate (1/s); a particle crosses it in ~0.5 s
         "profile_offsets": [-2.0, 0.0, 2.0],   # velocity profiles at x = x_pipe + offset * D
         "reference": "none",        # mao: compare with Mao's S/D(t) and profiles (bedload; D = 5 cm)
+        # none: the flat bed with its dip | mao_11s, mao_18s, mao_25s: the bed starts as Mao's
+        # measured profile at that time (scaled to the pipe's D; in place of the dip), and his clock
+        # starts there; held still (sediment.morph_start beyond the run), it asks whether the flow
+        # erodes his bed where his did (python -m tisph.bench --mao-held)
+        "initial_profile": "none",
     },
     # DEM contacts between sand particles, paper 002 Table 3 (its eta_s unit "N/m" is N s/m)
     "dem": {"enabled": True, "kn": 1.0e6, "ks": 1.0e5, "eta_n": 20.0, "eta_s": 40.0, "friction": 0.57,
@@ -114,7 +120,8 @@ RANGES.update({f"dem.{k}": (0.0, None, k.startswith("eta"), True) for k in ("kn"
 RANGES["dem.contact_diameter"] = (0.0, 1.5, False, True)
 RANGES.update(coupling.RANGES)
 RANGES["sediment.grain_density"] = (1000.0, None, False, True)
-CHOICES = dict(coupling.CHOICES, **{"geometry.reference": ("none", "mao")})
+CHOICES = dict(coupling.CHOICES, **{"geometry.reference": ("none", "mao"),
+                                    "geometry.initial_profile": ("none", "mao_11s", "mao_18s", "mao_25s")})
 
 
 def check(cfg):
@@ -139,8 +146,20 @@ def check(cfg):
         far_field(gm, bed_stations(gm), g["inflow_length"])
     if 0 < g["sand_depth"] < 4 * dx:
         raise ConfigError("geometry.sand_depth", g["sand_depth"], f"0 (rigid bed) or at least 4 dx ({4 * dx:g} m)")
+    if g["initial_profile"] != "none":
+        need = -float(mao.profile_bed(profile_time(g), np.linspace(-3, 7, 201) * D, D).min()) + 4 * dx
+        if g["sand_depth"] < need:
+            raise ConfigError("geometry.initial_profile", g["initial_profile"], f"'none' unless geometry.sand_depth "
+                              f"is at least {need:.4g} m (the profile's deepest point and 4 dx under it; here "
+                              f"{g['sand_depth']:g} m)")
     if g["perturbation"] > 0.5 * g["sand_depth"]:
         raise ConfigError("geometry.perturbation", g["perturbation"], "at most half the sand depth")
+
+
+def profile_time(geo):
+    """Mao's time (s) of the measured bed the run starts from (geometry.initial_profile), or None."""
+    p = geo["initial_profile"]
+    return None if p == "none" else float(p[len("mao_"):-1])
 
 
 def bedload(cfg):
@@ -231,9 +250,12 @@ def build(cfg):
 
 
 def initial_bed(g, x):
-    """The initial sand surface: flat, with a small dip under the pipe."""
+    """The initial sand surface: flat, with a small dip under the pipe; or Mao's measured bed
+    (geometry.initial_profile)."""
     x = np.asarray(x, float)
     D, xc = g.D, g.xc
+    if g.geo["initial_profile"] != "none":
+        return g.hs + mao.profile_bed(profile_time(g.geo), x - xc, D)
     dip = g.geo["perturbation"] * np.where(np.abs(x - xc) < D, 0.5 * (1 + np.cos(np.pi * (x - xc) / D)), 0.0)
     return g.hs - dip
 

@@ -103,6 +103,17 @@ def initial_bed(stations, z, sed, dx):
     return z
 
 
+def make_bed(sed, stations, z, d50, rho_s, rho_w=1000.0, periodic=True, morfac=None):
+    """The Bed the [sediment] table sed describes (morfac: its own unless given)."""
+    return Bed(stations, z, d50, rho_s, rho_w, porosity=sed["porosity"], repose_deg=sed["repose_angle"],
+               theta_cr=sed["shields_critical"] or None, formula=sed["formula"],
+               saturation_length=sed["saturation_length"] or None,
+               deposition_length=sed["deposition_length"] or None,
+               gravity_coefficient=sed["gravity_coefficient"],
+               morfac=sed["morfac"] if morfac is None else morfac, periodic=periodic,
+               lee_transit=sed["lee_transit"], settling_delay=sed["settling_delay"])
+
+
 def above_bed(points, stations, z, dx):
     """(Which points lie at least dx/2 above the bed z, each point's station): the lattice points
     a scene keeps as water over a bed whose stations lie dx apart from x = dx/2."""
@@ -139,12 +150,7 @@ class BedCoupler:
         without it refuses sediment.suspended."""
         self.sed, self.dx, self.h, self.rho_w = sed, dx, h, rho_w
         self.stations = np.asarray(stations, float)
-        self.bed = Bed(stations, z, d50, rho_s, rho_w, porosity=sed["porosity"], repose_deg=sed["repose_angle"],
-                       theta_cr=sed["shields_critical"] or None, formula=sed["formula"],
-                       saturation_length=sed["saturation_length"] or None,
-                       deposition_length=sed["deposition_length"] or None,
-                       gravity_coefficient=sed["gravity_coefficient"], morfac=sed["morfac"], periodic=periodic,
-                       lee_transit=sed["lee_transit"], settling_delay=sed["settling_delay"])
+        self.bed = make_bed(sed, stations, z, d50, rho_s, rho_w, periodic)
         self.z0 = self.bed.z.copy()
         self.v0 = self.bed.volume()
         self.d50, self.omega, self.z0_log, self.far_field = d50, omega, z0, far_field

@@ -92,6 +92,18 @@ def depth_error(t, s_over_d, t_max=15.0):
     return float(np.abs(e).max()), float(np.sqrt(np.mean(e * e)))
 
 
+def profile_bed(t_profile, x_rel, diameter=D, taper=2.0):
+    """Mao's measured bed at the published time t_profile as a height above the undisturbed bed
+    (m) at x_rel from the pipe's centre, scaled to a pipe of this diameter; beyond the measured
+    ends it returns to the undisturbed bed over `taper` diameters (the profiles end where the
+    bed is within 0.01-0.2 D of it)."""
+    ref = PROFILES[t_profile]
+    k = diameter / D
+    xs = np.concatenate([[ref[0, 0] - taper * D], ref[:, 0], [ref[-1, 0] + taper * D]]) * k
+    ys = np.concatenate([[0.0], ref[:, 1] + D / 2, [0.0]]) * k
+    return np.interp(np.asarray(x_rel, float), xs, ys, left=0.0, right=0.0)
+
+
 def scour_profile_error(t_profile, x_rel, y_rel, diameter=D):
     """RMS of y_sim - y_Mao over Mao's points at the published time t_profile, in units of D:
     x_rel, y_rel the simulated bed from the pipe's centre (m), interpolated at Mao's x."""
