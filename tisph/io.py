@@ -90,6 +90,18 @@ def write_csv(path, header, rows):
     write_text(path, buf.getvalue())
 
 
+def write_station_rows(path, stations, rows):
+    """A bed's history: rows (t, a value at each station), the header t, x<station>... (m)."""
+    write_csv(path, ("t",) + tuple(f"x{x:.3f}" for x in stations), rows)
+
+
+def read_station_rows(path):
+    """(times, the stations' x, the values as an array, one row a time) of write_station_rows's CSV."""
+    header, cols = read_csv(path)
+    return (np.array(cols["t"]), np.array([float(h[1:]) for h in header[1:]]),
+            np.array([cols[h] for h in header[1:]]).T.reshape(len(cols["t"]), len(header) - 1))
+
+
 def read_csv(path):
     """Header and columns (as float lists) of a CSV written by write_csv."""
     with open(path) as f:

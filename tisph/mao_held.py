@@ -5,10 +5,10 @@ held still:
 
 For each published time the case file (scenes/pipeline_scour_mao.toml) runs with its bed set to
 Mao's measured profile (geometry.initial_profile) and held still (sediment.morph_start beyond the
-run). After SPIN_UP s of flow the coupler's bed shear (bed_shear.csv, every probe) is averaged,
-and each sample is put through the case's own bed model (coupling.make_bed: threshold, transport,
-the lee transit and settling delay, Exner; no avalanching, which acts only on faces steeper than
-the repose angle) for the rate dz_b/dt the bed would start to change at, on the experiment's clock.
+run). After 1 s of flow (shedding.average_from; D / U = 0.14 s) the coupler's bed shear
+(bed_shear.csv, every probe) is averaged, and each sample is put through the case's own bed
+model (coupling.make_bed, Bed.outflow: threshold, transport, the lee transit and settling delay,
+Exner; no avalanching, which acts only on faces steeper than the repose angle) for the rate dz_b/dt the bed would start to change at, on the experiment's clock.
 Mao's own rate is his next profile less this one over the 7 s between them, and under the pipe
 his series' deepening. A model that reproduces the experiment must erode where his bed went down.
 Writes OUT/mao_held.md, OUT/mao_held.csv and OUT/mao_held.png; a benchmark, not a test (about
@@ -20,18 +20,11 @@ import time
 import numpy as np
 
 from .bench import ROOT, _table
+from .io import read_station_rows
+from .shedding import average_from
 
-SPIN_UP = 1.0                          # s of flow before the average starts (D / U = 0.14 s)
 BINS = np.arange(-2.0, 6.01, 0.5)      # x / D from the pipe's centre, the table's rows
 REGIONS = (("upstream", -2.0, -0.5), ("hole", -0.5, 1.0), ("lee", 1.0, 3.0), ("dune", 3.0, 6.0))
-
-
-def read_rows(path):
-    """(times, stations' x, rows) of a (t, x0, x1, ...) CSV the pipeline writes."""
-    with open(path) as f:
-        x = np.array([float(c[1:]) for c in f.readline().strip().split(",")[1:]])
-    a = np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2)
-    return a[:, 0], x, a[:, 1:]
 
 
 def exner_rate(sed, stations, z, taus, d50, rho_s, rho_w):
@@ -41,11 +34,13 @@ def exner_rate(sed, stations, z, taus, d50, rho_s, rho_w):
     bed = coupling.make_bed(sed, stations, z, d50, rho_s, rho_w, periodic=True, morfac=1.0)
     out = np.zeros(len(stations))
     for tau in taus:
-        q = bed.saturate(bed.equilibrium_flux(tau))
-        bed.q = q
-        f = bed.face_fluxes(q)
-        out -= (f[1:] - f[:-1]) / bed.dx / (1.0 - bed.porosity)
+        out -= bed.outflow(tau) / bed.dx / (1.0 - bed.porosity)
     return out / max(len(taus), 1)
+
+
+def _mean(a, m):
+    """Mean of a over the mask m, NaN where it has no finite value (Mao's rate after his last profile)."""
+    return float(np.nanmean(a[m])) if np.isfinite(a[m]).any() else float("nan")
 
 
 def mao_rate(tp, x_rel, D):
@@ -75,16 +70,15 @@ def run_time(tp, end_time, out, cfg_file, dx=None):
 
 def analyse(tp, run_dir, cfg, g, info):
     """The held run in run_dir (its config cfg, geometry g): the shear and rates along the bed."""
-    end_time = cfg["run"]["end_time"]
-    t, st, taus = read_rows(os.path.join(run_dir, "bed_shear.csv"))
-    _, _, beds = read_rows(os.path.join(run_dir, "scour_profile.csv"))
-    keep = t >= min(SPIN_UP, 0.5 * end_time)
+    t, st, taus = read_station_rows(os.path.join(run_dir, "bed_shear.csv"))
+    _, _, beds = read_station_rows(os.path.join(run_dir, "scour_profile.csv"))
+    keep = t >= average_from(cfg["run"]["end_time"])
     tau_inf = g.rw * g.ustar ** 2
     x_rel = (st - g.xc) / g.D
     rate = exner_rate(cfg["sediment"], st, beds[0], taus[keep], g.d50, g.rs, g.rw)
     m_rate, m_under = mao_rate(tp, st - g.xc, g.D)
     under = np.abs(x_rel) < 1.0
-    return dict(info, time=tp, samples=int(keep.sum()), x=x_rel, bed=(beds[0] - g.hs) / g.D,
+    return dict(info, time=tp, x=x_rel, bed=(beds[0] - g.hs) / g.D,
                 tau=taus[keep].mean(axis=0) / tau_inf, rate=rate / g.D, mao_rate=m_rate / g.D,
                 under_model=float(rate[under].min() / g.D), under_mao=m_under / g.D)
 
@@ -94,8 +88,7 @@ def region_means(r):
     out = []
     for name, lo, hi in REGIONS:
         m = (r["x"] >= lo) & (r["x"] < hi)
-        out.append((name, float(r["rate"][m].mean()), float(np.nanmean(r["mao_rate"][m])) if
-                    np.isfinite(r["mao_rate"][m]).any() else float("nan"), float(r["tau"][m].mean())))
+        out.append((name, float(r["rate"][m].mean()), _mean(r["mao_rate"], m), float(r["tau"][m].mean())))
     return out
 
 
@@ -154,14 +147,13 @@ def write_report(rows, out, cfg_file, end):
         for lo in BINS:
             m = (r["x"] >= lo - 0.25) & (r["x"] < lo + 0.25)
             csv.append((r["time"], lo, float(r["bed"][m].mean()), float(r["tau"][m].mean()),
-                        float(r["rate"][m].mean()), float(np.nanmean(r["mao_rate"][m])) if
-                        np.isfinite(r["mao_rate"][m]).any() else float("nan")))
+                        float(r["rate"][m].mean()), _mean(r["mao_rate"], m)))
     write_csv(os.path.join(out, "mao_held.csv"), ("t_mao", "x_over_D", "bed_over_D", "shear_over_far_field",
                                                    "rate_D_per_s", "mao_rate_D_per_s"), csv)
     plot(rows, os.path.join(out, "mao_held.png"))
     md = ["# Mao's measured beds held still under the case file's flow", "",
           f"{time.strftime('%Y-%m-%d %H:%M')}; `{os.path.relpath(cfg_file)}` with `geometry.initial_profile`, "
-          f"the bed held still for {end:g} s of flow; the bed shear averaged from {min(SPIN_UP, 0.5 * end):g} s on and put "
+          f"the bed held still for {end:g} s of flow; the bed shear averaged from {average_from(end):g} s on and put "
           "through the case's bed model for the rate the bed would start to change at (D per second on Mao's clock; "
           "negative: it goes down). Mao's rate is his next profile less this one over the 7 s between them; "
           "under the pipe, his series' deepening.", "",

@@ -75,6 +75,11 @@ def wake_series(run_dir, xc, yc, D, t0=SPIN_UP):
     return np.array(ts), np.array(vs).reshape(len(ts), len(POINTS))
 
 
+def average_from(end_time):
+    """The flow time (s) a held-bed benchmark's averages start at: SPIN_UP, or half a shorter run."""
+    return min(SPIN_UP, 0.5 * end_time)
+
+
 def run_pipeline(cfg_file, overrides, dx, run_dir):
     """The pipeline case file with these overrides (and dx, if given) run into run_dir:
     (config, summary, wall seconds, geometry)."""
@@ -97,7 +102,7 @@ def run_gap(gap, D, dx, end_time, out, cfg_file):
           "geometry.length": 15 * D}
     run_dir = os.path.join(out, "runs", f"shedding_gap{gap:g}")
     cfg, s, wall, g = run_pipeline(cfg_file, ov, dx, run_dir)
-    t_from = min(SPIN_UP, 0.5 * end_time)
+    t_from = average_from(end_time)
     t, v = wake_series(run_dir, g.xc, g.yc, g.D, t_from)
     shutil.rmtree(os.path.join(run_dir, "snapshots"), ignore_errors=True)
     std, freq, share = np.array([wake_spectrum(t, v[:, k]) for k in range(len(POINTS))]).T

@@ -15,7 +15,7 @@ import numpy as np
 
 from ..constants import G
 from ..config import physics_from_config
-from ..io import write_csv
+from ..io import write_csv, write_station_rows
 from ..particles import ParticleSet, block, density_from_pressure, tait_B, FLUID, WALL, MOVING
 from ..ripples import MIN_LENGTH_DX, ripple_stats, wiberg_harris, last_finite
 from ..case import make_case
@@ -159,8 +159,7 @@ class BeachBed:
     def finalize(self, out, metrics):
         if not self.rows:
             return
-        write_csv(os.path.join(out, "bed_profile.csv"), ("t",) + tuple(f"x{x:.3f}" for x in self.stations),
-                  self.rows)
+        write_station_rows(os.path.join(out, "bed_profile.csv"), self.stations, self.rows)
         lam = self.predicted()
         write_csv(os.path.join(out, "ripple_prediction.csv"),
                   ("x", "bed_initial", "orbital_amplitude", "orbital_diameter_d0", "wiberg_harris_length"),

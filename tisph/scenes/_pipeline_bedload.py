@@ -29,7 +29,7 @@ import numpy as np
 
 from ..constants import G, KAPPA
 from ..config import ConfigError, physics_from_config
-from ..io import write_csv
+from ..io import write_csv, write_station_rows
 from ..particles import ParticleSet, block, density_from_pressure, tait_B, FLUID
 from ..case import make_case
 from ..run import common_params, sound_speed
@@ -203,9 +203,9 @@ class BedScourRecord(ScourRecord):
         # Mao's profiles are from his pipe's centre, D/2 above the undisturbed bed; a gap raises
         # ours, so the comparison is made from where his centre was
         self.y_ref = g.hs + g.R
+        self.shear_rows = []      # (t, the bed shear at each station), at the probes' times
         # the experiment's clock starts where Mao's hole was as deep as the initial dip, or at the
         # time of his bed the run starts from
-        self.shear_rows = []      # (t, the bed shear at each station), at the probes' times
         start = profile_time(cfg["geometry"])
         self.t0_mao = mao.time_of_depth(float(self.depth(bed.z0))) if start is None else start
 
@@ -286,8 +286,7 @@ class BedScourRecord(ScourRecord):
     def finalize(self, out, metrics):
         super().finalize(out, metrics)
         if self.shear_rows:
-            write_csv(os.path.join(out, "bed_shear.csv"), ("t",) + tuple(f"x{x:.3f}" for x in self.stations),
-                      self.shear_rows)
+            write_station_rows(os.path.join(out, "bed_shear.csv"), self.stations, self.shear_rows)
         if self.mao and self.rows:
             self.plot_mao(out)
 

@@ -6,7 +6,7 @@ import os
 import numpy as np
 
 from ..constants import G, KAPPA
-from ..io import write_csv
+from ..io import write_csv, write_station_rows
 from ..particles import FLUID
 from ..probes.control import PIDrive
 from ..probes.gauges import surface_heights
@@ -105,8 +105,7 @@ class ScourRecord:
 
     def finalize(self, out, metrics):
         if self.rows:
-            write_csv(os.path.join(out, "scour_profile.csv"), ("t",) + tuple(f"x{x:.3f}" for x in self.stations),
-                      self.rows)
+            write_station_rows(os.path.join(out, "scour_profile.csv"), self.stations, self.rows)
             self.plot_scour(os.path.join(out, "scour_profile.png"))
         if any(self.prof.values()):
             self.velocity_profiles(out)

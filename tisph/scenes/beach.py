@@ -36,7 +36,7 @@ import numpy as np
 
 from ..constants import G
 from ..config import ConfigError, physics_from_config
-from ..io import write_csv
+from ..io import write_csv, write_station_rows
 from ..particles import ParticleSet, block, density_from_pressure, layered_pressure, tait_B, FLUID, WALL, MOVING
 from ..render import SAND
 from ..profiles import streamlines_png
@@ -299,8 +299,7 @@ class BedRecord:
     def finalize(self, out, metrics):
         if not self.rows:
             return
-        write_csv(os.path.join(out, "bed_profile.csv"), ("t",) + tuple(f"x{x:.3f}" for x in self.stations),
-                  self.rows)
+        write_station_rows(os.path.join(out, "bed_profile.csv"), self.stations, self.rows)
         if self.pred_rows:
             write_csv(os.path.join(out, "ripple_prediction.csv"),
                       ("x", "bed_initial", "near_bed_velocity_amplitude", "orbital_diameter_d0",

@@ -147,7 +147,8 @@ def check(cfg):
     if 0 < g["sand_depth"] < 4 * dx:
         raise ConfigError("geometry.sand_depth", g["sand_depth"], f"0 (rigid bed) or at least 4 dx ({4 * dx:g} m)")
     if g["initial_profile"] != "none":
-        need = -float(mao.profile_bed(profile_time(g), np.linspace(-3, 7, 201) * D, D).min()) + 4 * dx
+        deepest = -(float(mao.PROFILES[profile_time(g)][:, 1].min()) + mao.D / 2) * D / mao.D   # below the bed
+        need = deepest + 4 * dx
         if g["sand_depth"] < need:
             raise ConfigError("geometry.initial_profile", g["initial_profile"], f"'none' unless geometry.sand_depth "
                               f"is at least {need:.4g} m (the profile's deepest point and 4 dx under it; here "

@@ -23,7 +23,7 @@ import numpy as np
 
 from ..constants import G
 from ..config import ConfigError, physics_from_config
-from ..io import write_csv
+from ..io import write_station_rows
 from ..particles import ParticleSet, block, density_from_pressure, layered_pressure, tait_B, FLUID, WALL
 from ..render import SAND
 from ..ripples import MIN_HEIGHT_DX, MIN_LENGTH_DX, last_finite, ripple_stats, wiberg_harris
@@ -176,7 +176,7 @@ def build(cfg):
     def finalize(out, metrics):
         if not bed_rows:
             return
-        write_csv(os.path.join(out, "bed_profile.csv"), ("t",) + tuple(f"x{x:.3f}" for x in stations), bed_rows)
+        write_station_rows(os.path.join(out, "bed_profile.csv"), stations, bed_rows)
         _plot_bed(os.path.join(out, "bed_profile.png"), np.array(bed_rows), stations, geo, dx, lam_wh, eta_wh)
 
     return make_case(name=NAME, particles=ps, materials=materials, domain=domain, params=params, physics=physics,
@@ -320,7 +320,7 @@ def _build_bedload(cfg):
 
     def finalize(out, metrics):
         if rows:
-            write_csv(os.path.join(out, "bed_profile.csv"), ("t",) + tuple(f"x{x:.3f}" for x in stations), rows)
+            write_station_rows(os.path.join(out, "bed_profile.csv"), stations, rows)
             _plot_bed(os.path.join(out, "bed_profile.png"), np.array(rows), stations, geo, dx, lam_wh, eta_wh,
                       level=hs)
             _plot_growth(os.path.join(out, "ripple_growth.png"), seen, geo, sed["morfac"])

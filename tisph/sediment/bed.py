@@ -151,15 +151,21 @@ class Bed:
             f[0] = f[-1] = 0.0
         return f
 
+    def outflow(self, tau):
+        """The bed-load flux leaving each station's cell, right face less left face (m2/s), under
+        the shear tau: Exner's -dq/dx times dx. The saturated flux stays in self.q (the next
+        sweeps start from it)."""
+        self.q = self.saturate(self.equilibrium_flux(tau))
+        f = self.face_fluxes(self.q)
+        return f[1:] - f[:-1]
+
     def step(self, tau, dt, deposit=None):
         """Advance the bed by dt (seconds of flow; the bed moves morfac times as far) under the
         shear tau; deposit: sand volume per unit width each station took from the suspension
         over dt (m2; negative where the flow picked more up); returns dz_b."""
-        q = self.saturate(self.equilibrium_flux(tau))
-        self.q = q
-        f = self.face_fluxes(q)
+        out = self.outflow(tau)
         z_old = self.z.copy()
-        self.z -= self.morfac * dt / (1.0 - self.porosity) * (f[1:] - f[:-1]) / self.dx
+        self.z -= self.morfac * dt / (1.0 - self.porosity) * out / self.dx
         if deposit is not None:
             self.z += self.morfac / (1.0 - self.porosity) * np.asarray(deposit, float) / self.dx
         self.avalanche()
