@@ -8,7 +8,8 @@ Mao's measured profile (geometry.initial_profile) and held still (sediment.morph
 run). After 1 s of flow (shedding.average_from; D / U = 0.14 s) the coupler's bed shear
 (bed_shear.csv, every probe) is averaged, and each sample is put through the case's own bed
 model (coupling.make_bed, Bed.outflow: threshold, transport, the lee transit and settling delay,
-Exner; no avalanching, which acts only on faces steeper than the repose angle) for the rate dz_b/dt the bed would start to change at, on the experiment's clock.
+Exner; no avalanching, which acts only on faces steeper than the repose angle) for the rate
+dz_b/dt the bed would start to change at, on the experiment's clock.
 Mao's own rate is his next profile less this one over the 7 s between them, and under the pipe
 his series' deepening. A model that reproduces the experiment must erode where his bed went down.
 Writes OUT/mao_held.md, OUT/mao_held.csv and OUT/mao_held.png; a benchmark, not a test (about
@@ -23,7 +24,7 @@ from .bench import ROOT, _table
 from .io import read_station_rows
 from .shedding import average_from
 
-BINS = np.arange(-2.0, 6.01, 0.5)      # x / D from the pipe's centre, the table's rows
+BINS = np.arange(-2.0, 6.01, 0.5)      # x / D from the pipe's centre: the CSV's bins' centres, D/2 wide
 REGIONS = (("upstream", -2.0, -0.5), ("hole", -0.5, 1.0), ("lee", 1.0, 3.0), ("dune", 3.0, 6.0))
 
 
@@ -144,9 +145,9 @@ def write_report(rows, out, cfg_file, end):
     ensure_dir(out)
     csv = []
     for r in rows:
-        for lo in BINS:
-            m = (r["x"] >= lo - 0.25) & (r["x"] < lo + 0.25)
-            csv.append((r["time"], lo, float(r["bed"][m].mean()), float(r["tau"][m].mean()),
+        for xb in BINS:
+            m = (r["x"] >= xb - 0.25) & (r["x"] < xb + 0.25)
+            csv.append((r["time"], xb, float(r["bed"][m].mean()), float(r["tau"][m].mean()),
                         float(r["rate"][m].mean()), _mean(r["mao_rate"], m)))
     write_csv(os.path.join(out, "mao_held.csv"), ("t_mao", "x_over_D", "bed_over_D", "shear_over_far_field",
                                                    "rate_D_per_s", "mao_rate_D_per_s"), csv)

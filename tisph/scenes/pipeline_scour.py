@@ -147,7 +147,8 @@ def check(cfg):
     if 0 < g["sand_depth"] < 4 * dx:
         raise ConfigError("geometry.sand_depth", g["sand_depth"], f"0 (rigid bed) or at least 4 dx ({4 * dx:g} m)")
     if g["initial_profile"] != "none":
-        deepest = -(float(mao.PROFILES[profile_time(g)][:, 1].min()) + mao.D / 2) * D / mao.D   # below the bed
+        tp = profile_time(g)
+        deepest = -float(mao.profile_bed(tp, mao.PROFILES[tp][:, 0] * D / mao.D, D).min())   # below the bed
         need = deepest + 4 * dx
         if g["sand_depth"] < need:
             raise ConfigError("geometry.initial_profile", g["initial_profile"], f"'none' unless geometry.sand_depth "
