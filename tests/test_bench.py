@@ -7,7 +7,7 @@ import os
 import numpy as np
 import pytest
 
-from tisph import bench
+from tisph.bench import ladder as bench
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
@@ -37,7 +37,7 @@ def test_speed_bench_refuses_an_unknown_revision_by_name(tmp_path):
     """--speed --against REV checks REV out into a worktree first: a name git does not know is
     refused before anything runs, naming it."""
     import pytest
-    from tisph import bench
+    from tisph.bench import ladder as bench
     with pytest.raises(SystemExit) as e:
         bench.main(["--speed", "--against", "no-such-rev-xyz", "--out", str(tmp_path)])
     assert "no-such-rev-xyz" in str(e.value)
@@ -45,7 +45,7 @@ def test_speed_bench_refuses_an_unknown_revision_by_name(tmp_path):
 
 def test_speed_report_gives_the_ratio_per_case():
     import argparse
-    from tisph import speed
+    from tisph.bench import speed
     a = argparse.Namespace(against="abc123", repeats=3)
     rows = [dict(case="dam break dx 0.03", particles=3426, steps=10, pps=3.0e6, field_bytes=243.4,
                  pps_against=2.0e6, ratio=1.5)]
@@ -55,11 +55,11 @@ def test_speed_report_gives_the_ratio_per_case():
 
 
 def test_wake_spectrum_finds_a_shedding_frequency_and_not_in_noise():
-    """tisph/shedding.py: a 1.4 Hz oscillation sampled every 0.05 s for 3 s, with noise, gives
+    """tisph/bench/shedding.py: a 1.4 Hz oscillation sampled every 0.05 s for 3 s, with noise, gives
     its frequency (within the spectrum's 1/3 Hz resolution), its amplitude / sqrt(2) and most of
     the power; noise alone spreads its power over the spectrum."""
     import numpy as np
-    from tisph.shedding import wake_spectrum
+    from tisph.bench.shedding import wake_spectrum
     rng = np.random.default_rng(3)
     t = np.arange(1.0, 4.0, 0.05)
     std, f, share = wake_spectrum(t, 0.2 + 0.06 * np.sin(2 * np.pi * 1.4 * t) + 0.005 * rng.standard_normal(len(t)))
@@ -126,7 +126,7 @@ def test_mao_held_rate_is_exner_of_the_bed_model():
     """The held bed's rate is the case's bed model's Exner rate: none under a uniform shear on a
     periodic flat bed, erosion where the shear rises along the current and deposition where it
     falls, and the sand it moves is conserved."""
-    from tisph.mao_held import exner_rate
+    from tisph.bench.mao_held import exner_rate
     from tisph.sediment import coupling
     sed = dict(coupling.DEFAULTS, shear="wall_function", lee_transit=True, settling_delay=True,
                deposition_length=0.3, gravity_coefficient=0.0)
@@ -143,7 +143,7 @@ def test_mao_held_rate_is_exner_of_the_bed_model():
 def test_shedding_verdict_needs_a_peak_at_a_strouhal_number():
     """A wake sheds when a peak at St 0.1-0.4 holds 30 % of the power and v varies by 5 % of U;
     a strong peak at St 0.05 (the wake's drift) does not count."""
-    from tisph.shedding import verdict
+    from tisph.bench.shedding import verdict
     U, D = 0.35, 0.05
     assert verdict([0.05, 0.07], [1.64, 1.64], [0.75, 0.8], U, D) == (1, True)
     assert verdict([0.01, 0.019], [0.33, 0.33], [0.33, 0.2], U, D) == (0, False)      # drift

@@ -4,7 +4,7 @@ import pytest
 
 from tisph.config import Physics
 from tisph.particles import ParticleSet, WALL
-from tisph.solver import Solver
+from tisph.engine.solver import Solver
 
 
 def make_solver(x, lo, hi, h):

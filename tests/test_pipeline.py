@@ -10,7 +10,7 @@ import taichi as ti
 from tisph.config import Physics
 from tisph.particles import ParticleSet, block, FLUID, tait_B
 from tisph.run import run_scene
-from tisph.solver import Solver
+from tisph.engine.solver import Solver
 from tisph.terms.sps import sps_stress, CS, CI
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -206,7 +206,7 @@ def test_mao_reference_and_the_equilibrium_fit():
     """Mao's own profile scores 0 and a profile 0.1 D deeper scores 0.1; the clock of a depth
     inverts depth_at; the exponential fit recovers a known S_eq and time scale."""
     from tisph.validation import mao
-    from tisph.scenes._pipeline_bedload import equilibrium_fit
+    from tisph.scenes.pipeline_scour.bedload import equilibrium_fit
     ref = mao.PROFILES[18.0]
     assert mao.scour_profile_error(18.0, ref[:, 0], ref[:, 1]) < 1e-12
     assert abs(mao.scour_profile_error(18.0, ref[:, 0], ref[:, 1] - 0.1 * mao.D) - 0.1) < 1e-9

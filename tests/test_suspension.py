@@ -11,7 +11,7 @@ from tisph.particles import FLUID
 from tisph.run import Log, build_case, resolve, run_scene
 from tisph.scenes import pipeline_scour, tank
 from tisph.sediment.transport import reference_concentration, settling_velocity, shields_critical
-from tisph.solver import Solver
+from tisph.engine.solver import Solver
 
 
 def test_settling_velocity_and_reference_concentration():

@@ -10,7 +10,7 @@ from tisph.engine.module import HOOKS
 from tisph.engine.registry import MODULES
 from tisph.particles import FLUID, MOVING, WALL, ParticleSet
 from tisph.scenes import dam_break
-from tisph.solver import Solver
+from tisph.engine.solver import Solver
 
 DX = 0.01
 SOLVER_ARGS = ("outflow", "container")   # switches that are solver arguments, not Physics fields

@@ -10,7 +10,7 @@ import pytest
 from tisph.config import Physics
 from tisph.kernels import get_kernel
 from tisph.particles import FLUID, WALL, ParticleSet
-from tisph.solver import Solver
+from tisph.engine.solver import Solver
 
 DX, RHO0, C0 = 0.01, 1000.0, 20.0
 B = RHO0 * C0 ** 2 / 7.0

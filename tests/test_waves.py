@@ -9,10 +9,10 @@ import pytest
 from tisph import wavemaker as wm
 from tisph.ripples import ripple_stats, orbital_diameter, wiberg_harris
 from tisph.run import resolve, build_case, Log, simulate
-from tisph.solver import Solver
+from tisph.engine.solver import Solver
 from tisph.particles import MOVING
 from tisph.scenes import flume, beach, tunnel
-from tisph.scenes import _beach_bedload as beach_bed
+from tisph.scenes.beach import bedload as beach_bed
 from tisph.particles import FLUID
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))

@@ -127,20 +127,21 @@ RANGES = {
 
 
 def _module_keys():
-    """Config keys whose default and range the engine's modules declare (tisph/engine/module.py
-    Param.key): written once there, read here."""
-    from .engine.registry import MODULES
-    from .engine.state import CORE_PARAMS
-    for decl in [CORE_PARAMS] + [m.params for m in MODULES]:
-        for p in decl.values():
-            if p.key:
-                yield p
+    """Config keys whose default and range the engine's modules declare (tisph/engine/keys.py,
+    without Taichi): written once there, read here."""
+    from .engine.keys import KEYED
+    return KEYED.values()
 
 
 for _p in _module_keys():
     _sec, _name = _p.key.split(".")
     SHARED_DEFAULTS[_sec][_name] = _p.default
     RANGES[_p.key] = tuple(_p.range)
+
+# The turbulence closure's keys: only a scene with SPS turbulence (the pipeline) has them, in its
+# DEFAULTS as dict(TURBULENCE_DEFAULTS, ...); elsewhere they are refused by name.
+TURBULENCE_KEYS = ("turbulence", "length_scale", "mixing_length", "stress_limiter")
+TURBULENCE_DEFAULTS = {k: SHARED_DEFAULTS["numerics"].pop(k) for k in TURBULENCE_KEYS}
 
 # Rules that apply to every material, whatever its name.
 MATERIAL_RANGES = {
@@ -224,6 +225,8 @@ def merge(base: dict, override: dict, prefix: str = "", errors=None) -> dict:
             if key not in base:
                 close = difflib.get_close_matches(key, list(base.keys()), n=1, cutoff=0.5)
                 hint = f"did you mean '{prefix}{close[0]}'?" if close else ""
+                if prefix == "numerics." and key in TURBULENCE_KEYS:
+                    hint = "a turbulence key: this scene has no SPS turbulence (the pipeline has)"
                 raise ConfigError(path, value, "one of: " + ", ".join(sorted(f"{prefix}{k}" for k in base)),
                                   hint or "unknown key")
             if isinstance(base[key], dict):
@@ -393,3 +396,17 @@ def dump_toml(d: dict, notes=None) -> str:
 
     table("", d)
     return "\n".join(lines)
+
+
+def refuse_unused_sediment_keys(cfg, scene_defaults):
+    """With sediment.model = "particles" the sand is SPH particles and the [sediment] keys, which
+    drive the bed-load bed, do nothing: a key set away from its default is refused, all at once."""
+    sed = cfg.get("sediment")
+    if not sed or sed.get("model") != "particles":
+        return
+    base = scene_defaults.get("sediment", {})
+    _collect([ConfigError(f"sediment.{k}", v, f"its default ({base[k]!r}) with sediment.model = \"particles\"",
+                          "the sand is SPH particles; the [sediment] keys set the bed-load bed "
+                          "(sediment.model = \"bedload\")")
+              for k, v in sed.items() if k != "model" and k in base and v != base[k]])
+

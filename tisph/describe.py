@@ -104,7 +104,7 @@ def as_toml(scene):
     notes = {key: f"{allowed}" + (f"; {meaning}" if meaning else "") for key, _, allowed, meaning in rows(scene)}
     head = [f"# Every key of `python -m tisph.scenes.{scene.NAME}` at its default, with what is allowed and",
             "# what it means: generated from the code by `python -m tisph.describe --write scenes/defaults`",
-            "# (tests/test_describe.py checks it is current). Copy the keys you change into a case file;",
+            "# (tests/test_cli.py checks it is current). Copy the keys you change into a case file;",
             f"#   python -m tisph.scenes.{scene.NAME} --config scenes/defaults/{scene.NAME}.toml",
             "# runs the defaults.", ""]
     return "\n".join(head) + config.dump_toml(cfg, notes) + "\n"

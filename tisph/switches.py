@@ -41,7 +41,7 @@ def physics_from_config(cfg: dict, periodic_x=False, noslip=False, materials_use
     n = cfg["numerics"]
     mats = cfg.get("materials", {})
     used = mats.keys() if materials_used is None else materials_used
-    turb = n["turbulence"] if sps else "smagorinsky"
+    turb = n.get("turbulence", "smagorinsky") if sps else "smagorinsky"
     rheo = any(isinstance(mats[k], dict) and mats[k].get("rheology", "newtonian") != "newtonian" for k in used)
     return Physics(
         rheology=rheo,
@@ -52,7 +52,7 @@ def physics_from_config(cfg: dict, periodic_x=False, noslip=False, materials_use
         inflow=tuple(float(v) for v in inflow),
         sps=sps,
         turbulence=turb,
-        tke_length=n["length_scale"] if turb == "k_equation" else "prescribed",
+        tke_length=n.get("length_scale", "prescribed") if turb == "k_equation" else "prescribed",
         drag=drag,
         dem=dem,
         moving_bed=moving_bed,

@@ -10,9 +10,10 @@ from ..boundaries.walls import DynamicWall, NoSlip, RepulsiveWall
 from ..boundaries.zones import Container, Damping, Drive, Inflow, Outflow
 from ..physics.fluid import (XSPH, ArtificialViscosity, Continuity, DensityDiffusion, LaminarViscosity,
                              Pressure, Shifting, VelocityGradient)
-from ..physics.sediment import DEM, SPS, TKE, Drag, Omega, Rheology
+from ..physics.sediment import DEM, Drag, Rheology
 from ..physics.shepard import Shepard
 from ..physics.suspension import Suspension
+from ..physics.turbulence import SPS, TKE, Omega
 
 MODULES = (
     RepulsiveWall,        # view: the wall particle mirrors i's pressure; Lennard-Jones force first

@@ -5,6 +5,7 @@ Each pair hook adds neighbour j's contribution to fluid particle i; `nb` is how 
 """
 import taichi as ti
 
+from ..engine.keys import KEYED
 from ..engine.module import Module, Param
 from ..particles import FLUID
 from ..terms.continuity import continuity
@@ -46,8 +47,7 @@ class ArtificialViscosity(Module):
     """Monaghan's artificial viscosity, paper 000 eq. 9; its signal speed enters the time step."""
     name = "artificial_viscosity"
     on = {"artificial_viscosity": True}
-    params = {"alpha": Param(0.1, "-", (0.0, 2.0, True, True), "Monaghan alpha; 0 compiles the term out",
-                             key="numerics.artificial_viscosity")}
+    params = {"alpha": KEYED["numerics.artificial_viscosity"]}
     acc = {"mu": "real"}
 
     @ti.func
@@ -106,8 +106,7 @@ class DensityDiffusion(Module):
     (2019) with the hydrostatic part removed (numerics.density_diffusion)."""
     name = "density_diffusion"
     on = {"density_diffusion": "molteni"}
-    params = {"delta": Param(0.1, "-", (0.0, 1.0, True, True), "density diffusion coefficient",
-                             key="numerics.delta")}
+    params = {"delta": KEYED["numerics.delta"]}
     acc = {"rho0_c02": "real"}
 
     @staticmethod
@@ -146,9 +145,7 @@ class Shifting(Module):
     name = "shifting"
     on = {"shifting": True}
     SURFACE_DIV = 1.5      # DualSPHysics' 2D free-surface threshold on div r
-    params = {"shifting": Param(0.0, "-", (0.0, 10.0, True, True),
-                               "particle shifting coefficient A (Skillen et al. 2013: 2); 0 compiles it out",
-                               key="numerics.shifting")}
+    params = {"shifting": KEYED["numerics.shifting"]}
     acc = {"gc": "vec2", "divr": "real"}
 
     def fields(self, real):
@@ -179,8 +176,7 @@ class XSPH(Module):
     """XSPH, paper 000 eq. 10: particles drift with v + eps sum m_j / rho_ij (v_j - v_i) W."""
     name = "xsph"
     on = {"xsph": True}
-    params = {"eps": Param(0.0, "-", (0.0, 0.5, True, True), "XSPH epsilon (paper 000 eq. 10); 0 compiles it out",
-                           key="numerics.xsph")}
+    params = {"eps": KEYED["numerics.xsph"]}
     acc = {"xs": "vec2"}
 
     def fields(self, real):

@@ -1,5 +1,5 @@
-"""Sediment and turbulence modules: rheology (Bingham, Cross), SPS turbulence, fluid-sediment
-drag and DEM contacts between sediment particles."""
+"""Sediment modules: rheology (Bingham, Cross), fluid-sediment drag and DEM contacts between
+sediment particles. The turbulence closures are in physics/turbulence.py."""
 import taichi as ti
 
 from ..engine.module import MatParam, Module, Param
@@ -7,9 +7,6 @@ from ..particles import FLUID
 from ..terms.dem import contact_force, critical_step
 from ..terms.drag import drag_accel
 from ..terms.rheology import BINGHAM, CROSS, RHEOLOGY_CODES, bingham, cross, shear_rate
-from ..terms.sps import sps_accel, sps_stress
-from ..terms.tke import (CMU14, K_FLOOR, SIGMA_K, SIGMA_W, eddy_viscosity, length_of_omega, omega_update, strain2,
-                         tke_stress, tke_update)
 
 DEM_SLOTS = 8   # contacts remembered per particle (a packed 2D lattice has at most 6 within dx)
 
@@ -92,143 +89,6 @@ class Rheology(Module):
             mu_new = cross(S.mat_mu0[mi], S.mat_mu[mi], S.mat_K[mi], S.mat_m1[mi], S.mat_mumax[mi], gdot)
         S.p.mu[i] = mu_new
         ti.atomic_max(S.stats[None].numax, mu_new / pt.rho)
-
-
-@ti.data_oriented
-class SPS(Module):
-    """Sub-particle-scale (Smagorinsky) turbulence in Newtonian materials, paper 002 eq. 10; the
-    stress is one step behind the velocity gradient it comes from."""
-    name = "sps"
-    on = {"sps": True}
-    stats = {"numax": "real"}
-    params = {"mixing_length": Param(0.0, "m", (0.0, None, True, True),
-                                     "the SPS's length C_s dl as a mixing length l_m (nu_t = l_m^2 |S|); "
-                                     "0: C_s dx", key="numerics.mixing_length")}
-
-    def fields(self, real):
-        return {"sps": ti.types.vector(3, real)}    # SPS stress / rho (xx, xy, yy)
-
-    acc = {"sps_i": "vec3"}
-
-    @ti.func
-    def init_acc(self, S, i, acc: ti.template()):
-        acc.sps_i = S.tmp.sps[i]
-
-    @ti.func
-    def pair(self, S, i, j, r, r2, nb, acc: ti.template()):
-        t_j = acc.sps_i                      # a wall particle mirrors i's SPS stress
-        if nb.kj == FLUID:
-            t_j = S.tmp.sps[j]
-        acc.a += sps_accel(nb.m_j, acc.sps_i, acc.inv_rhoi, t_j, nb.ir_j, nb.gw)
-
-    @ti.func
-    def finish(self, S, i, mi, acc: ti.template(), pt: ti.template()):
-        tau = ti.Vector([0.0, 0.0, 0.0])
-        nut = 0.0
-        newtonian = True
-        if ti.static(S.physics.rheology):
-            newtonian = S.mat_rheo[mi] == 0
-        if newtonian:
-            if ti.static(S.physics.turbulence == "k_equation"):
-                nut = S.p.nut[i]          # TKE.finish, just before, from this step's k
-                tau = tke_stress(acc.gv, nut, S.p.kt[i])
-            else:
-                tau, nut = sps_stress(acc.gv, S.dx, S.prm[None].mixing_length)
-        S.p.sps[i] = tau
-        ti.atomic_max(S.stats[None].numax, nut + S.mat_mu[mi] / pt.rho)
-
-
-@ti.data_oriented
-class Omega(Module):
-    """The k equation's length from a transported specific dissipation omega (Wilcox 2006;
-    tisph/terms/tke.py omega_update), bounded by the prescribed length (numerics.length_scale =
-    "omega"): it moves with the particles, diffuses between them as k does and steps after TKE,
-    which takes its length sqrt(k) / (C_mu^(1/4) omega) from the old omega."""
-    name = "omega"
-    on = {"sps": True, "turbulence": "k_equation", "tke_length": "omega"}
-    acc = {"wi": "real", "dw": "real"}
-
-    def fields(self, real):
-        return {"wt": real}    # specific dissipation omega (1/s)
-
-    def setup(self, S):
-        """omega from the scene's k and l (the wall layer's equilibrium): omega = sqrt(k) / (C_mu^(1/4) l)."""
-        import numpy as np
-        k, l = S.p.kt.to_numpy().astype(float), S.p.lt.to_numpy().astype(float)
-        S.p.wt.from_numpy((np.sqrt(k) / (CMU14 * np.maximum(l, 1e-12))).astype(S.np_real))
-
-    @ti.func
-    def init_acc(self, S, i, acc: ti.template()):
-        acc.wi = S.tmp.wt[i]
-
-    @ti.func
-    def pair(self, S, i, j, r, r2, nb, acc: ti.template()):
-        s = S.tmp
-        if nb.kj == FLUID and s.mat[j] == acc.mat:
-            acc.dw += nb.vol_j * SIGMA_W * (acc.nuti + s.nut[j]) * (acc.wi - s.wt[j]) * r.dot(nb.gw) * nb.ie
-
-    @ti.func
-    def finish(self, S, i, mi, acc: ti.template(), pt: ti.template()):
-        k = ti.max(acc.ki, K_FLOOR)     # TKE's acc: this particle's k and nu_t before the step
-        S.p.wt[i] = omega_update(acc.wi, k, S.tmp.lt[i], strain2(acc.gv), acc.dw, S.prm[None].dt,
-                                 S.prm[None].stress_limiter)
-
-
-@ti.data_oriented
-class TKE(Module):
-    """A transported turbulent kinetic energy k for the SPS's eddy viscosity (the k-l model,
-    tisph/terms/tke.py): k moves with the particles, diffuses between them and is made and
-    dissipated per particle; the length l is per particle (the scene sets it; else
-    numerics.mixing_length)."""
-    name = "tke"
-    on = {"sps": True, "turbulence": "k_equation"}
-    acc = {"ki": "real", "nuti": "real", "dk": "real"}
-    params = {"stress_limiter": Param(0.0, "-", (0.0, None, True, True),
-                                      "Wilcox's (2006) stress limiter C_lim on the k equation's eddy viscosity "
-                                      "(7/8 in k-omega 2006); 0: off", key="numerics.stress_limiter")}
-
-    def fields(self, real):
-        return {"kt": real,    # turbulent kinetic energy k (m2/s2)
-                "lt": real,    # its length scale l (m)
-                "nut": real}   # eddy viscosity C_mu^(1/4) sqrt(k) l (m2/s)
-
-    def setup(self, S):
-        """k and l where the scene gives them (ParticleSet.tke, .turbulence_length), else the
-        floor and numerics.mixing_length."""
-        import numpy as np
-        k0 = getattr(S.particles, "tke", None)
-        k = np.full(S.n, K_FLOOR) if k0 is None else np.maximum(np.asarray(k0, float), K_FLOOR)
-        l0 = getattr(S.particles, "turbulence_length", None)
-        l = np.full(S.n, float(S.prm[None].mixing_length)) if l0 is None else np.asarray(l0, float)
-        S.p.kt.from_numpy(k.astype(S.np_real))
-        S.p.lt.from_numpy(l.astype(S.np_real))
-        S.p.nut.from_numpy((CMU14 * np.sqrt(k) * l).astype(S.np_real))
-
-    @ti.func
-    def init_acc(self, S, i, acc: ti.template()):
-        acc.ki = S.tmp.kt[i]
-        acc.nuti = S.tmp.nut[i]
-
-    @ti.func
-    def pair(self, S, i, j, r, r2, nb, acc: ti.template()):
-        s = S.tmp
-        # no flux through walls (k at a wall is the near-wall balance's) or into another material
-        if nb.kj == FLUID and s.mat[j] == acc.mat:
-            acc.dk += nb.vol_j * (acc.nuti + s.nut[j]) * (acc.ki - s.kt[j]) * r.dot(nb.gw) * nb.ie / SIGMA_K
-
-    @ti.func
-    def finish(self, S, i, mi, acc: ti.template(), pt: ti.template()):
-        l = S.tmp.lt[i]
-        if ti.static(S.physics.tke_length == "omega"):      # k and omega both step from the old state
-            l = ti.min(l, length_of_omega(acc.ki, S.tmp.wt[i]))
-        s2 = strain2(acc.gv)
-        clim = S.prm[None].stress_limiter
-        k = tke_update(acc.ki, l, s2, acc.dk, S.prm[None].dt, clim)
-        if ti.static(S.physics.rheology):
-            if S.mat_rheo[mi] != 0:     # the SPS is the Newtonian materials' only
-                k = K_FLOOR
-        S.p.kt[i] = k
-        S.p.nut[i] = eddy_viscosity(k, l, s2, clim)
 
 
 @ti.data_oriented

@@ -4,7 +4,7 @@ import os
 import sys
 
 from ..cli import make_parser, overrides_from_args
-from ..config import ConfigError, build_config, dump_toml
+from ..config import ConfigError, build_config, dump_toml, refuse_unused_sediment_keys
 from ..io import OutputError, ensure_dir
 from ..particles import FLUID
 from .loop import Run
@@ -24,11 +24,11 @@ def run_case(case, cfg, out, log, scene_name, restart=None, force=False):
         raise ConfigError("numerics.wall_layers", num["wall_layers"], f"at least {need} with numerics.h_factor = "
                           f"{num['h_factor']}", f"dynamic wall particles must fill the kernel's support 2 h = "
                           f"{2.0 * num['h_factor']:g} dx")
-    lm = num["mixing_length"]
+    lm = num.get("mixing_length", 0.0)
     if lm > 0 and not case.physics.sps:
         raise ConfigError("numerics.mixing_length", lm, "0 in a case without SPS turbulence (the mixing length "
                           "sets the SPS's eddy viscosity; the pipeline turns SPS on with geometry.sps = true)")
-    turb = cfg["numerics"]["turbulence"]
+    turb = num.get("turbulence", "smagorinsky")
     if turb == "k_equation":
         if not case.physics.sps:
             raise ConfigError("numerics.turbulence", turb, "smagorinsky in a case without SPS turbulence (the "
@@ -39,7 +39,7 @@ def run_case(case, cfg, out, log, scene_name, restart=None, force=False):
     # the k equation's own options, off without it
     for key, off, what in (("length_scale", "prescribed", "omega is the k equation's length"),
                            ("stress_limiter", 0.0, "the limiter caps the k equation's eddy viscosity")):
-        if num[key] != off and case.physics.turbulence != "k_equation":
+        if num.get(key, off) != off and case.physics.turbulence != "k_equation":
             raise ConfigError(f"numerics.{key}", num[key], f"{off!r} without the k equation ({what}; it needs "
                               "numerics.turbulence = \"k_equation\" and SPS turbulence on)")
     if cfg["output"]["field"] == "concentration" and not case.physics.suspension:
@@ -63,6 +63,7 @@ def resolve(scene, config=None, overrides=None):
     """The validated config of a scene: defaults <- TOML <- overrides, then the scene's checks."""
     cfg = build_config(scene.DEFAULTS, config, overrides or {},
                        getattr(scene, "RANGES", None), getattr(scene, "CHOICES", None))
+    refuse_unused_sediment_keys(cfg, scene.DEFAULTS)
     if hasattr(scene, "check"):
         scene.check(cfg)
     return cfg

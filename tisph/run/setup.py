@@ -42,7 +42,7 @@ def keyed_params(cfg):
         for name, p in decl.items():
             if p.key:
                 sec, key = p.key.split(".")
-                out[PARAM_ALIASES.get(name, name)] = cfg[sec][key]
+                out[PARAM_ALIASES.get(name, name)] = cfg[sec].get(key, p.default)   # a scene without the key
     return out
 
 

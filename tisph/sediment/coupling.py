@@ -10,7 +10,6 @@ Each update (every sediment.update_every steps):
      (shear = "wall_function") Launder & Spalding's (1974, Comput. Methods Appl. Mech. Eng. 3:269)
      wall function tau = rho C_mu^(1/4) sqrt(k) kappa u / ln(z_r / z0), k filtered as u is: the
      geometric mean of the log law's shear and rho sqrt(C_mu) k, each scaled to the far field;
-     with lee_stirring, where that is below the far field's, rho sqrt(C_mu) k if larger;
   3. Bed.step (tisph/sediment/bed.py) over the elapsed time; the solver's bed particles move
      with the new z_b (solver.set_bed).
 """
@@ -22,7 +21,7 @@ from ..constants import G
 from ..particles import BED
 from ..terms.tke import SQRT_CMU
 from .bed import Bed
-from .lee import lee_stirring_shear, lee_vortex_shear
+from .lee import lee_vortex_shear
 from .transport import reference_concentration, settling_velocity, shear_log_law, shear_waves, shields_number
 
 
@@ -41,10 +40,6 @@ DEFAULTS = {
     # with lee_transit: that load first settles down through the water, then out onto the bed: two
     # stages of l_d / 2 each (deposition peaks l_d / 2 downstream of where it starts, not there)
     "settling_delay": False,
-    # with shear = "wall_function": where the mean flow's shear is below the far field's (a lee)
-    # the bed feels the turbulence's, rho sqrt(C_mu) k, when that is the larger, along the current
-    # (lee_stirring_shear); the pipeline's lee
-    "lee_stirring": False,
     # K_g of the downslope term K_g |q_b| (dz/dx) / tan(phi) (Bailard 1981; 1/tan(phi) = CMS's 1.6);
     # 0: the slope acts through the threshold alone (REEF3D's bedload_MPM, CMS's Dey option)
     "gravity_coefficient": 1.0,
@@ -171,9 +166,6 @@ class BedCoupler:
         if sed["settling_delay"] and not sed["lee_transit"]:
             raise ConfigError("sediment.settling_delay", True, "false unless sediment.lee_transit = true: the "
                               "delay is a stage of the load that crosses the lee with the current")
-        if sed["lee_stirring"] and sed["shear"] != "wall_function":
-            raise ConfigError("sediment.lee_stirring", True, "false unless sediment.shear = 'wall_function': "
-                              "the stirring is the k equation's turbulence at the bed")
         self.water_top = surface
         self.w_s = sed["settling_velocity"] or settling_velocity(d50, self.bed.s)
         self.suspended = 0.0                 # sand volume in the water per unit width (m2)
@@ -207,8 +199,6 @@ class BedCoupler:
             if kind == "wall_function":
                 tau_k = self.to_far_field(self.rho_w * SQRT_CMU * self.k)
                 tau = np.sign(u) * np.sqrt(np.abs(tau) * tau_k)
-                if self.sed["lee_stirring"]:
-                    tau = self.to_far_field(lee_stirring_shear(tau, tau_k, self.far_field[1]))
         if self.sed["lee_vortex"] > 0:
             tau = lee_vortex_shear(tau, self.bed.z, self.dx, u, self.sed, self.bed.periodic, self.amplitude,
                                    self.mobility())

@@ -1,6 +1,5 @@
-"""The bed shear's corrections in a structure's or a ripple's lee, applied by the coupler
-(coupling.BedCoupler.shear): the pipeline's lee stirring (sediment.lee_stirring) and the
-ripples' parametrised lee vortex (sediment.lee_vortex), with its sheet-flow factor."""
+"""The bed shear's correction in a ripple's lee, applied by the coupler (coupling.BedCoupler.shear):
+the ripples' parametrised lee vortex (sediment.lee_vortex), with its sheet-flow factor."""
 import numpy as np
 
 
@@ -8,24 +7,6 @@ def sheet_flow_factor(psi):
     """1 for mobility psi <= 190, falling linearly to 0 at 240 and above: the factor n of van der A
     et al. (2013)'s ripple predictor, where ripples wash out into sheet flow."""
     return np.clip((240.0 - np.asarray(psi, float)) / 50.0, 0.0, 1.0)
-
-
-def lee_stirring_shear(tau, tau_k, tau_inf):
-    """The bed shear in a sheltered lee (sediment.lee_stirring): where the wall function's |tau|
-    is below the undisturbed bed's tau_inf and the turbulence's shear tau_k = rho sqrt(C_mu) k
-    exceeds it, the shear is tau_k along the current (the sign of the net shear). tau_k is the
-    TKE method's (tau = C1 rho k, C1 = 0.19: Kim et al. 2000, J. Hydraul. Eng. 126:399), scaled
-    to the far field as the wall function's factors are, so C1 drops out. Behind a structure the
-    mean near-bed flow is slow or reversed and Launder & Spalding's shear goes with it, but the
-    shear layer shed from the structure reaches the bed there with 1.5-2.5 times the far field's k
-    (measured behind the pipe in Mao's case); its eddies stir the sand and the outer flow carries
-    it downstream: the lee-wake erosion of Sumer & Fredsoe (2002, ch. 2), which a 2D run whose
-    wake does not shed gives no other way. Where the mean flow's shear already exceeds the far
-    field's (the gap's jet) tau is unchanged."""
-    tau = np.asarray(tau, float)
-    sgn = 1.0 if float(np.sum(tau)) >= 0 else -1.0
-    stir = (np.abs(tau) < tau_inf) & (tau_k > np.abs(tau))
-    return np.where(stir, sgn * tau_k, tau)
 
 
 def lee_vortex_shear(tau, z, dx, u, sed, periodic=True, amplitude=0.0, mobility=0.0):

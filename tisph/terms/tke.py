@@ -31,7 +31,7 @@ numerics.stress_limiter = C_lim (7/8 in k-omega 2006; 0 = off), caps nu_t at sqr
 dissipation by more than 1 / C_lim^2 (1.31), as in the shear layers that leave a cylinder, and
 never in an equilibrium wall layer (there nu_t = l^2 |S| = C_lim times the cap). SedFoam carries
 k-epsilon and Wilcox's k-omega 2006, which Mathieu et al. (2019, Water 11:1727) compare on Mao's
-pipeline; here omega with the limiter is what let Mao's pipe shed over a fixed bed (README).
+pipeline; here omega with the limiter is what let Mao's pipe shed over a fixed bed (docs/sediment.md).
 """
 import taichi as ti
 

@@ -1,9 +1,9 @@
 """Benchmark: run time against error, throughput and scaling, and a PySPH comparison.
 
     python -m tisph.bench [--quick] [--peer pysph] [--out renders/bench] [--only CASE ...]
-    python -m tisph.bench --speed [--against REV] [--repeats N] [--quick]   (tisph/speed.py)
-    python -m tisph.bench --shedding [--gaps G ...] [--dx DX] [--end-time T] [--config F]   (tisph/shedding.py)
-    python -m tisph.bench --mao-held [--times T ...] [--dx DX] [--end-time T] [--config F]   (tisph/mao_held.py)
+    python -m tisph.bench --speed [--against REV] [--repeats N] [--quick]   (tisph/bench/speed.py)
+    python -m tisph.bench --shedding [--gaps G ...] [--dx DX] [--end-time T] [--config F]   (tisph/bench/shedding.py)
+    python -m tisph.bench --mao-held [--times T ...] [--dx DX] [--end-time T] [--config F]   (tisph/bench/mao_held.py)
 
 Every validation case runs at a ladder of resolutions; each run records particles, steps, wall
 time, Taichi compile time (the first call, separately), particle-steps/s and its error against
@@ -22,11 +22,10 @@ import time
 
 import numpy as np
 
-from .io import ensure_dir, write_csv, write_text
-from .probes.plots import pyplot, save
+from ..io import ensure_dir, write_csv, write_text
+from .common import ROOT, table, this_tree_env
+from ..probes.plots import pyplot, save
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-ROOT = os.path.dirname(HERE)
 
 
 @dataclasses.dataclass
@@ -66,7 +65,7 @@ def _scene(mod):
 
 
 def run_one(case, dx, out, quick):
-    from .run import simulate
+    from ..run import simulate
     ov = {"output.render": False, "output.quiet": True, "output.snapshot_every": 0.0, "numerics.dx": dx}
     ov.update(case.overrides)
     if quick:
@@ -96,14 +95,14 @@ def convergence_order(dxs, errs):
 # ---------------------------------------------------------------------------- scaling
 def scaling(sizes, steps=100):
     """Particle-steps/s and memory of the hydrostatic tank at about the given particle counts,
-    each in a fresh process (tisph/speed.py's measurement). The RSS cost of a particle is the
+    each in a fresh process (tisph/bench/speed.py's measurement). The RSS cost of a particle is the
     slope of peak RSS against particle count between consecutive sizes (the Taichi runtime's own
     footprint cancels)."""
-    from .speed import ROOT as TREE, measure
+    from .speed import measure
     rows = []
     for n in sizes:
         side = math.sqrt(n) * 0.01
-        m = measure(TREE, "tank", {"numerics.dx": 0.01, "geometry.width": side, "geometry.depth": side,
+        m = measure(ROOT, "tank", {"numerics.dx": 0.01, "geometry.width": side, "geometry.depth": side,
                                    "geometry.tank_height": side * 1.05}, steps)
         row = dict(particles=m["particles"], steps=steps, seconds=round(m["seconds"], 3),
                    particle_steps_per_s=round(m["pps"]), field_bytes_per_particle=round(m["field_bytes"], 1),
@@ -121,9 +120,9 @@ def scaling(sizes, steps=100):
 def specialisation(quick, steps=None):
     """The dam break as shipped against the same case compiled with the rheology, laminar
     viscosity, XSPH and no-slip terms switched on at zero strength."""
-    from .run import build_case, Log, resolve
-    from .scenes import dam_break
-    from .solver import Solver
+    from ..run import build_case, Log, resolve
+    from ..scenes import dam_break
+    from ..engine.solver import Solver
     cfg = resolve(dam_break, overrides={"numerics.dx": 0.03, "output.quiet": True})
     case = build_case(dam_break, cfg, Log(os.devnull, True))
     out = {}
@@ -152,7 +151,7 @@ import taichi as ti
 ti.init(arch=ti.cpu, kernel_profiler=True, default_fp=ti.f32, log_level=ti.WARN)
 from tisph.run import build_case, Log, resolve
 from tisph.scenes import dam_break
-from tisph.solver import Solver
+from tisph.engine.solver import Solver
 cfg = resolve(dam_break, overrides={"numerics.dx": 0.03, "output.quiet": True})
 case = build_case(dam_break, cfg, Log(os.devnull, True))
 s = Solver(case.physics, case.particles, case.materials, case.domain, case.params)
@@ -168,11 +167,6 @@ with contextlib.redirect_stdout(buf):
     ti.profiler.print_kernel_profiler_info("count")
 print(buf.getvalue())
 """
-
-
-def this_tree_env():
-    """The environment of a child Python process that imports this tree's tisph."""
-    return dict(os.environ, PYTHONPATH=ROOT + os.pathsep + os.environ.get("PYTHONPATH", ""))
 
 
 def kernel_profile():
@@ -208,16 +202,10 @@ def plot(rows, path):
     save(fig, path)
 
 
-def _table(header, rows):
-    md = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
-    md += ["| " + " | ".join(str(c) for c in r) + " |" for r in rows]
-    return "\n".join(md)
-
-
 def _on_cluster(jobs, a, log):
     """The ladders' runs as Dask tasks on a.scheduler (tisph.sweep's path), rows in job order."""
     from dask.distributed import Client
-    from .sweep import execute
+    from ..sweep import execute
     client = Client(a.scheduler)
     try:
         res = execute([(f"{i:03d}", run_one, (c, dx, a.out, a.quick)) for i, (c, dx) in enumerate(jobs)],
@@ -243,7 +231,7 @@ def _engine_sections(a, log):
     for r in sc:
         log(f"scaling: {r}")
     md = ["## Scaling (hydrostatic tank, dx 0.01, fixed steps)", "",
-           _table(("particles", "steps", "s", "particle-steps/s", "field bytes/particle", "peak RSS MB",
+           table(("particles", "steps", "s", "particle-steps/s", "field bytes/particle", "peak RSS MB",
                    "RSS bytes/particle (slope)"),
                   [(r["particles"], r["steps"], r["seconds"], f"{r['particle_steps_per_s']:.3g}",
                     r["field_bytes_per_particle"], r["peak_rss_mb"], r["rss_bytes_per_particle"])
@@ -253,7 +241,7 @@ def _engine_sections(a, log):
     (k0, v0), (k1, v1) = sp.items()
     log(f"specialisation: {sp}")
     md += ["## Specialisation (dam break, dx 0.03)", "",
-           _table(("build", "particle-steps/s", "ratio"),
+           table(("build", "particle-steps/s", "ratio"),
                   [(k0, f"{v0:.3g}", "1"), (k1, f"{v1:.3g}", f"{v0 / v1:.2f}x slower")]),
            "", "Zero strength: no viscosity, XSPH epsilon 0, drag coefficient 0, no material with DEM "
            "contacts; the terms are compiled and evaluated, their effect is nil.", ""]
@@ -278,14 +266,14 @@ def main(argv=None):
     p.add_argument("--only", nargs="*", help="run only the cases whose name contains one of these words")
     p.add_argument("--no-scaling", action="store_true", help="skip the scaling, specialisation and profile parts")
     p.add_argument("--speed", action="store_true",
-                   help="engine speed only (tisph/speed.py): particle-steps/s from 3.4e3 to 6.5e5 particles, compile")
+                   help="engine speed only (tisph/bench/speed.py): particle-steps/s from 3.4e3 to 6.5e5 particles, compile")
     p.add_argument("--against", metavar="REV", help="with --speed: the same runs on this git revision, back to back")
     p.add_argument("--repeats", type=int, default=3, help="with --speed: runs (pairs) per case (default 3)")
     p.add_argument("--shedding", action="store_true",
-                   help="vortex shedding behind a pipe above a fixed bed against the gap (tisph/shedding.py)")
+                   help="vortex shedding behind a pipe above a fixed bed against the gap (tisph/bench/shedding.py)")
     p.add_argument("--mao-held", action="store_true",
                    help="the pipeline case over Mao's measured beds held still: does the flow erode them where his "
-                        "did? (tisph/mao_held.py)")
+                        "did? (tisph/bench/mao_held.py)")
     p.add_argument("--gaps", type=float, nargs="*", help="with --shedding: gaps in pipe diameters (default 0.5 1 2)")
     p.add_argument("--times", type=float, nargs="*", choices=[11.0, 18.0, 25.0],
                    help="with --mao-held: Mao's profiles to hold (default 11 18 25)")
@@ -316,7 +304,7 @@ def main(argv=None):
     for name in ("gaps", "times", "dx", "end_time", "config"):
         if getattr(a, name) is not None:
             p.error(f"--{name.replace('_', '-')} needs --shedding or --mao-held")
-    from . import runtime
+    from .. import runtime
     runtime.init("cpu", "f32")
     ensure_dir(a.out)
     log = lambda m: print(m, file=sys.stderr, flush=True)
@@ -341,7 +329,7 @@ def main(argv=None):
           f"{'Quick' if a.quick else 'Full'} run, {time.strftime('%Y-%m-%d %H:%M')}, CPU backend, f32, "
           f"{os.cpu_count()} threads. Wall time includes set-up and compilation; compile is the first call.", "",
           "## Run time against error", "",
-          _table(("case", "dx", "particles", "steps", "wall s", "compile s", "particle-steps/s", "error", "metric"),
+          table(("case", "dx", "particles", "steps", "wall s", "compile s", "particle-steps/s", "error", "metric"),
                  [(r["case"], f"{r['dx']:g}", r["particles"], r["steps"], f"{r['wall_time_s']:.1f}",
                    f"{r['compile_time_s']:.1f}", f"{r['particle_steps_per_s']:.3g}", f"{r['error']:.4g}",
                    r["metric"]) for r in rows]), "",
@@ -351,7 +339,7 @@ def main(argv=None):
     for c in cases:
         rr = [r for r in rows if r["case"] == c.name]
         orders.append((c.name, c.reference, f"{convergence_order([r['dx'] for r in rr], [r['error'] for r in rr]):.2f}"))
-    md += [_table(("case", "reference", "order"), orders), ""]
+    md += [table(("case", "reference", "order"), orders), ""]
     try:
         plot(rows, os.path.join(a.out, "bench.png"))
         md += ["![run time against error](bench.png)", ""]

@@ -20,8 +20,8 @@ import time
 
 import numpy as np
 
-from .bench import ROOT, _table
-from .io import read_station_rows
+from .common import ROOT, table
+from ..io import read_station_rows
 from .shedding import average_from
 
 BINS = np.arange(-2.0, 6.01, 0.5)      # x / D from the pipe's centre: the CSV's bins' centres, D/2 wide
@@ -31,7 +31,7 @@ REGIONS = (("upstream", -2.0, -0.5), ("hole", -0.5, 1.0), ("lee", 1.0, 3.0), ("d
 def exner_rate(sed, stations, z, taus, d50, rho_s, rho_w):
     """Mean dz_b/dt (m per second of bed time) the case's bed model gives bed z under each shear
     row in turn (its saturation sweeps start from the last row's flux, as in a run)."""
-    from .sediment import coupling
+    from ..sediment import coupling
     bed = coupling.make_bed(sed, stations, z, d50, rho_s, rho_w, periodic=True, morfac=1.0)
     out = np.zeros(len(stations))
     for tau in taus:
@@ -47,7 +47,7 @@ def _mean(a, m):
 def mao_rate(tp, x_rel, D):
     """Mao's dz_b/dt (m/s) after his profile at tp: the next profile less it over the time
     between (NaN after the last); and his series' rate under the pipe there, -dS/dt (m/s)."""
-    from .validation import mao
+    from ..validation import mao
     times = sorted(mao.PROFILES)
     k = times.index(tp)
     if k + 1 < len(times):
@@ -94,7 +94,7 @@ def region_means(r):
 
 
 def plot(rows, path):
-    from .probes.plots import pyplot, save
+    from ..probes.plots import pyplot, save
     plt = pyplot()
     # the bed panel's height is about what its equal aspect over 10 D by 2.3 D leaves it
     fig, axes = plt.subplots(3, len(rows), figsize=(4.2 * len(rows), 5.6), sharex=True, squeeze=False,
@@ -141,7 +141,7 @@ def main(a):
 
 def write_report(rows, out, cfg_file, end):
     """OUT/mao_held.csv, .png and .md from the held runs' rows (run_time / analyse)."""
-    from .io import ensure_dir, write_csv, write_text
+    from ..io import ensure_dir, write_csv, write_text
     ensure_dir(out)
     csv = []
     for r in rows:
@@ -158,11 +158,11 @@ def write_report(rows, out, cfg_file, end):
           "through the case's bed model for the rate the bed would start to change at (D per second on Mao's clock; "
           "negative: it goes down). Mao's rate is his next profile less this one over the 7 s between them; "
           "under the pipe, his series' deepening.", "",
-          _table(("Mao's bed", "particles", "steps", "wall s", "fastest rate within 1 D of the pipe (D/s)",
+          table(("Mao's bed", "particles", "steps", "wall s", "fastest rate within 1 D of the pipe (D/s)",
                   "Mao's series under the pipe (D/s)"),
                  [(f"{r['time']:g} s", r["particles"], r["steps"], f"{r['wall_time_s']:.0f}",
                    f"{r['under_model']:+.4f}", f"{r['under_mao']:+.4f}") for r in rows]), "",
-          _table(("Mao's bed", "region (x / D)", "shear / far field", "rate (D/s)", "Mao's rate (D/s)"),
+          table(("Mao's bed", "region (x / D)", "shear / far field", "rate (D/s)", "Mao's rate (D/s)"),
                  [(f"{r['time']:g} s", f"{n} ({lo:g} to {hi:g})", f"{s:.2f}", f"{m:+.4f}",
                    "-" if not np.isfinite(o) else f"{o:+.4f}")
                   for r in rows for (n, m, o, s), (_, lo, hi) in zip(region_means(r), REGIONS)])]

@@ -5,14 +5,14 @@ import os
 
 import numpy as np
 
-from ..constants import G, KAPPA
-from ..io import write_csv, write_station_rows
-from ..particles import FLUID
-from ..probes.control import PIDrive
-from ..probes.gauges import surface_heights
-from ..probes.plots import pyplot, save
-from ..profiles import streamlines_png
-from ..sediment.transport import transport_scale
+from ...constants import G, KAPPA
+from ...io import write_csv, write_station_rows
+from ...particles import FLUID
+from ...probes.control import PIDrive
+from ...probes.gauges import surface_heights
+from ...probes.plots import pyplot, save
+from ...profiles import streamlines_png
+from ...sediment.transport import transport_scale
 
 
 def water_velocity(st):

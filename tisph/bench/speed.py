@@ -9,7 +9,7 @@ waits for the last kernel). With --against, every case is run on this tree and o
 out into a temporary git worktree) alternately, every other pair REV first, --repeats times, and
 the ratio is the median of the pairs: these machines are shared and drift, so only ratios from
 one run mean anything. With --peer pysph, PySPH's dam_break_2d beside ours at dx 0.03 and 0.015
-(tisph/peer.py). Writes OUT/speed.md and OUT/speed.csv.
+(tisph/bench/peer.py). Writes OUT/speed.md and OUT/speed.csv.
 """
 import json
 import math
@@ -20,7 +20,7 @@ import sys
 import tempfile
 import time
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+from .common import ROOT
 
 # (name, scene, overrides, steps): sizes from 3.4e3 to 6.5e5 particles, and the flume's paddle
 CASES = [
@@ -30,8 +30,8 @@ CASES = [
     ("flume dx 0.0125 (paddle)", "flume", {}, 600),
     # periodic in x with the bed-load bed and SPS: Mao's pipeline case (an older revision that
     # cannot read its case file is reported as not measured)
-    # at 15 D (2.9e4 particles) with the Smagorinsky SPS and the log-law shear: the case as the speed
-    # figures were measured, before its file went to 25 D, the k equation (stop 25) and its wall function (26)
+    # at 15 D (2.9e4 particles) with the Smagorinsky SPS and the log-law shear, so that older
+    # revisions, which cannot read the case file's later keys, run the same case
     ("pipeline Mao D/20 (periodic)", "pipeline_scour", {"--config": "scenes/pipeline_scour_mao.toml",
                                                        "geometry.length": 0.75,
                                                        "numerics.turbulence": "smagorinsky",
@@ -46,13 +46,16 @@ CASES = [
 QUICK = 4   # --quick: the first four
 
 # Runs in the tree under test (this one or REV's): only APIs every revision since the engine
-# refactor has (resolve, build_case, Log, tisph.solver.Solver).
+# refactor has (resolve, build_case, Log, the Solver from tisph.engine.solver or the older shim).
 CHILD = r"""
 import json, os, sys, time, importlib, resource
 t0 = time.perf_counter()
 from tisph import runtime
 from tisph.run import build_case, Log, resolve
-from tisph.solver import Solver
+try:
+    from tisph.engine.solver import Solver
+except ImportError:
+    from tisph.engine.solver import Solver
 runtime.init("cpu", "f32")
 scene = importlib.import_module("tisph.scenes." + sys.argv[1])
 ov = json.loads(sys.argv[2]); ov["output.quiet"] = True
@@ -165,7 +168,7 @@ def report(a, rows, cold, warm):
 
 
 def main(a):
-    from .io import ensure_dir, write_csv, write_text
+    from ..io import ensure_dir, write_csv, write_text
     log = lambda m: print(m, file=sys.stderr, flush=True)
     ensure_dir(a.out)
     rows, cold, warm = run(a, log)

@@ -2,7 +2,7 @@
 break on a sloping sand beach and reshape the bed.
 
 Default (scenes/beach.toml): the sand is the morphodynamic bed below particle scale
-(sediment.model = "bedload", tisph/sediment, tisph/scenes/_beach_bedload.py) under SPH water, and
+(sediment.model = "bedload", tisph/sediment, tisph/scenes/beach/bedload.py) under SPH water, and
 ripples form on it. Why this geometry: Wiberg & Harris (1994) orbital ripples are 0.62 d0 long,
 and in shallow water a piston moves the whole column, so the near-bed orbital diameter d0 is
 about the stroke; for ripples of at least 8 dx at dx = 0.015 (0.12 m, d0 about 0.2 m where the
@@ -12,7 +12,7 @@ water (paddle.stroke <= depth). So: still water 0.3 m deep over
 2.5 s (kh = 0.45), stroke 0.26 m, Biesel H = 0.12 m, 0.3 mm quartz sand, dx 0.015, morfac 30 (16 s of
 flow move the bed as 480 s would: 190 wave periods). The lee vortex (sediment.lee_vortex,
 separation_*) is what grows ripples from the 5 mm random perturbation the bed starts with; the
-README says what it does and what is measured.
+docs/sediment.md says what it does and what is measured.
 
 The paper's case (paper 000 section 5, Table 5, Figs. 17-28), scenes/beach_bingham_tau200.toml
 and beach_bingham_tau1000.toml: the sand as Bingham particles, 1950 kg/m3, mu_B = 0.1 Pa s,
@@ -34,22 +34,22 @@ import sys
 
 import numpy as np
 
-from ..constants import G
-from ..config import ConfigError, physics_from_config
-from ..io import write_csv, write_station_rows
-from ..particles import ParticleSet, block, density_from_pressure, layered_pressure, tait_B, FLUID, WALL, MOVING
-from ..render import SAND
-from ..profiles import streamlines_png
-from ..ripples import MIN_HEIGHT_DX, MIN_LENGTH_DX, last_finite, orbital_diameter, ripple_stats, wiberg_harris
-from ..case import make_case
-from ..run import common_params, run_scene, sound_speed
-from .. import wavemaker as wm
-from ..materials import BINGHAM_SAND, WATER
-from ..probes.gauges import surface_at, surface_heights
-from ..wavemaker import PADDLE_DEFAULTS, PADDLE_RANGES, check_paddle, linear_wave, paddle
-from ..probes.plots import pyplot, save
-from ..sediment import coupling
-from ._beach_bedload import build_bedload
+from ...constants import G
+from ...config import ConfigError, physics_from_config
+from ...io import write_csv, write_station_rows
+from ...particles import ParticleSet, block, density_from_pressure, layered_pressure, tait_B, FLUID, WALL, MOVING
+from ...render import SAND
+from ...profiles import streamlines_png
+from ...ripples import MIN_HEIGHT_DX, MIN_LENGTH_DX, last_finite, orbital_diameter, ripple_stats, wiberg_harris
+from ...case import make_case
+from ...run import common_params, run_scene, sound_speed
+from ... import wavemaker as wm
+from ...materials import BINGHAM_SAND, WATER
+from ...probes.gauges import surface_at, surface_heights
+from ...wavemaker import PADDLE_DEFAULTS, PADDLE_RANGES, check_paddle, linear_wave, paddle
+from ...probes.plots import pyplot, save
+from ...sediment import coupling
+from .bedload import build_bedload
 
 NAME = "beach"
 # Bedforms longer than this many wavelengths (bars, the shoreline's retreat) are filtered out before

@@ -27,19 +27,19 @@ import os
 
 import numpy as np
 
-from ..constants import G, KAPPA
-from ..config import ConfigError, physics_from_config
-from ..io import write_csv, write_station_rows
-from ..particles import ParticleSet, block, density_from_pressure, tait_B, FLUID
-from ..case import make_case
-from ..run import common_params, sound_speed
-from ..probes.plots import pyplot, save
-from ..sediment import coupling
-from ..sediment.transport import rouse_profile, transport_scale
-from ..terms.tke import SQRT_CMU
-from ..validation import mao
-from ._pipeline_record import ScourRecord, streamlines_event, water_velocity
-from .pipeline_scour import NAME, add_pipe, geometry, initial_bed, log_law, profile_time
+from ...constants import G, KAPPA
+from ...config import ConfigError, physics_from_config
+from ...io import write_csv, write_station_rows
+from ...particles import ParticleSet, block, density_from_pressure, tait_B, FLUID
+from ...case import make_case
+from ...run import common_params, sound_speed
+from ...probes.plots import pyplot, save
+from ...sediment import coupling
+from ...sediment.transport import rouse_profile, transport_scale
+from ...terms.tke import SQRT_CMU
+from ...validation import mao
+from .record import ScourRecord, streamlines_event, water_velocity
+from .common import NAME, add_pipe, geometry, initial_bed, log_law, profile_time
 
 APPROACH = 2.0   # the far field: the approach flow from the inflow zone's end to this many D before the pipe
 

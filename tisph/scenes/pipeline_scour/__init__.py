@@ -8,7 +8,7 @@ law (the periodic seam would feed the pipe its own wake). The pipe is a ring of 
 particles with the no-slip ghost velocity of eq. 39. The water is Newtonian with the SPS closure
 of eq. 10.
 
-sediment.model = "bedload" (the default; tisph/scenes/_pipeline_bedload.py): the sand is a bed
+sediment.model = "bedload" (the default; tisph/scenes/pipeline_scour/bedload.py): the sand is a bed
 below particle scale (Shields threshold, bed load, Exner, avalanching; tisph/sediment) with its
 shear from the near-bed flow through the log law, as grid models of this experiment do (Liang,
 Cheng & Li 2005). scenes/pipeline_scour_mao.toml: Mao's D = 5 cm live-bed case against his
@@ -26,24 +26,22 @@ periodic domain 10 D long, dx = D/10, an initial gap of 0.3 D over a sinusoidal 
 scenes/pipeline_scour_theta098.toml: 0.5 m/s (Shields 0.098). scenes/pipe_on_rigid_bed.toml:
 D = 5 cm on a rigid bed, U = 0.197 m/s (Oner et al. 2008).
 """
-import math
-import types
 import sys
 
 import numpy as np
 
-from ..constants import G
-from ..config import ConfigError, physics_from_config
-from ..particles import ParticleSet, block, density_from_pressure, layered_pressure, tait_B, FLUID, WALL
-from ..render import SAND
-from ..case import make_case
-from ..run import common_params, run_scene, sound_speed
-from ..constants import KAPPA
-from ..sediment import coupling
-from ..validation import mao
-from ._pipeline_record import ScourRecord, streamlines_event
+from ...constants import G
+from ...config import TURBULENCE_DEFAULTS, ConfigError, physics_from_config
+from ...particles import ParticleSet, block, density_from_pressure, layered_pressure, tait_B, FLUID, WALL
+from ...render import SAND
+from ...case import make_case
+from ...run import common_params, run_scene, sound_speed
+from ...sediment import coupling
+from ...validation import mao
+from .common import (NAME, add_pipe, friction_velocity, geometry, has_bedload, initial_bed,  # noqa: F401
+                       log_law, profile_time, ring)
+from .record import ScourRecord, streamlines_event
 
-NAME = "pipeline_scour"
 
 
 DEFAULTS = {
@@ -53,8 +51,8 @@ DEFAULTS = {
     # Wendland kernel (paper 002 eq. 6), laminar viscosity + SPS (eq. 10), Shepard every 200 steps
     # is an option (shepard_every = 200); density diffusion is the default
     # c0 = 18 m/s: Table 3's c_0m
-    "numerics": {"dx": 0.01, "h_factor": 1.3, "kernel": "wendland", "artificial_viscosity": 0.0,
-                 "laminar_viscosity": True, "density_diffusion": "fourtakas", "delta": 0.1, "c0": 18.0},
+    "numerics": dict(TURBULENCE_DEFAULTS, dx=0.01, h_factor=1.3, kernel="wendland", artificial_viscosity=0.0,
+                     laminar_viscosity=True, density_diffusion="fourtakas", delta=0.1, c0=18.0),
     "geometry": {
         "pipe_diameter": 0.1,       # D (m)
         "water_depth": 0.35,        # above the undisturbed bed (m)
@@ -137,11 +135,11 @@ def check(cfg):
     if g["inflow_length"] > 0.5 * g["length"] - 2 * D:
         raise ConfigError("geometry.inflow_length", g["inflow_length"],
                           f"at most half the length minus 2 D ({0.5 * g['length'] - 2 * D:.3g} m): the zone must end 2 D before the pipe")
-    if cfg["sediment"]["suspended"] and not bedload(cfg):
+    if cfg["sediment"]["suspended"] and not has_bedload(cfg):
         raise ConfigError("sediment.suspended", True, "false unless sediment.model = \"bedload\" over sand "
                           "(geometry.sand_depth > 0): the suspension is exchanged with the bed-load bed")
-    if bedload(cfg):
-        from ._pipeline_bedload import bed_stations, far_field
+    if has_bedload(cfg):
+        from .bedload import bed_stations, far_field
         gm = geometry(cfg)
         far_field(gm, bed_stations(gm), g["inflow_length"])
     if 0 < g["sand_depth"] < 4 * dx:
@@ -158,60 +156,21 @@ def check(cfg):
         raise ConfigError("geometry.perturbation", g["perturbation"], "at most half the sand depth")
 
 
-def profile_time(geo):
-    """Mao's time (s) of the measured bed the run starts from (geometry.initial_profile), or None."""
-    p = geo["initial_profile"]
-    return None if p == "none" else float(p[len("mao_"):-1])
 
 
-def bedload(cfg):
-    """Whether the sand is the bed-load bed (a rigid bed, sand_depth = 0, has no sand model)."""
-    return cfg["sediment"]["model"] == "bedload" and cfg["geometry"]["sand_depth"] > 0
 
 
-def log_law(z, ustar, z0):
-    """u(z) = (u*/kappa) ln(z/z0) above the bed (paper 002 eq. 32, kappa = 0.42), 0 below z0."""
-    z = np.maximum(np.asarray(z, float), z0)
-    return ustar / KAPPA * np.log(z / z0)
 
 
-def friction_velocity(U, depth, z0):
-    """u* whose log-law profile has depth-mean U: U = (u*/kappa) (ln(h/z0) - 1)."""
-    return KAPPA * U / (math.log(depth / z0) - 1.0)
 
 
-def ring(cx, cy, radius, dx):
-    n = max(8, int(round(2 * math.pi * radius / dx)))
-    a = np.arange(n) * 2 * math.pi / n
-    return np.column_stack([cx + radius * np.cos(a), cy + radius * np.sin(a)]), np.column_stack([np.cos(a), np.sin(a)])
 
 
-def geometry(cfg):
-    """The case's derived quantities: pipe centre, water top, friction velocity and roughness."""
-    geo, num = cfg["geometry"], cfg["numerics"]
-    g = types.SimpleNamespace(dx=num["dx"], D=geo["pipe_diameter"], hw=geo["water_depth"], hs=geo["sand_depth"],
-                              Lx=geo["length"], U=geo["mean_velocity"], d50=geo["grain_diameter"],
-                              L=num["wall_layers"], h=num["h_factor"] * num["dx"], geo=geo)
-    mats = cfg["materials"]
-    g.rw, g.rs = mats["water"]["rho0"], mats["sand"]["rho0"]
-    if bedload(cfg):   # the bed's grains, not the two-phase model's bulk sand
-        g.rs = cfg["sediment"]["grain_density"]
-    g.R = 0.5 * g.D
-    g.xc = 0.5 * g.Lx
-    g.yc = g.hs + geo["gap"] + g.R
-    g.ytop = g.hs + g.hw
-    if geo["shields"] > 0:
-        g.ustar = math.sqrt(geo["shields"] * (g.rs / g.rw - 1) * G * g.d50)
-        g.z0 = g.hw * math.exp(-(KAPPA * g.U / g.ustar + 1.0))
-    else:
-        g.z0 = 2.5 * g.d50 / 30.0                 # Nikuradse roughness 2.5 d50
-        g.ustar = friction_velocity(g.U, g.hw, g.z0)
-    return g
 
 
 def build(cfg):
-    if bedload(cfg):
-        from ._pipeline_bedload import build_bedload
+    if has_bedload(cfg):
+        from .bedload import build_bedload
         return build_bedload(cfg)
     geo = cfg["geometry"]
     g = geometry(cfg)
@@ -251,15 +210,6 @@ def build(cfg):
                      pressure_scale=g.rw * G * g.ytop + (g.rs - g.rw) * G * hs)
 
 
-def initial_bed(g, x):
-    """The initial sand surface: flat, with a small dip under the pipe; or Mao's measured bed
-    (geometry.initial_profile)."""
-    x = np.asarray(x, float)
-    D, xc = g.D, g.xc
-    if g.geo["initial_profile"] != "none":
-        return g.hs + mao.profile_bed(profile_time(g.geo), x - xc, D)
-    dip = g.geo["perturbation"] * np.where(np.abs(x - xc) < D, 0.5 * (1 + np.cos(np.pi * (x - xc) / D)), 0.0)
-    return g.hs - dip
 
 
 def _particles(g, c0):
@@ -290,15 +240,6 @@ def _particles(g, c0):
     return ps
 
 
-def add_pipe(ps, g, density):
-    """The pipe: wall_layers rings of wall particles inside its surface, normals outward, with
-    their distance behind the surface for the no-slip ghost velocity (paper 002 eq. 39)."""
-    for k in range(g.L):
-        r_k = g.R - (k + 0.5) * g.dx
-        if r_k <= 0:
-            break
-        pts, nrm = ring(g.xc, g.yc, r_k, g.dx)
-        ps.add(pts, WALL, 0, density(pts[:, 1]), g.rw * g.dx * g.dx, normal=nrm, wall_dist=g.R - r_k)
 
 
 def main(argv=None):

@@ -13,17 +13,17 @@ import os
 
 import numpy as np
 
-from ..constants import G
-from ..config import physics_from_config
-from ..io import write_csv, write_station_rows
-from ..particles import ParticleSet, block, density_from_pressure, tait_B, FLUID, WALL, MOVING
-from ..ripples import MIN_LENGTH_DX, ripple_stats, wiberg_harris, last_finite
-from ..case import make_case
-from ..run import common_params, sound_speed
-from ..probes.gauges import surface_at
-from ..probes.plots import pyplot, save
-from ..sediment import coupling
-from ..wavemaker import Gauges, height_at, linear_wave, paddle
+from ...constants import G
+from ...config import physics_from_config
+from ...io import write_csv, write_station_rows
+from ...particles import ParticleSet, block, density_from_pressure, tait_B, FLUID, WALL, MOVING
+from ...ripples import MIN_LENGTH_DX, ripple_stats, wiberg_harris, last_finite
+from ...case import make_case
+from ...run import common_params, sound_speed
+from ...probes.gauges import surface_at
+from ...probes.plots import pyplot, save
+from ...sediment import coupling
+from ...wavemaker import Gauges, height_at, linear_wave, paddle
 
 RIGID = 0.5           # m of rigid floor in front of the paddle
 RIPPLE_WINDOW = 0.6   # m: bedforms longer than this (the profile's bar and shoreline) are not ripples

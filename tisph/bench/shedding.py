@@ -20,7 +20,7 @@ import time
 
 import numpy as np
 
-from .bench import ROOT, _table
+from .common import ROOT, table
 
 POINTS = (1.0, 1.5, 2.0, 3.0)     # x / D behind the pipe's centre, on its axis
 RADIUS = 0.15                     # the averaging disc, in D
@@ -56,8 +56,8 @@ def verdict(std, freq, share, U, D):
 
 def wake_series(run_dir, xc, yc, D, t0=SPIN_UP):
     """(times, v at each of POINTS) from a run's snapshots, fluid particles within RADIUS D."""
-    from .io import load, snapshot_files
-    from .particles import FLUID
+    from ..io import load, snapshot_files
+    from ..particles import FLUID
     ts, vs = [], []
     for f in snapshot_files(run_dir):
         a, attrs = load(f)
@@ -83,8 +83,8 @@ def average_from(end_time):
 def run_pipeline(cfg_file, overrides, dx, run_dir):
     """The pipeline case file with these overrides (and dx, if given) run into run_dir:
     (config, summary, wall seconds, geometry)."""
-    from .run import resolve, simulate
-    from .scenes import pipeline_scour
+    from ..run import resolve, simulate
+    from ..scenes import pipeline_scour
     ov = dict(overrides, **({"numerics.dx": dx} if dx else {}))
     cfg = resolve(pipeline_scour, cfg_file, ov)
     t0 = time.perf_counter()
@@ -97,7 +97,7 @@ def run_gap(gap, D, dx, end_time, out, cfg_file):
     ov = {"geometry.gap": gap * D, "geometry.perturbation": 0.0, "sediment.morph_start": 10.0 * end_time,
           "run.end_time": end_time, "output.render": False, "output.quiet": True,
           "output.snapshot_every": SAMPLE,
-          # 15 D, the domain the README's shedding table was measured on: with the bed held still no
+          # 15 D, the domain the shedding table of docs/sediment.md was measured on: with the bed held still no
           # dune comes round the seam (what makes the scour case need 25 D), and it costs 0.6 times as much
           "geometry.length": 15 * D}
     run_dir = os.path.join(out, "runs", f"shedding_gap{gap:g}")
@@ -116,9 +116,9 @@ def run_gap(gap, D, dx, end_time, out, cfg_file):
 
 
 def main(a):
-    from .io import ensure_dir, write_csv, write_text
-    from .run import resolve
-    from .scenes import pipeline_scour
+    from ..io import ensure_dir, write_csv, write_text
+    from ..run import resolve
+    from ..scenes import pipeline_scour
     ensure_dir(a.out)
     cfg_file = a.config or os.path.join(ROOT, "scenes", "pipeline_scour_mao.toml")
     D = resolve(pipeline_scour, cfg_file)["geometry"]["pipe_diameter"]
@@ -141,7 +141,7 @@ def main(a):
           f"number of {ST_BAND[0]:g}-{ST_BAND[1]:g} holds at least {SHEDS_POWER:.0%} of the power and v varies by at "
           f"least {SHEDS_STD:.0%} of U. The peak and St columns give that peak (else the largest, the wake's drift). Experiments: regular "
           "shedding at St about 0.2 from a gap of about 0.3 D up (Bearman & Zdravkovich 1978).", "",
-          _table(("gap / D", "dx", "particles", "steps", "wall s", "v std (m/s)", "peak Hz", "St", "peak's share",
+          table(("gap / D", "dx", "particles", "steps", "wall s", "v std (m/s)", "peak Hz", "St", "peak's share",
                   "sheds"),
                  [(f"{r['gap_over_D']:g}", f"{r['dx']:g}", r["particles"], r["steps"], f"{r['wall_time_s']:.0f}",
                    f"{r['v_std_min']:.3f}-{r['v_std_max']:.3f}", f"{r['peak_hz']:.2f}", f"{r['strouhal']:.2f}",

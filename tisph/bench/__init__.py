@@ -1,0 +1,9 @@
+"""Benchmarks and validation runs: python -m tisph.bench (ladder.py's main dispatches).
+
+ladder.py     run time against error at a ladder of resolutions, scaling, the kernel profile
+validate.py   --validate: every validation case, written as docs/validation.md
+speed.py      --speed: particle-steps/s, optionally against another revision, back to back
+peer.py       --peer pysph: PySPH's dam break beside ours
+shedding.py   --shedding: a pipe's wake over a fixed bed against the gap
+mao_held.py   --mao-held: Mao's measured beds held still under the pipeline's flow
+"""
