@@ -161,7 +161,7 @@ MATERIAL_CHOICES = {
 }
 
 
-def _describe_range(lo, hi, lo_inc, hi_inc):
+def describe_range(lo, hi, lo_inc, hi_inc):
     parts = []
     if lo is not None:
         parts.append(f"{'>=' if lo_inc else '>'} {lo}")
@@ -178,7 +178,7 @@ def _check_range(path, value, rng):
     if hi is not None and (value > hi or (value == hi and not hi_inc)):
         bad = True
     if bad:
-        raise ConfigError(path, value, _describe_range(*rng))
+        raise ConfigError(path, value, describe_range(*rng))
 
 
 def _type_name(v):

@@ -11,7 +11,7 @@ import sys
 import tokenize
 
 from . import config
-from .config import CHOICES, MATERIAL_CHOICES, MATERIAL_RANGES, RANGES, _describe_range
+from .config import CHOICES, MATERIAL_CHOICES, MATERIAL_RANGES, RANGES, describe_range
 
 
 
@@ -71,11 +71,11 @@ def rows(scene):
         if key in choices:
             allowed = "one of " + ", ".join(repr(c) for c in choices[key])
         elif key in ranges:
-            allowed = _describe_range(*ranges[key])
+            allowed = describe_range(*ranges[key])
         elif key.startswith("materials.") and leaf in MATERIAL_CHOICES:
             allowed = "one of " + ", ".join(repr(c) for c in MATERIAL_CHOICES[leaf])
         elif key.startswith("materials.") and leaf in MATERIAL_RANGES:
-            allowed = _describe_range(*MATERIAL_RANGES[leaf])
+            allowed = describe_range(*MATERIAL_RANGES[leaf])
         else:
             allowed = config._type_name(v)
         out.append((key, repr(v) if isinstance(v, str) else str(v).lower() if isinstance(v, bool) else str(v),

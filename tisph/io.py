@@ -66,19 +66,19 @@ def write_text(path, text: str):
     write_bytes(path, text.encode())
 
 
-def _finite(obj):
+def json_safe(obj):
     """NaN/Inf -> None: strict JSON has no NaN, and a missing value reads as null elsewhere."""
     if isinstance(obj, float):
         return obj if math.isfinite(obj) else None
     if isinstance(obj, dict):
-        return {k: _finite(v) for k, v in obj.items()}
+        return {k: json_safe(v) for k, v in obj.items()}
     if isinstance(obj, (list, tuple)):
-        return [_finite(v) for v in obj]
+        return [json_safe(v) for v in obj]
     return obj
 
 
 def write_json(path, obj):
-    write_text(path, json.dumps(_finite(obj), indent=2, allow_nan=False) + "\n")
+    write_text(path, json.dumps(json_safe(obj), indent=2, allow_nan=False) + "\n")
 
 
 def write_csv(path, header, rows):

@@ -9,7 +9,7 @@ import numpy as np
 
 from .. import __version__
 from ..config import ConfigError, dump_toml
-from .setup import _strip, config_changes
+from .setup import run_settings, config_changes
 
 
 FLUSH_S = 0.5   # wall seconds between rewrites of probes.csv and run.log during a run
@@ -176,7 +176,7 @@ class Outputs:
                               f"it is a checkpoint of {attrs.get('scene')!r}")
         from ..config import tomllib as _toml
         old = _toml.loads(attrs["config"])
-        changes = config_changes(_strip(old), _strip(self.cfg))
+        changes = config_changes(run_settings(old), run_settings(self.cfg))
         if changes and not self.force:
             raise ConfigError("--restart", self.restart, "the config the checkpoint was written with "
                               "(or pass --force)", "changed: " + "; ".join(changes))

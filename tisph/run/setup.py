@@ -122,7 +122,8 @@ def unstable(solver, what, where, cause):
 RESTART_FREE = ("run.end_time", "run.max_steps", "run.arch", "output")
 
 
-def _strip(cfg):
+def run_settings(cfg):
+    """The config less what a restart may change (RESTART_FREE): what must match to continue."""
     c = copy.deepcopy(cfg)
     for k in RESTART_FREE:
         parts = k.split(".")

@@ -6,7 +6,7 @@ import os
 import numpy as np
 
 from .. import __version__
-from ..io import OutputError, _finite, write_json
+from ..io import OutputError, json_safe, write_json
 from ..particles import FLUID, OUT, OUTFLOW
 
 
@@ -86,7 +86,7 @@ def summarize(run, status, message, wall, step_s, nsteps, compile_s, segment=Non
             f"({pps:.3g} particle-steps/s), leaked {s.leaked}, crossed a wall {crossed}, "
             f"max density error {s.max_density_error:.3%}")
     if metrics:
-        run.log("metrics: " + json.dumps(_finite(metrics)))
+        run.log("metrics: " + json.dumps(json_safe(metrics)))
     return summary
 
 
