@@ -41,6 +41,8 @@ def make_parser(scene, description=""):
     p.add_argument("--restart", metavar="PATH", help="continue from a checkpoint.h5")
     p.add_argument("--force", action="store_true", help="allow --restart with a changed config")
     p.add_argument("--quiet", action="store_true", help="no progress bar and no messages but errors")
+    p.add_argument("--live", action="store_true",
+                   help="show each frame in a window as it is rendered (needs a display; the files are written all the same)")
     p.add_argument("--describe", action="store_true",
                    help="print every config key with its default, what is allowed and what it means, and exit")
     return p
@@ -57,4 +59,6 @@ def overrides_from_args(args):
         ov["output.render"] = False
     if getattr(args, "quiet", False):
         ov["output.quiet"] = True
+    if getattr(args, "live", False):
+        ov["output.live"] = True
     return ov

@@ -89,6 +89,7 @@ SHARED_DEFAULTS = {
         "min_height": 160,           # px: a lower panel gets more room above the view (air)
         "snapshot_every": -1.0,      # simulated s between HDF5 snapshots; -1: frame_interval; 0: off
         "checkpoint_every": 0.0,     # simulated s between checkpoints; 0: only on SIGINT/SIGTERM
+        "live": False,               # show each frame in a window as it is rendered (--live; needs a display)
     },
 }
 

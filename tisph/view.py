@@ -2,7 +2,7 @@
 renderer the live run uses (tisph/render.py) and the scene's own framing and colours.
 
     python -m tisph.view OUT [--field F] [--time T | --all] [--view X0 X1 Y0 Y1]
-                             [--range LO HI] [--width W] [--mp4] [--fps N]
+                             [--range LO HI] [--width W] [--mp4] [--fps N] [--live]
 
 OUT is a run's output folder (with snapshots/*.h5) or one snapshot file. Without --time or
 --all the last snapshot is drawn. Pictures go to OUT/view/FIELD_tT.png (and OUT/view/FIELD.mp4).
@@ -80,6 +80,7 @@ def make_parser():
     p.add_argument("--width", type=int, default=1280, help="picture width in pixels (default 1280)")
     p.add_argument("--mp4", action="store_true", help="also write the pictures as an MP4")
     p.add_argument("--fps", type=int, default=25)
+    p.add_argument("--live", action="store_true", help="show each picture in a window as it is drawn (needs a display)")
     return p
 
 
@@ -99,6 +100,13 @@ def check_args(args):
         raise ConfigError("--view", args.view, "X0 < X1 and Y0 < Y1")
     if args.range and not args.range[0] < args.range[1]:
         raise ConfigError("--range", args.range, "LO < HI")
+    if args.live:
+        from .live import display_problem
+        why = display_problem()
+        if why:
+            raise ConfigError("--live", True, "absent on a machine without a display",
+                              why.replace(" look at OUT/frames/ and OUT/<scene>.mp4, or render the snapshots again with "
+                                          "python -m tisph.view OUT --all", " look at the PNGs (and --mp4) it writes"))
 
 
 def view(args):
@@ -126,6 +134,10 @@ def view(args):
     dest = ensure_dir(os.path.join(src, "view"))
     tag = "+".join(r.modes)
     movie = MovieWriter(os.path.join(dest, f"{tag}.mp4"), args.fps) if args.mp4 else None
+    live = None
+    if args.live:
+        from .live import LiveWindow
+        live = LiveWindow(f"tisph.view: {args.out}")
     written = []
     try:
         for f in files:
@@ -142,10 +154,15 @@ def view(args):
             written.append(path)
             if movie is not None:
                 movie.append(img)
+            if live is not None:
+                live.show(img)
     except BaseException:
         if movie is not None:
             movie.abort()
         raise
+    finally:
+        if live is not None:
+            live.close()
     if movie is not None:
         movie.close()
         written.append(movie.path)

@@ -91,6 +91,19 @@ def run_scene(scene, argv=None):
     return {"ok": 0, "unstable": 3}[summary["status"]]
 
 
+def check_live(cfg):
+    """--live (output.live) needs frames and a display: refused before anything compiles."""
+    if not cfg["output"]["live"]:
+        return
+    if not cfg["output"]["render"]:
+        raise ConfigError("output.live", True, "false with --no-render (output.render = false)",
+                          "--live shows the frames as they are rendered")
+    from ..live import display_problem
+    why = display_problem()
+    if why:
+        raise ConfigError("output.live", True, "false on a machine without a display", why)
+
+
 def simulate(scene, overrides=None, out=None, config=None, restart=None, force=False, cfg=None,
              echo=False):
     """Run a scene: the path the CLI takes, callable from Python (tests, benchmarks).
@@ -100,6 +113,7 @@ def simulate(scene, overrides=None, out=None, config=None, restart=None, force=F
     """
     from .. import runtime
     cfg = cfg if cfg is not None else resolve(scene, config, overrides)
+    check_live(cfg)
     out = out or output_dir(scene, cfg)
     ensure_dir(out)
     log = Log(os.path.join(out, "run.log"), cfg["output"]["quiet"] or not echo)

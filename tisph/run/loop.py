@@ -59,9 +59,12 @@ class Run(Outputs):
         return compile_s
 
     def _open_movie(self):
-        self.renderer = self.movie = None
+        self.renderer = self.movie = self.live = None
         if not self.render:
             return
+        if self.cfg["output"]["live"]:
+            from ..live import LiveWindow
+            self.live = LiveWindow(f"tisph: {self.name}")
         from ..io import ensure_dir
         from ..render import MovieWriter, make_renderer
         outc, pic = self.cfg["output"], self.case.picture
@@ -140,6 +143,8 @@ class Run(Outputs):
                 bar.close()
             if self.movie is not None:
                 self.movie.close()
+            if self.live is not None:
+                self.live.close()
         wall = time.perf_counter() - t0
         return summarize(self, status, message, wall + self.wall_before, self.step_s + self.step_before,
                          self.solver.steps - self.steps0, compile_s, segment=(wall, self.step_s))

@@ -104,6 +104,8 @@ class Outputs:
         img = self.renderer.frame(s.state(STATE + s.optional_members), s.time)
         write_png(os.path.join(self.out, "frames", f"{self.frame_no:05d}.png"), img)
         self.movie.append(img)
+        if self.live is not None:
+            self.live.show(img)
         self.frame_no += 1
 
     def snapshot_attrs(self, time, step, dt):
