@@ -149,3 +149,39 @@ def test_shedding_verdict_needs_a_peak_at_a_strouhal_number():
     assert verdict([0.01, 0.019], [0.33, 0.33], [0.33, 0.2], U, D) == (0, False)      # drift
     assert verdict([0.011, 0.019], [1.31, 0.33], [0.54, 0.6], U, D) == (0, True)       # the band's peak decides
     assert verdict([0.005, 0.008], [1.4, 1.4], [0.9, 0.9], U, D)[1] is False          # too weak
+
+
+def _validate(tmp_path, *only):
+    readme = tmp_path / "README.md"
+    readme.write_text("# x\n<!-- validation:start -->\nold\n<!-- validation:end -->\nafter\n")
+    args = ["--validate", "--quick", "--docs", str(tmp_path / "docs"), "--readme", str(readme),
+            "--out", str(tmp_path / "runs")]
+    assert bench.main(args + (["--only", *only] if only else [])) == 0
+    return (tmp_path / "docs" / "validation.md").read_text(), readme.read_text()
+
+
+def test_validate_quick_one_case_writes_its_row_figure_and_cost(tmp_path):
+    """--validate on the tank alone: its row with particles and steps from the run, its figure and
+    the cost figure; --only leaves the README's table alone."""
+    md, readme = _validate(tmp_path, "tank")
+    row = next(line for line in md.splitlines() if line.startswith("| Still water in a tank |"))
+    cells = [c.strip() for c in row.strip("|").split("|")]
+    assert cells[4] == "0.05" and int(cells[5]) == 232 and int(cells[6]) > 100
+    assert float(cells[3]) < 0.1                       # the pressure error of a still tank
+    assert (tmp_path / "docs" / "validation" / "still_water_in_a_tank.png").stat().st_size > 5000
+    assert (tmp_path / "docs" / "validation" / "cost.png").exists()
+    assert "A quick run" in md and "old" in readme
+
+
+@pytest.mark.slow
+def test_validate_quick_runs_every_case(tmp_path):
+    """--validate --quick runs every validation case, writes a row and a figure for each and fills
+    the README's table between its markers."""
+    from tisph.bench.validate import CASES, slug
+    md, readme = _validate(tmp_path)
+    for c in CASES:
+        assert f"| {c.name} |" in md, c.name
+        assert (tmp_path / "docs" / "validation" / f"{slug(c.name)}.png").exists(), c.name
+        assert f"| {c.name} |" in readme
+    assert "old" not in readme and readme.endswith("after\n")
+    assert "failed" not in md

@@ -61,5 +61,5 @@ def test_readme_is_a_guide():
         lines = f.read().splitlines()
     assert len(lines) <= 300, f"README.md has {len(lines)} lines"
     assert "python -m tisph.scenes.beach" in "\n".join(lines[:20])
-    for section in ("Install", "Scenes", "Validation", "docs/"):
+    for section in ("Requirements", "Scenes", "Validation", "docs/"):
         assert any(section in line for line in lines), section

@@ -7,7 +7,7 @@ import sys
 
 import numpy as np
 
-HINT = ("--live needs a display to open a window; this session has none (no DISPLAY). The frames are "
+HINT = ("--live needs a display to open a window; this machine has none (no DISPLAY). The frames are "
         "written all the same: look at OUT/frames/ and OUT/<scene>.mp4, or render the snapshots "
         "again with python -m tisph.view OUT --all")
 

@@ -4,6 +4,7 @@
     python -m tisph.bench --speed [--against REV] [--repeats N] [--quick]   (tisph/bench/speed.py)
     python -m tisph.bench --shedding [--gaps G ...] [--dx DX] [--end-time T] [--config F]   (tisph/bench/shedding.py)
     python -m tisph.bench --mao-held [--times T ...] [--dx DX] [--end-time T] [--config F]   (tisph/bench/mao_held.py)
+    python -m tisph.bench --validate [--quick] [--only WORD ...]   (tisph/bench/validate.py: docs/validation.md)
 
 Every validation case runs at a ladder of resolutions; each run records particles, steps, wall
 time, Taichi compile time (the first call, separately), particle-steps/s and its error against
@@ -283,9 +284,19 @@ def main(argv=None):
                                                   "2.5 held)")
     p.add_argument("--config", help="with --shedding or --mao-held: the pipeline case file whose current and "
                                     "numerics it runs (default scenes/pipeline_scour_mao.toml)")
+    p.add_argument("--validate", action="store_true",
+                   help="run every validation case and write docs/validation.md, its figures and the README's "
+                        "table (tisph/bench/validate.py; with --quick: coarse, short versions)")
+    p.add_argument("--docs", help="with --validate: the folder of validation.md (default the tree's docs/)")
+    p.add_argument("--readme", help="with --validate: the README whose table to fill (default the tree's; '' none)")
     p.add_argument("--dry-run", action="store_true",
                    help="exercise every code path in seconds: one tiny case, tiny scaling, no profile (for tests)")
     a = p.parse_args(argv)
+    if a.validate:
+        from . import validate
+        return validate.main(a)
+    if a.docs is not None or a.readme is not None:
+        p.error("--docs and --readme need --validate")
     if a.speed:
         from . import speed
         return speed.main(a)

@@ -1,0 +1,275 @@
+"""python -m tisph.bench --validate [--quick] [--only WORD ...] [--docs DIR] [--out DIR]
+
+Runs every validation case and writes the validation page, DOCS/validation.md, with a small
+figure per case in DOCS/validation/ and the run time against error figure, and fills the table
+between the validation markers of the README. Each case runs at its reported resolution and, for
+the cost figure, at one or two coarser ones; --quick runs coarse, short versions of every case
+(for a test: the page, its rows and its figures, not the figures' values).
+"""
+import dataclasses
+import os
+import platform
+import shutil
+import sys
+import time
+
+import numpy as np
+
+from ..io import ensure_dir, read_csv, write_text
+from .common import ROOT, table
+
+README_START, README_END = "<!-- validation:start -->", "<!-- validation:end -->"
+
+
+@dataclasses.dataclass
+class Case:
+    name: str
+    scene: str                 # module under tisph
+    metric: str                # the summary metric the error comes from
+    error: str                 # what the error is
+    reference: str             # the reference and its source
+    ladder: tuple              # dx values, coarse to fine; the last is the reported run
+    quick: float               # dx in --quick
+    config: str = ""           # a case file under scenes/
+    overrides: dict = dataclasses.field(default_factory=dict)
+    quick_overrides: dict = dataclasses.field(default_factory=dict)
+    figure: str = ""           # a picture the scene writes; "" draws the probes
+    probes: tuple = ()         # probes.csv columns drawn when the scene writes no picture
+    reference_value: float = None   # the error is metric / reference_value - 1 when set
+    also: tuple = ()           # more metrics shown beside the error
+    note: str = ""
+
+
+CASES = [
+    Case("Still water in a tank", "scenes.tank", "pressure_error", "pressure against rho g d, below the top two rows",
+         "hydrostatics", (0.04, 0.02), 0.05, overrides={"run.end_time": 2.0}, quick_overrides={"run.end_time": 0.2},
+         probes=("speed_ratio",), also=("density_error",)),
+    Case("Poiseuille, Newtonian", "validation.poiseuille", "velocity_l2_error", "L2 velocity error",
+         "the exact parabola (periodic plane channel, Morris no-slip walls)", (0.01, 0.005), 0.01,
+         overrides={"materials.fluid.yield_stress": 0.0, "geometry.length": 0.08}, quick_overrides={"run.end_time": 0.3},
+         figure="profile.png"),
+    Case("Poiseuille, Bingham 10 Pa", "validation.poiseuille", "velocity_l2_error", "L2 velocity error",
+         "the exact Bingham profile and plug (Bird, Stewart & Lightfoot)", (0.01, 0.005), 0.01,
+         overrides={"geometry.length": 0.08}, quick_overrides={"run.end_time": 0.3}, figure="profile.png", also=("plug_half_width",)),
+    Case("Dam break (Martin & Moyce)", "scenes.dam_break", "front_rms_error", "front RMS error, x / a, T <= 3.3",
+         "Martin & Moyce (1952), measured front", (0.06, 0.04, 0.03), 0.08, quick_overrides={"run.end_time": 0.3},
+         probes=("front_x", "column_h")),
+    Case("Dam break on a dry bed (Ritter)", "scenes.dam_break", "front_speed_error", "front speed error",
+         "Ritter's exact shallow-water solution (paper 000 section 4.2)", (0.025, 0.0125), 0.03,
+         config="dam_break_alpha0.toml", quick_overrides={"run.end_time": 1.0, "geometry.profile_times": []},
+         figure="profiles/profiles.png", also=("front_speed_resolution_limit",),
+         note="The SPH front cannot outrun 2 c0 - 3 sqrt(g dx) (front_speed_resolution_limit)."),
+    Case("Dam break on a wet bed, alpha 0.1 (Stoker)", "scenes.dam_break", "bore_speed_error", "bore speed error",
+         "Stoker's exact solution (paper 000 section 4.2)", (0.0125,), 0.0125, config="dam_break_alpha01.toml",
+         quick_overrides={"run.end_time": 0.6, "geometry.profile_times": []}, figure="profiles/profiles.png",
+         also=("plateau_depth_error",)),
+    Case("Dam break on a wet bed, alpha 0.4 (Stoker)", "scenes.dam_break", "bore_speed_error", "bore speed error",
+         "Stoker's exact solution (paper 000 section 4.2)", (0.025, 0.0125), 0.03, config="dam_break_alpha04.toml",
+         quick_overrides={"run.end_time": 1.0, "geometry.profile_times": []}, figure="profiles/profiles.png",
+         also=("plateau_depth_error",)),
+    Case("Hatch (paper 000 section 4.1)", "scenes.hatch", "discharge_coefficient",
+         "discharge coefficient against pi / (pi + 2)",
+         "a sharp-edged slot's contraction, pi / (pi + 2) = 0.611 (Kirchhoff's free streamline)", (0.0075, 0.005),
+         0.0075, quick_overrides={"run.end_time": 0.1}, figure="profiles/surface.png",
+         reference_value=np.pi / (np.pi + 2)),
+    Case("Wave flume, piston (Biesel)", "scenes.flume", "wave_height_error", "wave height error, 2 wavelengths out",
+         "Biesel's linear wave-maker theory (H / S for the piston and kh)", (0.025, 0.0125), 0.03,
+         quick_overrides={"run.end_time": 3.0}, figure="gauges.png", also=("wave_height",)),
+    Case("Oscillating tunnel ripples (Wiberg & Harris)", "scenes.tunnel", "ripple_length_over_prediction",
+         "ripple length over the prediction, less 1", "Wiberg & Harris (1994) orbital ripples: 0.5-0.75 d0",
+         (0.015, 0.01), 0.02, quick_overrides={"run.end_time": 2.0}, figure="ripple_growth.png",
+         reference_value=1.0, also=("ripple_length_over_d0", "ripple_steepness", "max_density_error")),
+    Case("Beach ripples (Wiberg & Harris)", "scenes.beach", "ripple_length_over_prediction",
+         "ripple length over the prediction, less 1", "Wiberg & Harris (1994) for the measured near-bed motion",
+         (0.015,), 0.03, quick_overrides={"run.end_time": 1.0}, figure="bed_profile.png", reference_value=1.0,
+         also=("ripple_count", "ripple_steepness", "max_density_error")),
+    Case("Pipeline scour (Mao 1986)", "scenes.pipeline_scour", "mao_depth_max_error_15s",
+         "largest S/D error over Mao's first 15 s", "Mao's (1986) measured S/D(t) and profiles, D = 5 cm",
+         (0.0025,), 0.00625, config="pipeline_scour_mao.toml",
+         quick_overrides={"run.end_time": 0.6, "geometry.length": 0.5, "geometry.inflow_length": 0.1},
+         figure="scour_mao.png",
+         also=("scour_profile_error_11s", "scour_profile_error_18s", "scour_profile_error_25s")),
+    Case("Erodible bed (paper 000 section 4.3)", "scenes.erodible_bed", "eroded_area", "no reference value",
+         "the paper's figures only (no measured values)", (0.02, 0.01), 0.02, quick_overrides={"run.end_time": 0.2},
+         probes=("front_x", "eroded_area"), also=("bed_drop_at_gate",),
+         note="Shown for its cost and its bed change; the paper gives no value to compare with."),
+]
+
+
+def slug(name):
+    words = "".join(c if c.isalnum() else " " for c in name.lower()).split()
+    return "_".join(words)[:40].strip("_")
+
+
+def run_case(case, dx, out, quick):
+    import importlib
+    from ..run import simulate
+    ov = {"output.render": False, "output.quiet": True, "output.snapshot_every": 0.0, "numerics.dx": dx}
+    ov.update(case.overrides)
+    if quick:
+        ov.update(case.quick_overrides)
+    cfg = os.path.join(ROOT, "scenes", case.config) if case.config else None
+    d = os.path.join(out, slug(case.name), f"dx{dx:g}")
+    t0 = time.perf_counter()
+    s = simulate(importlib.import_module(f"tisph.{case.scene}"), ov, out=d, config=cfg)
+    wall = time.perf_counter() - t0
+    m = s["metrics"]
+    v = m.get(case.metric)
+    v = float("nan") if v is None else float(v)
+    err = v / case.reference_value - 1.0 if case.reference_value else v
+    if case.error == "no reference value":
+        err = float("nan")
+    return dict(case=case.name, dx=dx, particles=s["particles"], steps=s["steps"], wall=wall,
+                pps=s["particle_steps_per_s"], value=v, error=err, density=s.get("max_density_error"),
+                also={k: m.get(k, s.get(k)) for k in case.also}, dir=d, status=s["status"])
+
+
+def figure(case, row, dest, width=480):
+    """The case's figure, scaled to `width` px, as DEST/validation/<slug>.png (or None)."""
+    from PIL import Image
+    path = os.path.join(dest, "validation", slug(case.name) + ".png")
+    src = os.path.join(row["dir"], case.figure) if case.figure else None
+    tmp = path + ".part.png"
+    if src and os.path.exists(src):
+        shutil.copyfile(src, tmp)
+    elif case.probes and os.path.exists(os.path.join(row["dir"], "probes.csv")):
+        from ..probes.plots import pyplot, save
+        _, cols = read_csv(os.path.join(row["dir"], "probes.csv"))
+        plt = pyplot()
+        fig, ax = plt.subplots(figsize=(5, 3))
+        for c in case.probes:
+            ax.plot(cols["t"], cols[c], label=c)
+        ax.set_xlabel("t (s)")
+        ax.legend(fontsize=8)
+        ax.set_title(f"{case.name}, dx {row['dx']:g} m", fontsize=9)
+        ax.grid(alpha=0.3)
+        save(fig, tmp)
+    else:
+        return None
+    im = Image.open(tmp)
+    if im.width > width:
+        im = im.resize((width, round(im.height * width / im.width)), Image.LANCZOS)
+    im.convert("RGB").save(tmp, format="PNG", optimize=True)
+    os.replace(tmp, path)
+    return os.path.relpath(path, dest)
+
+
+def cost_figure(rows, path):
+    """Run time against |error|, each case at its resolutions (log-log)."""
+    from ..probes.plots import pyplot, save
+    plt = pyplot()
+    fig, ax = plt.subplots(figsize=(7, 4.5))
+    for name in dict.fromkeys(r["case"] for r in rows):
+        rr = [r for r in rows if r["case"] == name and np.isfinite(r["error"]) and r["error"] != 0]
+        if rr:
+            ax.loglog([r["wall"] for r in rr], [abs(r["error"]) for r in rr], "o-", label=name)
+    ax.set_xlabel("wall time (s, two CPU cores)")
+    ax.set_ylabel("|error| against the reference")
+    ax.grid(alpha=0.3, which="both")
+    ax.legend(fontsize=6.5, loc="best")
+    ax.set_title("Run time against error: each point one resolution", fontsize=10)
+    save(fig, path)
+
+
+def _fmt(v, digits=3):
+    if v is None or (isinstance(v, float) and not np.isfinite(v)):
+        return "-"
+    if isinstance(v, float):
+        return f"{v:.{digits}g}"
+    return str(v)
+
+
+def machine():
+    load = os.getloadavg() if hasattr(os, "getloadavg") else (float("nan"),) * 3
+    return (f"{platform.system()} {platform.machine()}, {os.cpu_count()} CPU threads, Python "
+            f"{platform.python_version()}; load average at the start {load[0]:.2f}")
+
+
+def page(rows, quick, started, wall_total, mach, figs):
+    best = [r for r in rows if r["last"]]
+    md = ["# Validation", "",
+          "Generated by `python -m tisph.bench --validate" + (" --quick" if quick else "") + "` on "
+          f"{started} ({mach}); the whole run took {wall_total / 60:.1f} minutes. "
+          "Do not edit: run the command again.", ""]
+    if quick:
+        md += ["**A quick run**: coarse and short versions of every case, to exercise the page; its errors "
+               "say nothing about the solver.", ""]
+    md += ["Each case's error at its reported resolution (the default case file's). Wall time is the whole "
+           "run (set-up, compile, stepping, outputs) on the CPU backend; particle-steps/s is the stepping "
+           "rate. The errors are signed where the sign says something (a ripple longer than predicted "
+           "is positive).", "",
+           table(("case", "reference", "error", "value", "dx (m)", "particles", "steps", "wall s",
+                  "largest density error", "more"),
+                 [(r["case"], CASES_BY_NAME[r["case"]].reference, f"{_fmt(r['error'])} ({CASES_BY_NAME[r['case']].error})",
+                   _fmt(r["value"], 4), f"{r['dx']:g}", r["particles"], r["steps"], f"{r['wall']:.0f}",
+                   _fmt(r["density"]), "; ".join(f"{k} {_fmt(v)}" for k, v in r["also"].items()))
+                  for r in best]), "",
+           "## Run time against error", "",
+           "![run time against error](validation/cost.png)", "",
+           table(("case", "dx (m)", "particles", "steps", "wall s", "particle-steps/s", "error"),
+                 [(r["case"], f"{r['dx']:g}", r["particles"], r["steps"], f"{r['wall']:.1f}", f"{r['pps']:.3g}",
+                   _fmt(r["error"])) for r in rows]), "",
+           "## The cases", ""]
+    for r in best:
+        c = CASES_BY_NAME[r["case"]]
+        md += [f"### {c.name}", "",
+               f"`python -m tisph.{c.scene}" + (f" --config scenes/{c.config}" if c.config else "")
+               + (f" --dx {r['dx']:g}" if not quick else "") + "`" + (f"; overrides {c.overrides}" if c.overrides else ""),
+               "", f"Reference: {c.reference}. Error: {c.error} = {_fmt(r['error'])} at dx {r['dx']:g} m "
+               f"({r['particles']} particles, {r['steps']} steps, {r['wall']:.0f} s)."
+               + (f" {c.note}" if c.note else ""), ""]
+        if figs.get(c.name):
+            md += [f"![{c.name}]({figs[c.name]})", ""]
+    return "\n".join(md) + "\n"
+
+
+def readme_table(rows):
+    best = [r for r in rows if r["last"]]
+    return table(("case", "error", "dx (m)", "particles", "wall s"),
+                 [(r["case"], f"{_fmt(r['error'])} ({CASES_BY_NAME[r['case']].error})", f"{r['dx']:g}", r["particles"],
+                   f"{r['wall']:.0f}") for r in best])
+
+
+def fill_readme(path, text):
+    with open(path, encoding="utf-8") as f:
+        src = f.read()
+    i, j = src.index(README_START) + len(README_START), src.index(README_END)
+    write_text(path, src[:i] + "\n" + text + "\n" + src[j:])
+
+
+CASES_BY_NAME = {c.name: c for c in CASES}
+
+
+def main(a):
+    from .. import runtime
+    runtime.init("cpu", "f32")
+    docs = a.docs or os.path.join(ROOT, "docs")
+    out = a.out if a.out != os.path.join("renders", "bench") else os.path.join("renders", "validate")
+    ensure_dir(os.path.join(docs, "validation"))
+    log = lambda m: print(m, file=sys.stderr, flush=True)
+    cases = [c for c in CASES if not a.only or any(w.lower() in c.name.lower() for w in a.only)]
+    started, mach, t0 = time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()), machine(), time.perf_counter()
+    rows, figs = [], {}
+    for c in cases:
+        dxs = (c.quick,) if a.quick else c.ladder
+        for k, dx in enumerate(dxs):
+            try:
+                r = run_case(c, dx, out, a.quick)
+            except Exception as e:      # one case's failure is reported, the page still written
+                log(f"{c.name}, dx {dx:g}: failed: {e}")
+                r = dict(case=c.name, dx=dx, particles=0, steps=0, wall=float("nan"), pps=float("nan"),
+                         value=float("nan"), error=float("nan"), density=None, also={"run": f"failed: {e}"}, dir="",
+                         status="error")
+            r["last"] = k == len(dxs) - 1
+            rows.append(r)
+            log(f"{c.name}, dx {dx:g}: {r['particles']} particles, {r['steps']} steps, {r['wall']:.1f} s, "
+                f"{c.metric} = {_fmt(r['value'], 4)}, error {_fmt(r['error'])}")
+        if r["dir"]:
+            figs[c.name] = figure(c, r, docs)
+    cost_figure(rows, os.path.join(docs, "validation", "cost.png"))
+    write_text(os.path.join(docs, "validation.md"), page(rows, a.quick, started, time.perf_counter() - t0, mach, figs))
+    readme = a.readme if a.readme is not None else os.path.join(ROOT, "README.md")
+    if readme and not a.only:
+        fill_readme(readme, readme_table(rows))
+    log(f"wrote {os.path.join(docs, 'validation.md')}")
+    return 0
