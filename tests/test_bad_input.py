@@ -119,6 +119,7 @@ def test_unwritable_output_folder(tmp_path, capsys):
     assert code == 2 and "cannot create output folder" in err and str(f / "sub") in err
 
 
+@pytest.mark.slow
 def test_changed_config_refused_on_restart_unless_forced(tmp_path, capsys):
     out = str(tmp_path / "o")
     assert run_scene(dam_break, ["--dx", "0.06", "--end-time", "0.01", "--checkpoint-every", "0.01",

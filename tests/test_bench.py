@@ -12,6 +12,7 @@ from tisph.bench import ladder as bench
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 
+@pytest.mark.slow
 def test_bench_dry_run(tmp_path):
     assert bench.main(["--dry-run", "--out", str(tmp_path)]) == 0
     with open(tmp_path / "bench.csv") as f:
@@ -71,6 +72,7 @@ def test_wake_spectrum_finds_a_shedding_frequency_and_not_in_noise():
     assert all(np.isnan(wake_spectrum(t[:5], t[:5])))
 
 
+@pytest.mark.slow
 def test_shedding_bench_dry_run(tmp_path):
     """--shedding --dry-run: the whole path (the fixed-bed run, the snapshots read and deleted,
     the table) on a tiny case in seconds, from a case file given with --config (Mao's with the
@@ -92,6 +94,7 @@ def test_shedding_bench_dry_run(tmp_path):
         bench.main(["--config", str(cfg)])
 
 
+@pytest.mark.slow
 def test_mao_held_bench_dry_run(tmp_path):
     """--mao-held --dry-run: Mao's 18 s bed is the run's initial bed (geometry.initial_profile)
     and stays put; the run writes the bed shear at every probe; the report has the rates by region

@@ -81,6 +81,7 @@ def test_bad_config_key_exits_2_naming_it(tmp_path):
     assert "Traceback" not in r.stderr
 
 
+@pytest.mark.slow
 def test_rendered_run_writes_frames_and_movie(tmp_path):
     r = run_cli(["--max-steps", "40", "--frame-interval", "0.001", "--out", str(tmp_path / "o"),
                  "--dx", "0.06", "--quiet"], tmp_path)

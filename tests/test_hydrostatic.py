@@ -5,6 +5,7 @@ from tisph.run import simulate
 from tisph.scenes import tank
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("wall", ["dynamic", "repulsive"])
 def test_tank_at_rest(wall, tmp_path):
     s = simulate(tank, {"numerics.wall": wall, "numerics.dx": 0.025, "geometry.depth": 0.4,

@@ -55,6 +55,7 @@ def test_snapshots_and_xdmf_are_complete(tmp_path):
     assert np.all(np.diff(arrays["id"]) == 1)      # ordered by particle id
 
 
+@pytest.mark.slow
 def test_restart_matches_uninterrupted_run(tmp_path):
     full = simulate(dam_break, dict(FAST, **{"run.end_time": 0.2, "output.snapshot_every": 0.2}),
                     out=str(tmp_path / "full"))

@@ -69,6 +69,7 @@ def test_orifice_case_file_runs(tmp_path):
     assert s["metrics"]["reservoir_level_end"] < 0.15
 
 
+@pytest.mark.slow
 def test_wet_bed_bore_speed_against_stoker(tmp_path):
     s = simulate(dam_break, dict(QUIET, **{"numerics.dx": 0.025}), out=str(tmp_path),
                  config=os.path.join(ROOT, "scenes", "dam_break_alpha04.toml"))
@@ -82,6 +83,7 @@ def test_wet_bed_bore_speed_against_stoker(tmp_path):
     assert (tmp_path / "profiles" / "profiles.png").stat().st_size > 5000
 
 
+@pytest.mark.slow
 def test_dry_bed_front_runs_slower_than_ritter(tmp_path):
     s = simulate(dam_break, dict(QUIET, **{"numerics.dx": 0.025, "run.end_time": 1.5}), out=str(tmp_path),
                  config=os.path.join(ROOT, "scenes", "dam_break_alpha0.toml"))

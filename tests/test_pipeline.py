@@ -133,6 +133,7 @@ def _two_phase_box(drag_K):
     return Solver(phys, ps, mats, ((0.0, -1.0), (0.2, 1.2)), params), ps
 
 
+@pytest.mark.slow
 def test_drag_conserves_momentum_and_couples_the_phases():
     K = 0.75 * 0.6 * 1000.0 * 0.4 / 0.00036
     out = {}
@@ -153,6 +154,7 @@ def test_drag_conserves_momentum_and_couples_the_phases():
     assert abs(out[K]) < 0.5 * abs(out[0.0]), out    # drag pulls the phases together at the interface
 
 
+@pytest.mark.slow
 def test_pipeline_scour_command_runs_and_writes_its_files(tmp_path):
     from tisph.scenes import pipeline_scour
     out = tmp_path / "ps"
@@ -171,6 +173,7 @@ def test_pipeline_scour_command_runs_and_writes_its_files(tmp_path):
     assert np.isfinite(m["scour_depth_over_D"]) and abs(m["mean_velocity_end"] - 0.4) < 0.1
 
 
+@pytest.mark.slow
 def test_bedload_pipeline_scours_the_gap_under_the_pipe(tmp_path):
     """The default scene (bed-load bed) a few thousand steps: the gap flow's bed shear exceeds the
     undisturbed bed's, sand leaves the gap (S/D grows), the periodic bed keeps its sand."""

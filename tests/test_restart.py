@@ -40,6 +40,7 @@ def csvs(d):
     return out
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("scene, ov, t2", CASES, ids=[c[0].NAME for c in CASES])
 def test_restart_continues_every_output(scene, ov, t2, tmp_path):
     base = dict(FAST, **ov, **{"run.end_time": t2, "output.checkpoint_every": t2 / 8})

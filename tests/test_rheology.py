@@ -61,6 +61,7 @@ def test_exact_poiseuille_profiles():
     assert poiseuille.fit_plug(y, u, 1000.0, 0.05, 1.0) == pytest.approx(0.01, abs=1e-4)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("tau_y, l2_bound", [(0.0, 0.06), (10.0, 0.06)])
 def test_poiseuille_against_exact(tau_y, l2_bound, tmp_path):
     # dx = b / 10. Measured L2 errors 3.6 % (Newtonian) and 2.8 % (Bingham); the bound leaves
@@ -124,6 +125,7 @@ def _heap_case(tau, unyielded="rest"):
     return types.SimpleNamespace(NAME="heap", DEFAULTS=defaults, build=build)
 
 
+@pytest.mark.slow
 def test_bingham_heap_large_yield_stays_small_yield_slumps(tmp_path):
     """A heap 0.15 m high presses on its base with about rho g H / 2 = 1.4 kPa of shear: with
     tau_B = 5 Pa it slumps, with tau_B = 3000 Pa it stays put (paper 000's premise that sand

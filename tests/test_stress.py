@@ -1,9 +1,11 @@
 """The stress suite's short version: no crash, no leak, clear errors where input is impossible."""
 import csv
+import pytest
 
 from tisph.stress import run
 
 
+@pytest.mark.slow
 def test_stress_quick(tmp_path):
     rows = run(quick=True, out=str(tmp_path), log=lambda *a: None)
     by = {r[0]: r for r in rows}

@@ -80,6 +80,7 @@ def test_sand_settles_at_w_s_and_diffuses_at_eps(tmp_path):
     assert abs(y1 - y0) < 0.002                  # no drift without settling
 
 
+@pytest.mark.slow
 def test_pipeline_with_suspended_load_keeps_its_sand(tmp_path):
     """The bed-load pipeline with suspended load a few hundred steps: the gap flow picks sand up,
     the sand in the bed and in the water together is conserved."""

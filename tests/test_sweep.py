@@ -22,6 +22,7 @@ def rows(out):
         return list(csv.DictReader(f))
 
 
+@pytest.mark.slow
 def test_tank_sweep_on_two_workers_equals_the_runs_one_by_one(tmp_path):
     out = str(tmp_path / "sw")
     assert main(["tank"] + TANK + ["--workers", "2", "--threads-per-worker", "1", "--out", out, "--quiet"]) == 0
@@ -43,6 +44,7 @@ def test_tank_sweep_on_two_workers_equals_the_runs_one_by_one(tmp_path):
         assert os.path.getsize(os.path.join(out, f)) > 0
 
 
+@pytest.mark.slow
 def test_a_failing_case_does_not_stop_the_others(tmp_path):
     out = str(tmp_path / "sw")
     code = main(["dam_break", "--set", "numerics.cfl=0.4,1.0", "--set", "numerics.dx=0.06",
@@ -53,6 +55,7 @@ def test_a_failing_case_does_not_stop_the_others(tmp_path):
     assert r[1.0]["status"] == "unstable" and "unstable at step" in r[1.0]["message"]
 
 
+@pytest.mark.slow
 def test_resume_runs_only_the_missing_cases(tmp_path):
     out = str(tmp_path / "sw")
     half = ["--set", "geometry.depth=0.3", "--set", "numerics.dx=0.04,0.05", "--set", "run.max_steps=150"]

@@ -151,6 +151,7 @@ def test_near_bed_velocity_takes_the_band_one_to_two_spacings_up():
     assert got[0] == pytest.approx(0.3) and got[1] == pytest.approx(0.7) and math.isnan(got[2])
 
 
+@pytest.mark.slow
 def test_tunnel_holds_the_oscillation_and_a_200_pa_bed_rests(tmp_path):
     """Two periods of the oscillating tunnel at dx = 0.02: the free stream follows U_m sin(wt)
     within 3 % (rms) and the Bingham bed (tau_B = 200 Pa, against a bed shear of order 1 Pa)
@@ -205,6 +206,7 @@ def test_beach_runs_and_writes_a_frame_and_bed_statistics(tmp_path):
     assert sand[-52:-34, :img.shape[1] // 2].mean() > 0.9 and sand[:30].mean() < 0.05
 
 
+@pytest.mark.slow
 def test_bingham_beach_predicts_ripples_from_its_near_bed_motion(tmp_path):
     """7 s of the paper's Bingham beach, no movie: one whole period at the toe after the ramped waves
     arrive. The near-bed orbital diameter measured there agrees with linear theory through the
@@ -223,6 +225,7 @@ def test_bingham_beach_predicts_ripples_from_its_near_bed_motion(tmp_path):
     assert rows[0].startswith("x,bed_initial,near_bed_velocity_amplitude,orbital_diameter_d0") and len(rows) > 50
 
 
+@pytest.mark.slow
 def test_flume_wave_height_against_biesel(tmp_path):
     """The shipped flume (Wendland kernel, depth 0.25 m, T = 0.8 s, stroke 4 cm) at dx = 0.0125
     (H = 5 dx) in a flume cut to 3 m: the wave two wavelengths from the paddle is within 15 % of
@@ -249,6 +252,7 @@ def test_flume_gauges_in_metres_read_zero_in_still_water(tmp_path):
     assert rows["eta_0"][0] == 0.0 and rows["eta_1"][0] == 0.0
 
 
+@pytest.mark.slow
 def test_bedload_beach_measures_the_orbital_motion_growing_up_the_slope(tmp_path):
     """The bed-load beach at dx 0.03 for 9 s (the ramped waves reach x = 5 m at about 6 s): the
     near-bed orbital amplitude measured at each station grows as the waves shoal (x = 4.5-5.5 m,

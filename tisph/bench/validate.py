@@ -7,6 +7,7 @@ the cost figure, at one or two coarser ones; --quick runs coarse, short versions
 (for a test: the page, its rows and its figures, not the figures' values).
 """
 import dataclasses
+import json
 import os
 import platform
 import shutil
@@ -57,37 +58,37 @@ CASES = [
     Case("Dam break on a dry bed (Ritter)", "scenes.dam_break", "front_speed_error", "front speed error",
          "Ritter's exact shallow-water solution (paper 000 section 4.2)", (0.025, 0.0125), 0.03,
          config="dam_break_alpha0.toml", quick_overrides={"run.end_time": 1.0, "geometry.profile_times": []},
-         figure="profiles/profiles.png", also=("front_speed_resolution_limit",),
+         figure="profiles/profiles.png", probes=("front_x",), also=("front_speed_resolution_limit",),
          note="The SPH front cannot outrun 2 c0 - 3 sqrt(g dx) (front_speed_resolution_limit)."),
     Case("Dam break on a wet bed, alpha 0.1 (Stoker)", "scenes.dam_break", "bore_speed_error", "bore speed error",
          "Stoker's exact solution (paper 000 section 4.2)", (0.0125,), 0.0125, config="dam_break_alpha01.toml",
          quick_overrides={"run.end_time": 0.6, "geometry.profile_times": []}, figure="profiles/profiles.png",
-         also=("plateau_depth_error",)),
+         probes=("bore_x", "plateau_h"), also=("plateau_depth_error",)),
     Case("Dam break on a wet bed, alpha 0.4 (Stoker)", "scenes.dam_break", "bore_speed_error", "bore speed error",
          "Stoker's exact solution (paper 000 section 4.2)", (0.025, 0.0125), 0.03, config="dam_break_alpha04.toml",
          quick_overrides={"run.end_time": 1.0, "geometry.profile_times": []}, figure="profiles/profiles.png",
-         also=("plateau_depth_error",)),
+         probes=("bore_x", "plateau_h"), also=("plateau_depth_error",)),
     Case("Hatch (paper 000 section 4.1)", "scenes.hatch", "discharge_coefficient",
          "discharge coefficient against pi / (pi + 2)",
          "a sharp-edged slot's contraction, pi / (pi + 2) = 0.611 (Kirchhoff's free streamline)", (0.0075, 0.005),
-         0.0075, quick_overrides={"run.end_time": 0.1}, figure="profiles/surface.png",
+         0.0075, quick_overrides={"run.end_time": 0.1}, figure="profiles/surface.png", probes=("reservoir_level", "discharge"),
          reference_value=np.pi / (np.pi + 2)),
     Case("Wave flume, piston (Biesel)", "scenes.flume", "wave_height_error", "wave height error, 2 wavelengths out",
          "Biesel's linear wave-maker theory (H / S for the piston and kh)", (0.025, 0.0125), 0.03,
-         quick_overrides={"run.end_time": 3.0}, figure="gauges.png", also=("wave_height",)),
+         quick_overrides={"run.end_time": 3.0}, figure="gauges.png", probes=("eta_0", "eta_1"), also=("wave_height",)),
     Case("Oscillating tunnel ripples (Wiberg & Harris)", "scenes.tunnel", "ripple_length_over_prediction",
          "ripple length over the prediction, less 1", "Wiberg & Harris (1994) orbital ripples: 0.5-0.75 d0",
-         (0.015, 0.01), 0.02, quick_overrides={"run.end_time": 2.0}, figure="ripple_growth.png",
+         (0.015, 0.01), 0.02, quick_overrides={"run.end_time": 2.0}, figure="ripple_growth.png", probes=("ripple_length", "ripple_height"),
          reference_value=1.0, also=("ripple_length_over_d0", "ripple_steepness", "max_density_error")),
     Case("Beach ripples (Wiberg & Harris)", "scenes.beach", "ripple_length_over_prediction",
          "ripple length over the prediction, less 1", "Wiberg & Harris (1994) for the measured near-bed motion",
-         (0.015,), 0.03, quick_overrides={"run.end_time": 1.0}, figure="bed_profile.png", reference_value=1.0,
+         (0.015,), 0.03, quick_overrides={"run.end_time": 1.0}, figure="bed_profile.png", probes=("ripple_length",), reference_value=1.0,
          also=("ripple_count", "ripple_steepness", "max_density_error")),
     Case("Pipeline scour (Mao 1986)", "scenes.pipeline_scour", "mao_depth_max_error_15s",
          "largest S/D error over Mao's first 15 s", "Mao's (1986) measured S/D(t) and profiles, D = 5 cm",
          (0.0025,), 0.00625, config="pipeline_scour_mao.toml",
          quick_overrides={"run.end_time": 0.6, "geometry.length": 0.5, "geometry.inflow_length": 0.1},
-         figure="scour_mao.png",
+         figure="scour_mao.png", probes=("scour_depth_over_D",),
          also=("scour_profile_error_11s", "scour_profile_error_18s", "scour_profile_error_25s")),
     Case("Erodible bed (paper 000 section 4.3)", "scenes.erodible_bed", "eroded_area", "no reference value",
          "the paper's figures only (no measured values)", (0.02, 0.01), 0.02, quick_overrides={"run.end_time": 0.2},
@@ -119,9 +120,12 @@ def run_case(case, dx, out, quick):
     err = v / case.reference_value - 1.0 if case.reference_value else v
     if case.error == "no reference value":
         err = float("nan")
+    also = {k: m.get(k, s.get(k)) for k in case.also}
+    if s["status"] != "ok":
+        also["run"] = f"{s['status']} at t = {s['sim_time']:.3g} s"
     return dict(case=case.name, dx=dx, particles=s["particles"], steps=s["steps"], wall=wall,
                 pps=s["particle_steps_per_s"], value=v, error=err, density=s.get("max_density_error"),
-                also={k: m.get(k, s.get(k)) for k in case.also}, dir=d, status=s["status"])
+                also=also, dir=d, status=s["status"], date=time.strftime("%Y-%m-%d", time.gmtime()))
 
 
 def figure(case, row, dest, width=480):
@@ -189,8 +193,8 @@ def page(rows, quick, started, wall_total, mach, figs):
     best = [r for r in rows if r["last"]]
     md = ["# Validation", "",
           "Generated by `python -m tisph.bench --validate" + (" --quick" if quick else "") + "` on "
-          f"{started} ({mach}); the whole run took {wall_total / 60:.1f} minutes. "
-          "Do not edit: run the command again.", ""]
+          f"{started} ({mach}); this run took {wall_total / 60:.1f} minutes. Each case's section gives the "
+          "date it ran (`--only` re-runs some cases and keeps the others). Do not edit: run the command again.", ""]
     if quick:
         md += ["**A quick run**: coarse and short versions of every case, to exercise the page; its errors "
                "say nothing about the solver.", ""]
@@ -216,7 +220,7 @@ def page(rows, quick, started, wall_total, mach, figs):
                f"`python -m tisph.{c.scene}" + (f" --config scenes/{c.config}" if c.config else "")
                + (f" --dx {r['dx']:g}" if not quick else "") + "`" + (f"; overrides {c.overrides}" if c.overrides else ""),
                "", f"Reference: {c.reference}. Error: {c.error} = {_fmt(r['error'])} at dx {r['dx']:g} m "
-               f"({r['particles']} particles, {r['steps']} steps, {r['wall']:.0f} s)."
+               f"({r['particles']} particles, {r['steps']} steps, {r['wall']:.0f} s; run {r.get('date', '')})."
                + (f" {c.note}" if c.note else ""), ""]
         if figs.get(c.name):
             md += [f"![{c.name}]({figs[c.name]})", ""]
@@ -240,36 +244,66 @@ def fill_readme(path, text):
 CASES_BY_NAME = {c.name: c for c in CASES}
 
 
+def load_results(path):
+    """{case name: (rows, figure)} of an earlier run, or {}."""
+    try:
+        with open(path) as f:
+            return {k: (v["rows"], v["figure"]) for k, v in json.load(f).items()}
+    except (OSError, ValueError, KeyError):
+        return {}
+
+
+def save_results(path, results):
+    def clean(r):
+        return {k: (None if isinstance(v, float) and not np.isfinite(v) else v) for k, v in r.items() if k != "dir"}
+    write_text(path, json.dumps({k: {"rows": [clean(r) for r in rows], "figure": fig}
+                                 for k, (rows, fig) in results.items()}, indent=1) + "\n")
+
+
 def main(a):
     from .. import runtime
     runtime.init("cpu", "f32")
     docs = a.docs or os.path.join(ROOT, "docs")
     out = a.out if a.out != os.path.join("renders", "bench") else os.path.join("renders", "validate")
     ensure_dir(os.path.join(docs, "validation"))
+    store = os.path.join(docs, "validation", "results.json")
     log = lambda m: print(m, file=sys.stderr, flush=True)
     cases = [c for c in CASES if not a.only or any(w.lower() in c.name.lower() for w in a.only)]
+    # --only re-runs those cases and keeps the others' rows from the last run (the same kind of run)
+    results = load_results(store) if a.only else {}
+    results = {k: v for k, v in results.items() if k in CASES_BY_NAME and
+               all(bool(r.get("quick")) == bool(a.quick) for r in v[0])}
     started, mach, t0 = time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()), machine(), time.perf_counter()
-    rows, figs = [], {}
     for c in cases:
-        dxs = (c.quick,) if a.quick else c.ladder
-        for k, dx in enumerate(dxs):
+        rows = []
+        for k, dx in enumerate((c.quick,) if a.quick else c.ladder):
             try:
                 r = run_case(c, dx, out, a.quick)
             except Exception as e:      # one case's failure is reported, the page still written
                 log(f"{c.name}, dx {dx:g}: failed: {e}")
                 r = dict(case=c.name, dx=dx, particles=0, steps=0, wall=float("nan"), pps=float("nan"),
                          value=float("nan"), error=float("nan"), density=None, also={"run": f"failed: {e}"}, dir="",
-                         status="error")
-            r["last"] = k == len(dxs) - 1
+                         status="error", date=time.strftime("%Y-%m-%d", time.gmtime()))
+            r["quick"] = bool(a.quick)
             rows.append(r)
             log(f"{c.name}, dx {dx:g}: {r['particles']} particles, {r['steps']} steps, {r['wall']:.1f} s, "
                 f"{c.metric} = {_fmt(r['value'], 4)}, error {_fmt(r['error'])}")
-        if r["dir"]:
-            figs[c.name] = figure(c, r, docs)
+        for k, r in enumerate(rows):
+            r["last"] = k == len(rows) - 1
+        fig = figure(c, rows[-1], docs) if rows[-1]["dir"] else None
+        results[c.name] = (rows, fig)
+        save_results(store, results)
+    rows = [dict(r, error=_num(r["error"]), value=_num(r["value"]), wall=_num(r["wall"]), pps=_num(r["pps"]))
+            for c in CASES if c.name in results for r in results[c.name][0]]
+    figs = {k: v[1] for k, v in results.items()}
     cost_figure(rows, os.path.join(docs, "validation", "cost.png"))
     write_text(os.path.join(docs, "validation.md"), page(rows, a.quick, started, time.perf_counter() - t0, mach, figs))
     readme = a.readme if a.readme is not None else os.path.join(ROOT, "README.md")
-    if readme and not a.only:
+    if readme and all(c.name in results for c in CASES):
         fill_readme(readme, readme_table(rows))
     log(f"wrote {os.path.join(docs, 'validation.md')}")
     return 0
+
+
+def _num(v):
+    return float("nan") if v is None else v

@@ -118,7 +118,8 @@ def build(cfg):
     margin = T + dx
     common = dict(name=NAME, particles=ps, materials=materials, domain=domain, params=params,
                   physics=physics_from_config(cfg), u_max=u_max, outflow=outflow,
-                  container=(0.0, 0.0, W, float("inf"), Ht))
+                  # an outflow end has no wall at x = W: water runs on over the floor's end and leaves
+                  container=(0.0, 0.0, W if geo["right_end"] == "wall" else float("inf"), float("inf"), Ht))
     if not channel:
         def probe(st):
             x = st["x"][st["kind"] == FLUID]
