@@ -20,7 +20,12 @@ def test_bench_dry_run(tmp_path):
     assert list(rows[0]) == ["case", "dx", "particles", "steps", "sim_time", "wall_time_s", "compile_time_s",
                              "step_time_s", "particle_steps_per_s", "metric", "error", "status"]
     assert len(rows) == 2 and all(r["status"] == "ok" for r in rows)
-    assert all(math.isfinite(float(r["error"])) and int(r["particles"]) > 0 for r in rows)
+    # the ladder's first case as configured: a 0.4 m tank to 0.2 s at dx 0.05 and 0.04, whose
+    # particle and step counts are fixed, and whose pressure error falls as dx does
+    assert [int(r["particles"]) for r in rows] == [212, 276] and [int(r["steps"]) for r in rows] == [216, 270]
+    err = [float(r["error"]) for r in rows]
+    assert 0 < err[1] < err[0] < 0.05, err
+    assert "| hydrostatic tank | rho g d below the top two rows |" in (tmp_path / "bench.md").read_text()
     md = (tmp_path / "bench.md").read_text()
     for part in ("## Run time against error", "Observed convergence order", "## Scaling", "## Specialisation"):
         assert part in md
@@ -44,14 +49,20 @@ def test_speed_bench_refuses_an_unknown_revision_by_name(tmp_path):
     assert "no-such-rev-xyz" in str(e.value)
 
 
-def test_speed_report_gives_the_ratio_per_case():
+def test_speed_measures_a_known_case_in_a_fresh_process_and_reports_its_ratio():
+    """--speed's measurement runs this tree in a fresh process: the dam break at dx 0.08 has 768
+    particles, runs the 20 steps asked, and its rate is the particles times the steps over the
+    time; the report gives the ratio against another revision's rate."""
     import argparse
     from tisph.bench import speed
-    a = argparse.Namespace(against="abc123", repeats=3)
-    rows = [dict(case="dam break dx 0.03", particles=3426, steps=10, pps=3.0e6, field_bytes=243.4,
-                 pps_against=2.0e6, ratio=1.5)]
+    m = speed.measure(speed.ROOT, "dam_break", {"numerics.dx": 0.08}, 20)
+    assert m["particles"] == 768 and m["steps"] == 20
+    assert m["pps"] == pytest.approx(768 * 20 / m["seconds"], rel=1e-9) and 50 < m["field_bytes"] < 1000
+    a = argparse.Namespace(against="abc123", repeats=1)
+    rows = [dict(case="dam break dx 0.08", particles=m["particles"], steps=20, pps=m["pps"],
+                 field_bytes=m["field_bytes"], pps_against=m["pps"] / 2, ratio=2.0)]
     text = "\n".join(speed.report(a, rows, 1.3, 0.5))
-    assert "| dam break dx 0.03 | 3426 | 10 | 3e+06 | 243.4 | 2e+06 | 1.50 |" in text
+    assert "| dam break dx 0.08 | 768 | 20 |" in text and "| 2.00 |" in text
     assert "cold 1.30 s" in text and "warm 0.50 s" in text
 
 

@@ -170,13 +170,18 @@ def test_pipeline_scour_command_runs_and_writes_its_files(tmp_path):
         "t,scour_depth_over_D,transport_rate_phi,max_bed_shear,u_mean,body_force"
     assert (out / "scour_profile.csv").exists() and (out / "frames" / "00000.png").exists()
     m = s["metrics"]
-    assert np.isfinite(m["scour_depth_over_D"]) and abs(m["mean_velocity_end"] - 0.4) < 0.1
+    # the PI drive holds the current near its 0.4 m/s (0.383 at 0.1 s) by pushing forward against
+    # the bed's friction, and the packed sand holds its place in so short a run (0.125 -> 0.120)
+    assert abs(m["mean_velocity_end"] - 0.4) < 0.03 and m["body_force_end"] > 0.0, m
+    assert abs(m["scour_depth_over_D"] - m["initial_scour_depth_over_D"]) < 0.02, m
 
 
 @pytest.mark.slow
 def test_bedload_pipeline_scours_the_gap_under_the_pipe(tmp_path):
-    """The default scene (bed-load bed) a few thousand steps: the gap flow's bed shear exceeds the
-    undisturbed bed's, sand leaves the gap (S/D grows), the periodic bed keeps its sand."""
+    """The default scene (bed-load bed) at D/8 for 0.7 s (the bed moves after 0.5 s of spin-up,
+    with morfac 10: 2 s of bed time): the gap flow's bed shear is at least 1.5 times the
+    undisturbed bed's (measured 1.91), the hole under the pipe deepens by at least 1.5e-4 D per
+    second of bed time (measured 3.2e-4; a bed held still gives 0), the periodic bed keeps its sand."""
     from tisph.scenes import pipeline_scour
     out = tmp_path / "bl"
     code = run_scene(pipeline_scour, ["--dx", "0.0125", "--end-time", "0.7", "--out", str(out), "--quiet",
@@ -188,7 +193,8 @@ def test_bedload_pipeline_scours_the_gap_under_the_pipe(tmp_path):
     m = s["metrics"]
     assert m["sediment_model"] == "bedload"
     assert m["gap_shear_over_far_field"] > 1.5, m
-    assert m["scour_depth_over_D"] > m["initial_scour_depth_over_D"] + 1e-4, m
+    bed_time = (s["sim_time"] - pipeline_scour.DEFAULTS["sediment"]["morph_start"]) * m["morfac"]
+    assert (m["scour_depth_over_D"] - m["initial_scour_depth_over_D"]) / bed_time > 1.5e-4, m
     assert m["sand_volume_error"] < 1e-6
 
 

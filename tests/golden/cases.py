@@ -87,7 +87,53 @@ def run(case_id, steps=STEPS):
     return dict(state=h.hexdigest()[:20], probes=hashlib.sha256(probes).hexdigest()[:20],
                 steps=int(summary["steps"]), particles=int(summary["particles"]),
                 modules=summary.get("modules", []),
-                x_sum=float(np.sum(st["x"], dtype=np.float64)), status=summary["status"])
+                x_sum=float(np.sum(st["x"], dtype=np.float64)), status=summary["status"],
+                fields={k: fingerprint(st[k]) for k in ("x", "v", "rho")}, probe_columns=probe_fingerprint(probes))
+
+
+def fingerprint(a):
+    """Mean, RMS, min and max of a field (every component together), in float64: beside the
+    hash, they say how far a field moved when the hash changes."""
+    import numpy as np
+    a = np.asarray(a, np.float64)
+    return [float(a.mean()), float(np.sqrt(np.mean(a * a))), float(a.min()), float(a.max())]
+
+
+def probe_fingerprint(text):
+    """{column: fingerprint} of probes.csv's numeric columns."""
+    import csv
+    import io
+    import numpy as np
+    rows = list(csv.reader(io.StringIO(text.decode())))
+    out = {}
+    for k, name in enumerate(rows[0]):
+        try:
+            col = np.array([float(r[k]) for r in rows[1:]])
+        except ValueError:
+            continue
+        col = col[np.isfinite(col)]
+        if len(col):
+            out[name] = fingerprint(col)
+    return out
+
+
+def moved(want, got):
+    """Lines naming each field and probe column whose mean, RMS, min or max moved, with the
+    largest relative change: round-off moves them by 1e-7 or less in f32, a broken term by far more."""
+    def rel(a, b):
+        scale = max(abs(a), abs(b), 1e-30)
+        return abs(a - b) / scale
+    lines = []
+    for group, label in (("fields", "field"), ("probe_columns", "probe")):
+        w, g = want.get(group, {}), got.get(group, {})
+        for k in sorted(set(w) | set(g)):
+            if k not in w or k not in g:
+                lines.append(f"{label} {k}: {'new' if k not in w else 'gone'}")
+                continue
+            r = max(rel(a, b) for a, b in zip(w[k], g[k]))
+            if r > 0:
+                lines.append(f"{label} {k}: largest relative change of its mean, RMS, min or max {r:.2g}")
+    return lines or ["(no field statistic moved: the change is below their resolution)"]
 
 
 def main(argv):
