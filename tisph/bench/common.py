@@ -1,5 +1,7 @@
-"""What the benchmark tools share: the source tree they run, and their Markdown tables."""
+"""What the benchmark tools share: the source tree they run, one case run, and their Markdown tables."""
+import importlib
 import os
+import time
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
@@ -14,3 +16,17 @@ def table(header, rows):
     md = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
     md += ["| " + " | ".join(str(c) for c in r) + " |" for r in rows]
     return "\n".join(md)
+
+
+def run_case(case, dx, quick, out):
+    """One run of a benchmark or validation case (scene, config, overrides, quick_overrides) at dx,
+    without pictures or snapshots, into out: (summary, wall seconds)."""
+    from ..run import simulate
+    ov = {"output.render": False, "output.quiet": True, "output.snapshot_every": 0.0, "numerics.dx": dx}
+    ov.update(case.overrides)
+    if quick:
+        ov.update(case.quick_overrides)
+    cfg = os.path.join(ROOT, "scenes", case.config) if case.config else None
+    t0 = time.perf_counter()
+    s = simulate(importlib.import_module(f"tisph.{case.scene}"), ov, out=out, config=cfg)
+    return s, time.perf_counter() - t0

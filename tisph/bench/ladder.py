@@ -24,7 +24,7 @@ import time
 import numpy as np
 
 from ..io import ensure_dir, write_csv, write_text
-from .common import ROOT, table, this_tree_env
+from .common import ROOT, run_case, table, this_tree_env
 from ..probes.plots import pyplot, save
 
 
@@ -60,22 +60,9 @@ CASES = [
 ]
 
 
-def _scene(mod):
-    import importlib
-    return importlib.import_module(f"tisph.{mod}")
-
-
 def run_one(case, dx, out, quick):
-    from ..run import simulate
-    ov = {"output.render": False, "output.quiet": True, "output.snapshot_every": 0.0, "numerics.dx": dx}
-    ov.update(case.overrides)
-    if quick:
-        ov.update(case.quick_overrides)
-    cfgfile = os.path.join(ROOT, "scenes", case.config) if case.config else None
     slug = "".join(c if c.isalnum() else "_" for c in case.name)[:30] + f"_dx{dx:g}"
-    t0 = time.perf_counter()
-    s = simulate(_scene(case.scene), ov, out=os.path.join(out, "runs", slug), config=cfgfile)
-    wall = time.perf_counter() - t0
+    s, wall = run_case(case, dx, quick, os.path.join(out, "runs", slug))
     err = s["metrics"].get(case.metric, float("nan"))
     return dict(case=case.name, dx=dx, particles=s["particles"], steps=s["steps"], sim_time=s["sim_time"],
                 wall_time_s=round(wall, 3), compile_time_s=round(s["compile_time_s"], 3),

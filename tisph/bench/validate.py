@@ -17,7 +17,7 @@ import time
 import numpy as np
 
 from ..io import ensure_dir, read_csv, write_text
-from .common import ROOT, table
+from .common import ROOT, run_case, table
 
 README_START, README_END = "<!-- validation:start -->", "<!-- validation:end -->"
 
@@ -102,18 +102,9 @@ def slug(name):
     return "_".join(words)[:40].strip("_")
 
 
-def run_case(case, dx, out, quick):
-    import importlib
-    from ..run import simulate
-    ov = {"output.render": False, "output.quiet": True, "output.snapshot_every": 0.0, "numerics.dx": dx}
-    ov.update(case.overrides)
-    if quick:
-        ov.update(case.quick_overrides)
-    cfg = os.path.join(ROOT, "scenes", case.config) if case.config else None
+def run_one(case, dx, out, quick):
     d = os.path.join(out, slug(case.name), f"dx{dx:g}")
-    t0 = time.perf_counter()
-    s = simulate(importlib.import_module(f"tisph.{case.scene}"), ov, out=d, config=cfg)
-    wall = time.perf_counter() - t0
+    s, wall = run_case(case, dx, quick, d)
     m = s["metrics"]
     v = m.get(case.metric)
     v = float("nan") if v is None else float(v)
@@ -278,7 +269,7 @@ def main(a):
         rows = []
         for k, dx in enumerate((c.quick,) if a.quick else c.ladder):
             try:
-                r = run_case(c, dx, out, a.quick)
+                r = run_one(c, dx, out, a.quick)
             except Exception as e:      # one case's failure is reported, the page still written
                 log(f"{c.name}, dx {dx:g}: failed: {e}")
                 r = dict(case=c.name, dx=dx, particles=0, steps=0, wall=float("nan"), pps=float("nan"),
