@@ -172,6 +172,7 @@ def test_rippled_bed_under_still_water_does_not_change():
     assert np.array_equal(bed.z, z0)
 
 
+@pytest.mark.slow
 def test_tunnel_bedload_moves_the_bed_particles_and_keeps_the_sand(tmp_path):
     """The tunnel over the morphodynamic bed, one period at dx 2 cm with morfac 20: the bed moves,
     its volume is conserved to 1e-6 and the BED particles' top layer sits dx/2 under z_b."""

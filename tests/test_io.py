@@ -151,6 +151,7 @@ def test_full_disk_gives_a_clear_error(tmp_path, monkeypatch, capsys):
     assert "No space left on device" in err and "snapshots" in err and "Traceback" not in err
 
 
+@pytest.mark.slow
 def test_corrupt_and_foreign_restart_files(tmp_path, capsys):
     from tisph.run import run_scene
     bad = tmp_path / "garbage.h5"

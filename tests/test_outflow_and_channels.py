@@ -44,6 +44,7 @@ def test_exact_solution_conserves_volume(alpha):
         assert abs(vol - (10 * h0 + 10 * hd)) < 1e-4 * 10 * h0
 
 
+@pytest.mark.slow
 def test_hatch_discharge_and_exact_mass_balance(tmp_path):
     s = simulate(hatch, dict(QUIET), out=str(tmp_path))
     m = s["metrics"]

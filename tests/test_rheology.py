@@ -76,6 +76,7 @@ def test_poiseuille_against_exact(tau_y, l2_bound, tmp_path):
     assert (tmp_path / "profile.png").exists() and (tmp_path / "profile.csv").exists()
 
 
+@pytest.mark.slow
 def test_sediment_layer_under_water_stays_put(tmp_path):
     s = simulate(tank, {"geometry.sediment_depth": 0.2, "run.end_time": 2.0, "output.quiet": True},
                  out=str(tmp_path))
@@ -141,6 +142,7 @@ def test_bingham_heap_large_yield_stays_small_yield_slumps(tmp_path):
     assert runout[3000.0] < 0.3 + 1 * dx, runout        # held: the toe moved under one particle
 
 
+@pytest.mark.slow
 def test_erodible_bed_command_runs_a_few_steps(tmp_path):
     from tisph.run import run_scene
     from tisph.scenes import erodible_bed

@@ -1,5 +1,6 @@
 """A run that goes unstable stops with a message and leaves its last healthy state readable."""
 import json
+import pytest
 import re
 
 import numpy as np
@@ -51,6 +52,7 @@ def test_wall_crossing_stops_the_run(tmp_path):
     assert p[:, 0].min() >= -half and p[:, 0].max() <= W + half and p[:, 1].min() >= -half
 
 
+@pytest.mark.slow
 def test_overtopping_is_told_apart_from_penetration(tmp_path):
     """Sound speed 3x too low: the run-up jet goes over the 4 m wall and falls outside. The run
     is warned about at the start and stops cleanly, naming the spill, not a penetration."""

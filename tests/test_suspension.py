@@ -47,6 +47,7 @@ def moments(s):
     return total, mean, (c * (y - mean) ** 2).sum() / total
 
 
+@pytest.mark.slow
 def test_sand_settles_at_w_s_and_diffuses_at_eps(tmp_path):
     s, x, fl = still_column(tmp_path)
     band = fl & (x[:, 1] > 0.12) & (x[:, 1] < 0.2)          # well clear of the floor and the surface

@@ -76,6 +76,7 @@ def test_module_only_when_switched_on(cls, off_solvers):
     # that each module compiles and runs is the golden cases' job (every module is on in one)
 
 
+@pytest.mark.slow
 def test_switched_off_terms_change_the_result():
     def make(**ov):
         cfg = build_config(dam_break.DEFAULTS, None, dict({"numerics.dx": 0.06}, **ov))

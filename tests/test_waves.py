@@ -169,6 +169,7 @@ def test_tunnel_holds_the_oscillation_and_a_200_pa_bed_rests(tmp_path):
     assert (out / "bed_profile.csv").exists() and (out / "bed_profile.png").exists()
 
 
+@pytest.mark.slow
 def test_tunnel_seeded_bed_reads_as_its_ripples(tmp_path):
     """A bed seeded with ripples at the predicted length (rounded to fit: 1.2 m / 6 = 0.2 m) and
     4 cm high reads, at the start, as ripples that long and about that high."""
@@ -181,6 +182,7 @@ def test_tunnel_seeded_bed_reads_as_its_ripples(tmp_path):
     assert 0.02 <= m["ripple_height"] <= 0.05, m
 
 
+@pytest.mark.slow
 def test_beach_runs_and_writes_a_frame_and_bed_statistics(tmp_path):
     """The default beach (the bed-load bed) for 0.12 s with its movie: frames with the bed panel,
     the bed's CSVs, the sand volume kept."""

@@ -29,4 +29,6 @@ def run_case(case, dx, quick, out):
     cfg = os.path.join(ROOT, "scenes", case.config) if case.config else None
     t0 = time.perf_counter()
     s = simulate(importlib.import_module(f"tisph.{case.scene}"), ov, out=out, config=cfg)
+    if s["status"] == "interrupted":    # Ctrl-C or a kill stops the whole bench, not this case alone
+        raise SystemExit(143 if "SIGTERM" in s.get("message", "") else 130)
     return s, time.perf_counter() - t0

@@ -142,6 +142,8 @@ def figure(case, row, dest, width=480):
     else:
         return None
     im = Image.open(tmp)
+    if im.width > 2.5 * im.height:      # a wide figure keeps its text legible at 800 px
+        width = max(width, 800)
     if im.width > width:
         im = im.resize((width, round(im.height * width / im.width)), Image.LANCZOS)
     im.convert("RGB").save(tmp, format="PNG", optimize=True)
@@ -154,10 +156,12 @@ def cost_figure(rows, path):
     from ..probes.plots import pyplot, save
     plt = pyplot()
     fig, ax = plt.subplots(figsize=(7, 4.5))
-    for name in dict.fromkeys(r["case"] for r in rows):
+    colours, markers = plt.get_cmap("tab20").colors, "osD^vP*Xh<>p"
+    for k, name in enumerate(dict.fromkeys(r["case"] for r in rows)):
         rr = [r for r in rows if r["case"] == name and np.isfinite(r["error"]) and r["error"] != 0]
         if rr:
-            ax.loglog([r["wall"] for r in rr], [abs(r["error"]) for r in rr], "o-", label=name)
+            ax.loglog([r["wall"] for r in rr], [abs(r["error"]) for r in rr], "-", marker=markers[k % len(markers)],
+                      color=colours[(2 * k) % 20 + (k // 10) % 2], label=name)
     ax.set_xlabel("wall time (s, two CPU cores)")
     ax.set_ylabel("|error| against the reference")
     ax.grid(alpha=0.3, which="both")
