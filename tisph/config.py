@@ -42,7 +42,7 @@ class ConfigErrors(ConfigError):
         ValueError.__init__(self, "\n".join(str(e) for e in self.errors))
 
 
-def _collect(errors):
+def raise_collected(errors):
     """Raise what was collected: one error as itself, several together."""
     if len(errors) == 1:
         raise errors[0]
@@ -239,7 +239,7 @@ def merge(base: dict, override: dict, prefix: str = "", errors=None) -> dict:
         except ConfigError as e:
             errors.append(e)
     if top:
-        _collect(errors)
+        raise_collected(errors)
     return out
 
 
@@ -278,7 +278,7 @@ def validate(cfg: dict, extra_ranges: dict | None = None, extra_choices: dict | 
         if v and (len(v) != n or not all(isinstance(a, (int, float)) and not isinstance(a, bool) and math.isfinite(a)
                                          for a in v) or any(v[k] >= v[k + 1] for k in range(0, n, 2))):
             errors.append(ConfigError(f"output.{key}", v, f"{what}, or [] for the default"))
-    _collect(errors)
+    raise_collected(errors)
     return cfg
 
 
@@ -350,7 +350,7 @@ def build_config(scene_defaults: dict, toml_path=None, overrides: dict | None = 
         errors += e.errors
     except ConfigError as e:
         errors.append(e)
-    _collect(errors)
+    raise_collected(errors)
     return cfg
 
 
@@ -397,17 +397,3 @@ def dump_toml(d: dict, notes=None) -> str:
 
     table("", d)
     return "\n".join(lines)
-
-
-def refuse_unused_sediment_keys(cfg, scene_defaults):
-    """With sediment.model = "particles" the sand is SPH particles and the [sediment] keys, which
-    drive the bed-load bed, do nothing: a key set away from its default is refused, all at once."""
-    sed = cfg.get("sediment")
-    if not sed or sed.get("model") != "particles":
-        return
-    base = scene_defaults.get("sediment", {})
-    _collect([ConfigError(f"sediment.{k}", v, f"its default ({base[k]!r}) with sediment.model = \"particles\"",
-                          "the sand is SPH particles; the [sediment] keys set the bed-load bed "
-                          "(sediment.model = \"bedload\")")
-              for k, v in sed.items() if k != "model" and k in base and v != base[k]])
-

@@ -6,47 +6,43 @@ import os
 import taichi as ti
 
 _current = None
-_slot = None       # the open lock file of this process's offline-cache folder (held until exit)
-CACHE_SLOTS = 16
+_finalizer = False
 
 
-def cache_folder():
-    """This process's own Taichi offline-cache folder: the first of CACHE_SLOTS folders under
-    ~/.cache/tisph/ticache that no other process holds, held with an OS lock (flock) until the
-    process ends. Taichi's cache takes a lock file of its own while it writes its index; two runs
-    that shared one folder could miss it and print "Lock ... ticache.lock failed". With a folder
-    each they never share one, and each folder stays warm for the next run that takes it. None
-    (Taichi's default folder) where TI_OFFLINE_CACHE_FILE_PATH is set or flock is not available."""
-    global _slot
-    if os.environ.get("TI_OFFLINE_CACHE_FILE_PATH"):
-        return None
-    if _slot is not None:
-        return _slot[1]
+def cache_lock_path():
+    """The OS lock file beside Taichi's offline cache (its default folder, or the user's)."""
+    folder = os.environ.get("TI_OFFLINE_CACHE_FILE_PATH") or os.path.join(
+        os.path.expanduser("~"), ".cache", "taichi", "ticache")
+    return os.path.join(folder, "tisph.flock")
+
+
+@contextlib.contextmanager
+def cache_guard():
+    """Taichi's offline cache takes a lock file of its own (created exclusively) while it reads
+    and writes its index; a process that finds it taken prints "Lock .../ticache.lock failed"
+    and goes on without it. tisph's processes hold an OS lock (flock) around Taichi's start and
+    its final write, so concurrent runs and sweep workers take turns there and share one warm
+    cache. Where flock is not available (Windows) Taichi's own lock is all there is."""
     try:
         import fcntl
-    except ImportError:          # Windows: Taichi's default folder
-        return None
-    base = os.path.join(os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache"),
-                        "tisph", "ticache")
-    try:
-        os.makedirs(base, exist_ok=True)
-        for k in range(CACHE_SLOTS):
-            f = open(os.path.join(base, f"slot{k}.lock"), "a")
-            try:
-                fcntl.flock(f, fcntl.LOCK_EX | fcntl.LOCK_NB)
-            except OSError:
-                f.close()
-                continue
-            folder = os.path.join(base, f"slot{k}")
-            os.makedirs(folder, exist_ok=True)
-            stale = os.path.join(folder, "ticache.lock")     # left by a run killed while it wrote
-            if os.path.exists(stale):
-                os.remove(stale)
-            _slot = (f, folder)
-            return folder
-    except OSError:              # a read-only home: Taichi's default folder
-        return None
-    return None                  # every slot busy: Taichi's default folder
+        path = cache_lock_path()
+        os.makedirs(os.path.dirname(path), exist_ok=True)
+        f = open(path, "a")
+    except (ImportError, OSError):
+        yield
+        return
+    with f:
+        fcntl.flock(f, fcntl.LOCK_EX)
+        try:
+            yield
+        finally:
+            fcntl.flock(f, fcntl.LOCK_UN)
+
+
+def _finalize():
+    """At exit: Taichi writes its cache index when its program ends; end it under the guard."""
+    with cache_guard():
+        ti.reset()
 
 
 def cache_debug_info():
@@ -99,15 +95,17 @@ def init(arch="cpu", precision="f32", quiet=True):
     # bit; without it a refactor that keeps the order of the terms keeps every bit, and the
     # dam break at dx 0.03 ran as fast (2.83e6 against 2.54e6 particle-steps/s, back to back)
     kwargs = dict(default_fp=fp, log_level=level, random_seed=0, fast_math=False)
-    folder = cache_folder()
-    if folder:
-        kwargs["offline_cache_file_path"] = folder
     threads = os.environ.get("TISPH_THREADS")
     if threads:
         kwargs["cpu_max_num_threads"] = int(threads)
     banner = io.StringIO()
-    with contextlib.redirect_stdout(banner):  # "[Taichi] Starting on arch=..." -> run.log
+    global _finalizer
+    with cache_guard(), contextlib.redirect_stdout(banner):  # "[Taichi] Starting on arch=..." -> run.log
         ti.init(arch=a, **kwargs)
+    if not _finalizer:
+        import atexit
+        atexit.register(_finalize)
+        _finalizer = True
     cache_debug_info()
     used = arch_name()
     _current = (key, used)

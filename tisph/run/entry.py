@@ -4,7 +4,8 @@ import os
 import sys
 
 from ..cli import make_parser, overrides_from_args
-from ..config import ConfigError, build_config, dump_toml, refuse_unused_sediment_keys
+from ..config import ConfigError, build_config, dump_toml
+from ..sediment.coupling import refuse_unused_sediment_keys
 from ..io import OutputError, ensure_dir
 from ..particles import FLUID
 from .loop import Run

@@ -83,6 +83,20 @@ BED_MACH = 0.2
 FAR_FIELD_SHEARS = ("log_far_field", "wall_function")
 
 
+def refuse_unused_sediment_keys(cfg, scene_defaults):
+    """With sediment.model = "particles" the sand is SPH particles and the [sediment] keys, which
+    drive the bed-load bed, do nothing: a key set away from its default is refused, all at once."""
+    from ..config import ConfigError, raise_collected
+    sed = cfg.get("sediment")
+    if not sed or sed.get("model") != "particles":
+        return
+    base = scene_defaults.get("sediment", {})
+    raise_collected([ConfigError(f"sediment.{k}", v, f"its default ({base[k]!r}) with sediment.model = \"particles\"",
+                                 "the sand is SPH particles; the [sediment] keys set the bed-load bed "
+                                 "(sediment.model = \"bedload\")")
+                     for k, v in sed.items() if k != "model" and k in base and v != base[k]])
+
+
 def initial_bed(stations, z, sed, dx):
     """The initial bed: z plus a random perturbation of RMS seed_rms, smoothed over 2 dx (a white
     perturbation at one station would be a 1-dx spike) and rescaled to that RMS."""
