@@ -7,19 +7,21 @@ import sys
 
 import numpy as np
 
-HINT = ("--live needs a display to open a window; this machine has none (no DISPLAY). The frames are "
-        "written all the same: look at OUT/frames/ and OUT/<scene>.mp4, or render the snapshots "
-        "again with python -m tisph.view OUT --all")
+RUN_FILES = ("look at OUT/frames/ and OUT/<scene>.mp4, or render the snapshots again with python -m "
+             "tisph.view OUT --all")
 
 
-def display_problem():
-    """None where a window can open; otherwise why not. On Linux the X display is opened and
-    closed again (a set DISPLAY that no server answers is no display)."""
+def display_problem(instead=RUN_FILES):
+    """None where a window can open; otherwise why not, and where the pictures are `instead`. On
+    Linux the X display is opened and closed again (a set DISPLAY that no server answers is no
+    display)."""
     if sys.platform in ("darwin", "win32"):
         return None
     name = os.environ.get("DISPLAY", "")
+    hint = ("--live needs a display to open a window; this machine has {} The frames are written all "
+            "the same: " + instead).format
     if not name:
-        return HINT
+        return hint("none (no DISPLAY).")
     lib = ctypes.util.find_library("X11")
     if lib is None:
         return None     # cannot check here; Taichi's GUI reports it if the display fails
@@ -29,7 +31,7 @@ def display_problem():
     x11.XCloseDisplay.argtypes = [ctypes.c_void_p]
     d = x11.XOpenDisplay(name.encode())
     if not d:
-        return HINT.replace("no DISPLAY", f"DISPLAY={name} does not answer")
+        return hint(f"none (DISPLAY={name} does not answer).")
     x11.XCloseDisplay(d)
     return None
 

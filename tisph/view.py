@@ -102,11 +102,9 @@ def check_args(args):
         raise ConfigError("--range", args.range, "LO < HI")
     if args.live:
         from .live import display_problem
-        why = display_problem()
+        why = display_problem(instead="look at the PNGs (and --mp4) it writes")
         if why:
-            raise ConfigError("--live", True, "absent on a machine without a display",
-                              why.replace(" look at OUT/frames/ and OUT/<scene>.mp4, or render the snapshots again with "
-                                          "python -m tisph.view OUT --all", " look at the PNGs (and --mp4) it writes"))
+            raise ConfigError("--live", True, "absent on a machine without a display", why)
 
 
 def view(args):
