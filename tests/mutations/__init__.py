@@ -34,6 +34,8 @@ MUTATIONS = {
         m.Bed, "step", lambda self, tau, dt, deposit=None: np.zeros_like(self.z)), "the bed-load bed never moves"),
     "lee_vortex": ("tisph.sediment.lee", "lee_vortex_shear", lambda m: setattr(
         m, "lee_vortex_shear", lambda tau, *a, **k: tau), "the ripples' lee vortex"),
+    "shepard": ("tisph.physics.shepard", "Shepard", lambda m: setattr(
+        m.Shepard, "after_step", lambda self, S: None), "the Shepard filter never runs"),
     "bed_load": ("tisph.sediment.transport", "bedload_mpm", "zero_py", "Meyer-Peter & Mueller's bed load"),
     "wavemaker": ("tisph.wavemaker", "biesel_piston", "zero_py", "Biesel's piston transfer function"),
 }
