@@ -92,6 +92,11 @@ CASES = [
     (dam_break, ["--restart", "."], None, ["--restart", "'.'", "a checkpoint.h5", "it is a folder"]),
     (dam_break, ["--restart", "missing.h5"], None, ["--restart", "missing.h5", "an existing checkpoint.h5"]),
     (flume, [], "[paddle]\nseries = \".\"\n", ["paddle.series", "'.'", "a CSV file", "it is a folder"]),
+    # the waves' keys
+    (flume, [], "[paddle]\norder = 3\n", ["paddle.order", "3", "<= 2"]),
+    (flume, [], "[paddle]\ntype = \"flap\"\norder = 2\n", ["paddle.order", "1 with a flap or a series", "Madsen"]),
+    (flume, [], "[geometry]\narray_gauges = 2\n", ["geometry.array_gauges", "2", "0 (no array) or 3 to 12"]),
+    (flume, [], "[numerics]\nwall = \"adamy\"\n", ["numerics.wall", "adamy", "adami"]),
 ]
 
 

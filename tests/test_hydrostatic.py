@@ -6,7 +6,7 @@ from tisph.scenes import tank
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("wall", ["dynamic", "repulsive"])
+@pytest.mark.parametrize("wall", ["dynamic", "repulsive", "adami"])
 def test_tank_at_rest(wall, tmp_path):
     s = simulate(tank, {"numerics.wall": wall, "numerics.dx": 0.025, "geometry.depth": 0.4,
                         "geometry.width": 0.4, "geometry.tank_height": 0.5, "run.end_time": 1.5,
@@ -18,3 +18,34 @@ def test_tank_at_rest(wall, tmp_path):
     assert m["pressure_error"] < 0.03          # p = rho g d within 3 % below the top two rows
     assert m["speed_ratio"] < 0.01             # settled: peak speed below 1 % of sqrt(g H)
     assert m["peak_speed_ratio_max"] < 0.05    # and it never sloshed
+
+
+def test_extrapolated_wall_carries_the_hydrostatic_pressure_below_the_water():
+    """Adami et al. (2012) eq. 27: a wall particle's pressure is the kernel average of the water's
+    plus rho g times how far below it sits, so in a still tank the floor's first row reads
+    rho g (d + dx/2) and the side wall's particles the water's pressure at their depth."""
+    import numpy as np
+    from tisph.config import build_config
+    from tisph.constants import G
+    from tisph.engine.solver import Solver
+    from tisph.particles import FLUID
+    cfg = build_config(tank.DEFAULTS, None, {"numerics.wall": "adami", "numerics.dx": 0.025,
+                                             "numerics.wall_layers": 3})
+    case = tank.build(cfg)
+    s = Solver(case.physics, case.particles, case.materials, case.domain, case.params)
+    assert s.module("extrapolated_wall") is not None and s.module("dynamic_wall") is None
+    for _ in range(2):
+        s.step()
+    st = s.state()
+    mat = case.materials[0]
+    p = mat["B"] * ((st["rho"].astype(float) / mat["rho0"]) ** 7 - 1)     # Tait
+    x, y = st["x"][:, 0], st["x"][:, 1]
+    d, w, dx = cfg["geometry"]["depth"], cfg["geometry"]["width"], 0.025
+    wall = st["kind"] != FLUID
+    floor = wall & (np.abs(y + 0.5 * dx) < 0.1 * dx) & (x > 0.2 * w) & (x < 0.8 * w)
+    assert floor.sum() >= 8
+    want = mat["rho0"] * G * (d + 0.5 * dx)
+    assert np.abs(p[floor] / want - 1).max() < 0.03, (p[floor].min(), p[floor].max(), want)
+    side = wall & (np.abs(x + 0.5 * dx) < 0.1 * dx) & (y > 0.2 * d) & (y < 0.8 * d)
+    assert side.sum() >= 8
+    assert np.abs(p[side] - mat["rho0"] * G * (d - y[side])).max() < 0.05 * mat["rho0"] * G * d

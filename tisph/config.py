@@ -62,7 +62,7 @@ SHARED_DEFAULTS = {
         "dx": 0.03,                  # initial particle spacing (m)
         "h_factor": 1.3,             # smoothing length h = h_factor * dx
         "kernel": "cubic",           # cubic (paper 000 eq. 5) | wendland (paper 002 eq. 6)
-        "wall": "dynamic",           # dynamic (DBC) | repulsive (paper 000 eq. 6)
+        "wall": "dynamic",           # dynamic (DBC) | repulsive (paper 000 eq. 6) | adami (pressure from the water, Adami et al. 2012)
         "wall_layers": 3,            # layers of dynamic boundary particles
         "wall_strength": 0.0,        # repulsive D (m^2/s^2); 0: auto = 5 g H (Monaghan 1994)
         "c0": 0.0,                   # sound speed (m/s); 0: auto = c0_factor * u_max
@@ -97,7 +97,7 @@ CHOICES = {
     "run.arch": ("cpu", "gpu", "auto"),
     "run.precision": ("f32", "f64"),
     "numerics.kernel": ("cubic", "wendland"),
-    "numerics.wall": ("dynamic", "repulsive"),
+    "numerics.wall": ("dynamic", "repulsive", "adami"),
     "numerics.density_diffusion": ("none", "molteni", "fourtakas"),
     "numerics.turbulence": ("smagorinsky", "k_equation"),
     "numerics.length_scale": ("prescribed", "omega"),
@@ -109,7 +109,7 @@ RANGES = {
     "run.end_time": (0.0, None, False, True),
     "run.max_steps": (0, None, True, True),
     "numerics.dx": (0.0, None, False, True),
-    "numerics.h_factor": (1.0, 2.5, True, True),
+    "numerics.h_factor": (1.0, 3.0, True, True),
     "numerics.wall_layers": (1, 6, True, True),
     "numerics.wall_strength": (0.0, None, True, True),
     "numerics.c0": (0.0, None, True, True),

@@ -12,15 +12,17 @@ import numpy as np
 from .config import ConfigError
 from .constants import G
 from .particles import block
-from .probes.gauges import surface_at
+from .probes.gauges import surface_heights
 
 
 class Motion:
-    def __init__(self, kind, stroke=0.0, period=1.0, ramp_periods=2.0, lever=1.0, series=None):
+    def __init__(self, kind, stroke=0.0, period=1.0, ramp_periods=2.0, lever=1.0, series=None, second=0.0):
         """kind: piston | flap; stroke S (m, peak to peak); period T (s); ramp over
         ramp_periods periods (0: none); lever: hinge to still-water level (flap); series:
-        (t, X) arrays of surface displacement in metres instead of the sinusoid."""
+        (t, X) arrays of surface displacement in metres instead of the sinusoid; second: the
+        amplitude (m) of the second-order stroke at 2 omega (madsen_second_order)."""
         self.kind = kind
+        self.second = float(second)
         self.S, self.T = float(stroke), float(period)
         self.omega = 2 * math.pi / self.T if self.T > 0 else 0.0
         self.t_ramp = float(ramp_periods) * self.T
@@ -40,7 +42,13 @@ class Motion:
         if t < self.t_ramp:  # half-cosine ramp: amplitude and its rate start at zero
             r = 0.5 * (1 - math.cos(math.pi * t / self.t_ramp))
             dr = 0.5 * math.pi / self.t_ramp * math.sin(math.pi * t / self.t_ramp)
-        return r * a * math.sin(w * t), dr * a * math.sin(w * t) + r * a * w * math.cos(w * t)
+        X = r * a * math.sin(w * t)
+        V = dr * a * math.sin(w * t) + r * a * w * math.cos(w * t)
+        if self.second:   # second order in the amplitude, so its ramp is r^2
+            b = self.second
+            X += r * r * b * math.sin(2 * w * t)
+            V += 2 * r * dr * b * math.sin(2 * w * t) + r * r * b * 2 * w * math.cos(2 * w * t)
+        return X, V
 
     def __call__(self, t):
         X, V = self.surface(t)
@@ -88,6 +96,17 @@ def biesel_flap(kh):
     return 4 * math.sinh(kh) / kh * (kh * math.sinh(kh) - math.cosh(kh) + 1) / (math.sinh(2 * kh) + 2 * kh)
 
 
+def madsen_second_order(stroke, k, depth):
+    """Amplitude of the second-order piston stroke at 2 omega that cancels the free second
+    harmonic a first-order piston sheds (Madsen 1971, J. Geophys. Res. 76:8672; as Altomare et al.
+    2017, Coastal Eng. 127:37, eq. 8 write it): X2 = H^2 / (32 h) (3 cosh kh / sinh^3 kh - 2 / m1),
+    m1 = H / S the piston's first-order transfer (biesel_piston), H = m1 S."""
+    kh = k * depth
+    m1 = biesel_piston(kh)
+    H = m1 * stroke
+    return H * H / (32 * depth) * (3 * math.cosh(kh) / math.sinh(kh) ** 3 - 2 / m1)
+
+
 def group_velocity(omega, k, depth):
     c = omega / k
     return 0.5 * c * (1 + 2 * k * depth / math.sinh(2 * k * depth))
@@ -130,7 +149,7 @@ class Gauges:
         self.zero = []
 
     def read(self, st):
-        eta = [surface_at(st, x, self.dx, self.h) - self.level for x in self.xs]
+        eta = [float(z) - self.level for z in surface_heights(st, self.xs, self.dx, self.h)]
         if not self.zero:
             self.zero = list(eta)
         return tuple(e - z for e, z in zip(eta, self.zero))
@@ -152,9 +171,10 @@ PADDLE_DEFAULTS = {
     "period": 0.8,          # s
     "ramp_periods": 2.0,    # periods over which the stroke ramps up (no start-up transient)
     "series": "",           # CSV of t, displacement (m or rad): a measured paddle signal instead of a sine
+    "order": 1,             # 1: a sine; 2: with Madsen's second-order stroke (a piston's regular waves)
 }
 PADDLE_RANGES = {"paddle.stroke": (0.0, None, False, True), "paddle.period": (0.0, None, False, True),
-                 "paddle.ramp_periods": (0.0, None, True, True)}
+                 "paddle.ramp_periods": (0.0, None, True, True), "paddle.order": (1, 2, True, True)}
 
 
 def check_paddle(cfg, depth, length):
@@ -166,6 +186,9 @@ def check_paddle(cfg, depth, length):
         raise ConfigError("paddle.stroke", p["stroke"], f"at least dx = {dx:g} m (the paddle must move a particle spacing)")
     if p["series"]:
         read_series(p["series"])
+    if p["order"] == 2 and (p["type"] != "piston" or p["series"]):
+        raise ConfigError("paddle.order", 2, "1 with a flap or a series (the second-order stroke is Madsen's "
+                          "for a piston's regular waves)")
 
 
 def paddle(cfg, depth, height, floor_y=0.0):
@@ -175,7 +198,11 @@ def paddle(cfg, depth, height, floor_y=0.0):
     dx, L = num["dx"], num["wall_layers"]
     pts = block(-L * dx, floor_y, 0.0, height, dx)
     series = read_series(p["series"]) if p["series"] else None
-    motion = Motion(p["type"], p["stroke"], p["period"], p["ramp_periods"], lever=depth, series=series)
+    second = 0.0
+    if p["order"] == 2:
+        second = madsen_second_order(p["stroke"], wavenumber(2 * math.pi / p["period"], depth, G), depth)
+    motion = Motion(p["type"], p["stroke"], p["period"], p["ramp_periods"], lever=depth, series=series,
+                    second=second)
     reach = 0.5 * (p["stroke"] if series is None else 2 * float(np.abs(series[1]).max()))
     return pts, motion, dict(motion=motion, pivot=(0.0, floor_y)), reach
 

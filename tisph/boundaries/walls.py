@@ -44,6 +44,48 @@ class DynamicWall(Module):
 
 
 @ti.data_oriented
+class ExtrapolatedWall(Module):
+    """Wall particles whose pressure is extrapolated from the fluid around them (Adami, Hu &
+    Adams 2012, J. Comput. Phys. 231:7057, eq. 27):
+    p_w = (sum_f p_f W_wf + (g - a_w) . sum_f rho_f r_wf W_wf) / sum_f W_wf,
+    and their density the Tait density of p_w, never below rest density (as the dynamic wall's).
+    Unlike the dynamic wall's continuity, it has no memory: a floor particle a paddle sweeps over
+    cannot ratchet up in density cycle after cycle. a_w is the wall's acceleration (the paddle's)."""
+    name = "extrapolated_wall"
+    on = {"wall": "adami"}
+
+    def fields(self, real):
+        return {"vw": ti.types.vector(2, real)}   # the wall's velocity a step ago: its acceleration
+
+    @ti.func
+    def boundary_pass(self, S, i, dt):
+        acc = ti.Struct(sw=0.0, sp=0.0, sr=ti.Vector([0.0, 0.0]))
+        if S.grid.fluid_near(S.tmp.x[i]):
+            S.grid.for_neighbours(S.tmp, i, S.tmp.x[i], self.boundary_pair, acc)
+        if acc.sw > 0.0:
+            mi = ti.cast(S.tmp.mat[i], ti.i32)
+            rho0, B = S.mat_rho0[mi], S.mat_B[mi]
+            aw = (S.tmp.v[i] - S.tmp.vw[i]) / dt     # a static wall's is zero
+            pw = (acc.sp + (S.prm[None].g - aw).dot(acc.sr)) / acc.sw
+            S.p.rho[i] = rho0 * ti.pow(ti.max(pw, 0.0) / B + 1.0, 1.0 / 7.0)
+        S.p.drho[i] = 0.0
+        S.p.vw[i] = S.tmp.v[i]
+
+    @ti.func
+    def boundary_pair(self, i, j, r, r2, acc: ti.template()):
+        S = self.S
+        s = S.tmp
+        if s.kind[j] == FLUID:
+            w = S.K.shape(ti.sqrt(r2) * S.inv_h)
+            acc.sw += w
+            acc.sp += s.p[j] * w
+            acc.sr += s.rhoe[j] * r * w
+
+    def setup(self, S):
+        self.S = S
+
+
+@ti.data_oriented
 class RepulsiveWall(Module):
     """Repulsive wall particles, paper 000 eq. 6 (Lennard-Jones type); in the SPH sums the inert
     wall particle mirrors the fluid particle's pressure plus the hydrostatic difference."""

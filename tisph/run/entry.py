@@ -21,7 +21,7 @@ def run_case(case, cfg, out, log, scene_name, restart=None, force=False):
     # there sums a truncated kernel (the kernel's rule, not a measured fix: Mao's case at 1.6 dx gave the
     # same profiles with 3 and 4 layers); repulsive walls (paper 000 eq. 6) are one line of particles
     need = math.ceil(2.0 * num["h_factor"] - 1e-9)
-    if case.physics.wall == "dynamic" and num["wall_layers"] < need:
+    if case.physics.wall in ("dynamic", "adami") and num["wall_layers"] < need:
         raise ConfigError("numerics.wall_layers", num["wall_layers"], f"at least {need} with numerics.h_factor = "
                           f"{num['h_factor']}", f"dynamic wall particles must fill the kernel's support 2 h = "
                           f"{2.0 * num['h_factor']:g} dx")

@@ -1,13 +1,22 @@
 """Wave flume: a piston or flap paddle at the left makes regular waves over a flat bed; an
 absorbing zone at the far end takes them out. Wave gauges record the free surface, and the wave
-height two wavelengths from the paddle is checked against Biesel's linear wave-maker theory
-(tisph.wavemaker): piston H/S = 2 (cosh 2kh - 1)/(sinh 2kh + 2kh).
+height at one, two and three wavelengths from the paddle is checked against Biesel's linear
+wave-maker theory (tisph.wavemaker): piston H/S = 2 (cosh 2kh - 1)/(sinh 2kh + 2kh). An array of
+gauges in front of the absorbing zone separates the incident and reflected waves (the absorber's
+reflection coefficient) and the second harmonic's bound and free parts (paddle.order = 2 sends
+Madsen's second-order stroke, which cancels the free one).
 
 Default (scenes/flume_piston.toml is the same case, spelled out): depth 0.25 m, period 0.8 s
 (kh = 1.68, wavelength 0.93 m), piston stroke 4 cm, so Biesel gives H = 6.1 cm (H/L = 0.065:
-mild, linear theory applies within a few per cent). The measurement window starts when the
-fully ramped waves have reached the gauge at the group velocity and ends before any reflection
-from the flume's end could return.
+mild, linear theory applies within a few per cent). A gauge's window starts when the fully
+ramped waves have reached it at the group velocity and runs to the end; the reflection's starts
+when the wave reflected from the far end is back over the array.
+
+The numerics are chosen for waves (what each does to the height: docs/validation.md): walls
+whose pressure is extrapolated from the water (Adami et al. 2012), where the dynamic wall's
+density ratchets up under the paddle's foot and the wave comes out low; no artificial viscosity
+(density diffusion keeps the pressure smooth; the water's own viscosity stays); a Wendland kernel
+with h = 2.5 dx, whose wider support carries the wave with less loss.
 """
 import math
 import os
@@ -23,32 +32,30 @@ from .. import wavemaker as wm
 from ..constants import G
 from ..wavemaker import PADDLE_DEFAULTS, PADDLE_RANGES, check_paddle, linear_wave, paddle
 from ..probes.plots import pyplot, save
+from ..probes import waves
 
 NAME = "flume"
 
 
 DEFAULTS = {
-    "run": {"end_time": 7.5},
-    # Measured at dx 0.02 (H = 3 dx), wave height at 0.5 / 1 / 2 wavelengths (Biesel 0.0606 m):
-    #   cubic, h 1.3 dx:                    0.050 / 0.044 / 0.032
-    #   Wendland C2, h 2 dx, 4 wall layers: 0.054 / 0.051 / 0.047
-    # alpha (0 to 0.01), delta (0.02 to 0.1) and CFL (0.2, 0.4) changed these by under 5 %: the
-    # decay is particle noise, which the smoother, wider Wendland kernel reduces. 4 wall layers
-    # cover its 4 dx support. dx 0.0125 (H = 5 dx): 0.058 / 0.055 / 0.053, 14 % low, the default
-    # because dx 0.02 misses Biesel by 24 %.
-    "numerics": {"dx": 0.0125, "h_factor": 2.0, "kernel": "wendland", "wall_layers": 4,
-                 "artificial_viscosity": 0.01, "density_diffusion": "fourtakas", "delta": 0.1},
+    # long enough for the wave reflected from the far end to be back over the array (reflection)
+    "run": {"end_time": 16.0},
+    "numerics": {"dx": 0.0125, "h_factor": 2.5, "kernel": "wendland", "wall": "adami", "wall_layers": 5,
+                 "artificial_viscosity": 0.0, "laminar_viscosity": True, "density_diffusion": "fourtakas",
+                 "delta": 0.1},
     "geometry": {"length": 4.5, "depth": 0.25, "wall_height": 0.45,
                  "damping_length": 1.2,          # absorbing zone at the far end (m); 0: none
                  "damping_rate": 10.0,           # its strongest velocity relaxation rate (1/s)
                  "gauges_x": [],                 # gauge positions (m from the paddle's mean position)
-                 "gauges_wavelengths": [1.0, 2.0]},   # or in wavelengths, when gauges_x is empty
+                 "gauges_wavelengths": [1.0, 2.0, 3.0],   # or in wavelengths, when gauges_x is empty
+                 "array_gauges": 6},             # gauges of the reflection and second-harmonic array
     "paddle": dict(PADDLE_DEFAULTS),
     "materials": {"water": {"rho0": 1000.0, "viscosity": 1.0e-3}},
     "output": {"frame_interval": 0.04, "probe_interval": 0.01},
 }
 RANGES = {f"geometry.{k}": (0.0, None, k.startswith("damping"), True)
           for k in ("length", "depth", "wall_height", "damping_length", "damping_rate")}
+RANGES["geometry.array_gauges"] = (0, 12, True, True)
 RANGES.update(PADDLE_RANGES)
 CHOICES = {"paddle.type": ("piston", "flap")}
 
@@ -64,6 +71,9 @@ def check(cfg):
     for key, unit in (("gauges_x", "m"), ("gauges_wavelengths", "wavelengths")):
         if not isinstance(g[key], list) or any(not isinstance(v, (int, float)) or v <= 0 for v in g[key]):
             raise ConfigError(f"geometry.{key}", g[key], f"a list of positive numbers ({unit} from the paddle)")
+    if 0 < g["array_gauges"] < 3:
+        raise ConfigError("geometry.array_gauges", g["array_gauges"], "0 (no array) or 3 to 12 (two waves "
+                          "are fitted at each frequency)")
     check_paddle(cfg, g["depth"], g["length"])
 
 
@@ -86,30 +96,60 @@ def build(cfg):
     if geo["damping_length"] > 0:
         damping = (Lf - geo["damping_length"], Lf, geo["damping_rate"])
     xg = gauge_positions(geo, wavelength)
+    xa = array_positions(geo, wavelength)
     cols = tuple(f"eta_{i}" for i in range(len(xg)))
-    gauges = wm.Gauges(xg, dx, h, d, cols)
-
-    # the gauge nearest two wavelengths measures H; its window: fully ramped waves have arrived
-    # (group velocity) and no reflection from the end can be back yet
-    gi = int(np.argmin([abs(x - 2.0 * wavelength) for x in xg])) if xg else None
+    acols = tuple(f"array_{i}" for i in range(len(xa)))
+    gauges = wm.Gauges(xg + xa, dx, h, d, cols + acols)
+    k2 = wm.wavenumber(2 * omega, d, G)
 
     seen = {}
 
     def metrics(c):
         seen.update(c)
         out = dict(kh=k * d, wavelength=wavelength, group_velocity=cg, biesel_H_over_S=hs_ratio,
-                   biesel_wave_height=H_biesel, gauges_x=xg, gauge_zero_offset=list(gauges.zero))
-        if gi is None or p["series"]:
+                   biesel_wave_height=H_biesel, gauges_x=xg, array_x=xa,
+                   gauge_zero_offset=list(gauges.zero[:len(xg)]))
+        if not xg or p["series"]:
             return out
-        x = xg[gi]
-        t0 = wm.arrival_time(p, x, cg)
-        t1 = float(c["t"][-1])
-        if geo["damping_length"] < 0.5 * wavelength:
-            # no absorbing zone worth the name: stop before the end wall's reflection is back
-            t1 = min(t1, (2 * Lf - x) / cg)
-        H, n = wm.wave_height(c["t"], c[cols[gi]], t0, t1, p["period"])
-        out.update(gauge_x=x, window=[t0, t1], periods_measured=n, wave_height=H,
-                   wave_height_error=abs(H - H_biesel) / H_biesel if n else float("nan"))
+        t_end = float(c["t"][-1])
+        H, H1, err, err1 = [], [], [], []
+        for x, col in zip(xg, cols):
+            t0 = wm.arrival_time(p, x, cg)
+            t1 = t_end
+            if geo["damping_length"] < 0.5 * wavelength:
+                # no absorbing zone worth the name: stop before the end wall's reflection is back
+                t1 = min(t1, (2 * Lf - x) / cg)
+            h_pp, n = wm.wave_height(c["t"], c[col], t0, t1, p["period"])
+            a = waves.harmonics(c["t"], c[col], omega, t0, t1, 1)
+            H.append(h_pp if n else float("nan"))
+            H1.append(2 * abs(a[0]) if a is not None else float("nan"))
+            err.append(abs(H[-1] - H_biesel) / H_biesel)
+            err1.append(abs(H1[-1] - H_biesel) / H_biesel)
+        out.update(wave_height_at_gauges=H, first_harmonic_height_at_gauges=H1,
+                   wave_height_errors=err, first_harmonic_errors=err1,
+                   # the worst gauge: the target is Biesel's height everywhere in the flume
+                   wave_height_error=worst(err), first_harmonic_error=worst(err1))
+        if len(xg) > 1:
+            # decay per wavelength of the first harmonic, fitted over the gauges
+            ok = np.isfinite(H1)
+            if ok.sum() > 1:
+                slope = np.polyfit(np.asarray(xg)[ok] / wavelength, np.log(np.asarray(H1)[ok]), 1)[0]
+                out["decay_per_wavelength"] = float(1 - math.exp(slope))
+        if xa:
+            # the array: incident and reflected first harmonics once the wave reflected from the
+            # far end is back over it, and the second harmonic's bound and free parts
+            t0 = wm.arrival_time(p, xa[-1], cg)
+            t_back = p["ramp_periods"] * p["period"] + (2 * Lf - xa[0]) / cg + p["period"]
+            amps = [waves.harmonics(c["t"], c[col], omega, max(t0, t_back), t_end, 2) for col in acols]
+            if all(a is not None for a in amps):
+                ai, ar, kr = waves.reflection(xa, [a[0] for a in amps], k)
+                out.update(reflection_coefficient=kr, reflection_window=[max(t0, t_back), t_end])
+            amps = [waves.harmonics(c["t"], c[col], omega, t0, t_end, 2) for col in acols]
+            if all(a is not None for a in amps):
+                b, f = waves.free_second_harmonic(xa, [a[1] for a in amps], k, k2)
+                ai = np.mean([abs(a[0]) for a in amps])
+                out.update(second_harmonic_bound=b, second_harmonic_free=f,
+                           second_harmonic_bound_stokes=waves.stokes_bound_ratio(k, d) * ai * ai)
         return out
 
     def finalize(out, metrics):
@@ -122,9 +162,8 @@ def build(cfg):
             ax.plot(data["t"], data[cols[i]], lw=0.8)
             ax.axhline(0.5 * H_biesel, color="k", ls="--", lw=0.6)
             ax.axhline(-0.5 * H_biesel, color="k", ls="--", lw=0.6)
-            ax.set_ylabel(f"eta at {xg[i]:.2f} m")
-            if i == gi and "window" in metrics:
-                ax.axvspan(*metrics["window"], color="0.9")
+            ax.set_ylabel(f"eta (m) at {xg[i]:.2f} m")
+            ax.axvspan(wm.arrival_time(p, xg[i], cg), data["t"][-1], color="0.9")
         axes[-1, 0].set_xlabel("t (s)")
         fig.suptitle(f"{p['type']} paddle: gauges against Biesel H = {H_biesel:.3g} m (dashed)", fontsize=10)
         save(fig, os.path.join(out, "gauges.png"))
@@ -140,7 +179,7 @@ def build(cfg):
                                                    min(Hw, 1.6 * d) + margin)), u_max=u_max,
                 # colour top: twice the linear surface orbital speed, not the sound-speed bound
                 speed_scale=2.0 * 0.5 * H_biesel * omega / math.tanh(k * d),
-                probe_columns=cols, probe=gauges.read, metrics=metrics, finalize=finalize,
+                probe_columns=cols + acols, probe=gauges.read, metrics=metrics, finalize=finalize,
                 container=(-reach - dx, 0.0, Lf, float("inf"), Hw), persist=(gauges,))
 
 
@@ -155,6 +194,22 @@ def gauge_positions(geo, wavelength):
             raise ConfigError(f"geometry.{key}", geo[key], f"gauges in front of the absorbing zone "
                               f"(x < {end:g} m; one wavelength is {wavelength:.3g} m)")
     return xg
+
+
+def worst(errors):
+    """The largest error over the gauges the waves have reached (NaN if none has)."""
+    e = [v for v in errors if math.isfinite(v)]
+    return max(e) if e else float("nan")
+
+
+def array_positions(geo, wavelength):
+    """The analysis array (reflection, bound and free second harmonics): geometry.array_gauges
+    gauges a tenth of a wavelength apart, the last half a wavelength in front of the absorbing
+    zone; [] when the flume is too short for it or array_gauges = 0."""
+    n = geo["array_gauges"]
+    end = geo["length"] - geo["damping_length"] - 0.5 * wavelength
+    xs = [end - 0.1 * wavelength * (n - 1 - i) for i in range(n)]
+    return xs if n and xs[0] > 0.5 * wavelength else []
 
 
 def _particles(cfg, c0):

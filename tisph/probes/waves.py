@@ -1,0 +1,57 @@
+"""Regular-wave analysis of gauge records: harmonic amplitudes, incident and reflected waves,
+bound and free second harmonics.
+
+Convention: a gauge's complex amplitude C at angular frequency w is the least-squares fit of
+eta(t) = Re[C exp(i w t)] over whole periods; a wave travelling towards +x has C(x) = A exp(-i k x).
+"""
+import math
+
+import numpy as np
+
+
+def harmonics(t, eta, omega, t0, t1, n=2):
+    """Complex amplitudes of eta at omega, 2 omega, ... n omega, fitted with a mean level over
+    the whole periods in [t0, t1]; None where fewer than two periods fit."""
+    t, eta = np.asarray(t, float), np.asarray(eta, float)
+    T = 2 * math.pi / omega
+    periods = int((t1 - t0) / T + 1e-9)
+    if periods < 2:
+        return None
+    w = (t >= t0) & (t < t0 + periods * T) & np.isfinite(eta)
+    cols = [np.ones(w.sum())]
+    for m in range(1, n + 1):
+        cols += [np.cos(m * omega * t[w]), np.sin(m * omega * t[w])]
+    c = np.linalg.lstsq(np.column_stack(cols), eta[w], rcond=None)[0]
+    return np.array([c[2 * m - 1] - 1j * c[2 * m] for m in range(1, n + 1)])
+
+
+def two_waves(xs, amps, k_a, k_b):
+    """Least squares (Mansard & Funke 1980, J. Coastal Eng. Proc. 17, for any number of gauges)
+    of C(x) = A exp(-i k_a x) + B exp(-i k_b x) through the gauges' complex amplitudes: the
+    incident and reflected waves with k_b = -k_a, or the bound and free second harmonics with
+    k_a = 2 k and k_b the free wave number at 2 omega. Returns (A, B) complex."""
+    xs = np.asarray(xs, float)
+    M = np.column_stack([np.exp(-1j * k_a * xs), np.exp(-1j * k_b * xs)])
+    (a, b), *_ = np.linalg.lstsq(M, np.asarray(amps, complex), rcond=None)
+    return a, b
+
+
+def reflection(xs, amps, k):
+    """(incident amplitude, reflected amplitude, reflection coefficient) of the first harmonic
+    from three or more gauges (spaced well away from half a wavelength apart)."""
+    a, b = two_waves(xs, amps, k, -k)
+    return abs(a), abs(b), abs(b) / abs(a) if abs(a) > 0 else float("nan")
+
+
+def free_second_harmonic(xs, amps2, k, k2):
+    """(bound, free) amplitudes of the second harmonic: the bound wave travels with the first
+    harmonic (2 k), the free one a paddle sheds at its own wave number k2 (2 omega)^2 = g k2 tanh."""
+    b, f = two_waves(xs, amps2, 2 * k, k2)
+    return abs(b), abs(f)
+
+
+def stokes_bound_ratio(k, depth):
+    """Second-order Stokes theory's bound second harmonic over the first, per unit first-harmonic
+    amplitude a: a2 = a^2 k cosh(kh) (2 + cosh 2kh) / (4 sinh^3 kh)."""
+    kh = k * depth
+    return k * math.cosh(kh) * (2 + math.cosh(2 * kh)) / (4 * math.sinh(kh) ** 3)
