@@ -97,6 +97,13 @@ CASES = [
     (flume, [], "[paddle]\ntype = \"flap\"\norder = 2\n", ["paddle.order", "1 with a flap or a series", "Madsen"]),
     (flume, [], "[geometry]\narray_gauges = 2\n", ["geometry.array_gauges", "2", "0 (no array) or 3 to 12"]),
     (flume, [], "[numerics]\nwall = \"adamy\"\n", ["numerics.wall", "adamy", "adami"]),
+    (flume, [], "[paddle]\nspectrum = \"jonswop\"\n", ["paddle.spectrum", "jonswop", "'jonswap'"]),
+    (flume, [], "[paddle]\nspectrum = \"jonswap\"\nhs = 0.0\ntp = 1.0\n", ["paddle.hs", "> 0 with paddle.spectrum"]),
+    (flume, [], "[paddle]\nspectrum = \"pm\"\nhs = 0.04\ntp = 0.9\nband = [0.5, 3.0]\n",
+     ["paddle.band", "[0.5, 3.0]", "at least 8 h", "lower the band's top or dx"]),
+    (flume, [], "[paddle]\nspectrum = \"jonswap\"\nhs = 0.3\ntp = 1.5\n", ["paddle.hs", "more than half the depth"]),
+    (flume, [], "[paddle]\nspectrum = \"jonswap\"\nhs = 0.04\ntp = 0.9\norder = 2\n", ["paddle.order", "1 with a spectrum"]),
+    (beach, [], "[paddle]\nspectrum = \"jonswap\"\n", ["paddle.spectrum", "unknown"]),
 ]
 
 

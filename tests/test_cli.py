@@ -190,3 +190,20 @@ def test_arch_gpu_without_a_gpu_falls_back_to_the_cpu_with_a_warning(tmp_path):
     assert "warning: no GPU backend found, running on the CPU" in r.stderr
     s = json.load(open(tmp_path / "o" / "summary.json"))
     assert s["status"] == "ok" and s["steps"] > 0
+
+
+def test_every_case_file_is_valid_for_the_scene_its_header_names():
+    """Each scenes/*.toml names its command in its header (python -m tisph.scenes.NAME --config
+    scenes/FILE); the file passes that scene's checks as it stands, so a renamed key or a changed
+    range cannot leave a shipped case file that exits 2."""
+    import glob
+    import importlib
+    import re
+    from tisph.run.entry import resolve
+    files = sorted(glob.glob(os.path.join(ROOT, "scenes", "*.toml")))
+    assert len(files) >= 15
+    for path in files:
+        text = open(path).read()
+        m = re.search(r"python -m tisph\.scenes\.(\w+) --config scenes/" + re.escape(os.path.basename(path)), text)
+        assert m, f"{os.path.basename(path)}: no 'python -m tisph.scenes.NAME --config scenes/FILE' line"
+        resolve(importlib.import_module(f"tisph.scenes.{m.group(1)}"), path)

@@ -112,6 +112,36 @@ def test_wave_array_separates_incident_reflected_bound_and_free():
         0.03 ** 2 * k * np.cosh(kh) * (2 + np.cosh(2 * kh)) / (4 * np.sinh(kh) ** 3))
 
 
+def test_irregular_paddle_signal_makes_the_target_spectrum():
+    """paddle.spectrum = "jonswap": the paddle's signal, each frequency multiplied by the piston's
+    Biesel transfer, has the target spectrum: Hm0 and Tp from its Welch spectrum within 4 % and
+    3 % over 440 peak periods; and the spectral analysis reads a synthetic sea it did not make
+    (other phases, transfer 1) as well."""
+    from tisph.probes import waves
+    p = dict(type="piston", spectrum="jonswap", hs=0.04, tp=0.9, gamma=3.3, seed=1, band=[0.5, 2.0], ramp_periods=2.0)
+    d = 0.25
+    t, x = wm.irregular_series(p, d, 400.0)
+    f, S, n = waves.welch(t, x, 10.0, 400.0, 16 * 0.9)
+    assert n > 40
+    fp = 1 / 0.9
+    m = (f > 0.3 * fp) & (f < 2.2 * fp)
+    tr = np.array([wm.biesel_piston(wm.wavenumber(2 * np.pi * v, d) * d) for v in f[m]])
+    hm0, tp = waves.spectral_height_and_peak(f[m], S[m] * tr ** 2, 0.5 * fp, 2.0 * fp)
+    assert hm0 == pytest.approx(0.04, rel=0.04) and tp == pytest.approx(0.9, rel=0.03)
+    k = 400
+    fr = 0.5 * fp + (np.arange(k) + 0.5) * 1.5 * fp / k
+    a = np.sqrt(2 * wm.spectrum(fr, 0.04, 0.9, 3.3) * 1.5 * fp / k)
+    ph = np.random.default_rng(7).uniform(0, 2 * np.pi, k)
+    tt = np.arange(0.0, 400.0, 0.01)
+    eta = (a[:, None] * np.sin(2 * np.pi * fr[:, None] * tt[None, :] + ph[:, None])).sum(0)
+    f, S, n = waves.welch(tt, eta, 0.0, 400.0, 16 * 0.9)
+    hm0, tp = waves.spectral_height_and_peak(f, S, 0.5 * fp, 2.0 * fp)
+    assert hm0 == pytest.approx(0.04, rel=0.04) and tp == pytest.approx(0.9, rel=0.03)
+    # the same seed makes the same sea; another seed another
+    assert np.array_equal(wm.irregular_series(p, d, 50.0)[1], wm.irregular_series(p, d, 50.0)[1])
+    assert not np.allclose(wm.irregular_series(dict(p, seed=2), d, 50.0)[1], wm.irregular_series(p, d, 50.0)[1])
+
+
 @pytest.mark.parametrize("kind", ["piston", "flap"])
 def test_paddle_particles_follow_the_prescribed_motion(tmp_path, kind):
     cfg = resolve(flume, overrides={"paddle.type": kind, "numerics.dx": 0.025, "geometry.length": 2.0,

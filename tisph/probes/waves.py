@@ -55,3 +55,38 @@ def stokes_bound_ratio(k, depth):
     amplitude a: a2 = a^2 k cosh(kh) (2 + cosh 2kh) / (4 sinh^3 kh)."""
     kh = k * depth
     return k * math.cosh(kh) * (2 + math.cosh(2 * kh)) / (4 * math.sinh(kh) ** 3)
+
+
+def welch(t, eta, t0, t1, segment):
+    """One-sided spectral density (m2/Hz) of eta over [t0, t1] by Welch's method: Hann-windowed
+    segments of `segment` seconds, half overlapping, on the record resampled to its mean step.
+    Returns (f, S, number of segments); (None, None, 0) when the window is shorter than a segment."""
+    t, eta = np.asarray(t, float), np.asarray(eta, float)
+    w = (t >= t0) & (t <= t1) & np.isfinite(eta)
+    if w.sum() < 16:
+        return None, None, 0
+    dt = float(np.median(np.diff(t[w])))
+    tt = np.arange(t[w][0], t[w][-1], dt)
+    x = np.interp(tt, t[w], eta[w])
+    n = int(round(segment / dt))
+    if n < 8 or len(x) < n:
+        return None, None, 0
+    win = np.hanning(n)
+    starts = range(0, len(x) - n + 1, n // 2)
+    P = np.zeros(n // 2 + 1)
+    for s in starts:
+        seg = x[s:s + n] - x[s:s + n].mean()
+        P += np.abs(np.fft.rfft(seg * win)) ** 2
+    P *= 2 * dt / ((win ** 2).sum() * len(starts))
+    P[0] /= 2
+    return np.fft.rfftfreq(n, dt), P, len(starts)
+
+
+def spectral_height_and_peak(f, S, lo, hi):
+    """Hm0 = 4 sqrt(m0) over lo <= f <= hi, and the peak period 1 / fp with fp the spectrum's
+    centroid weighted by S^4 (the "Delft" peak, steadier than the highest bin)."""
+    m = (f >= lo) & (f <= hi)
+    df = f[1] - f[0]
+    m0 = S[m].sum() * df
+    fp = (f[m] * S[m] ** 4).sum() / (S[m] ** 4).sum()
+    return 4.0 * math.sqrt(m0), 1.0 / fp

@@ -30,7 +30,8 @@ from ..case import make_case
 from ..run import common_params, run_scene, sound_speed
 from .. import wavemaker as wm
 from ..constants import G
-from ..wavemaker import PADDLE_DEFAULTS, PADDLE_RANGES, check_paddle, linear_wave, paddle
+from ..wavemaker import (IRREGULAR_CHOICES, IRREGULAR_DEFAULTS, IRREGULAR_RANGES, PADDLE_DEFAULTS, PADDLE_RANGES,
+                         check_paddle, linear_wave, paddle)
 from ..probes.plots import pyplot, save
 from ..probes import waves
 
@@ -49,7 +50,7 @@ DEFAULTS = {
                  "gauges_x": [],                 # gauge positions (m from the paddle's mean position)
                  "gauges_wavelengths": [1.0, 2.0, 3.0],   # or in wavelengths, when gauges_x is empty
                  "array_gauges": 6},             # gauges of the reflection and second-harmonic array
-    "paddle": dict(PADDLE_DEFAULTS),
+    "paddle": dict(PADDLE_DEFAULTS, **IRREGULAR_DEFAULTS),
     "materials": {"water": {"rho0": 1000.0, "viscosity": 1.0e-3}},
     "output": {"frame_interval": 0.04, "probe_interval": 0.01},
 }
@@ -57,7 +58,8 @@ RANGES = {f"geometry.{k}": (0.0, None, k.startswith("damping"), True)
           for k in ("length", "depth", "wall_height", "damping_length", "damping_rate")}
 RANGES["geometry.array_gauges"] = (0, 12, True, True)
 RANGES.update(PADDLE_RANGES)
-CHOICES = {"paddle.type": ("piston", "flap")}
+RANGES.update(IRREGULAR_RANGES)
+CHOICES = {"paddle.type": ("piston", "flap"), **IRREGULAR_CHOICES}
 
 
 def check(cfg):
@@ -102,14 +104,16 @@ def build(cfg):
     gauges = wm.Gauges(xg + xa, dx, h, d, cols + acols)
     k2 = wm.wavenumber(2 * omega, d, G)
 
-    seen = {}
+    seen, seen_spectra = {}, {}
 
     def metrics(c):
         seen.update(c)
         out = dict(kh=k * d, wavelength=wavelength, group_velocity=cg, biesel_H_over_S=hs_ratio,
                    biesel_wave_height=H_biesel, gauges_x=xg, array_x=xa,
                    gauge_zero_offset=list(gauges.zero[:len(xg)]))
-        if not xg or p["series"]:
+        if xg and p["spectrum"]:
+            out.update(irregular_metrics(c, p, xg, cols, cg, seen_spectra))
+        if not xg or p["series"] or p["spectrum"]:
             return out
         t_end = float(c["t"][-1])
         H, H1, err, err1 = [], [], [], []
@@ -160,12 +164,16 @@ def build(cfg):
         fig, axes = plt.subplots(len(xg), 1, figsize=(7.5, 1.8 * len(xg) + 0.6), sharex=True, squeeze=False)
         for i, ax in enumerate(axes[:, 0]):
             ax.plot(data["t"], data[cols[i]], lw=0.8)
-            ax.axhline(0.5 * H_biesel, color="k", ls="--", lw=0.6)
-            ax.axhline(-0.5 * H_biesel, color="k", ls="--", lw=0.6)
+            if not p["spectrum"]:
+                ax.axhline(0.5 * H_biesel, color="k", ls="--", lw=0.6)
+                ax.axhline(-0.5 * H_biesel, color="k", ls="--", lw=0.6)
             ax.set_ylabel(f"eta (m) at {xg[i]:.2f} m")
             ax.axvspan(wm.arrival_time(p, xg[i], cg), data["t"][-1], color="0.9")
         axes[-1, 0].set_xlabel("t (s)")
-        fig.suptitle(f"{p['type']} paddle: gauges against Biesel H = {H_biesel:.3g} m (dashed)", fontsize=10)
+        if seen_spectra:
+            write_spectra(out, seen_spectra, p, xg)
+        fig.suptitle(f"{p['type']} paddle, {p['spectrum']} spectrum Hm0 {p['hs']:g} m, Tp {p['tp']:g} s" if p["spectrum"]
+                     else f"{p['type']} paddle: gauges against Biesel H = {H_biesel:.3g} m (dashed)", fontsize=10)
         save(fig, os.path.join(out, "gauges.png"))
 
     margin = T + dx
@@ -194,6 +202,57 @@ def gauge_positions(geo, wavelength):
             raise ConfigError(f"geometry.{key}", geo[key], f"gauges in front of the absorbing zone "
                               f"(x < {end:g} m; one wavelength is {wavelength:.3g} m)")
     return xg
+
+
+def irregular_metrics(c, p, xg, cols, cg, keep):
+    """Hm0 and Tp at each gauge from its spectrum (Welch, segments of 16 peak periods) once the
+    ramped waves have arrived at the peak's group velocity, against the target; the spectra are
+    kept in `keep` for spectra.csv."""
+    t_end = float(c["t"][-1])
+    fp = 1.0 / p["tp"]
+    lo, hi = (b * fp for b in p["band"])
+    out = dict(hm0_at_gauges=[], tp_at_gauges=[], waves_measured=[])
+    for x, col in zip(xg, cols):
+        t0 = wm.arrival_time(p, x, cg)
+        f, S, n = waves.welch(c["t"], c[col], t0, t_end, 16 * p["tp"])
+        if n == 0:
+            out["hm0_at_gauges"].append(float("nan"))
+            out["tp_at_gauges"].append(float("nan"))
+            out["waves_measured"].append(0)
+            continue
+        hm0, tp = waves.spectral_height_and_peak(f, S, lo, hi)
+        out["hm0_at_gauges"].append(hm0)
+        out["tp_at_gauges"].append(tp)
+        out["waves_measured"].append(int((t_end - t0) / p["tp"]))
+        keep[x] = (f, S)
+    if math.isfinite(out["hm0_at_gauges"][0]):
+        out["hm0_error"] = abs(out["hm0_at_gauges"][0] / p["hs"] - 1)
+        out["tp_error"] = abs(out["tp_at_gauges"][0] / p["tp"] - 1)
+    return out
+
+
+def write_spectra(out, spectra, p, xg):
+    """spectra.csv (f, the target, each gauge's S) and spectra.png."""
+    from ..io import write_csv
+    f = next(iter(spectra.values()))[0]
+    fp = 1.0 / p["tp"]
+    band = (f >= p["band"][0] * fp) & (f <= p["band"][1] * fp)
+    target = np.zeros_like(f)
+    target[band] = wm.spectrum(f[band], p["hs"], p["tp"], 1.0 if p["spectrum"] == "pm" else p["gamma"])
+    cols = {"f_hz": f, "target_m2_per_hz": target}
+    cols.update({f"S_x{x:.2f}": spectra[x][1] for x in xg if x in spectra})
+    write_csv(os.path.join(out, "spectra.csv"), list(cols), np.column_stack(list(cols.values())))
+    plt = pyplot()
+    fig, ax = plt.subplots(figsize=(7.5, 3.2))
+    ax.plot(f, target, "k--", lw=1.0, label=f"target {p['spectrum']}, Hm0 {p['hs']:g} m, Tp {p['tp']:g} s")
+    for x in xg:
+        if x in spectra:
+            ax.plot(f, spectra[x][1], lw=0.9, label=f"gauge at {x:.2f} m")
+    ax.set_xlim(0, 1.2 * p["band"][1] * fp)
+    ax.set_xlabel("f (Hz)")
+    ax.set_ylabel("S (m2/Hz)")
+    ax.legend(fontsize=8)
+    save(fig, os.path.join(out, "spectra.png"))
 
 
 def worst(errors):
