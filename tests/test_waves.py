@@ -85,6 +85,23 @@ def test_second_order_stroke_is_madsens_and_ramps_as_the_square():
         assert m(s)[1] == pytest.approx(num, rel=1e-5, abs=1e-9)
 
 
+def test_linear_shoaling_is_greens_law_in_shallow_water_and_weggels_index():
+    """Energy-flux shoaling tends to Green's law H ~ h^(-1/4) in shallow water, the near-bed
+    amplitude to H / (2 kh); Weggel's breaker index on 1:20 for T = 2.5 s, H_b = 0.13 m is
+    about 1.0 (b 1.14, a 26.8)."""
+    from tisph.scenes.beach.shoaling import linear_shoaling, weggel_index
+    om = 2 * np.pi / 60.0
+    H, A = linear_shoaling(0.1, 1.0, [1.0, 0.5, 0.25], om)
+    assert H[1] / H[0] == pytest.approx(0.5 ** -0.25, rel=2e-3) and H[2] / H[0] == pytest.approx(0.25 ** -0.25, rel=2e-3)
+    k = wm.wavenumber(om, 0.25)
+    assert A[2] == pytest.approx(H[2] / (2 * k * 0.25), rel=1e-3)
+    H, A = linear_shoaling(0.1, 0.3, [0.3], 2 * np.pi / 2.5)
+    assert H[0] == pytest.approx(0.1)
+    assert weggel_index(1 / 20, 0.13, 2.5) == pytest.approx(1.56 / (1 + np.exp(-19.5 / 20))
+                                                          - 43.8 * (1 - np.exp(-19 / 20)) * 0.13 / (9.81 * 6.25), rel=1e-9)
+    assert 0.95 < weggel_index(1 / 20, 0.13, 2.5) < 1.1
+
+
 def test_wave_array_separates_incident_reflected_bound_and_free():
     """Synthetic gauge records: a 10 % reflected wave and a free second harmonic beside the bound
     one are recovered from six gauges a tenth of a wavelength apart (Mansard & Funke 1980)."""

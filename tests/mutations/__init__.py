@@ -10,7 +10,6 @@ function (tisph/terms) is replaced by its negative or by nothing, or a Python st
 test suite that guards the physics it names fails under each of them without the golden hashes.
 """
 import inspect
-import textwrap
 
 import numpy as np
 
@@ -42,15 +41,24 @@ MUTATIONS = {
 
 
 def _wrap(orig, how):
-    """A ti.func with orig's signature returning -orig(...) or 0 * orig(...)."""
+    """A ti.func with orig's signature returning -orig(...) or 0 * orig(...). Its source goes to a
+    file of its own: Taichi compiles a function from its source text, which exec'd code lacks."""
+    import importlib.util
+    import os
+    import tempfile
     import taichi as ti
     params = list(inspect.signature(orig).parameters)
     args = ", ".join(params)
     sign = "-" if how == "negate" else "0.0 * "
-    src = f"def mutated({args}):\n    return {sign}_orig({args})\n"
-    env = {"_orig": orig}
-    exec(textwrap.dedent(src), env)
-    return ti.func(env["mutated"])
+    src = f"_orig = None\n\n\ndef mutated({args}):\n    return {sign}_orig({args})\n"
+    path = os.path.join(tempfile.mkdtemp(prefix="tisph_mutation_"), f"mutated_{orig.__name__}.py")
+    with open(path, "w") as f:
+        f.write(src)
+    spec = importlib.util.spec_from_file_location(f"mutated_{orig.__name__}", path)
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    mod._orig = orig
+    return ti.func(mod.mutated)
 
 
 def apply(name):

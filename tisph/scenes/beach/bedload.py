@@ -22,6 +22,7 @@ from ...case import make_case
 from ...run import common_params, sound_speed
 from ...probes.gauges import surface_at
 from ...probes.plots import pyplot, save
+from .shoaling import Shoaling
 from ...sediment import coupling
 from ...wavemaker import Gauges, height_at, linear_wave, paddle
 
@@ -104,6 +105,8 @@ class BeachBed:
         self.toe, self.grain = geo["toe_x"], geo["grain_diameter"]
         self.rows, self.zone = [], None
         self.gauges = Gauges(geo["gauges_x"], self.dx, cfg["numerics"]["h_factor"] * self.dx, self.yw)
+        self.shoal = Shoaling(geo, lambda x: self.yw - float(bed_profile(geo, x)), self.yw, self.dx,
+                              cfg["numerics"]["h_factor"] * self.dx)
 
     def predicted(self):
         """Wiberg & Harris length at every station for the measured d0 = 2 A (0 where dry)."""
@@ -136,6 +139,7 @@ class BeachBed:
         rms = float(np.sqrt(np.mean((zb - self.bed.z0) ** 2)))
         eta = surface_at(st, self.toe, self.dx, self.cfg["numerics"]["h_factor"] * self.dx, mat=0) - self.yw
         lp = float(lam_p[zone].mean()) if zone.any() else float("nan")
+        self.shoal.read(st)
         return (lam, hr, count, rms, eta, lp, float(np.abs(self.bed.tau).max())) + self.gauges.read(st)
 
     def metrics(self, c):
@@ -154,6 +158,8 @@ class BeachBed:
         out["wave_height_at_toe"] = H
         out["periods_measured_at_toe"] = n
         out.update(self.gauges.metrics(c, p, self.cg))
+        out.update(self.shoal.measure(p, self.cg, self.omega,
+                                      lambda x: float(np.interp(x, self.stations, self.bed.amplitude))))
         return out
 
     def finalize(self, out, metrics):
@@ -166,6 +172,7 @@ class BeachBed:
                   [(float(x), float(z0), float(a), float(2 * a), float(lp))
                    for x, z0, a, lp in zip(self.stations, self.bed.z0, self.bed.amplitude, lam)])
         self.plot(os.path.join(out, "bed_profile.png"), lam)
+        self.shoal.plot(os.path.join(out, "shoaling.png"), pyplot, save)
 
     def plot(self, path, lam):
         plt = pyplot()
