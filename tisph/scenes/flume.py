@@ -147,7 +147,8 @@ def build(cfg):
             amps = [waves.harmonics(c["t"], c[col], omega, max(t0, t_back), t_end, 2) for col in acols]
             if all(a is not None for a in amps):
                 ai, ar, kr = waves.reflection(xa, [a[0] for a in amps], k)
-                out.update(reflection_coefficient=kr, reflection_window=[max(t0, t_back), t_end])
+                out.update(reflection_coefficient=kr, reflection_window=[max(t0, t_back), t_end],
+                           incident_height=2 * ai, reflected_height=2 * ar)
             amps = [waves.harmonics(c["t"], c[col], omega, t0, t_end, 2) for col in acols]
             if all(a is not None for a in amps):
                 b, f = waves.free_second_harmonic(xa, [a[1] for a in amps], k, k2)
@@ -168,7 +169,10 @@ def build(cfg):
                 ax.axhline(0.5 * H_biesel, color="k", ls="--", lw=0.6)
                 ax.axhline(-0.5 * H_biesel, color="k", ls="--", lw=0.6)
             ax.set_ylabel(f"eta (m) at {xg[i]:.2f} m")
-            ax.axvspan(wm.arrival_time(p, xg[i], cg), data["t"][-1], color="0.9")
+            ax.axvspan(wm.arrival_time(p, xg[i], cg), data["t"][-1], color="0.9",
+                       label="measured from here: the fully ramped waves have arrived" if i == 0 else None)
+            if i == 0:
+                ax.legend(fontsize=7, loc="lower right")
         axes[-1, 0].set_xlabel("t (s)")
         if seen_spectra:
             write_spectra(out, seen_spectra, p, xg)
