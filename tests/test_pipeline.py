@@ -445,3 +445,33 @@ def test_dem_step_limit_applies_only_near_contact():
     # and lost energy in the dashpot (the SPH pressure pushes too here, so e is not the pure
     # contact's 0.904, which the first DEM test checks)
     assert 0.85 < v[1] - v[0] < 1.0
+
+
+def test_sps_eddy_viscosity_damps_a_shear_flow_as_its_mixing_length_says():
+    """Paper 002 eq. 10: a sinusoidal shear flow u = U sin(k y) loses kinetic energy through the
+    SPS stress at the rate of its eddy viscosity, 2 nu_t k^2 with nu_t = l_m^2 |S| (mean |S| over
+    the flow (2/pi) U k). Run with and without SPS (the water's own viscosity in both), the extra
+    loss is within 30 % of that rate (measured 0.93 of it)."""
+    dx, H, U, lm = 0.01, 0.2, 0.5, 0.01
+    k = 2 * np.pi / H
+    ps = ParticleSet()
+    w = block(0.0, 0.0, 0.2, H, dx)
+    ps.add(w, FLUID, 0, 1000.0, 1000.0 * dx * dx, v=np.column_stack([U * np.sin(k * w[:, 1]), 0 * w[:, 1]]))
+    c0 = 10.0
+    mats = [dict(name="water", rho0=1000.0, viscosity=1e-3, B=tait_B(1000.0, c0))]
+    energy = {}
+    for sps in (False, True):
+        phys = Physics(kernel="wendland", artificial_viscosity=False, laminar_viscosity=True, periodic_x=True, sps=sps)
+        params = dict(dx=dx, h=1.3 * dx, c0=c0, g=(0.0, 0.0), cfl=0.4, dt_max=1e-3, density_band=0.5,
+                      mixing_length=lm)
+        s = Solver(phys, ps, mats, ((0.0, -1.0), (0.2, 1.2)), params)
+        for _ in range(150):
+            s.step()
+        st = s.state(("v", "x"))
+        core = (st["x"][:, 1] > 3 * dx) & (st["x"][:, 1] < H - 3 * dx)   # away from the free edges
+        energy[sps] = (st["v"][core] ** 2).sum()
+        t = s.time
+    nut = lm * lm * (2 / np.pi) * U * k
+    want = 1 - np.exp(-2 * nut * k * k * t)
+    extra = 1 - energy[True] / energy[False]
+    assert 0.7 * want < extra < 1.3 * want, (extra, want, t)
