@@ -215,7 +215,7 @@ def test_lee_vortex_reverses_the_shear_behind_a_steep_crest_only():
     steep = 0.02 * np.maximum(0, 1 - np.abs(x - 0.2) / 0.03)       # 34 degree flanks, 2 cm high
     tau = lee_vortex_shear(np.ones(60), steep, 0.01, 1.0, sed)
     lee = np.nonzero(tau < 0)[0]
-    assert lee[0] == 21 and len(lee) == 12 and np.allclose(tau[lee], -0.5)   # 6 x 2 cm downstream
+    assert len(lee) == 12 and lee[0] == 21 and np.allclose(tau[lee], -0.5)   # 6 x 2 cm downstream
     back = lee_vortex_shear(-np.ones(60), steep, 0.01, -1.0, sed)
     assert np.array_equal(np.nonzero(back > 0)[0], 40 - lee[::-1]) and np.allclose(back[back > 0], 0.5)
     capped = lee_vortex_shear(np.ones(60), steep, 0.01, 1.0, dict(sed, separation_excursion=0.5), amplitude=0.1)

@@ -28,7 +28,7 @@ MUTATIONS = {
     "sps": ("tisph.terms.sps", "sps_accel", "zero", "the SPS stress's force"),
     "tke": ("tisph.terms.tke", "eddy_viscosity", "zero", "the k equation's eddy viscosity"),
     "drag": ("tisph.terms.drag", "drag_accel", "zero", "fluid-sediment drag"),
-    "dem": ("tisph.terms.dem", "contact_force", "zero", "DEM contact forces"),
+    "dem": ("tisph.terms.dem", "contact_force", "zero_first", "DEM contact forces"),
     "bed_frozen": ("tisph.sediment.bed", "Bed", lambda m: setattr(
         m.Bed, "step", lambda self, tau, dt, deposit=None: np.zeros_like(self.z)), "the bed-load bed never moves"),
     "lee_vortex": ("tisph.sediment.lee", "lee_vortex_shear", lambda m: setattr(
@@ -49,8 +49,11 @@ def _wrap(orig, how):
     import taichi as ti
     params = list(inspect.signature(orig).parameters)
     args = ", ".join(params)
-    sign = "-" if how == "negate" else "0.0 * "
-    src = f"_orig = None\n\n\ndef mutated({args}):\n    return {sign}_orig({args})\n"
+    if how == "zero_first":     # a function that returns (force, state...): the force zeroed, the rest kept
+        body = f"    out = _orig({args})\n    return 0.0 * out[0], out[1], out[2]\n"
+    else:
+        body = f"    return {'-' if how == 'negate' else '0.0 * '}_orig({args})\n"
+    src = f"_orig = None\n\n\ndef mutated({args}):\n" + body
     path = os.path.join(tempfile.mkdtemp(prefix="tisph_mutation_"), f"mutated_{orig.__name__}.py")
     with open(path, "w") as f:
         f.write(src)
