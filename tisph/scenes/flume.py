@@ -12,7 +12,7 @@ mild, linear theory applies within a few per cent). A gauge's window starts when
 ramped waves have reached it at the group velocity and runs to the end; the reflection's starts
 when the wave reflected from the far end is back over the array.
 
-The numerics are chosen for waves (what each does to the height: docs/validation.md): walls
+The numerics are chosen for waves (what each does to the height: docs/waves.md): walls
 whose pressure is extrapolated from the water (Adami et al. 2012), where the dynamic wall's
 density ratchets up under the paddle's foot and the wave comes out low; no artificial viscosity
 (density diffusion keeps the pressure smooth; the water's own viscosity stays); a Wendland kernel
@@ -109,9 +109,11 @@ def build(cfg):
     def metrics(c):
         seen.update(c)
         out = dict(kh=k * d, wavelength=wavelength, group_velocity=cg, biesel_H_over_S=hs_ratio,
-                   biesel_wave_height=H_biesel, gauges_x=xg, array_x=xa,
+                   gauges_x=xg, array_x=xa,
                    gauge_zero_offset=list(gauges.zero[:len(xg)]))
-        if xg and p["spectrum"]:
+        if not p["spectrum"]:
+            out["biesel_wave_height"] = H_biesel
+        elif xg:
             out.update(irregular_metrics(c, p, xg, cols, cg, seen_spectra))
         if not xg or p["series"] or p["spectrum"]:
             return out
@@ -190,7 +192,7 @@ def build(cfg):
                 view=((x_left - margin, -margin), (min(Lf + margin, max(xg, default=Lf) + 0.5 * wavelength),
                                                    min(Hw, 1.6 * d) + margin)), u_max=u_max,
                 # colour top: twice the linear surface orbital speed, not the sound-speed bound
-                speed_scale=2.0 * 0.5 * H_biesel * omega / math.tanh(k * d),
+                speed_scale=2.0 * 0.5 * (p["hs"] if p["spectrum"] else H_biesel) * omega / math.tanh(k * d),
                 probe_columns=cols + acols, probe=gauges.read, metrics=metrics, finalize=finalize,
                 container=(-reach - dx, 0.0, Lf, float("inf"), Hw), persist=(gauges,))
 
