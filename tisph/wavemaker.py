@@ -5,6 +5,7 @@ A motion is a callable m(t) -> (displacement, rate): metres and m/s for a piston
 rad/s for a flap (the solver rotates the paddle about its hinge). For a flap the stroke S is the
 horizontal excursion at the still-water level, as in Biesel's transfer function.
 """
+import functools
 import math
 
 import numpy as np
@@ -125,10 +126,15 @@ def wave_height(t, eta, t0, t1, period):
     return (float(np.mean(hs)) if hs else float("nan")), len(hs)
 
 
+def wave_period(p):
+    """The paddle table's period: the peak period with a spectrum."""
+    return p["tp"] if p.get("spectrum") else p["period"]
+
+
 def arrival_time(p, x, cg):
     """When the fully ramped waves of paddle table p have reached x at group velocity cg, plus
     one period (the peak period with a spectrum): the start of a wave-height window there."""
-    T = p["tp"] if p.get("spectrum") else p["period"]
+    T = wave_period(p)
     return p["ramp_periods"] * T + x / cg + T
 
 
@@ -208,24 +214,34 @@ def irregular_series(p, depth, t_end, g=G):
     df apart (df = 1 / the longer of the run and 100 peak periods, so the signal does not repeat
     within the run), each with the amplitude sqrt(2 S df) (deterministic amplitudes, random phases
     from the seed) divided by the paddle's first-order transfer at its frequency (Biesel), ramped
-    up over ramp_periods peak periods."""
-    fp = 1.0 / p["tp"]
-    lo, hi = (float(b) * fp for b in p["band"])
-    t_rep = max(t_end, 100.0 * p["tp"])
+    up over ramp_periods peak periods. Kept for the last few tables (the checks and the paddle
+    ask for the same one); the arrays are read-only."""
+    return _irregular_series(p["type"], p["spectrum"], float(p["hs"]), float(p["tp"]), float(p["gamma"]),
+                             int(p["seed"]), tuple(float(b) for b in p["band"]), float(p["ramp_periods"]),
+                             float(depth), float(t_end), g)
+
+
+@functools.lru_cache(maxsize=4)
+def _irregular_series(kind, name, hs, tp, gamma, seed, band, ramp_periods, depth, t_end, g):
+    fp = 1.0 / tp
+    lo, hi = (b * fp for b in band)
+    t_rep = max(t_end, 100.0 * tp)
     n = max(int(math.ceil((hi - lo) * t_rep)), 8)
     f = lo + (np.arange(n) + 0.5) * (hi - lo) / n
-    a = np.sqrt(2 * spectrum(f, p["hs"], p["tp"], 1.0 if p["spectrum"] == "pm" else p["gamma"]) * (hi - lo) / n)
-    transfer = biesel_piston if p["type"] == "piston" else biesel_flap
+    a = np.sqrt(2 * spectrum(f, hs, tp, 1.0 if name == "pm" else gamma) * (hi - lo) / n)
+    transfer = biesel_piston if kind == "piston" else biesel_flap
     kh = np.array([wavenumber(2 * math.pi * v, depth, g) * depth for v in f])
     X = a / np.array([transfer(v) for v in kh])
-    phase = np.random.default_rng(int(p["seed"])).uniform(0, 2 * math.pi, n)
-    t = np.arange(0.0, t_end + 2 * p["tp"], p["tp"] / 50.0)
+    phase = np.random.default_rng(seed).uniform(0, 2 * math.pi, n)
+    t = np.arange(0.0, t_end + 2 * tp, tp / 50.0)
     x = np.zeros_like(t)
     for i in range(0, n, 64):      # in blocks: n x len(t) at once can be large
         x += (X[i:i + 64, None] * np.sin(2 * math.pi * f[i:i + 64, None] * t[None, :] + phase[i:i + 64, None])).sum(0)
-    t_ramp = p["ramp_periods"] * p["tp"]
+    t_ramp = ramp_periods * tp
     if t_ramp > 0:
         x *= np.where(t < t_ramp, 0.5 * (1 - np.cos(math.pi * np.minimum(t, t_ramp) / t_ramp)), 1.0)
+    t.setflags(write=False)
+    x.setflags(write=False)
     return t, x
 
 
@@ -298,7 +314,7 @@ def linear_wave(cfg, depth):
     """(omega, k, wavelength, group velocity, Biesel H/S) of the configured paddle (at the peak
     period with a spectrum)."""
     p = cfg["paddle"]
-    omega = 2 * math.pi / (p["tp"] if p.get("spectrum") else p["period"])
+    omega = 2 * math.pi / wave_period(p)
     k = wavenumber(omega, depth, G)
     hs = biesel_piston(k * depth) if p["type"] == "piston" else biesel_flap(k * depth)
     return omega, k, 2 * math.pi / k, group_velocity(omega, k, depth), hs
