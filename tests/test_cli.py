@@ -106,10 +106,10 @@ def test_frame_shows_water_where_the_column_stands():
     r = Renderer(case.picture.view, 480, 0.05, case.u_max)
     img = r.frame(st, 0.0)
     (x0, y0), _ = r.view
-    head = img.shape[0] - r.H                                 # the title strip above the panel
+    head = r.panel_top                                        # the title strip above the panel
 
     def pix(x, y):
-        return img[head + r.H - 1 - int((y - y0) * r.scale), int((x - x0) * r.scale)].astype(int)
+        return img[head + r.H - 1 - int((y - y0) * r.scale), r.left + int((x - x0) * r.scale)].astype(int)
 
     water = (colormap(0.0) * 255).astype(int)
     for x, y in [(0.5, 1.0), (0.2, 0.3), (0.8, 1.8)]:       # inside the column, at rest
@@ -117,7 +117,7 @@ def test_frame_shows_water_where_the_column_stands():
     assert (pix(3.0, 1.0) == 255).all()                      # empty tank: background
     g = pix(-0.04, 1.0)                                      # left wall: grey
     assert g[0] == g[1] == g[2] and 100 < g[0] < 180
-    assert img.shape[1] == r.W + r.BAR and img.dtype == np.uint8
+    assert img.shape[1] == r.left + r.W + r.BAR and img.dtype == np.uint8
     assert (img[:head - 2, : r.W // 2] == 255).mean() > 0.8  # the label strip is text on white, no particles
 
 
@@ -135,7 +135,7 @@ def test_every_output_field_draws_a_frame(field):
               mat=ps.mat)
     r = Renderer(case.picture.view, 320, 0.05, 2.0, modes=(field,))
     img = r.frame(st, 0.5)
-    assert img.shape == (img.shape[0], r.W + r.BAR, 3)
+    assert img.shape == (img.shape[0], r.left + r.W + r.BAR, 3)
     assert (r.bars[0] is None) == (field == "material")
 
 

@@ -115,7 +115,7 @@ def test_concentration_panel_and_snapshot_field():
     unit, lo, hi, _ = r.bars[0]
     assert unit == "sand (%, log)" and hi == pytest.approx(0.2) and lo == pytest.approx(2e-4)   # three decades
     mid = r.strip + img.shape[0] // 4          # a row inside the particles
-    left, right = img[mid, 40], img[mid, 280]
+    left, right = img[mid, r.left + 40], img[mid, r.left + 280]
     assert np.abs(left - right).sum() > 100    # clear water and loaded water differ
     arrays = {SNAPSHOT_FIELDS[k][0]: st[k] for k in ("x", "v", "p", "rho", "kind", "mat", "c")}
     assert np.array_equal(view.state_of(arrays)["c"], st["c"])

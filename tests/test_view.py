@@ -17,7 +17,8 @@ def test_view_renders_snapshots_to_png_and_mp4(tmp_path, capsys):
     assert view.main([str(out), "--field", "pressure", "--time", "0.04", "--width", "480"]) == 0
     png = out / "view" / "pressure_t0.040.png"
     img = imageio.imread(png)
-    assert img.shape[1] == 480 + Renderer(((0, 0), (1, 1)), 480).BAR
+    r = Renderer(((0, 0), (1, 1)), 480)
+    assert img.shape[1] == r.left + 480 + r.BAR
     # the scene's own framing: the same as the live run's frames would have
     assert view.main([str(out), "--all", "--mp4", "--width", "320"]) == 0
     pngs = sorted(p for p in os.listdir(out / "view") if p.startswith("speed_t"))
@@ -50,3 +51,27 @@ def test_view_finds_a_bed_load_bed_from_its_particles():
     f = view.bed_surface_of(dict(x=x, kind=kind), dx)
     assert np.allclose(f(xs), zb)
     assert view.bed_surface_of(dict(x=x[-1:], kind=kind[-1:]), dx) is None
+
+
+def test_view_range_is_in_the_bars_unit_and_names_its_picture(tmp_path):
+    """--range for pressure is in kPa, as the bar says; pictures with another range or view get
+    their own names instead of overwriting; the default pressure range is the water's."""
+    from tisph.render import Renderer
+    out = tmp_path / "db"
+    simulate(dam_break, {"numerics.dx": 0.06, "run.end_time": 0.02, "output.render": False, "output.quiet": True,
+                         "output.snapshot_every": 0.02}, out=str(out))
+    assert view.main([str(out), "--field", "pressure", "--range", "0", "4.5", "--width", "320"]) == 0
+    assert view.main([str(out), "--field", "pressure", "--width", "320"]) == 0
+    names = sorted(os.listdir(out / "view"))
+    assert "pressure_range0,4.5_t0.020.png" in names and "pressure_t0.020.png" in names
+    n = 50
+    x = np.column_stack([np.linspace(0.1, 0.9, n), np.linspace(0.1, 0.9, n)])
+    st = dict(x=x, v=np.zeros((n, 2)), p=np.linspace(0, 4000.0, n), rho=np.full(n, 1000.0),
+              kind=np.zeros(n, int), mat=np.zeros(n, int))
+    r = Renderer(((0, 0), (1, 1)), 320, dx=0.02, modes=("pressure",), vrange=(0.0, 4.5))
+    r.frame(st, 0.0)
+    assert r.bars[0][1:3] == (0.0, 4.5)                 # the bar says 0 to 4.5 kPa ...
+    assert r._colour_range("pressure", st["p"]) == (0.0, 4500.0)   # ... and colours 0 to 4500 Pa
+    auto = Renderer(((0, 0), (1, 1)), 320, dx=0.02, modes=("pressure",))
+    lo, hi = auto._colour_range("pressure", st["p"])
+    assert lo == 0.0 and 3900.0 < hi <= 4000.0          # the water's 99.5th percentile

@@ -53,6 +53,7 @@ class Picture:
     bed_panel: Callable = None        # bed_panel(x0, x1, n) -> (x, bed change): a panel under the frame
     bed_label: str = ""               # what the bed panel's label adds (the morphological factor)
     bed_surface: Callable = None      # bed_surface(x) -> z_b: the sand under it is filled in sand colour
+    zoom: tuple = None                # ((x0, y0), (x1, y1)): a window at true scale under the frame
 
 
 _PARTS = {cls: {f.name for f in dataclasses.fields(cls)} for cls in (Model, Observers, Picture)}

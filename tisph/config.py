@@ -85,7 +85,8 @@ SHARED_DEFAULTS = {
         "speed_scale": 0.0,          # colour bar top (m/s); 0: the scene's expected peak speed
         "view": [],                  # [x0, x1, y0, y1] (m) the frames show; []: the scene's
         "field": "",                 # speed | pressure | density | material | vorticity; "": the scene's panels
-        "range": [],                 # [lo, hi] of the colour bar; []: automatic (the scene's, or percentiles)
+        "range": [],                 # [lo, hi] of the colour bar in its unit (kPa for pressure); []: automatic
+        "zoom": [],                  # [x0, x1, y0, y1] (m): a window at true scale under the frame, by vorticity; []: the scene's
         "min_height": 160,           # px: a lower panel gets more room above the view (air)
         "snapshot_every": -1.0,      # simulated s between HDF5 snapshots; -1: frame_interval; 0: off
         "checkpoint_every": 0.0,     # simulated s between checkpoints; 0: only on SIGINT/SIGTERM
@@ -272,9 +273,9 @@ def validate(cfg: dict, extra_ranges: dict | None = None, extra_choices: dict | 
                 errors.append(e)
     walk(cfg, "")
     out = cfg.get("output", {})
-    for key, what in (("view", "[x0, x1, y0, y1] in m with x0 < x1 and y0 < y1"), ("range", "[lo, hi] with lo < hi")):
-        v = out.get(key)
-        n = 4 if key == "view" else 2
+    box = "[x0, x1, y0, y1] in m with x0 < x1 and y0 < y1"
+    for key, what in (("view", box), ("zoom", box), ("range", "[lo, hi] with lo < hi")):
+        v, n = out.get(key), 2 if key == "range" else 4
         if v and (len(v) != n or not all(isinstance(a, (int, float)) and not isinstance(a, bool) and math.isfinite(a)
                                          for a in v) or any(v[k] >= v[k + 1] for k in range(0, n, 2))):
             errors.append(ConfigError(f"output.{key}", v, f"{what}, or [] for the default"))

@@ -8,26 +8,8 @@ import numpy as np
 
 from .io import OPTIONAL, atomic_path, OutputError
 from .particles import BED, FLUID
-
-# Viridis, sampled at 9 points (matplotlib's data), interpolated linearly.
-_VIRIDIS = np.array([
-    [0.267, 0.005, 0.329], [0.283, 0.141, 0.458], [0.254, 0.265, 0.530], [0.207, 0.372, 0.553],
-    [0.164, 0.471, 0.558], [0.128, 0.567, 0.551], [0.135, 0.659, 0.518], [0.478, 0.821, 0.318],
-    [0.993, 0.906, 0.144]])
-BACKGROUND = (1.0, 1.0, 1.0)
-BOUNDARY = (0.55, 0.55, 0.55)
-WATER = (0.36, 0.62, 0.90)
-SAND = (0.86, 0.70, 0.42)
-MODES = ("speed", "phase", "flat", "material", "pressure", "density", "vorticity", "concentration")
-
-
-def colormap(values):
-    """Viridis RGB in [0, 1] for values in [0, 1] (clipped)."""
-    v = np.clip(np.asarray(values, float), 0, 1) * (len(_VIRIDIS) - 1)
-    i = np.minimum(v.astype(int), len(_VIRIDIS) - 2)
-    f = (v - i)[..., None]
-    return _VIRIDIS[i] * (1 - f) + _VIRIDIS[i + 1] * f
-
+from .colours import (BACKGROUND, BOUNDARY, MODES, SAND, WATER, colormap, diverging,  # noqa: F401 (re-exported)
+                      vorticity)
 
 FIELDS = ("speed", "pressure", "density", "material", "vorticity", "concentration")   # output.field
 UNITS = {"speed": "|u| (m/s)", "pressure": "p (kPa)", "density": "rho (kg/m3)", "vorticity": "curl u (1/s)",
@@ -35,36 +17,6 @@ UNITS = {"speed": "|u| (m/s)", "pressure": "p (kPa)", "density": "rho (kg/m3)", 
 DECADES = 3   # a concentration panel spans three decades below its top: suspended sand falls off
               # exponentially with height (Rouse), so a linear scale shows only the bed's layer
 STATE = ("x", "v", "p", "rho", "kind", "mat")   # what a frame reads (and io.OPTIONAL where a case has it)
-_DIVERGING = np.array([[0.23, 0.30, 0.75], [0.55, 0.69, 0.99], [0.87, 0.87, 0.87], [0.96, 0.60, 0.48],
-                       [0.71, 0.02, 0.15]])   # blue - grey - red, for signed fields
-
-
-def diverging(values):
-    """Blue-grey-red RGB for values in [0, 1] (0.5: zero)."""
-    v = np.clip(np.asarray(values, float), 0, 1) * (len(_DIVERGING) - 1)
-    i = np.minimum(v.astype(int), len(_DIVERGING) - 2)
-    f = (v - i)[..., None]
-    return _DIVERGING[i] * (1 - f) + _DIVERGING[i + 1] * f
-
-
-def vorticity(x, v, dx):
-    """dv/dx - du/dy at each point, from the velocities binned on a grid of 2 dx."""
-    cell = 2.0 * dx
-    lo = x.min(0)
-    ij = np.floor((x - lo) / cell).astype(int)
-    nx, ny = ij.max(0) + 1
-    n = np.zeros((nx, ny))
-    u = np.zeros((nx, ny))
-    w = np.zeros((nx, ny))
-    np.add.at(n, (ij[:, 0], ij[:, 1]), 1.0)
-    np.add.at(u, (ij[:, 0], ij[:, 1]), v[:, 0])
-    np.add.at(w, (ij[:, 0], ij[:, 1]), v[:, 1])
-    with np.errstate(invalid="ignore", divide="ignore"):
-        u, w = np.where(n > 0, u / n, 0.0), np.where(n > 0, w / n, 0.0)
-    if nx < 2 or ny < 2:
-        return np.zeros(len(x))
-    curl = np.gradient(w, cell, axis=0) - np.gradient(u, cell, axis=1)
-    return curl[ij[:, 0], ij[:, 1]]
 
 
 class Renderer:
@@ -82,7 +34,8 @@ class Renderer:
     above the view's top (air), not a squashed picture."""
 
     def __init__(self, view, width=640, dx=0.01, speed_scale=0.0, title="", modes=("speed",), mat_colors=None,
-                 pressure_scale=0.0, bed_panel=None, bed_label="", vrange=None, min_height=0, bed_surface=None):
+                 pressure_scale=0.0, bed_panel=None, bed_label="", vrange=None, min_height=0, bed_surface=None,
+                 zoom=None, zoom_field="vorticity", axes=True):
         (x0, y0), (x1, y1) = view
         W = max(16, int(width) // 16 * 16)
         self.scale = W / (x1 - x0)
@@ -101,7 +54,7 @@ class Renderer:
                 raise ValueError(f"render mode {m!r}: expected one of {sorted(MODES)}")
         self.modes = tuple(modes)
         self.vrange = tuple(vrange) if vrange else None
-        self.pressure_scale = float(pressure_scale) if pressure_scale > 0 else 1000.0 * 9.81 * (y1 - y0)
+        self.pressure_scale = float(pressure_scale)   # 0: from the water in view, each frame
         self.mat_colors = list(mat_colors or [])
         self.bed_panel, self.bed_label, self.bed_surface = bed_panel, bed_label, bed_surface
         self.bed_range = 0.0            # m: the bed panel's half-height, only ever grows (a steady scale)
@@ -114,18 +67,39 @@ class Renderer:
         self.offsets = np.column_stack([ox[keep], oy[keep]])
         self.bars = []                  # (title, lo, hi, cmap) of each panel's colour bar, None: none
         self._speed_hi = max(self.speed_scale, 1e-6)
+        # metre axes: a strip left of the panels for z, one under each particle panel for x
+        self.LEFT = int(np.ceil(4.2 * self.font_px / 16)) * 16 if axes else 0
+        self.AXIS = self.strip if axes else 0
+        # a window at true scale under the rest (the beach's ripples), its own colour field
+        self.zoom = None
+        if zoom is not None:
+            self.zoom = Renderer(zoom, width=W, dx=dx,
+                                 speed_scale=speed_scale, modes=(zoom_field,), vrange=None, axes=False,
+                                 bed_surface=bed_surface)
+        self.panels = []                # (top row, height, view, bar) of each panel of the last frame
+
+    @property
+    def left(self):
+        """Columns left of the panels (the z axis)."""
+        return self.LEFT
+
+    @property
+    def panel_top(self):
+        """The first panel's top row in a frame (below the title strip)."""
+        return self.strip
 
     def _colour_range(self, field, values):
-        if self.vrange:
+        if self.vrange:   # in the unit the colour bar shows: kPa for pressure
             lo, hi = self.vrange
             if field == "concentration" and lo <= 0:   # a log scale: DECADES below the top
                 return hi * 10.0 ** -DECADES, hi
-            return self.vrange
+            return (1000.0 * lo, 1000.0 * hi) if field == "pressure" else self.vrange
         if field == "speed":
             hi = self.speed_scale if self.speed_scale > 0 else float(np.percentile(values, 99)) if len(values) else 1.0
             return 0.0, max(hi, 1e-6)
-        if field == "pressure":
-            return 0.0, self.pressure_scale
+        if field == "pressure":   # the water's, not the walls' (whose pressure can be several times it)
+            hi = self.pressure_scale or (float(np.percentile(values, 99.5)) if len(values) else 1.0)
+            return 0.0, max(hi, 1e-6)
         if field == "vorticity":
             w = float(np.percentile(np.abs(values), 98)) if len(values) else 1.0
             return -max(w, 1e-6), max(w, 1e-6)
@@ -149,7 +123,9 @@ class Renderer:
                 vals = np.zeros(len(kind))
                 if fl.any():
                     vals[fl] = vorticity(st["x"][fl], st["v"][fl], self.dx)
-            lo, hi = self._colour_range(field, vals[fl])
+            (x0, y0), (x1, y1) = self.view          # the range from what the panel shows
+            seen = fl & (st["x"][:, 0] >= x0) & (st["x"][:, 0] <= x1) & (st["x"][:, 1] >= y0) & (st["x"][:, 1] <= y1)
+            lo, hi = self._colour_range(field, vals[seen if seen.any() else fl])
             if field == "concentration":
                 s01 = np.log10(np.maximum(vals[fl], lo) / lo) / np.log10(hi / lo)
             else:
@@ -203,18 +179,47 @@ class Renderer:
         st = {k: np.asarray(v) for k, v in st.items() if k in STATE or k in OPTIONAL}
         st["x"] = st["x"][:, :2]
         st["v"] = st["v"][:, :2]
-        panels = [self._splat(st, self._colours(m, st)) for m in self.modes]
-        bed = None
+        W = self.W
+
+        def strip(h):
+            return np.full((h, W, 3), 255, np.uint8)
+
+        blocks, self.panels, row = [strip(self.strip)], [], self.strip
+        for m in self.modes:
+            img = self._splat(st, self._colours(m, st))
+            if self.zoom is not None:
+                self._outline(img, self.zoom.view)
+            self.panels.append((row, self.H, self.view, self.bars[-1]))
+            blocks += [img, strip(self.AXIS)]
+            row += self.H + self.AXIS
+        self.bed_row = None
         if self.bed_panel is not None:
             bed = self._bed_image()
-            panels.append(bed)
-        core = np.concatenate(panels, axis=0)
-        head = np.full((self.strip, core.shape[1], 3), 255, np.uint8)
-        foot = np.full((self.strip if bed is not None else 0, core.shape[1], 3), 255, np.uint8)
-        body = np.concatenate([head, core, foot], axis=0)
+            self.bed_row = row
+            blocks += [bed, strip(self.strip)]
+            row += bed.shape[0] + self.strip
+        self.zoom_row = None
+        if self.zoom is not None:
+            z = self.zoom
+            z.bars = []
+            img = z._splat(st, z._colours(z.modes[0], st))
+            self.zoom_row = row
+            self.panels.append((row + self.strip, z.H, z.view, z.bars[-1]))
+            blocks += [strip(self.strip), img, strip(self.AXIS)]
+        body = np.concatenate(blocks, axis=0)
+        left = np.full((body.shape[0], self.LEFT, 3), 255, np.uint8)
         side = np.full((body.shape[0], self.BAR, 3), 255, np.uint8)
-        img = np.ascontiguousarray(np.concatenate([body, side], axis=1))
-        return self._annotate(img, t, head.shape[0])
+        img = np.ascontiguousarray(np.concatenate([left, body, side], axis=1))
+        return self._annotate(img, t)
+
+    def _outline(self, img, view):
+        """A dark rectangle round the part of a panel that `view` shows (the zoom window)."""
+        (x0, y0), _ = self.view
+        (a, b), (c, d) = view
+        i0, i1 = (int(np.clip((v - x0) * self.scale, 0, self.W - 1)) for v in (a, c))
+        j0, j1 = (int(np.clip(self.H - 1 - (v - y0) * self.scale, 0, self.H - 1)) for v in (d, b))
+        img[j0:j1 + 1, [i0, i1]] = 40
+        img[[j0, j1], i0:i1 + 1] = 40
 
     BED_RANGE = (0.005, 0.01, 0.02, 0.04, 0.08, 0.16)   # m: the bed panel's half-height steps
 
@@ -235,9 +240,10 @@ class Renderer:
         img[sand] = (np.array(SAND) * 255).astype(np.uint8)
         img[Hp // 2, :] = (110, 110, 110)
         self.bed_exaggeration = (0.5 * Hp / self.bed_range) / self.scale
+        self._bed_h = Hp
         return img
 
-    def _annotate(self, img, t, head):
+    def _annotate(self, img, t):
         from PIL import Image, ImageDraw, ImageFont
         im = Image.fromarray(img)
         d = ImageDraw.Draw(im)
@@ -246,28 +252,70 @@ class Renderer:
             font = ImageFont.load_default(size=fp)
         except TypeError:  # Pillow < 10.1
             font = ImageFont.load_default()
+        L = self.LEFT
         label = f"t = {t:.3f} s"
         if self.title:
             label = f"{self.title}   {label}"
-        d.text((6, int(0.35 * fp)), label, fill=(0, 0, 0), font=font)
-        # one colour bar per coloured panel, beside it
-        for k, bar in enumerate(self.bars[:len(self.modes)]):
+        d.text((L + 6, int(0.35 * fp)), label, fill=(0, 0, 0), font=font)
+        for top, H, view, bar in self.panels:    # one colour bar per coloured panel, beside it
+            if self.LEFT:
+                self._axes(d, font, top, H, view)
             if bar is None:
                 continue
             title, lo, hi, cmap = bar
-            top = head + k * self.H
-            y0, y1 = top + int(1.4 * fp), top + self.H - int(0.6 * fp)
+            y0, y1 = top + int(1.4 * fp), top + H - int(0.6 * fp)
+            xb = L + self.W
             if y1 - y0 > 4:
                 ramp = cmap(np.linspace(1, 0, y1 - y0))
                 img_bar = (ramp[:, None, :] * 255).astype(np.uint8).repeat(int(0.9 * fp), axis=1)
-                im.paste(Image.fromarray(np.ascontiguousarray(img_bar)), (self.W + int(0.4 * fp), y0))
-            d.text((self.W + int(0.3 * fp), top + int(0.15 * fp)), title, fill=(0, 0, 0), font=font)
-            d.text((self.W + int(1.6 * fp), y0 - int(0.2 * fp)), f"{hi:.3g}", fill=(0, 0, 0), font=font)
-            d.text((self.W + int(1.6 * fp), y1 - fp), f"{lo:.3g}", fill=(0, 0, 0), font=font)
+                im.paste(Image.fromarray(np.ascontiguousarray(img_bar)), (xb + int(0.4 * fp), y0))
+            d.text((xb + int(0.3 * fp), top + int(0.15 * fp)), title, fill=(0, 0, 0), font=font)
+            d.text((xb + int(1.6 * fp), y0 - int(0.2 * fp)), f"{hi:.3g}", fill=(0, 0, 0), font=font)
+            d.text((xb + int(1.6 * fp), y1 - fp), f"{lo:.3g}", fill=(0, 0, 0), font=font)
         if self.bed_panel is not None:
-            d.text((6, img.shape[0] - int(1.5 * fp)), f"bed change below, vertical x{self.bed_exaggeration:.0f} "
-                   f"(+-{100 * self.bed_range:g} cm){self.bed_label}", fill=(0, 0, 0), font=font)
+            d.text((L + 6, self.bed_row + self._bed_h + int(0.2 * fp)),
+                   f"bed change above, vertical x{self.bed_exaggeration:.0f} (+-{100 * self.bed_range:g} cm)"
+                   f"{self.bed_label}", fill=(0, 0, 0), font=font)
+        if self.zoom is not None:
+            (a, b), (c, e) = self.zoom.view
+            d.text((L + 6, self.zoom_row + int(0.35 * fp)),
+                   f"x = {a:g} to {c:g} m at true scale (the box above), coloured by {self.zoom.modes[0]}",
+                   fill=(0, 0, 0), font=font)
         return np.asarray(im)
+
+    def _axes(self, d, font, top, H, view):
+        """Metre ticks: z on the left of a panel, x in the strip under it."""
+        (x0, y0), (x1, y1) = view
+        fp = self.font_px
+        L = self.LEFT
+        scale = self.W / (x1 - x0)
+        for v in nice_ticks(x0, x1, max(2, self.W // (6 * fp))):
+            px = L + int(round((v - x0) * scale))
+            if px > L + self.W - int(3.0 * fp):
+                continue                                   # room for the axis's unit
+            d.line([(px, top + H), (px, top + H + int(0.3 * fp))], fill=(0, 0, 0))
+            d.text((px - int(0.6 * fp), top + H + int(0.3 * fp)), f"{v:g}", fill=(0, 0, 0), font=font)
+        for v in nice_ticks(y0, y1, max(2, H // (3 * fp))):
+            py = top + H - 1 - int(round((v - y0) * scale))
+            if py < top + int(1.6 * fp):
+                continue
+            d.line([(L - int(0.3 * fp), py), (L - 1, py)], fill=(0, 0, 0))
+            d.text((int(0.2 * fp), py - int(0.5 * fp)), f"{v:g}", fill=(0, 0, 0), font=font)
+        d.text((L + self.W - int(1.6 * fp), top + H + int(0.3 * fp)), "x (m)", fill=(0, 0, 0), font=font)
+        d.text((int(0.2 * fp), top + int(0.1 * fp)), "z (m)", fill=(0, 0, 0), font=font)
+
+
+def nice_ticks(lo, hi, n):
+    """About n round values (1, 2 or 5 times a power of ten apart) inside [lo, hi]."""
+    span = hi - lo
+    if not (span > 0) or n < 1:
+        return []
+    raw = span / n
+    p = 10.0 ** np.floor(np.log10(raw))
+    step = next(m * p for m in (1, 2, 5, 10) if m * p >= raw)
+    first = np.ceil(lo / step - 1e-9) * step
+    vals = np.arange(first, hi + 1e-9 * span, step)
+    return [float(round(v, 10)) + 0.0 for v in vals]
 
 
 def make_renderer(pic, outc, dx, title, speed_scale):
@@ -277,10 +325,14 @@ def make_renderer(pic, outc, dx, title, speed_scale):
         x0, x1, y0, y1 = outc["view"]
         view = ((x0, y0), (x1, y1))
     modes = (outc["field"],) if outc.get("field") else pic.render_modes
+    zoom = pic.zoom
+    if outc.get("zoom"):
+        x0, x1, y0, y1 = outc["zoom"]
+        zoom = ((x0, y0), (x1, y1))
     return Renderer(view, outc["width"], dx, speed_scale, title=title, modes=modes, mat_colors=pic.mat_colors,
                     pressure_scale=pic.pressure_scale, bed_panel=pic.bed_panel, bed_label=pic.bed_label,
                     vrange=outc.get("range") or None, min_height=outc.get("min_height", 0),
-                    bed_surface=pic.bed_surface)
+                    bed_surface=pic.bed_surface, zoom=zoom)
 
 
 def write_png(path, img):

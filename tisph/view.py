@@ -5,7 +5,9 @@ renderer the live run uses (tisph/render.py) and the scene's own framing and col
                              [--range LO HI] [--width W] [--mp4] [--fps N] [--live]
 
 OUT is a run's output folder (with snapshots/*.h5) or one snapshot file. Without --time or
---all the last snapshot is drawn. Pictures go to OUT/view/FIELD_tT.png (and OUT/view/FIELD.mp4).
+--all the last snapshot is drawn. Pictures go to OUT/view/FIELD_tT.png (and OUT/view/FIELD.mp4),
+with _viewX0,X1,Y0,Y1 and _rangeLO,HI in the name when those are given (--range is in the unit the
+colour bar shows: kPa for pressure; without it pressure spans the water's in view, not the walls').
 The scene's framing (view, colour scales, sand colours) comes from rebuilding its case from the
 config stored in the snapshot; a bed-load bed's surface comes from its BED particles, but its
 bed-change panel is not redrawn (the bed's history is in bed_profile.csv, not in the snapshots).
@@ -76,7 +78,7 @@ def make_parser():
     g.add_argument("--time", type=float, default=None, help="the snapshot nearest this time (s)")
     g.add_argument("--all", action="store_true", help="every snapshot")
     p.add_argument("--view", type=float, nargs=4, metavar=("X0", "X1", "Y0", "Y1"), help="region to draw (m)")
-    p.add_argument("--range", type=float, nargs=2, metavar=("LO", "HI"), help="colour bar range")
+    p.add_argument("--range", type=float, nargs=2, metavar=("LO", "HI"), help="colour bar range, in the unit the bar shows (m/s, kPa, kg/m3, 1/s)")
     p.add_argument("--width", type=int, default=1280, help="picture width in pixels (default 1280)")
     p.add_argument("--mp4", action="store_true", help="also write the pictures as an MP4")
     p.add_argument("--fps", type=int, default=25)
@@ -130,7 +132,11 @@ def view(args):
     r = make_renderer(pic, outc, dx, attrs.get("scene", ""), pic.speed_scale or pic.u_max)
     src = args.out if os.path.isdir(args.out) else os.path.dirname(os.path.dirname(os.path.abspath(args.out)))
     dest = ensure_dir(os.path.join(src, "view"))
-    tag = "+".join(r.modes)
+    tag = "+".join(r.modes)     # what makes one picture differ from another of the same time
+    if args.view:
+        tag += "_view" + ",".join(f"{v:g}" for v in args.view)
+    if args.range:
+        tag += "_range" + ",".join(f"{v:g}" for v in args.range)
     movie = MovieWriter(os.path.join(dest, f"{tag}.mp4"), args.fps) if args.mp4 else None
     live = None
     if args.live:
@@ -146,6 +152,8 @@ def view(args):
                 raise ConfigError("--field", "concentration", f"a field {f!r} holds: it has no suspended sand "
                                   "(a run with sediment.suspended = true writes it)")
             r.bed_surface = bed_surface_of(st, dx)       # the sand under a bed-load bed, filled
+            if r.zoom is not None:
+                r.zoom.bed_surface = r.bed_surface
             img = r.frame(st, t)
             path = os.path.join(dest, f"{tag}_t{t:.3f}.png")
             write_png(path, img)

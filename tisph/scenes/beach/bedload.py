@@ -74,15 +74,18 @@ def build_bedload(cfg, name, stills):
     bed = coupling.BedCoupler(sed, stations, z, dx, h, geo["grain_diameter"], sed["grain_density"],
                               amplitude=None, periodic=False, rho_w=rw, omega=omega)
     rec = BeachBed(cfg, bed, stations, omega, k, wavelength, cg, H_biesel)
-    # the frame: the shoaling slope, where ripples are predicted, to the swash
-    x0 = max(RIGID, geo["toe_x"] + 0.25 * (Lf - geo["toe_x"]))
-    view = ((x0, float(bed_profile(geo, x0)) - 0.05), (Lf, min(Hw, yw + 0.1)))
+    # the frame: the whole beach from the paddle, where the bed changes, to the swash; under it a
+    # metre of the ripple zone (from half a metre past the toe) at true scale (output.zoom)
+    view = ((0.0, ts - 0.05), (Lf, min(Hw, yw + 0.1)))
+    zx = geo["toe_x"] + 0.5
+    zoom = ((zx, float(bed_profile(geo, zx)) - 0.04), (zx + 1.0, yw + 0.06))
     # colour top: three times the near-bed orbital speed at the paddle (linear waves), not the
     # bore speed that bounds the sound speed: the shoaling waves are what the frame shows
     u_col = 3.0 * 0.5 * H_biesel * omega / math.sinh(k * d)
     return make_case(name=name, particles=ps, materials=[dict(cfg["materials"]["water"], name="water",
                                                                B=tait_B(rw, c0))],
-                     domain=domain, params=params, physics=physics, view=view, u_max=u_max, speed_scale=u_col,
+                     domain=domain, params=params, physics=physics, view=view, zoom=zoom, u_max=u_max,
+                     speed_scale=u_col,
                      probe_columns=BeachBed.COLUMNS + rec.gauges.columns, probe=rec.probe, metrics=rec.metrics,
                      finalize=rec.finalize, stills=stills, container=(-reach - dx, floor - T, Lf, float("inf"), Hw),
                      control=bed.update, control_every=sed["update_every"], persist=(bed, rec),

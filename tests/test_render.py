@@ -1,0 +1,80 @@
+"""Frames a report can use: metre axes on every particle panel, and the beach's true-scale window."""
+import numpy as np
+import pytest
+
+from tisph.config import build_config
+from tisph.render import Renderer, make_renderer, nice_ticks
+from tisph.sweep import scene_module
+
+
+def test_nice_ticks_are_round_and_inside():
+    assert nice_ticks(0.0, 1.0, 5) == [0.0, 0.2, 0.4, 0.6, 0.8, 1.0]
+    assert nice_ticks(-0.13, 0.47, 3) == [0.0, 0.2, 0.4]
+    assert nice_ticks(2.0, 3.0, 10) == pytest.approx([2.0 + 0.1 * k for k in range(11)])
+    assert nice_ticks(1.0, 1.0, 4) == []
+
+
+def dark_rows(img, c0, c1):
+    return np.nonzero((img[:, c0:c1].min(axis=(1, 2)) < 100))[0]
+
+
+# every scene's own framing at a coarse dx: a frame of its initial particles
+SCENES = [("dam_break", {"numerics.dx": 0.06}), ("tunnel", {"numerics.dx": 0.02}),
+          ("beach", {"numerics.dx": 0.03}), ("flume", {"numerics.dx": 0.025}), ("hatch", {"numerics.dx": 0.0085}),
+          ("tank", {"numerics.dx": 0.05}), ("erodible_bed", {"numerics.dx": 0.02}),
+          ("pipeline_scour", {"numerics.dx": 0.0125})]
+
+
+@pytest.mark.parametrize("name,ov", SCENES, ids=[s for s, _ in SCENES])
+def test_every_scene_frame_has_metre_axes(name, ov):
+    """Ticks under each particle panel (x) and left of it (z) at the round metre values of the
+    panel's view, each with its label beside it; the beach adds its true-scale window."""
+    mod = scene_module(name)
+    cfg = build_config(mod.DEFAULTS, None, ov)
+    if hasattr(mod, "check"):
+        mod.check(cfg)
+    case = mod.build(cfg)
+    ps = case.particles
+    st = dict(x=ps.x, v=np.zeros_like(ps.x), p=np.zeros(len(ps.x)), rho=ps.rho, kind=ps.kind, mat=ps.mat)
+    r = make_renderer(case.picture, cfg["output"], cfg["numerics"]["dx"], name, case.u_max)
+    img = r.frame(st, 0.0)
+    assert r.left >= 32 and img.shape[1] == r.left + r.W + r.BAR
+    assert len(r.panels) == len(r.modes) + (r.zoom is not None)
+    for top, H, ((x0, y0), (x1, y1)), _ in r.panels:
+        scale = r.W / (x1 - x0)
+        xt = [v for v in nice_ticks(x0, x1, max(2, r.W // (6 * r.font_px)))
+              if r.left + (v - x0) * scale <= r.left + r.W - 3.0 * r.font_px]
+        assert len(xt) >= 2
+        for v in xt:    # a tick mark just under the panel, a label under it
+            px = r.left + int(round((v - x0) * scale))
+            assert img[top + H + 1, px].max() < 100, (name, v)
+            assert (img[top + H + 2:top + H + r.AXIS, max(px - 2 * r.font_px, 0):px + 2 * r.font_px] < 100).any()
+        zt = [v for v in nice_ticks(y0, y1, max(2, H // (3 * r.font_px)))
+              if top + H - 1 - (v - y0) * scale >= top + 1.6 * r.font_px]
+        rows = dark_rows(img[:, :r.left], r.left - 3, r.left)
+        for v in zt:    # a tick mark left of the panel at each value
+            py = top + H - 1 - int(round((v - y0) * scale))
+            assert np.min(np.abs(rows - py)) <= 1, (name, v)
+    if name == "beach":
+        assert r.zoom is not None
+        (a, _), (b, _) = r.zoom.view
+        assert b - a == pytest.approx(1.0)              # a metre of the ripple zone
+        assert r.zoom.scale == pytest.approx(r.zoom.W / 1.0)
+
+
+def test_zoom_window_from_the_config_and_its_outline():
+    """output.zoom sets the window; the main panel outlines where it is."""
+    from tisph.scenes import dam_break
+    cfg = build_config(dam_break.DEFAULTS, None, {"numerics.dx": 0.06, "output.zoom": [0.0, 1.0, 0.0, 0.5]})
+    case = dam_break.build(cfg)
+    ps = case.particles
+    st = dict(x=ps.x, v=np.zeros_like(ps.x), p=np.zeros(len(ps.x)), rho=ps.rho, kind=ps.kind, mat=ps.mat)
+    r = make_renderer(case.picture, cfg["output"], 0.06, "t", 1.0)
+    img = r.frame(st, 0.0)
+    assert r.zoom.view == ((0.0, 0.0), (1.0, 0.5))
+    top, H, ((x0, y0), _), _ = r.panels[0]
+    col = r.left + int(round((1.0 - x0) * r.scale))      # the box's right edge, inside the panel
+    row = top + H - 1 - int(round((0.25 - y0) * r.scale))
+    assert img[row, col].max() <= 60
+    plain = Renderer(case.picture.view, 480, 0.06, 1.0, axes=False)
+    assert plain.left == 0 and plain.frame(st, 0.0).shape[1] == 480 + plain.BAR

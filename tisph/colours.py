@@ -1,0 +1,54 @@
+"""The frames' colours: viridis and a diverging map, the particle kinds' plain colours, and the
+vorticity a panel is coloured by."""
+import numpy as np
+
+# Viridis, sampled at 9 points (matplotlib's data), interpolated linearly.
+_VIRIDIS = np.array([
+    [0.267, 0.005, 0.329], [0.283, 0.141, 0.458], [0.254, 0.265, 0.530], [0.207, 0.372, 0.553],
+    [0.164, 0.471, 0.558], [0.128, 0.567, 0.551], [0.135, 0.659, 0.518], [0.478, 0.821, 0.318],
+    [0.993, 0.906, 0.144]])
+BACKGROUND = (1.0, 1.0, 1.0)
+BOUNDARY = (0.55, 0.55, 0.55)
+WATER = (0.36, 0.62, 0.90)
+SAND = (0.86, 0.70, 0.42)
+MODES = ("speed", "phase", "flat", "material", "pressure", "density", "vorticity", "concentration")
+
+
+def colormap(values):
+    """Viridis RGB in [0, 1] for values in [0, 1] (clipped)."""
+    v = np.clip(np.asarray(values, float), 0, 1) * (len(_VIRIDIS) - 1)
+    i = np.minimum(v.astype(int), len(_VIRIDIS) - 2)
+    f = (v - i)[..., None]
+    return _VIRIDIS[i] * (1 - f) + _VIRIDIS[i + 1] * f
+
+
+_DIVERGING = np.array([[0.23, 0.30, 0.75], [0.55, 0.69, 0.99], [0.87, 0.87, 0.87], [0.96, 0.60, 0.48],
+                       [0.71, 0.02, 0.15]])   # blue - grey - red, for signed fields
+
+
+def diverging(values):
+    """Blue-grey-red RGB for values in [0, 1] (0.5: zero)."""
+    v = np.clip(np.asarray(values, float), 0, 1) * (len(_DIVERGING) - 1)
+    i = np.minimum(v.astype(int), len(_DIVERGING) - 2)
+    f = (v - i)[..., None]
+    return _DIVERGING[i] * (1 - f) + _DIVERGING[i + 1] * f
+
+
+def vorticity(x, v, dx):
+    """dv/dx - du/dy at each point, from the velocities binned on a grid of 2 dx."""
+    cell = 2.0 * dx
+    lo = x.min(0)
+    ij = np.floor((x - lo) / cell).astype(int)
+    nx, ny = ij.max(0) + 1
+    n = np.zeros((nx, ny))
+    u = np.zeros((nx, ny))
+    w = np.zeros((nx, ny))
+    np.add.at(n, (ij[:, 0], ij[:, 1]), 1.0)
+    np.add.at(u, (ij[:, 0], ij[:, 1]), v[:, 0])
+    np.add.at(w, (ij[:, 0], ij[:, 1]), v[:, 1])
+    with np.errstate(invalid="ignore", divide="ignore"):
+        u, w = np.where(n > 0, u / n, 0.0), np.where(n > 0, w / n, 0.0)
+    if nx < 2 or ny < 2:
+        return np.zeros(len(x))
+    curl = np.gradient(w, cell, axis=0) - np.gradient(u, cell, axis=1)
+    return curl[ij[:, 0], ij[:, 1]]
