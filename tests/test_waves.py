@@ -395,3 +395,26 @@ def test_bedload_beach_grows_ripples_under_waves_that_shoal(tmp_path):
     assert slope > 1.1 * flat > 0, (flat, slope)
     k = np.argmin(np.abs(rows["x"] - 5.0))
     assert rows["wiberg_harris_length"][k] == pytest.approx(wiberg_harris(rows["orbital_diameter_d0"][k], 3e-4)[0])
+
+
+def test_waves_asked_for_by_height_get_biesels_stroke():
+    """paddle.wave_height sets the stroke through Biesel's first-order transfer of the paddle type
+    at the case's kh; a stroke beside it, a height whose stroke passes the depth, or a height
+    with a spectrum are refused by name."""
+    from tisph.config import ConfigError
+    for kind in ("piston", "flap"):
+        cfg = resolve(flume, None, {"paddle.wave_height": 0.05, "paddle.type": kind, "paddle.period": 1.2})
+        _, k, _, _, ratio = wm.linear_wave(cfg, cfg["geometry"]["depth"])
+        bi = wm.biesel_piston if kind == "piston" else wm.biesel_flap
+        assert ratio == pytest.approx(bi(k * cfg["geometry"]["depth"]))
+        assert cfg["paddle"]["stroke"] * ratio == pytest.approx(0.05)
+        again = resolve(flume, None, {"paddle.wave_height": 0.05, "paddle.type": kind, "paddle.period": 1.2,
+                                      "paddle.stroke": cfg["paddle"]["stroke"]})   # a stored, resolved config
+        assert again["paddle"]["stroke"] == pytest.approx(cfg["paddle"]["stroke"])
+    with pytest.raises(ConfigError, match="paddle.stroke.*give one of"):
+        resolve(flume, None, {"paddle.wave_height": 0.05, "paddle.stroke": 0.03})
+    with pytest.raises(ConfigError, match="paddle.wave_height.*at most the depth"):
+        resolve(flume, None, {"paddle.wave_height": 0.5})
+    with pytest.raises(ConfigError, match="paddle.wave_height.*paddle.hs"):
+        resolve(flume, None, {"paddle.wave_height": 0.05, "paddle.spectrum": "jonswap", "paddle.hs": 0.04,
+                              "paddle.tp": 1.0, "run.end_time": 20.0})

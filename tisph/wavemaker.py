@@ -174,13 +174,15 @@ class Gauges:
 # the paddle's particles and motion, and the linear wave it makes.
 PADDLE_DEFAULTS = {
     "type": "piston",       # piston (translates) | flap (hinged at the floor)
-    "stroke": 0.04,         # m: piston travel, or the flap's travel at the still-water level
+    "stroke": 0.04,         # m: the full stroke (peak to peak, not the amplitude): piston travel, or the flap's at the still-water level
+    "wave_height": 0.0,     # m: the wave height wanted; > 0: the stroke from Biesel's first-order transfer (give one of the two)
     "period": 0.8,          # s
     "ramp_periods": 2.0,    # periods over which the stroke ramps up (no start-up transient)
     "series": "",           # CSV of t, displacement (m or rad): a measured paddle signal instead of a sine
     "order": 1,             # 1: a sine; 2: with Madsen's second-order stroke (a piston's regular waves)
 }
-PADDLE_RANGES = {"paddle.stroke": (0.0, None, False, True), "paddle.period": (0.0, None, False, True),
+PADDLE_RANGES = {"paddle.stroke": (0.0, None, False, True), "paddle.wave_height": (0.0, None, True, True),
+                 "paddle.period": (0.0, None, False, True),
                  "paddle.ramp_periods": (0.0, None, True, True), "paddle.order": (1, 2, True, True)}
 
 
@@ -275,8 +277,24 @@ def check_irregular(cfg, depth):
                           f"from its mean position, more than half the depth ({0.5 * depth:g} m)")
 
 
-def check_paddle(cfg, depth, length):
+def check_paddle(cfg, depth, length, default_stroke=None):
+    """The paddle's keys against the depth and dx; with paddle.wave_height the stroke is set from it
+    (Biesel's first-order H / S for the paddle type and kh), and a stroke given beside it is refused."""
     p, dx = cfg["paddle"], cfg["numerics"]["dx"]
+    H = p.get("wave_height", 0.0)
+    if H > 0:
+        if p.get("spectrum") or p["series"]:
+            key = "paddle.spectrum" if p.get("spectrum") else "paddle.series"
+            raise ConfigError("paddle.wave_height", H, f"0 with {key} (irregular waves are asked for by paddle.hs, a "
+                              "series by its own displacements)")
+        S = H / linear_wave(cfg, depth)[4]
+        if default_stroke is not None and not (math.isclose(p["stroke"], default_stroke) or math.isclose(p["stroke"], S)):
+            raise ConfigError("paddle.stroke", p["stroke"], f"left out with paddle.wave_height = {H:g} (give one of "
+                              f"the two: that height needs a stroke of {S:.4g} m by Biesel)")
+        if S > depth:
+            raise ConfigError("paddle.wave_height", H, f"a height whose stroke is at most the depth ({depth:g} m): "
+                              f"Biesel gives a stroke of {S:.4g} m for it")
+        p["stroke"] = S
     if p.get("spectrum"):
         check_irregular(cfg, depth)
         return

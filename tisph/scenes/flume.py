@@ -76,7 +76,7 @@ def check(cfg):
     if 0 < g["array_gauges"] < 3:
         raise ConfigError("geometry.array_gauges", g["array_gauges"], "0 (no array) or 3 to 12 (two waves "
                           "are fitted at each frequency)")
-    check_paddle(cfg, g["depth"], g["length"])
+    check_paddle(cfg, g["depth"], g["length"], default_stroke=DEFAULTS["paddle"]["stroke"])
 
 
 def build(cfg):
