@@ -199,3 +199,26 @@ def test_validate_quick_runs_every_case(tmp_path):
         assert f"| {c.name} |" in readme
     assert "old" not in readme and readme.endswith("after\n")
     assert "failed" not in md
+
+
+def test_ripple_sweep_cases_and_dry_run(tmp_path):
+    """--ripples: at least 8 cases with ripples over mobility 20-180 and d0 0.15-0.6 m, T 1.5-3.5 s,
+    two above 240, each periodic length holding at least six predicted ripples; the seeded and
+    resolution runs of the calibration case; --dry-run runs the whole path through the Dask sweep
+    and writes the table, the CSV and both figures."""
+    from tisph.bench import ripples as rb
+    cases = rb.cases()
+    rip = [ov for _, kind, ov in cases if kind in ("check", "calibration")]
+    psi = [rb.mobility(ov["geometry.orbital_diameter"], ov["geometry.period"]) for ov in rip]
+    assert len(rip) >= 8 and min(psi) <= 21 and 160 <= max(psi) <= 180
+    assert sum(kind == "sheet" for _, kind, _ in cases) == 2
+    assert all(rb.mobility(ov["geometry.orbital_diameter"], ov["geometry.period"]) > 240
+               for _, kind, ov in cases if kind == "sheet")
+    for _, _, ov in cases:
+        lam = rb.wiberg_harris(ov["geometry.orbital_diameter"], rb.GRAIN)[0]
+        assert ov["geometry.length"] >= 6 * lam and ov["run.end_time"] == rb.PERIODS * ov["geometry.period"]
+    assert {k for _, k, _ in cases} == {"calibration", "check", "sheet", "seeded", "resolution"}
+    assert rb.held_bed_periods(np.array([0.0, 1.0, 2.0, 3.0]), np.array([0.3, 0.2, 0.2, 0.2]), 1.0, 10.0) == 20.0
+    assert bench.main(["--ripples", "--dry-run", "--out", str(tmp_path)]) == 0
+    for f in ("ripples.md", "ripples.csv", "ripples.png", "growth.png"):
+        assert (tmp_path / "ripples" / f).stat().st_size > 100

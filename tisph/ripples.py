@@ -116,3 +116,37 @@ def wiberg_harris(d0, grain_diameter):
     w = (math.log(ratio) - math.log(100.0)) / (math.log(20.0) - math.log(100.0))
     l_sub = math.exp(w * (math.log(l_orb) - math.log(l_ano)) + math.log(l_ano))
     return l_sub, height_for(l_sub), "suborbital"
+
+
+def ripple_band(z, dx):
+    """The hysteresis band of periodic_ripples: half the bed's RMS about its mean (a sine's crest
+    to trough is 2.8 RMS, so a bump under a fifth of the ripples' height is not counted), and at
+    least a tenth of a spacing."""
+    z = np.asarray(z, float)
+    return max(0.1 * dx, 0.5 * float(np.std(z)))
+
+
+def periodic_ripples(z, length, band):
+    """(count, mean height) of the ripples on a periodic bed z (evenly spaced over `length`): each
+    ripple is one rise of z - mean from below -band/2 to above +band/2 (a crossing with hysteresis,
+    so a wiggle smaller than `band` in a trough is not a ripple), counted round the period; the
+    mean length is length / count. Counting round the period keeps the ripple that straddles the
+    seam, which the zero up-crossings of ripple_stats drop. (0, NaN) without a ripple."""
+    zd = np.asarray(z, float) - float(np.mean(z))
+    if len(zd) < 4:
+        return 0, float("nan")
+    zd = np.roll(zd, -int(np.argmin(zd)))       # start in the deepest trough: below -band/2 if any ripple is
+    lo, hi = -0.5 * band, 0.5 * band
+    state, starts = "low", []
+    for i, v in enumerate(zd):
+        if state == "low" and v > hi:
+            state = "high"
+            starts.append(i)
+        elif state == "high" and v < lo:
+            state = "low"
+    if not starts or zd[0] >= lo:
+        return 0, float("nan")
+    bounds = starts + [len(zd) + starts[0]]
+    zz = np.concatenate([zd, zd])
+    heights = [zz[a:b].max() - zz[a:b].min() for a, b in zip(bounds[:-1], bounds[1:])]
+    return len(starts), float(np.mean(heights))

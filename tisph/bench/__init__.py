@@ -6,4 +6,5 @@ speed.py      --speed: particle-steps/s, optionally against another revision, ba
 peer.py       --peer pysph: PySPH's dam break beside ours
 shedding.py   --shedding: a pipe's wake over a fixed bed against the gap
 mao_held.py   --mao-held: Mao's measured beds held still under the pipeline's flow
+ripples.py    --ripples: the tunnel's ripples against the orbital diameter (the Dask sweep)
 """

@@ -272,6 +272,9 @@ def main(argv=None):
                                                   "2.5 held)")
     p.add_argument("--config", help="with --shedding or --mao-held: the pipeline case file whose current and "
                                     "numerics it runs (default scenes/pipeline_scour_mao.toml)")
+    p.add_argument("--ripples", action="store_true",
+                   help="the tunnel's ripples against the orbital diameter, 15 cases through the Dask sweep "
+                        "(tisph/bench/ripples.py; about an hour on two cores)")
     p.add_argument("--validate", action="store_true",
                    help="run every validation case and write docs/validation.md, its figures and the README's "
                         "table (tisph/bench/validate.py; with --quick: coarse, short versions)")
@@ -280,6 +283,9 @@ def main(argv=None):
     p.add_argument("--dry-run", action="store_true",
                    help="exercise every code path in seconds: one tiny case, tiny scaling, no profile (for tests)")
     a = p.parse_args(argv)
+    if a.ripples:
+        from . import ripples
+        return ripples.main(a)
     if a.validate:
         from . import validate
         return validate.main(a)

@@ -116,6 +116,7 @@ class Solver(SolverAPI):
         self._reset_stats()
         self.steps = 0
         self.time = 0.0
+        self.rhodev_sum, self.rhodev_n, self.rhodev_p999 = 0.0, 0, 0.0   # the probe samples' (access.py)
         self._primed = False
         self._dt = None          # the next step's dt as the step kernel returned it (None: read prm)
 

@@ -75,6 +75,7 @@ class Outputs:
     def sample(self):
         st = self.solver.state(("x", "v", "kind", "rho", "p", "m", "mat"))
         st["t"] = self.solver.time
+        self.solver.sample_density_error(st)
         row = (self.solver.time,) + (tuple(float(v) for v in self.case.observers.probe(st)) if self.case.observers.probe else ())
         self.probes.append(row)
         self.flush_series()

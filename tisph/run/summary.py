@@ -9,6 +9,10 @@ from .. import __version__
 from ..io import OutputError, json_safe, write_json
 from ..particles import FLUID, OUT, OUTFLOW
 
+# a weakly compressible run whose largest density error passes this warns (Monaghan's c0 = 10 u
+# keeps the typical error near 1 %)
+DENSITY_ERROR_LIMIT = 0.03
+
 
 def mass_balance(initial, final):
     """Summed in float64 from the particles' own masses: fluid in the domain + fluid that left
@@ -54,6 +58,18 @@ def summarize(run, status, message, wall, step_s, nsteps, compile_s, segment=Non
              f"for their analysis window, t = {s.time:.4g} s, or the quantity never occurred)")
         case.warnings.append(w)
         run.log(f"warning: {w}", always=True)
+    density_notes = []
+    if max(s.rhodev_p999, s.max_density_error) > DENSITY_ERROR_LIMIT:
+        w = (f"largest density error {s.max_density_error:.1%}, 99.9th percentile {s.rhodev_p999:.1%}, mean "
+             f"{s.mean_density_error:.2%}: ")
+        if s.rhodev_p999 > DENSITY_ERROR_LIMIT:   # the bulk of the water, not a splash
+            w += (f"the water was compressed more than weak compressibility allows ({DENSITY_ERROR_LIMIT:.0%}); "
+                  f"raise numerics.c0 (it is {s.c0:.3g} m/s)")
+            case.warnings.append(w)
+            run.log(f"warning: {w}", always=True)
+        else:
+            density_notes.append(w + "only a few particles (an impact, a splash) passed "
+                              f"{DENSITY_ERROR_LIMIT:.0%}; the bulk stayed within it")
     crossed = crossed_wall(s, final)
     nb = int(np.sum(case.particles.kind != FLUID))
     seg_step = segment[1] if segment else step_s
@@ -66,10 +82,11 @@ def summarize(run, status, message, wall, step_s, nsteps, compile_s, segment=Non
         compile_time_s=compile_s, particle_steps_per_s=pps,
         wall_s_per_sim_s=(wall / s.time) if s.time > 0 else None,
         arch=run.arch, leaked_particles=int(s.leaked), crossed_wall=crossed,
-        max_density_error=s.max_density_error, frames=run.frame_no,
+        max_density_error=s.max_density_error, mean_density_error=s.mean_density_error,
+        density_error_p999=s.rhodev_p999, frames=run.frame_no,
         snapshots=len(run.snapshots), c0=float(s.c0), h=float(s.h),
         physics=case.physics.as_dict(), modules=[m.name for m in s.modules],
-        physics_notes=physics_notes(cfg, case.physics),
+        physics_notes=physics_notes(cfg, case.physics) + density_notes,
         warnings=list(case.warnings), mass=mass_balance(case.particles, final), metrics=metrics,
     )
     if run.restart:

@@ -26,7 +26,8 @@ from ..config import ConfigError, physics_from_config
 from ..io import write_station_rows
 from ..particles import ParticleSet, block, density_from_pressure, layered_pressure, tait_B, FLUID, WALL
 from ..render import SAND
-from ..ripples import MIN_HEIGHT_DX, MIN_LENGTH_DX, last_finite, ripple_stats, wiberg_harris
+from ..ripples import (MIN_HEIGHT_DX, MIN_LENGTH_DX, last_finite, periodic_ripples as ripples_counted,
+                       ripple_band, ripple_stats, wiberg_harris)
 from ..probes.control import PIDrive
 from ..case import make_case
 from ..run import common_params, run_scene, sound_speed
@@ -40,8 +41,7 @@ NAME = "tunnel"
 
 DEFAULTS = {
     "run": {"end_time": 40.0},
-    "numerics": {"dx": 0.01, "h_factor": 1.3, "artificial_viscosity": 0.02,
-                 "density_diffusion": "fourtakas", "delta": 0.1},
+    "numerics": dict(coupling.WAVE_NUMERICS, dx=0.01),
     "geometry": {"length": 1.2,                 # periodic length (m)
                  "water_depth": 0.15,           # water above the bed (m)
                  "sand_depth": 0.08,            # sand layer on the rigid floor (m)
@@ -55,8 +55,7 @@ DEFAULTS = {
     "materials": {"water": dict(WATER), "sand": dict(BINGHAM_SAND)},     # the beach's water and sand
     # sediment.model = "bedload": the bed below particle scale (tisph/sediment); grain_density is
     # the grains' own (quartz), not the saturated bed's
-    "sediment": dict(coupling.DEFAULTS, model="bedload", grain_density=2650.0, morfac=10.0, lee_vortex=0.5,
-                     separation_excursion=1.0, seed_rms=0.003),
+    "sediment": dict(coupling.DEFAULTS, **coupling.WAVE_RIPPLES, morfac=10.0, seed_rms=0.003),
     "output": {"frame_interval": 0.05, "probe_interval": 0.05, "width": 960},
 }
 RANGES = {f"geometry.{k}": (0.0, None, k.startswith("seed_ripple"), True) for k in DEFAULTS["geometry"]}
@@ -130,7 +129,7 @@ def build(cfg):
     drive = TunnelDrive(geo)
     Um = drive.Um
     mats = cfg["materials"]
-    c0, u_max = sound_speed(cfg, 1.5 * Um)
+    c0, u_max = sound_speed(cfg, 1.5 * Um, hw + hs, G)
     L = num["wall_layers"]
     h = num["h_factor"] * dx
     ytop = hs + hw
@@ -272,7 +271,7 @@ def _build_bedload(cfg):
     drive = TunnelDrive(geo)
     Um = drive.Um
     rw = cfg["materials"]["water"]["rho0"]
-    c0, u_max = sound_speed(cfg, 1.5 * Um)
+    c0, u_max = sound_speed(cfg, 1.5 * Um, hw, G)
     L, h = num["wall_layers"], num["h_factor"] * dx
     ytop = hs + hw
     lam_wh, eta_wh, regime = wiberg_harris(d0, geo["grain_diameter"])
@@ -290,6 +289,11 @@ def _build_bedload(cfg):
                               amplitude=0.5 * d0, periodic=True, rho_w=rw, omega=drive.omega)
     rows = []
 
+    def ripples_round(zb):
+        """(mean length, mean height) of the ripples counted round the periodic bed."""
+        n, hr = ripples_counted(zb, Lx, ripple_band(zb, dx))
+        return (Lx / n, hr) if n else (float("nan"), float("nan"))
+
     def control(s):
         drive.update(s)
         bed.update(s)
@@ -297,10 +301,10 @@ def _build_bedload(cfg):
     def probe(st):
         zb = bed.bed.z
         rows.append((st["t"],) + tuple(zb))
-        lam, hr, _ = ripple_stats(stations, zb - hs, window=0.5 * Lx, min_length=MIN_LENGTH_DX * dx,
-                                  min_height=0.1 * dx)
+        lam, hr = ripples_round(zb)
         rms = float(np.sqrt(np.mean((zb - bed.z0) ** 2)))
-        return lam, hr, rms, drive.u_free(st), drive.target(st["t"]), float(np.abs(bed.tau).max())
+        return (lam, hr, rms, drive.u_free(st), drive.target(st["t"]), float(np.abs(bed.tau).max()),
+                float(np.mean(bed.u)), float(np.mean(bed.u_eff)))
 
     seen = {}                             # the probe columns, for the growth plot
 
@@ -312,10 +316,12 @@ def _build_bedload(cfg):
                    mobility_number=Um ** 2 / ((sed["grain_density"] / rw - 1) * G * geo["grain_diameter"]))
         out.update(last_finite(c, ("ripple_length", "ripple_height", "bed_change_rms")))
         lam = out["ripple_length"]
-        out["ripple_count"] = int(round(Lx / lam)) if np.isfinite(lam) and lam > 0 else 0
+        out["ripple_count"] = int(round(Lx / lam)) if np.isfinite(lam) and lam > 0 else 0   # exact: lam = Lx / count
         out["ripple_length_over_d0"] = lam / d0
         out["ripple_steepness"] = out["ripple_height"] / lam if lam > 0 else float("nan")
         out["ripple_length_over_prediction"] = lam / lam_wh if lam_wh > 0 else float("nan")
+        out["near_bed_velocity_ratio"] = near_bed_ratio(c["t"], c["u_near_bed"], Um, drive.period)
+        out["effective_velocity_ratio"] = near_bed_ratio(c["t"], c["u_bed_effective"], Um, drive.period)
         return out
 
     def finalize(out, metrics):
@@ -329,11 +335,23 @@ def _build_bedload(cfg):
                                                                B=tait_B(rw, c0))],
                      domain=domain, params=params, physics=physics, view=((0.0, hs - 0.1), (Lx, ytop + 2 * dx)),
                      u_max=u_max, probe_columns=("ripple_length", "ripple_height", "bed_change_rms", "u_free",
-                                                 "u_target", "max_bed_shear"),
+                                                 "u_target", "max_bed_shear", "u_near_bed",
+                                                 "u_bed_effective"),
                      probe=probe, metrics=metrics, finalize=finalize, container=(-1e9, float(z.min()) - L * dx, 1e9,
                                                                                 float("inf")),
                      control=control, control_every=sed["update_every"], persist=(drive.ctl, bed, rows),
                      **bed.picture())
+
+
+def near_bed_ratio(t, u, Um, period):
+    """The amplitude of a near-bed velocity series u(t) (averaged along the bed) over U_m, in the
+    last two periods: what the bed reads of the free stream (1: all of it; a numerical boundary
+    layer thicker than the reference height reads less). NaN before three periods."""
+    t, u = np.asarray(t, float), np.asarray(u, float)
+    if len(t) < 4 or t[-1] < 3.0 * period:
+        return float("nan")
+    last = t >= t[-1] - 2.0 * period
+    return float(0.5 * (u[last].max() - u[last].min()) / Um)
 
 
 def _bedload_particles(cfg, stations, z, c0):

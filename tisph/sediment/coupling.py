@@ -49,6 +49,11 @@ DEFAULTS = {
     # wall_function: Launder & Spalding's, from the k equation's k as well, scaled the same way
     "shear": "waves",
     "reference_height": 1.5,       # z_r / dx: where the near-bed velocity is read
+    # shear = "waves": the near-bed velocity is scaled so its amplitude, averaged along the bed over
+    # one orbital diameter, is the amplitude outer_height dx above the bed (above the SPH's near-wall
+    # layer: the tunnel's bed reads 0.70 of U_m at 1.5 dx and 0.65 at dx / 1.5; 0.95 and 0.93
+    # scaled from 6 dx); 0: not scaled
+    "outer_height": 6.0,
     "filter_time": 0.05,           # s: time constant of the near-bed velocity's filter
     "update_every": 10,            # steps between bed updates
     "morph_start": 0.0,            # s: the bed stays put until then while the flow spins up (Delft3D's MorStt)
@@ -68,7 +73,7 @@ RANGES = {"sediment.porosity": (0.0, 0.9, True, True), "sediment.repose_angle": 
           "sediment.shields_critical": (0.0, 1.0, True, True), "sediment.saturation_length": (0.0, None, True, True),
           "sediment.deposition_length": (0.0, None, True, True),
           "sediment.gravity_coefficient": (0.0, 10.0, True, True), "sediment.morfac": (1.0, 1000.0, True, True),
-          "sediment.reference_height": (0.5, 5.0, True, True), "sediment.filter_time": (0.0, None, True, True),
+          "sediment.reference_height": (0.5, 5.0, True, True), "sediment.outer_height": (0.0, 10.0, True, True), "sediment.filter_time": (0.0, None, True, True),
           "sediment.update_every": (1, 1000, True, True), "sediment.morph_start": (0.0, None, True, True),
           "sediment.lee_vortex": (0.0, 1.0, True, True),
           "sediment.separation_length": (0.0, 50.0, True, True), "sediment.separation_slope": (0.0, 60.0, True, True),
@@ -77,6 +82,15 @@ RANGES = {"sediment.porosity": (0.0, 0.9, True, True), "sediment.repose_angle": 
           "sediment.seed": (0, None, True, True)}
 CHOICES = {"sediment.model": ("particles", "bedload"), "sediment.formula": ("mpm", "nielsen"),
            "sediment.shear": ("waves", "log", "log_far_field", "wall_function")}
+# One set of bed parameters for sand under waves, the tunnel's and the beach's alike (docs/sediment.md
+# says which are empirical and what they were chosen on); a scene adds only its physical inputs
+# (morfac, the initial roughness seed_rms). The pipeline's current differs in its physics.
+WAVE_RIPPLES = dict(model="bedload", grain_density=2650.0, shear="waves", reference_height=1.5, outer_height=6.0,
+                    lee_vortex=0.5, separation_length=6.0, separation_slope=10.0, separation_excursion=0.6)
+# the numerics of the water over it: the near-bed flow must not be slowed by artificial viscosity
+# (alpha h c0 / 8 is an eddy viscosity; its Stokes layer at the tunnel's c0 is 1.6 dx thick)
+WAVE_NUMERICS = dict(h_factor=1.3, artificial_viscosity=0.0, laminar_viscosity=True, density_diffusion="fourtakas",
+                     delta=0.1)
 # the fastest the bed may move, in units of the sound speed (BedCoupler.check_speed)
 BED_MACH = 0.2
 # the shears scaled to the far field (the pipeline's undisturbed bed and its current's u*)
@@ -95,6 +109,17 @@ def refuse_unused_sediment_keys(cfg, scene_defaults):
                                  "the sand is SPH particles; the [sediment] keys set the bed-load bed "
                                  "(sediment.model = \"bedload\")")
                      for k, v in sed.items() if k != "model" and k in base and v != base[k]])
+
+
+def running_mean(v, w, periodic):
+    """v averaged over w (odd) neighbouring stations: periodic, or over the stations there are at
+    the ends of a closed bed."""
+    v = np.asarray(v, float)
+    k = np.ones(w)
+    if periodic:
+        pad = np.concatenate([v[-(w // 2):], v, v[:w // 2]])
+        return np.convolve(pad, k / w, mode="valid")
+    return np.convolve(v, k, mode="same") / np.convolve(np.ones_like(v), k, mode="same")
 
 
 def initial_bed(stations, z, sed, dx):
@@ -184,6 +209,13 @@ class BedCoupler:
         self.w_s = sed["settling_velocity"] or settling_velocity(d50, self.bed.s)
         self.suspended = 0.0                 # sand volume in the water per unit width (m2)
         self.u = np.zeros(len(stations))
+        # the outer scaling (shear = "waves", outer_height > 0): the filtered velocity at the outer
+        # height, the (t, u, u_outer) history over the last wave period, and the scale it gives
+        self.outer = sed["shear"] == "waves" and sed["outer_height"] > 0 and omega > 0
+        self.u_outer = np.zeros(len(stations))
+        self.u_outer_now = None
+        self.outer_factor = np.ones(len(stations))
+        self.u_eff = np.zeros(len(stations))
         self.k = np.zeros(len(stations))     # the filtered k at z_r (shear = "wall_function")
         self.tau = np.zeros(len(stations))
         self.t = 0.0
@@ -192,15 +224,19 @@ class BedCoupler:
         """(Tangential water velocity, k or None) at z_r above the bed at each station (NaN: no
         water there), sampled on the solver's own cells (Solver.sample_velocity); k, in the same
         pass, for the wall function only."""
-        pts = np.column_stack([self.stations, self.bed.z + self.sed["reference_height"] * self.dx])
+        heights = [self.sed["reference_height"]] + ([self.sed["outer_height"]] if self.outer else [])
+        pts = np.vstack([np.column_stack([self.stations, self.bed.z + z * self.dx]) for z in heights])
         k = None
         if self.sed["shear"] == "wall_function":
             u, k = s.sample_velocity(pts, tke=True)
         else:
             u = s.sample_velocity(pts)
-        dzdx = self.bed.slope()
-        n = np.sqrt(1.0 + dzdx * dzdx)
-        return (u[:, 0] + u[:, 1] * dzdx) / n, k
+        dzdx = np.tile(self.bed.slope(), len(heights))
+        ut = (u[:, 0] + u[:, 1] * dzdx) / np.sqrt(1.0 + dzdx * dzdx)
+        n = len(self.stations)
+        if self.outer:
+            self.u_outer_now = ut[n:]
+        return ut[:n], k
 
     def shear(self, u):
         kind = self.sed["shear"]
@@ -217,6 +253,28 @@ class BedCoupler:
             tau = lee_vortex_shear(tau, self.bed.z, self.dx, u, self.sed, self.bed.periodic, self.amplitude,
                                    self.mobility())
         return tau
+
+    def outer_scale(self, full_period):
+        """The factor on the near-bed velocity at each station: the amplitude outer_height dx above
+        the bed over the amplitude at z_r, each over the last wave period and averaged along the bed
+        over one orbital diameter (a ripple's crest speed-up and lee slow-down stay in the near-bed
+        velocity; the numerical boundary layer's loss, uniform over that length, goes). Swart's f_w
+        relates the bed shear to the orbital velocity outside the wave boundary layer, which the
+        SPH resolves only above its own near-wall layer of a few dx. 1 until a whole period has
+        been seen, and where either reading is dry."""
+        if not full_period:
+            return np.ones(len(self.stations))
+        h = self.history
+        ur = np.array([x[1] for x in h])
+        uo = np.array([x[2] for x in h])
+        ar = 0.5 * (ur.max(0) - ur.min(0))
+        ao = 0.5 * (uo.max(0) - uo.min(0))
+        amp = np.asarray(self.amplitude, float)
+        d0 = 2.0 * float(np.median(amp[amp > 0])) if np.any(amp > 0) else 0.0
+        w = max(3, int(round(d0 / self.dx)) | 1)
+        ar_s, ao_s = (running_mean(v, w, self.bed.periodic) for v in (ar, ao))
+        ok = (ar_s > 1e-9) & (ao_s > 0)
+        return np.where(ok, ao_s / np.where(ok, ar_s, 1.0), 1.0)
 
     def to_far_field(self, tau):
         """tau scaled so that its median magnitude over the far field's stations is tau_inf."""
@@ -244,14 +302,23 @@ class BedCoupler:
         self.u += a * (u - self.u)
         if k is not None:
             self.k += a * (np.where(np.isfinite(k), k, 0.0) - self.k)
-        if self.measured:
+        if self.outer:
+            uo = self.u_outer_now
+            self.u_outer += a * (np.where(np.isfinite(uo), uo, self.u_outer) - self.u_outer)
+        if self.measured or self.outer:
             period = 2.0 * np.pi / self.omega
-            self.history.append((s.time, self.u.copy()))
+            self.history.append((s.time, self.u.copy(), self.u_outer.copy()))
             while self.history[0][0] < s.time - period:
                 self.history.popleft()
-            us = np.array([u for _, u in self.history])
-            self.amplitude = 0.5 * (us.max(0) - us.min(0)) / self.omega
-        self.tau = self.shear(self.u)
+            if self.outer:
+                self.outer_factor = self.outer_scale(s.time - self.history[0][0] >= 0.95 * period)
+            self.u_eff = self.u * self.outer_factor
+            if self.measured:
+                us = np.array([h[1] for h in self.history]) * self.outer_factor
+                self.amplitude = 0.5 * (us.max(0) - us.min(0)) / self.omega
+        else:
+            self.u_eff = self.u
+        self.tau = self.shear(self.u_eff)
         moving = s.time > self.sed["morph_start"]
         dt = min(dt, s.time - self.sed["morph_start"]) if moving else 0.0
         deposit = self.exchange(s, dt) if self.sed["suspended"] else None

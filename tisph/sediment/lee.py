@@ -35,15 +35,17 @@ def lee_vortex_shear(tau, z, dx, u, sed, periodic=True, amplitude=0.0, mobility=
             return j
         return j % n if periodic else None
 
-    for c in range(n):
-        d = int(np.sign(u[c]))
-        if d == 0:
-            continue
-        left, right = nxt(c, -d), nxt(c, d)
-        up = z[left] if left is not None else z[c]
-        down = z[right] if right is not None else z[c]
-        if not (z[c] >= up and z[c] > down):
-            continue                               # not a crest
+    d_all = np.sign(u).astype(int)
+    idx = np.arange(n)
+    if periodic:
+        zl, zr = np.roll(z, 1), np.roll(z, -1)
+    else:
+        zl, zr = np.append(z[0], z[:-1]), np.append(z[1:], z[-1])
+    up_all = np.where(d_all > 0, zl, zr)          # the upstream neighbour (the end's own height)
+    down_all = np.where(d_all > 0, zr, zl)
+    crests = idx[(d_all != 0) & (z >= up_all) & (z > down_all)]
+    for c in crests:
+        d = int(d_all[c])
         k, trough, steepest = c, z[c], 0.0
         while True:                                # down the lee to the trough
             j = nxt(k, d)

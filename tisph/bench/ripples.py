@@ -1,0 +1,212 @@
+"""--ripples: the oscillating tunnel over a range of orbital diameters, periods and mobility
+numbers, every parameter at its default, through the Dask sweep (tisph.sweep): the ripple length
+over d0 and the steepness against Wiberg & Harris (1994)'s orbital ripples (0.62 d0, steepness
+0.17; the band 0.5-0.75 d0, 0.10-0.20), and above mobility 240 no ripples (sheet flow, van der A et
+al. 2013). The default tunnel (d0 = 0.3 m, T = 2 s) is the case the lee-zone constants were chosen
+on; it is run from seeded ripples of 0.3 d0 and 1.5 d0 and at dx / 1.5 too. Every other case is
+a check the constants were not chosen on.
+
+Each case's periodic length holds at least 6.5 predicted ripples and it runs 20 wave periods
+(200 periods of bed change at morfac 10). Writes OUT/ripples.md, ripples.csv, ripples.png (length
+and steepness against d0 with the bands) and growth.png (the length against bed periods).
+"""
+import math
+import os
+import sys
+
+import numpy as np
+
+from ..io import read_csv, write_csv, write_text
+from ..ripples import wiberg_harris
+from .common import table
+
+GRAIN = 0.0003                 # d50 (m): the tunnel's default
+S_GRAIN = 2.65                 # quartz
+PERIODS = 20                   # wave periods per case
+MIN_RIPPLES = 6.5              # predicted ripples in the periodic length
+CALIBRATION = (0.3, 2.0)
+# (d0 m, T s): mobility 20-170 with ripples, and two above 240 (sheet flow)
+SWEEP = [(0.15, 1.5), (0.2, 2.0), (0.3, 3.0), (0.45, 3.5), (0.3, 2.0), (0.6, 3.5), (0.5, 2.5),
+         (0.4, 1.75), (0.4, 1.5), (0.5, 1.75), (0.6, 1.6), (0.55, 1.4)]
+BAND = (0.5, 0.75)             # Wiberg & Harris's orbital ripples, over d0
+STEEP_BAND = (0.10, 0.20)
+SHEET_STEEPNESS = 0.03         # above mobility 240 a bed this flat has no ripples
+
+
+def mobility(d0, T, d50=GRAIN, s=S_GRAIN, g=9.81):
+    """psi = (A omega)^2 / ((s - 1) g d50), A = d0 / 2."""
+    return (math.pi * d0 / T) ** 2 / ((s - 1.0) * g * d50)
+
+
+def periodic_length(d0, dx):
+    """At least MIN_RIPPLES predicted ripples, a whole number of dx, and at least 0.6 m."""
+    lam = wiberg_harris(d0, GRAIN)[0]
+    return round(max(MIN_RIPPLES * lam, 0.6) / dx) * dx
+
+
+def cases(dx=0.01, quick=False):
+    """[(label, kind, overrides)] of the sweep: kind 'calibration', 'check', 'sheet', 'seeded',
+    'resolution'."""
+    out = []
+    for d0, T in SWEEP:
+        kind = ("calibration" if (d0, T) == CALIBRATION else "sheet" if mobility(d0, T) > 240 else "check")
+        out.append((f"d0 {d0:g} T {T:g}", kind, {"geometry.orbital_diameter": d0, "geometry.period": T,
+                                                  "geometry.length": periodic_length(d0, dx),
+                                                  "run.end_time": PERIODS * T, "numerics.dx": dx}))
+    d0, T = CALIBRATION
+    base = {"geometry.orbital_diameter": d0, "geometry.period": T, "geometry.length": periodic_length(d0, dx),
+            "run.end_time": PERIODS * T, "numerics.dx": dx}
+    for f in (0.3, 1.5):
+        out.append((f"seeded {f:g} d0", "seeded", dict(base, **{"geometry.seed_ripple_length": f * d0,
+                                                                "geometry.seed_ripple_height": 0.17 * f * d0 * 0.5})))
+    out.append(("dx / 1.5", "resolution", dict(base, **{"numerics.dx": round(dx / 1.5, 6)})))
+    if quick:   # exercise every path in seconds
+        out = [(lab, kind, dict(ov, **{"run.end_time": 0.2, "geometry.length": 0.3, "numerics.dx": 0.015}))
+               for lab, kind, ov in out[:1] + out[-1:]]
+    return out
+
+
+def growth(path):
+    """(t, ripple length) of a case's probes.csv (empty arrays if missing)."""
+    try:
+        _, cols = read_csv(path)
+    except OSError:
+        return np.array([]), np.array([])
+    return np.array(cols["t"]), np.array(cols["ripple_length"])
+
+
+def held_bed_periods(t, lam, T, morfac=10.0):
+    """Bed periods (wave periods x morfac) since the ripple count last changed, to the run's end:
+    how long the final length has held. 0 without a series."""
+    if len(t) < 2:
+        return 0.0
+    lam = np.where(np.isfinite(lam), lam, -1.0)
+    changed = np.nonzero(lam[1:] != lam[:-1])[0]
+    since = t[changed[-1] + 1] if len(changed) else t[0]
+    return float((t[-1] - since) / T * morfac)
+
+
+def in_band(row):
+    if row["kind"] == "sheet":
+        return bool(np.isfinite(row["steepness"]) and row["steepness"] < SHEET_STEEPNESS) or row["count"] == 0
+    return (BAND[0] <= row["lam_d0"] <= BAND[1]) and (STEEP_BAND[0] <= row["steepness"] <= STEEP_BAND[1])
+
+
+def num(v):
+    """A summary's number, NaN for a null (a metric the run could not measure)."""
+    return float("nan") if v is None else float(v)
+
+
+def rows_from(out, plan):
+    import json
+    rows = []
+    for (cid, _, ov), (label, kind, _) in plan:
+        try:
+            with open(os.path.join(out, cid, "summary.json")) as f:
+                s = json.load(f)
+        except (OSError, ValueError):
+            s = {"status": "missing", "metrics": {}}
+        m = s.get("metrics", {})
+        d0, T = ov["geometry.orbital_diameter"], ov["geometry.period"]
+        lam, h = m.get("ripple_length"), m.get("ripple_height")
+        lam = float(lam) if lam is not None else float("nan")
+        count = int(m.get("ripple_count") or 0)
+        steep = (float(h) / lam) if (h is not None and count > 0 and lam > 0) else \
+            float(m.get("bed_change_rms") or 0.0) * 2.83 / ov["geometry.length"]
+        rows.append(dict(label=label, kind=kind, d0=d0, T=T, psi=mobility(d0, T), dx=ov["numerics.dx"],
+                         length=ov["geometry.length"], lam_d0=lam / d0, steepness=steep, count=count,
+                         rho_max=num(s.get("max_density_error")), rho_mean=num(s.get("mean_density_error")),
+                         near_bed=num(m.get("near_bed_velocity_ratio")),
+                         particles=s.get("particles", 0), steps=s.get("steps", 0), wall=num(s.get("wall_time_s")), status=s.get("status"), dir=os.path.join(out, cid)))
+        t, lam_t = growth(os.path.join(out, cid, "probes.csv"))
+        rows[-1]["held"] = held_bed_periods(t, lam_t, T, float(m.get("morfac") or 10.0))
+        rows[-1]["in_band"] = in_band(rows[-1])
+    return rows
+
+
+def plot(rows, path_fig, path_growth):
+    from ..probes.plots import pyplot, save
+    plt = pyplot()
+    fig, (a1, a2) = plt.subplots(1, 2, figsize=(10, 4))
+    marks = {"calibration": ("*", "C3", "calibration case"), "check": ("o", "C0", "checks"),
+             "sheet": ("x", "C2", "sheet flow (mobility > 240)"), "seeded": ("s", "C1", "seeded 0.3 / 1.5 d0"),
+             "resolution": ("^", "C4", "dx / 1.5")}
+    for kind, (m, c, lab) in marks.items():
+        rr = [r for r in rows if r["kind"] == kind]
+        if not rr:
+            continue
+        a1.plot([r["d0"] for r in rr], [r["lam_d0"] for r in rr], m, color=c, label=lab, ms=8)
+        a2.plot([r["d0"] for r in rr], [r["steepness"] for r in rr], m, color=c, label=lab, ms=8)
+    for ax, band, ref, name in ((a1, BAND, 0.62, "ripple length / d0"), (a2, STEEP_BAND, 0.17, "steepness")):
+        ax.axhspan(*band, color="0.9", label="Wiberg & Harris band")
+        ax.axhline(ref, color="k", lw=1, label="Wiberg & Harris")
+        ax.set_xlabel("orbital diameter d0 (m)")
+        ax.set_ylabel(name)
+        ax.grid(alpha=0.3)
+    a1.legend(fontsize=7)
+    a1.set_title("ripple length at the end, every case at the defaults")
+    a2.set_title("steepness (height / length)")
+    save(fig, path_fig)
+    fig, ax = plt.subplots(figsize=(8, 4.5))
+    for k, r in enumerate(rows):
+        t, lam = growth(os.path.join(r["dir"], "probes.csv"))
+        if len(t):
+            morfac = 10.0
+            ax.plot(t / r["T"] * morfac, lam / r["d0"], color=f"C{k % 10}", lw=1,
+                    label=f"{r['label']} ({r['kind']})")
+    ax.axhspan(*BAND, color="0.9")
+    ax.set_xlabel("bed periods (wave periods x morfac 10)")
+    ax.set_ylabel("mean ripple length / d0")
+    ax.set_ylim(0, 2)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=6, ncol=2)
+    save(fig, path_growth)
+
+
+def report(rows, wall):
+    head = ("case", "kind", "d0 m", "T s", "mobility", "dx m", "ripples", "length / d0", "steepness", "in band",
+            "held (bed periods)",
+            "density error max / mean", "near-bed / U_m", "particles", "steps", "wall s")
+    body = [(r["label"], r["kind"], f"{r['d0']:g}", f"{r['T']:g}", f"{r['psi']:.0f}", f"{r['dx']:g}", r["count"],
+             f"{r['lam_d0']:.2f}", f"{r['steepness']:.3f}", "yes" if r["in_band"] else "**no**", f"{r['held']:.0f}",
+             f"{r['rho_max']:.1%} / {r['rho_mean']:.2%}", f"{r['near_bed']:.2f}", r["particles"], r["steps"],
+             f"{r['wall']:.0f}") for r in rows]
+    ok = sum(r["in_band"] for r in rows)
+    return "\n".join(["# Ripples against the orbital diameter", "",
+                      f"{len(rows)} tunnel cases, {ok} in the band (length 0.5-0.75 d0 and steepness 0.10-0.20; "
+                      f"sheet flow: steepness under {SHEET_STEEPNESS}), {wall:.0f} s of wall time.", "",
+                      table(head, body), "", "![length and steepness against d0](ripples.png)", "",
+                      "![growth](growth.png)", ""])
+
+
+def main(a):
+    from .. import sweep
+    from ..io import ensure_dir
+    out = os.path.abspath(os.path.join(a.out, "ripples"))
+    ensure_dir(out)
+    plan_cases = cases(quick=a.quick or a.dry_run)
+    keys = sorted({k for _, _, ov in plan_cases for k in ov})
+    from ..scenes import tunnel
+    defaults = {"geometry.seed_ripple_length": 0.0, "geometry.seed_ripple_height": 0.0}
+    sets = [(k, [ov.get(k, defaults.get(k)) for _, _, ov in plan_cases]) for k in keys]
+    argv = ["tunnel", "--zip", "--out", out, "--resume"] + sum(
+        [["--set", f"{k}=" + ",".join(repr(v) for v in vals)] for k, vals in sets], [])
+    if a.scheduler:
+        argv += ["--scheduler", a.scheduler]
+    import time
+    t0 = time.perf_counter()
+    code = sweep.main(argv)
+    wall = time.perf_counter() - t0
+    planned = sweep.plan(tunnel, None, sweep.parse_sets([f"{k}=" + ",".join(repr(v) for v in vals)
+                                                         for k, vals in sets]), True, out, {"output.render": False})
+    rows = rows_from(out, list(zip(planned, plan_cases)))
+    cols = [k for k in rows[0] if k != "dir"]
+    write_csv(os.path.join(out, "ripples.csv"), cols, [tuple(r[k] for k in cols) for r in rows])
+    try:
+        plot(rows, os.path.join(out, "ripples.png"), os.path.join(out, "growth.png"))
+    except Exception as e:    # the table stands without the figure
+        print(f"warning: no ripple figure: {e}", file=sys.stderr)
+    md = report(rows, wall)
+    write_text(os.path.join(out, "ripples.md"), md)
+    print(md)
+    return code
