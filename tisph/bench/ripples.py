@@ -6,8 +6,9 @@ al. 2013). The default tunnel (d0 = 0.3 m, T = 2 s) is the case the lee-zone con
 on; it is run from seeded ripples of 0.3 d0 and 1.5 d0 and at dx / 1.5 too. Every other case is
 a check the constants were not chosen on.
 
-Each case's periodic length holds at least 6.5 predicted ripples and it runs 20 wave periods
-(200 periods of bed change at morfac 10). Writes OUT/ripples.md, ripples.csv, ripples.png (length
+Each case's periodic length holds at least 6.5 predicted ripples, its dx gives the predicted
+ripple 18.6 spacings (as in the default tunnel; 5 mm to 2 cm), and it runs 20 wave periods (200
+periods of bed change at morfac 10). Writes OUT/ripples.md, ripples.csv, ripples.png (length
 and steepness against d0 with the bands) and growth.png (the length against bed periods).
 """
 import math
@@ -25,6 +26,7 @@ S_GRAIN = 2.65                 # quartz
 PERIODS = 20                   # wave periods per case
 MIN_RIPPLES = 6.5              # predicted ripples in the periodic length
 CALIBRATION = (0.3, 2.0)
+RIPPLE_DX = 18.6               # predicted ripple length over dx in every case (the default tunnel's)
 # (d0 m, T s): mobility 20-170 with ripples, and two above 240 (sheet flow)
 SWEEP = [(0.15, 1.5), (0.2, 2.0), (0.3, 3.0), (0.45, 3.5), (0.3, 2.0), (0.6, 3.5), (0.5, 2.5),
          (0.4, 1.75), (0.4, 1.5), (0.5, 1.75), (0.6, 1.6), (0.55, 1.4)]
@@ -41,19 +43,28 @@ def mobility(d0, T, d50=GRAIN, s=S_GRAIN, g=9.81):
 def periodic_length(d0, dx):
     """At least MIN_RIPPLES predicted ripples, a whole number of dx, and at least 0.6 m."""
     lam = wiberg_harris(d0, GRAIN)[0]
-    return round(max(MIN_RIPPLES * lam, 0.6) / dx) * dx
+    return round(round(max(MIN_RIPPLES * lam, 0.6) / dx) * dx, 6)
 
 
-def cases(dx=0.01, quick=False):
+def resolved_dx(d0):
+    """dx that gives the predicted ripple as many spacings as the default tunnel's (0.186 m at
+    1 cm: 18.6), between 5 mm and 2 cm: every length the model takes in dx (the reference and
+    outer heights, the saturation length, the seed's smoothing) then scales with the ripple."""
+    return min(max(round(wiberg_harris(d0, GRAIN)[0] / RIPPLE_DX, 4), 0.005), 0.02)
+
+
+def cases(quick=False):
     """[(label, kind, overrides)] of the sweep: kind 'calibration', 'check', 'sheet', 'seeded',
     'resolution'."""
     out = []
     for d0, T in SWEEP:
         kind = ("calibration" if (d0, T) == CALIBRATION else "sheet" if mobility(d0, T) > 240 else "check")
+        dx = resolved_dx(d0)
         out.append((f"d0 {d0:g} T {T:g}", kind, {"geometry.orbital_diameter": d0, "geometry.period": T,
                                                   "geometry.length": periodic_length(d0, dx),
                                                   "run.end_time": PERIODS * T, "numerics.dx": dx}))
     d0, T = CALIBRATION
+    dx = resolved_dx(d0)
     base = {"geometry.orbital_diameter": d0, "geometry.period": T, "geometry.length": periodic_length(d0, dx),
             "run.end_time": PERIODS * T, "numerics.dx": dx}
     for f in (0.3, 1.5):
