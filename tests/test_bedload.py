@@ -474,3 +474,21 @@ def test_bed_faster_than_the_water_allows_stops_the_run_with_a_message():
                                                r"station x = [0-9.]+ m, dz_b/dt = -?[0-9.]+ m/s \(c0 = 1 m/s\); "
                                                r"the bed's highest shear [0-9.]+ Pa \(Shields [0-9.]+\) at x = "):
         run(1.0)
+
+
+def test_a_ripple_under_twelve_spacings_is_warned_about():
+    """A tunnel whose predicted ripple spans under RESOLVED_DX spacings says so (and the dx that
+    resolves it); one that resolves it does not."""
+    import warnings
+    from tisph.ripples import RESOLVED_DX
+    from tisph.run import resolve
+    from tisph.scenes import tunnel
+    for dx, warned in ((0.01, False), (0.02, True)):
+        cfg = resolve(tunnel, None, {"numerics.dx": dx})
+        with warnings.catch_warnings(record=True) as w:
+            warnings.simplefilter("always")
+            tunnel.build(cfg)
+        msgs = [str(x.message) for x in w if "predicted ripple" in str(x.message)]
+        assert bool(msgs) == warned, msgs
+        if warned:
+            assert f"{0.186 / RESOLVED_DX:.3g} m" in msgs[0] and "9.3 dx" in msgs[0]

@@ -23,6 +23,19 @@ import numpy as np
 # of 0.5 Pa wandering under the oscillation as bumps of 0.33 dx.
 MIN_LENGTH_DX = 3.0
 MIN_HEIGHT_DX = 0.5
+# a ripple the bed model resolves: its predicted length at least this many spacings (below it the
+# grid sets the length as much as the waves do: docs/sediment.md)
+RESOLVED_DX = 12.0
+
+
+def warn_unresolved(length, dx, where):
+    """A warning (captured into summary.json and printed at the start) when the predicted ripple
+    is shorter than RESOLVED_DX spacings."""
+    if 0 < length < RESOLVED_DX * dx:
+        import warnings
+        warnings.warn(f"the predicted ripple {where} is {length:.3g} m, {length / dx:.1f} dx: the bed model "
+                      f"resolves ripples of at least {RESOLVED_DX:g} dx, so its ripple length here is set by the grid "
+                      f"as much as by the waves; numerics.dx at most {length / RESOLVED_DX:.3g} m resolves it")
 
 
 def high_pass(x, z, window):

@@ -27,7 +27,7 @@ from ..io import write_station_rows
 from ..particles import ParticleSet, block, density_from_pressure, layered_pressure, tait_B, FLUID, WALL
 from ..render import SAND
 from ..ripples import (MIN_HEIGHT_DX, MIN_LENGTH_DX, last_finite, periodic_ripples as ripples_counted,
-                       ripple_band, ripple_stats, wiberg_harris)
+                       ripple_band, ripple_stats, warn_unresolved, wiberg_harris)
 from ..probes.control import PIDrive
 from ..case import make_case
 from ..run import common_params, run_scene, sound_speed
@@ -275,6 +275,7 @@ def _build_bedload(cfg):
     L, h = num["wall_layers"], num["h_factor"] * dx
     ytop = hs + hw
     lam_wh, eta_wh, regime = wiberg_harris(d0, geo["grain_diameter"])
+    warn_unresolved(lam_wh, dx, "(Wiberg & Harris for d0)")
     n_seed = seed_count(geo, lam_wh)
     stations = (np.arange(int(round(Lx / dx))) + 0.5) * dx
     z = hs + 0.5 * geo["seed_ripple_height"] * np.sin(2 * np.pi * n_seed * stations / Lx)

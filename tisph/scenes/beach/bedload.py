@@ -17,7 +17,7 @@ from ...constants import G
 from ...config import physics_from_config
 from ...io import write_csv, write_station_rows
 from ...particles import ParticleSet, block, density_from_pressure, tait_B, FLUID, WALL, MOVING
-from ...ripples import MIN_LENGTH_DX, ripple_stats, wiberg_harris, last_finite
+from ...ripples import MIN_LENGTH_DX, last_finite, orbital_diameter, ripple_stats, warn_unresolved, wiberg_harris
 from ...case import make_case
 from ...run import common_params, sound_speed
 from ...probes.gauges import surface_at
@@ -42,6 +42,7 @@ def build_bedload(cfg, name, stills):
     rw = cfg["materials"]["water"]["rho0"]
     omega, k, wavelength, cg, hs_ratio = linear_wave(cfg, d)
     H_biesel = hs_ratio * p["stroke"]
+    warn_unresolved(0.62 * orbital_diameter(H_biesel, k, d), dx, "at the toe (Wiberg & Harris for the linear-wave d0)")
     c0, u_max = sound_speed(cfg, math.sqrt(G * (d + H_biesel)))
     L, h = num["wall_layers"], num["h_factor"] * dx
     T = L * dx
