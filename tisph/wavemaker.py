@@ -88,12 +88,16 @@ def wavenumber(omega, depth, g=9.81):
 
 
 def biesel_piston(kh):
-    """Piston wave maker, H/S = 2 (cosh 2kh - 1) / (sinh 2kh + 2kh) (Biesel 1951; Dean & Dalrymple)."""
+    """Piston wave maker, H/S = 2 (cosh 2kh - 1) / (sinh 2kh + 2kh) (Biesel 1951; Dean & Dalrymple).
+    Past kh = 20 the deep-water value 2 to round-off (and no overflow)."""
+    kh = min(kh, 20.0)
     return 2 * (math.cosh(2 * kh) - 1) / (math.sinh(2 * kh) + 2 * kh)
 
 
 def biesel_flap(kh):
-    """Flap hinged at the bed, H/S = (4 sinh kh / kh) (kh sinh kh - cosh kh + 1) / (sinh 2kh + 2kh)."""
+    """Flap hinged at the bed, H/S = (4 sinh kh / kh) (kh sinh kh - cosh kh + 1) / (sinh 2kh + 2kh).
+    Past kh = 20 its value there (1 - 1/kh to round-off; no overflow)."""
+    kh = min(kh, 20.0)
     return 4 * math.sinh(kh) / kh * (kh * math.sinh(kh) - math.cosh(kh) + 1) / (math.sinh(2 * kh) + 2 * kh)
 
 
@@ -110,7 +114,8 @@ def madsen_second_order(stroke, k, depth):
 
 def group_velocity(omega, k, depth):
     c = omega / k
-    return 0.5 * c * (1 + 2 * k * depth / math.sinh(2 * k * depth))
+    kh = min(k * depth, 20.0)    # deep water past it (and no overflow)
+    return 0.5 * c * (1 + 2 * kh / math.sinh(2 * kh))
 
 
 def wave_height(t, eta, t0, t1, period):
@@ -149,8 +154,16 @@ class Gauges:
     level, zeroed at the first reading (the still water of t = 0), as a laboratory gauge is: the
     SPH surface of a particle lattice reads about dx/2 under the water's mass level."""
 
-    def __init__(self, xs, dx, h, level, columns=None):
+    def __init__(self, xs, dx, h, level, columns=None, dry_from=float("inf")):
+        """dry_from: where the bed stands above the still water (a beach's shoreline): a gauge
+        there reads no wave height (None in the metrics) and is warned about."""
         self.xs = [float(x) for x in xs]
+        self.dry = [x for x in self.xs if x >= dry_from]
+        if self.dry:
+            import warnings
+            warnings.warn(f"gauges at x = {', '.join(f'{x:g}' for x in self.dry)} m stand on dry land (the "
+                          f"still-water shoreline is at x = {dry_from:.3g} m): their wave heights are reported "
+                          "as null")
         self.dx, self.h, self.level = dx, h, level
         self.columns = tuple(columns or (f"eta_x{x:.2f}" for x in self.xs))
         self.zero = []
@@ -166,7 +179,9 @@ class Gauges:
         have reached it at the group velocity cg (at the paddle's depth: on a slope, where waves
         slow, an early bound) and to the end of the run."""
         return dict(gauges_x=list(self.xs),
-                    wave_height_at_gauges=[height_at(c, col, x, p, cg)[0] for x, col in zip(self.xs, self.columns)])
+                    wave_height_at_gauges=[None if x in self.dry else height_at(c, col, x, p, cg)[0]
+                                           for x, col in zip(self.xs, self.columns)],
+                    gauges_on_dry_land=list(self.dry))
 
 
 # ---------------------------------------------------------------- a paddle from a scene's config
@@ -299,12 +314,16 @@ def check_paddle(cfg, depth, length, default_stroke=None):
         check_irregular(cfg, depth)
         return
     # a shallow-water piston moves the whole column: a stroke beyond the depth makes a bore, not a wave
+    from .plausible import check_regular_waves, unit_guess
     if p["stroke"] > depth:
-        raise ConfigError("paddle.stroke", p["stroke"], f"at most the depth at the paddle ({depth:g} m)")
+        raise ConfigError("paddle.stroke", p["stroke"], f"at most the depth at the paddle ({depth:g} m){unit_guess(cfg)}")
     if not p["series"] and p["stroke"] < dx:
         raise ConfigError("paddle.stroke", p["stroke"], f"at least dx = {dx:g} m (the paddle must move a particle spacing)")
     if p["series"]:
         read_series(p["series"])
+    else:
+        _, k, _, _, ratio = linear_wave(cfg, depth)
+        check_regular_waves(cfg, "paddle.wave_height" if H > 0 else "paddle.stroke", ratio * p["stroke"], k, depth)
     if p["order"] == 2 and (p["type"] != "piston" or p["series"]):
         raise ConfigError("paddle.order", 2, "1 with a flap or a series (the second-order stroke is Madsen's "
                           "for a piston's regular waves)")

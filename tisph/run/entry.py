@@ -7,6 +7,7 @@ from ..cli import make_parser, overrides_from_args
 from ..config import ConfigError, build_config, dump_toml
 from ..sediment.coupling import refuse_unused_sediment_keys
 from ..io import OutputError, ensure_dir
+from ..plausible import check_materials
 from ..particles import FLUID
 from .loop import Run
 from .setup import Log, build_case
@@ -65,6 +66,7 @@ def resolve(scene, config=None, overrides=None):
     cfg = build_config(scene.DEFAULTS, config, overrides or {},
                        getattr(scene, "RANGES", None), getattr(scene, "CHOICES", None))
     refuse_unused_sediment_keys(cfg, scene.DEFAULTS)
+    check_materials(cfg)
     if hasattr(scene, "check"):
         scene.check(cfg)
     return cfg

@@ -30,6 +30,7 @@ from ..case import make_case
 from ..run import common_params, run_scene, sound_speed
 from .. import wavemaker as wm
 from ..constants import G
+from ..plausible import warn_waves, warn_window
 from ..wavemaker import (IRREGULAR_CHOICES, IRREGULAR_DEFAULTS, IRREGULAR_RANGES, PADDLE_DEFAULTS, PADDLE_RANGES,
                          check_paddle, linear_wave, paddle)
 from ..probes.plots import pyplot, save
@@ -99,6 +100,9 @@ def build(cfg):
         damping = (Lf - geo["damping_length"], Lf, geo["damping_rate"])
     xg = gauge_positions(geo, wavelength)
     xa = array_positions(geo, wavelength)
+    if not p["spectrum"] and not p["series"]:
+        warn_waves(cfg, H_biesel, k, d)
+        warn_window(p, xg, cg, cfg["run"]["end_time"], p["period"], wm.arrival_time)
     cols = tuple(f"eta_{i}" for i in range(len(xg)))
     acols = tuple(f"array_{i}" for i in range(len(xa)))
     gauges = wm.Gauges(xg + xa, dx, h, d, cols + acols)

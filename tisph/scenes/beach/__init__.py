@@ -228,7 +228,7 @@ class BedRecord:
         shore = self.toe + self.d * geo["slope"]
         self.active = (self.stations >= max(0.5, self.toe - 0.5 * self.wavelength)) & (self.stations <= shore + 0.2)
         self.rows, self.bed0, self.u_near, self.pred_rows = [], None, [], None
-        self.gauges = wm.Gauges(geo["gauges_x"], self.dx, h, self.yw)
+        self.gauges = wm.Gauges(geo["gauges_x"], self.dx, h, self.yw, dry_from=shore)
 
     def probe(self, st):
         dx, h, stations, active = self.dx, self.h, self.stations, self.active

@@ -23,6 +23,7 @@ from ...run import common_params, sound_speed
 from ...probes.gauges import surface_at
 from ...probes.plots import pyplot, save
 from .shoaling import Shoaling
+from ...plausible import warn_waves
 from ...sediment import coupling
 from ...wavemaker import Gauges, height_at, linear_wave, paddle
 
@@ -43,6 +44,7 @@ def build_bedload(cfg, name, stills):
     omega, k, wavelength, cg, hs_ratio = linear_wave(cfg, d)
     H_biesel = hs_ratio * p["stroke"]
     warn_unresolved(0.62 * orbital_diameter(H_biesel, k, d), dx, "at the toe (Wiberg & Harris for the linear-wave d0)")
+    warn_waves(cfg, H_biesel, k, d, linear_metric=False)
     c0, u_max = sound_speed(cfg, math.sqrt(G * (d + H_biesel)))
     L, h = num["wall_layers"], num["h_factor"] * dx
     T = L * dx
@@ -108,7 +110,8 @@ class BeachBed:
         self.yw = geo["sand_thickness"] + geo["depth"]
         self.toe, self.grain = geo["toe_x"], geo["grain_diameter"]
         self.rows, self.zone = [], None
-        self.gauges = Gauges(geo["gauges_x"], self.dx, cfg["numerics"]["h_factor"] * self.dx, self.yw)
+        self.gauges = Gauges(geo["gauges_x"], self.dx, cfg["numerics"]["h_factor"] * self.dx, self.yw,
+                             dry_from=geo["toe_x"] + geo["depth"] * geo["slope"])
         self.shoal = Shoaling(geo, lambda x: self.yw - float(bed_profile(geo, x)), self.yw, self.dx,
                               cfg["numerics"]["h_factor"] * self.dx)
 
