@@ -96,8 +96,9 @@ def biesel_piston(kh):
 
 def biesel_flap(kh):
     """Flap hinged at the bed, H/S = (4 sinh kh / kh) (kh sinh kh - cosh kh + 1) / (sinh 2kh + 2kh).
-    Past kh = 20 its value there (1 - 1/kh to round-off; no overflow)."""
-    kh = min(kh, 20.0)
+    Past kh = 20 its deep-water form 2 (1 - 1/kh) (exact to e^-2kh; no overflow)."""
+    if kh > 20.0:
+        return 2.0 * (1.0 - 1.0 / kh)
     return 4 * math.sinh(kh) / kh * (kh * math.sinh(kh) - math.cosh(kh) + 1) / (math.sinh(2 * kh) + 2 * kh)
 
 
