@@ -208,3 +208,26 @@ def test_kill_9_keeps_probes_and_run_log(tmp_path):
     log = (out / "run.log").read_text()
     assert "# resolved config" in log and "particles" in log
     assert not (out / "summary.json").exists()       # it never finished
+
+
+def test_snapshots_say_their_units_and_codes_and_the_run_its_disk(tmp_path):
+    """Each dataset carries its units, kind and material their codes (also in the XDMF's
+    Information for ParaView); the run prints its disk estimate at the start; by default a run
+    writes about 50 snapshots on frame times, not one per frame."""
+    from tisph.run.loop import default_snapshot_interval
+    s = simulate(dam_break, dict(FAST, **{"run.end_time": 0.05, "output.snapshot_every": 0.025}), out=str(tmp_path))
+    with h5py.File(tmp_path / "snapshots" / "00001.h5", "r") as f:
+        assert f["pressure"].attrs["units"] == "Pa" and f["position"].attrs["units"] == "m"
+        assert f["velocity"].attrs["units"] == "m/s" and f["density"].attrs["units"] == "kg/m3"
+        assert "1 wall" in f["kind"].attrs["codes"] and "0 fluid" in f.attrs["kind_codes"]
+        assert f["material"].attrs["codes"].startswith("0 water")
+    root = ET.parse(tmp_path / "snapshots.xdmf").getroot()
+    units = {a.get("Name"): a.find("Information").get("Value") for a in root.iter("Attribute")}
+    assert units["pressure"] == "Pa" and units["velocity"] == "m/s"
+    log = (tmp_path / "run.log").read_text()
+    assert "disk: about" in log and "snapshots" in log
+    assert s["snapshots"] == 3
+    cfg = {"output": {"frame_interval": 0.04}, "run": {"end_time": 16.0}}
+    assert default_snapshot_interval(cfg) == pytest.approx(0.32)       # 50 snapshots over 16 s, on frames
+    cfg = {"output": {"frame_interval": 0.05}, "run": {"end_time": 1.0}}
+    assert default_snapshot_interval(cfg) == pytest.approx(0.05)       # never finer than the frames

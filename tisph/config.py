@@ -88,7 +88,7 @@ SHARED_DEFAULTS = {
         "range": [],                 # [lo, hi] of the colour bar in its unit (kPa for pressure); []: automatic
         "zoom": [],                  # [x0, x1, y0, y1] (m): a window at true scale under the frame, by vorticity; []: the scene's
         "min_height": 160,           # px: a lower panel gets more room above the view (air)
-        "snapshot_every": -1.0,      # simulated s between HDF5 snapshots; -1: frame_interval; 0: off
+        "snapshot_every": -1.0,      # simulated s between HDF5 snapshots; -1: about 50 per run, on frame times; 0: off
         "checkpoint_every": 0.0,     # simulated s between checkpoints; 0: only on SIGINT/SIGTERM
         "live": False,               # show each frame in a window as it is rendered (--live; needs a display)
     },

@@ -117,6 +117,12 @@ SNAPSHOT_FIELDS = {  # solver member -> (dataset name, XDMF attribute type)
     "p": ("pressure", "Scalar"), "m": ("mass", "Scalar"), "kind": ("kind", "Scalar"),
     "mat": ("material", "Scalar"), "id": ("id", "Scalar"), "c": ("concentration", "Scalar"),
 }
+# what each dataset's numbers mean, written into every snapshot (and docs/scenes.md)
+SNAPSHOT_UNITS = {"position": "m", "velocity": "m/s", "density": "kg/m3", "pressure": "Pa",
+                  "mass": "kg per metre of width (2D)", "kind": "code (kind_codes)",
+                  "material": "index (material_names)", "id": "particle number", "concentration": "volume fraction"}
+KIND_CODES = ("0 fluid (water or particle sand), 1 wall, 2 paddle (a moving wall), 3 bed (a bed-load bed's "
+              "boundary), -1 left the domain, -2 left through an outflow")
 OPTIONAL = ("c",)   # members only some cases carry (c: suspended sand); snapshots and frames take them there
 
 
@@ -133,7 +139,14 @@ def write_snapshot(path, state: dict, attrs: dict):
             with h5py.File(tmp, "w") as f:
                 for k, a in state.items():
                     name = SNAPSHOT_FIELDS.get(k, (k, None))[0]
-                    f.create_dataset(name, data=_pad3(np.asarray(a)))
+                    d = f.create_dataset(name, data=_pad3(np.asarray(a)))
+                    if name in SNAPSHOT_UNITS:
+                        d.attrs["units"] = SNAPSHOT_UNITS[name]
+                    if name == "kind":
+                        d.attrs["codes"] = KIND_CODES
+                    if name == "material" and "material_names" in attrs:
+                        d.attrs["codes"] = attrs["material_names"]
+                f.attrs["kind_codes"] = KIND_CODES
                 for k, v in attrs.items():
                     f.attrs[k] = v
     except OSError as e:
@@ -204,7 +217,9 @@ def write_xdmf(path, snapshots):
             if name == "position":
                 continue
             atype = "Vector" if len(shape) == 2 and shape[1] == 3 else "Scalar"
-            attrs.append(f'      <Attribute Name="{name}" AttributeType="{atype}" Center="Node">\n'
+            info = (f'        <Information Name="units" Value="{SNAPSHOT_UNITS[name]}"/>\n'
+                    if name in SNAPSHOT_UNITS else "")
+            attrs.append(f'      <Attribute Name="{name}" AttributeType="{atype}" Center="Node">\n{info}'
                          f'        {item(name)}\n      </Attribute>')
         grids.append(
             f'    <Grid Name="t{t:.6f}" GridType="Uniform">\n'

@@ -13,6 +13,20 @@ from .setup import Log, SimulationError, describe_instability
 from .summary import summarize
 
 
+# a run that will write more than this warns at its start
+DISK_WARN_BYTES = 1e9
+# snapshots a run writes by default (output.snapshot_every = -1): enough to view its evolution in
+# ParaView or tisph.view, few enough that a default run of every scene stays under 200 MB
+DEFAULT_SNAPSHOTS = 50
+
+
+def default_snapshot_interval(cfg):
+    """output.snapshot_every = -1: about DEFAULT_SNAPSHOTS over the run, on the frame times (a whole
+    number of frame intervals)."""
+    f = cfg["output"]["frame_interval"]
+    return f * max(1, math.ceil(cfg["run"]["end_time"] / DEFAULT_SNAPSHOTS / f - 1e-9))
+
+
 class Run(Outputs):
     """One simulation run: the time loop and everything it writes."""
 
@@ -25,7 +39,7 @@ class Run(Outputs):
         self.frame_dt = o["frame_interval"]
         self.probe_dt = o["probe_interval"]
         se = o["snapshot_every"]
-        self.snap_dt = self.frame_dt if se < 0 else se
+        self.snap_dt = default_snapshot_interval(cfg) if se < 0 else se
         self.ckpt_dt = o["checkpoint_every"]
         self.probes, self.snapshots = [], []
         self.frame_no = 0
@@ -43,6 +57,39 @@ class Run(Outputs):
             self.events.sort(key=lambda e: e[0])
 
     # -------------------------------------------------------------- set-up
+    def disk_estimate(self):
+        """Bytes the run's snapshots, frames (with the movie) and checkpoints will take, from the
+        first of each written (at t = 0) and how many the run will write; printed at the start."""
+        t_end = self.cfg["run"]["end_time"]
+
+        def first(folder, ext):
+            d = os.path.join(self.out, folder)
+            files = sorted(f for f in os.listdir(d) if f.endswith(ext)) if os.path.isdir(d) else []
+            return os.path.getsize(os.path.join(d, files[0])) if files else 0
+
+        parts = {}
+        if self.snap_dt > 0:
+            parts["snapshots"] = first("snapshots", ".h5") * (int(t_end / self.snap_dt) + 1)
+        if self.render:
+            n = int(t_end / self.frame_dt) + 1
+            parts["frames and movie"] = first("frames", ".png") * n * 1.2
+        if self.ckpt_dt > 0:
+            parts["checkpoints"] = 2 * first("snapshots", ".h5")   # two kept, each about a snapshot
+        return parts
+
+    def _say_disk(self):
+        parts = self.disk_estimate()
+        total = sum(parts.values())
+        if not total:
+            return
+        text = ", ".join(f"{k} {v / 1e6:.0f} MB" for k, v in parts.items() if v)
+        self.log(f"disk: about {total / 1e6:.0f} MB in {self.out} ({text})")
+        if total > DISK_WARN_BYTES:
+            w = (f"this run will write about {total / 1e9:.1f} GB ({text}); output.snapshot_every and "
+                 "output.frame_interval set how much")
+            self.case.warnings.append(w)
+            self.log(f"warning: {w}", always=True)
+
     def _start(self):
         """Build the solver (compiles on the first step), restart or prime it; returns seconds."""
         t_build = time.perf_counter()
@@ -122,6 +169,7 @@ class Run(Outputs):
             ensure_dir(os.path.join(self.out, "snapshots"))
         if not self.restart:
             self.outputs()
+            self._say_disk()
         self.solver.backup()
         bar = self._progress_bar()
         old = self._catch_signals()

@@ -111,7 +111,8 @@ class Outputs:
 
     def snapshot_attrs(self, time, step, dt):
         return dict(scene=self.name, tisph_version=__version__, config=dump_toml(self.cfg),
-                    time=float(time), step=int(step), dt=float(dt))
+                    time=float(time), step=int(step), dt=float(dt),
+                    material_names=", ".join(f"{i} {m.get('name', '')}" for i, m in enumerate(self.case.materials)))
 
     def snapshot(self, state=None, name=None, time=None, step=None):
         from ..io import write_snapshot, SNAPSHOT_FIELDS
