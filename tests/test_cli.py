@@ -207,3 +207,22 @@ def test_every_case_file_is_valid_for_the_scene_its_header_names():
         m = re.search(r"python -m tisph\.scenes\.(\w+) --config scenes/" + re.escape(os.path.basename(path)), text)
         assert m, f"{os.path.basename(path)}: no 'python -m tisph.scenes.NAME --config scenes/FILE' line"
         resolve(importlib.import_module(f"tisph.scenes.{m.group(1)}"), path)
+
+
+@pytest.mark.parametrize("name", ["beach", "tunnel", "flume", "tank", "dam_break", "hatch", "erodible_bed",
+                                  "pipeline_scour"])
+def test_every_key_has_one_description_of_its_own(name):
+    """--describe gives every key a description taken from its own table: a scene's geometry.width
+    is not the frame's width in pixels, sediment.seed and paddle.seed keep their own words, and no
+    description leans on the line above it ("its ...", "or ...")."""
+    from tisph.describe import rows
+    from tisph.sweep import scene_module
+    seen = {}
+    for key, _, _, meaning in rows(scene_module(name)):
+        assert meaning, f"{name}: {key} has no description"
+        assert meaning.split()[0].lower() not in ("its", "their", "and", "or", "that"), (key, meaning)
+        seen[key] = meaning
+    if "geometry.width" in seen:
+        assert "pixel" not in seen["geometry.width"]
+    if "paddle.seed" in seen and "sediment.seed" in seen:
+        assert seen["paddle.seed"] != seen["sediment.seed"]

@@ -66,7 +66,7 @@ SHARED_DEFAULTS = {
         "wall_layers": 3,            # layers of dynamic boundary particles
         "wall_strength": 0.0,        # repulsive D (m^2/s^2); 0: auto = 5 g H (Monaghan 1994)
         "c0": 0.0,                   # sound speed (m/s); 0: auto = c0_factor * u_max
-        "c0_factor": 10.0,
+        "c0_factor": 10.0,           # c0 = this x max(expected speed, sqrt(g depth)) when c0 = 0
         "u_max": 0.0,                # expected peak flow speed (m/s); 0: the scene's estimate
         "laminar_viscosity": False,  # paper 002 eq. 10 with the materials' viscosity
         "density_diffusion": "none", # none | molteni | fourtakas
@@ -76,12 +76,12 @@ SHARED_DEFAULTS = {
     },
     "output": {
         "dir": "",                   # "" -> renders/<scene>
-        "render": True,
+        "render": True,              # PNG frames and the MP4 (false: neither)
         "fps": 25,                   # movie playback frames per second
         "frame_interval": 0.02,      # simulated seconds between frames
         "probe_interval": 0.005,     # simulated seconds between probe samples
         "width": 640,                # frame width in pixels (height follows the domain)
-        "quiet": False,
+        "quiet": False,              # no progress bar or progress lines
         "speed_scale": 0.0,          # colour bar top (m/s); 0: the scene's expected peak speed
         "view": [],                  # [x0, x1, y0, y1] (m) the frames show; []: the scene's
         "field": "",                 # speed | pressure | density | material | vorticity; "": the scene's panels

@@ -15,9 +15,12 @@ from .config import CHOICES, MATERIAL_CHOICES, MATERIAL_RANGES, RANGES, describe
 
 
 
-def comments(module):
-    """{key: the comment written beside its default} from a module's source: a comment on the
-    key's own line, or else the comment lines right above it."""
+def comments(module, table=""):
+    """{dotted key: the comment written beside its default} from a module's source: a comment on
+    the key's own line, or else the comment lines right above it. A key inside a nested table
+    ("geometry": {...}, "sediment": dict(...)) is named with it, and `table` prefixes every key
+    (the table the module's defaults fill: "sediment" for coupling), so geometry.width and
+    output.width, or sediment.seed and paddle.seed, keep their own words."""
     out = {}
     try:
         src = inspect.getsource(module)
@@ -25,6 +28,7 @@ def comments(module):
         return out
     toks = list(tokenize.generate_tokens(io.StringIO(src).readline))
     notes, keys, code_lines = {}, {}, set()
+    stack, pending = [], None          # open brackets, each with the table it opens (or None)
     for k, tok in enumerate(toks):
         if tok.type == tokenize.COMMENT and (tok.start[1] > 0 or tok.line[:tok.start[1]].strip()):
             # indented or after code: a key's note (a comment at column 0 heads a section)
@@ -32,8 +36,21 @@ def comments(module):
         elif tok.type not in (tokenize.NL, tokenize.NEWLINE, tokenize.INDENT, tokenize.DEDENT):
             code_lines.add(tok.start[0])
             nxt = toks[k + 1] if k + 1 < len(toks) else None
-            if tok.type == tokenize.STRING and nxt is not None and nxt.string == ":":
-                keys[tok.start[0]] = tok.string.strip("\"'")
+            if tok.type == tokenize.OP and tok.string in "{([":
+                stack.append(pending)
+                pending = None
+            elif tok.type == tokenize.OP and tok.string in "})]":
+                if stack:
+                    stack.pop()
+            elif tok.type == tokenize.STRING and nxt is not None and nxt.string == ":":
+                name = tok.string.strip("\"'")
+                path = ".".join([t for t in [table] + stack if t] + [name])
+                keys[tok.start[0]] = path           # the last key on a line owns its comment
+                after = toks[k + 2] if k + 2 < len(toks) else None
+                pending = name if after is not None and after.string in ("{", "dict") else None
+                continue
+            if not (tok.type == tokenize.NAME and tok.string == "dict"):
+                pending = pending if tok.type == tokenize.OP and tok.string == ":" else None if tok.string not in "{(" else pending
     for line, key in keys.items():
         text = notes.get(line)
         if text is None:                       # a block of comment lines right above
@@ -45,6 +62,17 @@ def comments(module):
         if text:
             out.setdefault(key, text)
     return out
+
+
+def lookup(docs, key):
+    """The description of a dotted key: its own, else that of its longest dotted tail
+    (materials.water.rho0 -> rho0 from the materials module)."""
+    parts = key.split(".")
+    for i in range(len(parts)):
+        text = docs.get(".".join(parts[i:]))
+        if text:
+            return text
+    return ""
 
 
 def _module_docs():
@@ -62,8 +90,9 @@ def rows(scene):
     from . import materials, wavemaker
     from .sediment import coupling
     docs = {}
-    for m in (materials, wavemaker, coupling, config, scene):   # the scene's own words win
-        docs.update(comments(m))
+    for m, table in ((materials, ""), (wavemaker, "paddle"), (coupling, "sediment"), (config, ""),
+                     (scene, "")):   # the scene's own words win
+        docs.update(comments(m, table))
     mod_docs = _module_docs()
     out = []
     for key, v in config.flatten(cfg).items():
@@ -79,7 +108,7 @@ def rows(scene):
         else:
             allowed = config._type_name(v)
         out.append((key, repr(v) if isinstance(v, str) else str(v).lower() if isinstance(v, bool) else str(v),
-                    allowed, mod_docs.get(key) or docs.get(leaf, "")))
+                    allowed, mod_docs.get(key) or lookup(docs, key)))
     return out
 
 

@@ -31,8 +31,8 @@ DEFAULTS = {
     "numerics": {"dx": 0.03, "h_factor": 1.3, "artificial_viscosity": 0.1,
                  "density_diffusion": "fourtakas", "delta": 0.1},
     "geometry": {
-        "tank_width": 4.0,
-        "tank_height": 4.0,
+        "tank_width": 4.0,          # the tank's inside length (m)
+        "tank_height": 4.0,         # the tank's walls' height (m)
         "column_width": 1.0,        # a (the reservoir length in the channel cases)
         "column_height": 2.0,       # n^2 a with n^2 = 2 (h0 in the channel cases)
         "downstream_depth": 0.0,    # still water beyond the dam (wet bed); alpha = this / h0

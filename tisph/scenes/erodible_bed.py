@@ -39,8 +39,11 @@ DEFAULTS = {
     "numerics": {"dx": 0.01, "h_factor": 1.3, "artificial_viscosity": 0.1,
                  "density_diffusion": "fourtakas", "delta": 0.1,
                  "xsph": 0.07},   # Table 3's XSPH factor (its "m" is a unit typo)
-    "geometry": {"flume_length": 2.5, "sediment_depth": 0.1, "water_width": 1.0, "water_height": 0.1,
-                 "wall_height": 0.5},
+    "geometry": {"flume_length": 2.5,     # the channel (m)
+                 "sediment_depth": 0.1,   # the Bingham bed over its floor (m)
+                 "water_width": 1.0,      # the water column behind the gate (m)
+                 "water_height": 0.1,     # the water column's height above the bed (m)
+                 "wall_height": 0.5},     # the walls' height (m)
     "materials": {
         "water": {"rho0": 1000.0, "viscosity": 1.0e-3},
         "sediment": {"rho0": 1940.0, "viscosity": 0.04, "rheology": "bingham", "yield_stress": 0.447,

@@ -45,11 +45,13 @@ DEFAULTS = {
     "numerics": {"dx": 0.0125, "h_factor": 2.5, "kernel": "wendland", "wall": "adami", "wall_layers": 5,
                  "artificial_viscosity": 0.0, "laminar_viscosity": True, "density_diffusion": "fourtakas",
                  "delta": 0.1},
-    "geometry": {"length": 4.5, "depth": 0.25, "wall_height": 0.45,
+    "geometry": {"length": 4.5,                   # paddle (x = 0) to the end wall (m)
+                 "depth": 0.25,                  # still water (m)
+                 "wall_height": 0.45,            # the walls' height (m)
                  "damping_length": 1.2,          # absorbing zone at the far end (m); 0: none
-                 "damping_rate": 10.0,           # its strongest velocity relaxation rate (1/s)
+                 "damping_rate": 10.0,           # the absorbing zone's strongest velocity relaxation rate (1/s)
                  "gauges_x": [],                 # gauge positions (m from the paddle's mean position)
-                 "gauges_wavelengths": [1.0, 2.0, 3.0],   # or in wavelengths, when gauges_x is empty
+                 "gauges_wavelengths": [1.0, 2.0, 3.0],   # gauge positions in wavelengths from the paddle, when gauges_x is empty
                  "array_gauges": 6},             # gauges of the reflection and second-harmonic array
     "paddle": dict(PADDLE_DEFAULTS, **IRREGULAR_DEFAULTS),
     "materials": {"water": {"rho0": 1000.0, "viscosity": 1.0e-3}},

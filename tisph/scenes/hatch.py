@@ -31,9 +31,9 @@ DEFAULTS = {
     "numerics": {"dx": 0.005, "h_factor": 1.5, "artificial_viscosity": 0.02,
                  "density_diffusion": "fourtakas", "delta": 0.1},
     "geometry": {
-        "reservoir_length": 0.15,
-        "water_depth": 0.15,
-        "wall_height": 0.2,
+        "reservoir_length": 0.15,  # the reservoir behind the gate (m)
+        "water_depth": 0.15,       # the water in it at the start (m)
+        "wall_height": 0.2,        # the walls' height (m)
         "opening_bottom": 0.0,     # hatch: at the floor; orifice: 0.045
         "opening_height": 0.035,   # hatch: 0.035; orifice: 0.055
         "downstream_length": 0.15, # floor beyond the gate, then the outflow boundary

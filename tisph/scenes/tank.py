@@ -25,7 +25,9 @@ DEFAULTS = {
     "run": {"end_time": 2.0},
     "numerics": {"dx": 0.02, "h_factor": 1.3, "artificial_viscosity": 0.1,
                  "density_diffusion": "fourtakas", "delta": 0.1},
-    "geometry": {"width": 0.5, "depth": 0.5, "tank_height": 0.7,
+    "geometry": {"width": 0.5,            # the tank's inside width (m)
+                 "depth": 0.5,            # still water (m)
+                 "tank_height": 0.7,      # the walls' height (m)
                  "sediment_depth": 0.0},   # > 0: a sediment layer at the bottom, water above it
     "materials": {
         "water": {"rho0": 1000.0, "viscosity": 1.0e-3},

@@ -66,8 +66,8 @@ DEFAULTS = {
     "suspended": False,
     "settling_velocity": 0.0,      # m/s; 0: Soulsby (1997) for d50
     "seed_rms": 0.0,               # m: RMS of a random initial bed perturbation (smoothed over 2 dx)
-    "seed": 1,                     # its random seed
-    # (the scenes add grain_density: the grains' own density, kg/m3, quartz 2650)
+    "seed": 1,                     # the random seed of that initial perturbation
+    "grain_density": 2650.0,       # the grains' own density (kg/m3; quartz), not the saturated bed's
 }
 RANGES = {"sediment.porosity": (0.0, 0.9, True, True), "sediment.repose_angle": (5.0, 60.0, True, True),
           "sediment.shields_critical": (0.0, 1.0, True, True), "sediment.saturation_length": (0.0, None, True, True),

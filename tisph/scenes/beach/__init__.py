@@ -66,7 +66,7 @@ DEFAULTS = {
     "numerics": dict(coupling.WAVE_NUMERICS, dx=0.015, artificial_viscosity=0.01, laminar_viscosity=False),
     "geometry": {"length": 8.0,            # paddle (x = 0) to the end wall (m)
                  "depth": 0.3,             # still water over the flat sand (m)
-                 "sand_thickness": 0.1,    # sand layer over the floor and the ramp (m)
+                 "sand_thickness": 0.1,    # the sand's level above the floor (m): the flat bed, and under the ramp
                  "toe_x": 1.5,             # where the beach starts to rise (m)
                  "slope": 20.0,            # 1 : slope (horizontal run per unit rise)
                  "wall_height": 0.6,       # the side walls' height above the floor (m)

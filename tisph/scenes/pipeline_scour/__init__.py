@@ -70,15 +70,15 @@ DEFAULTS = {
         # 0: z0 = 2.5 d50 / 30 (Nikuradse) instead, and u* from the mean velocity.
         "shields": 0.065,
         "grain_diameter": 0.00036,  # d50 (m)
-        "porosity": 0.4,
+        "porosity": 0.4,            # the sand particles' porosity (the two-phase model's drag)
         "drag_coefficient": 0.4,    # Table 3
-        "sps": True,
+        "sps": True,                # SPS turbulence (paper 002 eq. 10)
         # The periodic seam recirculates the pipe's wake; at dx = D/10 the SPS closure mixes far
         # too little to rebuild the near-bed flow in 10 D, and the water under the pipe's level
         # stalls within seconds (measured: near-bed velocity 0.19 -> 0 m/s by t = 5 s). A zone
         # this long (m) at x = 0 relaxes the water to the log law, as the paper's inlet does.
         "inflow_length": 0.2,
-        "inflow_rate": 20.0,        # its relaxation rate (1/s); a particle crosses it in ~0.5 s
+        "inflow_rate": 20.0,        # the inflow zone's relaxation rate (1/s); a particle crosses it in ~0.5 s
         "profile_offsets": [-2.0, 0.0, 2.0],   # velocity profiles at x = x_pipe + offset * D
         "reference": "none",        # mao: compare with Mao's S/D(t) and profiles (bedload; D = 5 cm)
         # none: the flat bed with its dip | mao_11s, mao_18s, mao_25s: the bed starts as Mao's
@@ -88,7 +88,12 @@ DEFAULTS = {
         "initial_profile": "none",
     },
     # DEM contacts between sand particles, paper 002 Table 3 (its eta_s unit "N/m" is N s/m)
-    "dem": {"enabled": True, "kn": 1.0e6, "ks": 1.0e5, "eta_n": 20.0, "eta_s": 40.0, "friction": 0.57,
+    "dem": {"enabled": True,        # DEM contacts between sand particles (the two-phase model)
+            "kn": 1.0e6,            # normal spring stiffness (N/m)
+            "ks": 1.0e5,            # tangential spring stiffness (N/m)
+            "eta_n": 20.0,          # normal damping (N s/m)
+            "eta_s": 40.0,          # tangential damping (N s/m)
+            "friction": 0.57,       # Coulomb friction coefficient
             # in particle spacings; see the module docstring for why 0.7 and not 1
             "contact_diameter": 0.7},
     # sediment.model = "bedload": the bed below particle scale (tisph/sediment); its shear by the
@@ -103,7 +108,10 @@ DEFAULTS = {
     "materials": {
         "water": {"rho0": 1000.0, "viscosity": 1.0e-3},
         # Cross: mu_inf = 0.07 Pa s, tau_B = 25 Pa read as mu0 = 1000 mu_inf, K = mu0 / tau_B
-        "sand": {"rho0": 1950.0, "viscosity": 0.07, "rheology": "cross", "mu0": 70.0, "K": 2.8, "m1": 1.0,
+        "sand": {"rho0": 1950.0, "viscosity": 0.07, "rheology": "cross",
+                 "mu0": 70.0,       # Cross: the viscosity at rest (Pa s)
+                 "K": 2.8,          # Cross: the time constant (s) of mu = mu_inf + (mu0 - mu_inf) / (1 + (K gamma)^m1)
+                 "m1": 1.0,         # Cross: the exponent m1
                  "mu_max": 0.0},
     },
     "output": {"frame_interval": 0.05, "probe_interval": 0.05, "width": 960},
