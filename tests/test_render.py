@@ -78,3 +78,19 @@ def test_zoom_window_from_the_config_and_its_outline():
     assert img[row, col].max() <= 60
     plain = Renderer(case.picture.view, 480, 0.06, 1.0, axes=False)
     assert plain.left == 0 and plain.frame(st, 0.0).shape[1] == 480 + plain.BAR
+
+
+def test_gauges_are_marked_on_the_flume_frame():
+    from tisph.run import resolve
+    from tisph.scenes import flume
+    cfg = resolve(flume, None, {"numerics.dx": 0.025})
+    case = flume.build(cfg)
+    ps = case.particles
+    st = dict(x=ps.x, v=np.zeros_like(ps.x), p=np.zeros(len(ps.x)), rho=ps.rho, kind=ps.kind, mat=ps.mat)
+    r = make_renderer(case.picture, cfg["output"], 0.025, "flume", case.u_max)
+    img = r.frame(st, 0.0)
+    top, H, ((x0, _), _), _ = r.panels[0]
+    assert len(r.marks) == 3 and [m[1] for m in r.marks] == ["g1", "g2", "g3"]
+    for x, _ in r.marks:
+        col = img[top:top + H, r.left + int(round((x - x0) * r.scale))]
+        assert (col.max(axis=1) <= 40).sum() >= H // 8       # a dotted line down the panel

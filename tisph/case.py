@@ -54,6 +54,8 @@ class Picture:
     bed_label: str = ""               # what the bed panel's label adds (the morphological factor)
     bed_surface: Callable = None      # bed_surface(x) -> z_b: the sand under it is filled in sand colour
     zoom: tuple = None                # ((x0, y0), (x1, y1)): a window at true scale under the frame
+    marks: tuple = ()                 # (x, label) of gauges: a dotted line across the frame
+    zones: tuple = ()                 # (x0, x1, label) of zones (an absorber): a bar under the frame
 
 
 _PARTS = {cls: {f.name for f in dataclasses.fields(cls)} for cls in (Model, Observers, Picture)}

@@ -35,7 +35,7 @@ class Renderer:
 
     def __init__(self, view, width=640, dx=0.01, speed_scale=0.0, title="", modes=("speed",), mat_colors=None,
                  pressure_scale=0.0, bed_panel=None, bed_label="", vrange=None, min_height=0, bed_surface=None,
-                 zoom=None, zoom_field="vorticity", axes=True):
+                 zoom=None, zoom_field="vorticity", axes=True, marks=(), zones=()):
         (x0, y0), (x1, y1) = view
         W = max(16, int(width) // 16 * 16)
         self.scale = W / (x1 - x0)
@@ -77,6 +77,7 @@ class Renderer:
                                  speed_scale=speed_scale, modes=(zoom_field,), vrange=None, axes=False,
                                  bed_surface=bed_surface)
         self.panels = []                # (top row, height, view, bar) of each panel of the last frame
+        self.marks, self.zones = tuple(marks), tuple(zones)
 
     @property
     def left(self):
@@ -189,6 +190,10 @@ class Renderer:
             img = self._splat(st, self._colours(m, st))
             if self.zoom is not None:
                 self._outline(img, self.zoom.view)
+            for x, _ in self.marks:               # gauges: a dotted line across the panel
+                i = int(round((x - self.view[0][0]) * self.scale))
+                if 0 <= i < W:
+                    img[::4, i] = 30
             self.panels.append((row, self.H, self.view, self.bars[-1]))
             blocks += [img, strip(self.AXIS)]
             row += self.H + self.AXIS
@@ -284,11 +289,21 @@ class Renderer:
         return np.asarray(im)
 
     def _axes(self, d, font, top, H, view):
-        """Metre ticks: z on the left of a panel, x in the strip under it."""
+        """Metre ticks: z on the left of a panel, x in the strip under it; the gauges' labels at
+        the panel's top and the zones as a bar along its foot."""
         (x0, y0), (x1, y1) = view
         fp = self.font_px
         L = self.LEFT
         scale = self.W / (x1 - x0)
+        if view == self.view:
+            for x, label in self.marks:
+                if x0 <= x <= x1:
+                    d.text((L + int(round((x - x0) * scale)) + 2, top + 2), label, fill=(0, 0, 0), font=font)
+            for a, b, label in self.zones:
+                pa, pb = (L + int(round((min(max(v, x0), x1) - x0) * scale)) for v in (a, b))
+                if pb > pa:
+                    d.rectangle([pa, top + H - 4, pb, top + H - 1], fill=(200, 60, 60))
+                    d.text((pa + 2, top + H - 4 - int(1.2 * fp)), label, fill=(150, 30, 30), font=font)
         for v in nice_ticks(x0, x1, max(2, self.W // (6 * fp))):
             px = L + int(round((v - x0) * scale))
             if px > L + self.W - int(3.0 * fp):
@@ -332,7 +347,7 @@ def make_renderer(pic, outc, dx, title, speed_scale):
     return Renderer(view, outc["width"], dx, speed_scale, title=title, modes=modes, mat_colors=pic.mat_colors,
                     pressure_scale=pic.pressure_scale, bed_panel=pic.bed_panel, bed_label=pic.bed_label,
                     vrange=outc.get("range") or None, min_height=outc.get("min_height", 0),
-                    bed_surface=pic.bed_surface, zoom=zoom)
+                    bed_surface=pic.bed_surface, zoom=zoom, marks=pic.marks, zones=pic.zones)
 
 
 def write_png(path, img):

@@ -193,6 +193,8 @@ def build(cfg):
                 viscosity=cfg["materials"]["water"]["viscosity"], B=tait_B(rho0, c0))],
                 domain=domain, params=params,
                 physics=physics_from_config(cfg, paddle=p["type"], damping=damping),
+                marks=[(x, f"g{i + 1}") for i, x in enumerate(xg)],
+                zones=[(damping[0], damping[1], "absorber")] if damping else [],
                 # the frame: the paddle to half a wavelength past the last gauge (a long flume drawn
                 # whole is a strip); output.view draws another region
                 view=((x_left - margin, -margin), (min(Lf + margin, max(xg, default=Lf) + 0.5 * wavelength),

@@ -88,6 +88,7 @@ def build_bedload(cfg, name, stills):
     return make_case(name=name, particles=ps, materials=[dict(cfg["materials"]["water"], name="water",
                                                                B=tait_B(rw, c0))],
                      domain=domain, params=params, physics=physics, view=view, zoom=zoom, u_max=u_max,
+                     marks=[(x, f"g{i + 1}") for i, x in enumerate(geo["gauges_x"])],
                      speed_scale=u_col,
                      probe_columns=BeachBed.COLUMNS + rec.gauges.columns, probe=rec.probe, metrics=rec.metrics,
                      finalize=rec.finalize, stills=stills, container=(-reach - dx, floor - T, Lf, float("inf"), Hw),
