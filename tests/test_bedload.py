@@ -492,3 +492,12 @@ def test_a_ripple_under_twelve_spacings_is_warned_about():
         assert bool(msgs) == warned, msgs
         if warned:
             assert f"{0.186 / RESOLVED_DX:.3g} m" in msgs[0] and "9.3 dx" in msgs[0]
+
+
+def test_ripple_statistics_of_an_unresolved_ripple_are_null_with_the_reason():
+    from tisph.ripples import UNRESOLVED_DX, unresolved
+    m = unresolved({"ripple_length_over_prediction": 2.19, "ripple_steepness": 0.03}, 0.071, 0.02)
+    assert m["ripple_length_over_prediction"] is None and m["ripple_steepness"] is None
+    assert "3.5 dx" in m["ripple_metrics_note"] and f"under {UNRESOLVED_DX:g} dx" in m["ripple_metrics_note"]
+    kept = unresolved({"ripple_length_over_prediction": 1.1, "ripple_steepness": 0.15}, 0.186, 0.01)
+    assert kept["ripple_length_over_prediction"] == 1.1 and "ripple_metrics_note" not in kept

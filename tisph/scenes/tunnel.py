@@ -27,7 +27,7 @@ from ..io import write_station_rows
 from ..particles import ParticleSet, block, density_from_pressure, layered_pressure, tait_B, FLUID, WALL
 from ..render import SAND
 from ..ripples import (MIN_HEIGHT_DX, MIN_LENGTH_DX, last_finite, periodic_ripples as ripples_counted,
-                       ripple_band, ripple_stats, warn_unresolved, wiberg_harris)
+                       ripple_band, ripple_stats, unresolved, warn_unresolved, wiberg_harris)
 from ..probes.control import PIDrive
 from ..case import make_case
 from ..run import common_params, run_scene, sound_speed
@@ -323,7 +323,8 @@ def _build_bedload(cfg):
         out["ripple_length_over_prediction"] = lam / lam_wh if lam_wh > 0 else float("nan")
         out["near_bed_velocity_ratio"] = near_bed_ratio(c["t"], c["u_near_bed"], Um, drive.period)
         out["effective_velocity_ratio"] = near_bed_ratio(c["t"], c["u_bed_effective"], Um, drive.period)
-        return out
+        return unresolved(out, lam_wh, dx, ("ripple_length_over_d0", "ripple_length_over_prediction",
+                                            "ripple_steepness"))
 
     def finalize(out, metrics):
         if rows:

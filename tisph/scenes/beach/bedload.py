@@ -17,7 +17,8 @@ from ...constants import G
 from ...config import physics_from_config
 from ...io import write_csv, write_station_rows
 from ...particles import ParticleSet, block, density_from_pressure, tait_B, FLUID, WALL, MOVING
-from ...ripples import MIN_LENGTH_DX, last_finite, orbital_diameter, ripple_stats, warn_unresolved, wiberg_harris
+from ...ripples import (MIN_LENGTH_DX, last_finite, orbital_diameter, ripple_stats, unresolved, warn_unresolved,
+                        wiberg_harris)
 from ...case import make_case
 from ...run import common_params, sound_speed
 from ...probes.gauges import surface_at
@@ -168,7 +169,7 @@ class BeachBed:
         out.update(self.gauges.metrics(c, p, self.cg))
         out.update(self.shoal.measure(p, self.cg, self.omega,
                                       lambda x: float(np.interp(x, self.stations, self.bed.amplitude))))
-        return out
+        return unresolved(out, lp, self.dx)
 
     def finalize(self, out, metrics):
         if not self.rows:
