@@ -501,3 +501,19 @@ def test_ripple_statistics_of_an_unresolved_ripple_are_null_with_the_reason():
     assert "3.5 dx" in m["ripple_metrics_note"] and f"under {UNRESOLVED_DX:g} dx" in m["ripple_metrics_note"]
     kept = unresolved({"ripple_length_over_prediction": 1.1, "ripple_steepness": 0.15}, 0.186, 0.01)
     assert kept["ripple_length_over_prediction"] == 1.1 and "ripple_metrics_note" not in kept
+
+
+def test_a_tunnel_run_too_short_for_its_period_says_the_end_time_it_needs():
+    import warnings
+    from tisph.run import resolve
+    from tisph.scenes import tunnel
+    for ov, warned in (({}, False), ({"geometry.period": 3.0}, True), ({"run.end_time": 20.0}, True)):
+        with warnings.catch_warnings(record=True) as w:
+            warnings.simplefilter("always")
+            tunnel.build(resolve(tunnel, None, ov))
+        msgs = [str(x.message) for x in w if "periods of bed change" in str(x.message)]
+        assert bool(msgs) == warned, (ov, msgs)
+    with warnings.catch_warnings(record=True) as w:
+        warnings.simplefilter("always")
+        tunnel.build(resolve(tunnel, None, {"geometry.period": 3.0}))
+    assert any("run.end_time = 60 s gives 200" in str(x.message) for x in w)

@@ -37,6 +37,8 @@ from ..probes.plots import pyplot, save
 from ..sediment import coupling
 
 NAME = "tunnel"
+# periods of bed change (wave periods x morfac) a run needs: the ripples' growth and 100 held
+BED_PERIODS = 200
 
 
 DEFAULTS = {
@@ -276,6 +278,13 @@ def _build_bedload(cfg):
     ytop = hs + hw
     lam_wh, eta_wh, regime = wiberg_harris(d0, geo["grain_diameter"])
     warn_unresolved(lam_wh, dx, "(Wiberg & Harris for d0)")
+    bed_periods = cfg["run"]["end_time"] / geo["period"] * sed["morfac"]
+    if bed_periods < BED_PERIODS:
+        import warnings
+        warnings.warn(f"run.end_time = {cfg['run']['end_time']:g} s is {bed_periods:.0f} periods of bed change "
+                      f"(wave periods x morfac {sed['morfac']:g}): ripples take about 100 to reach their length and "
+                      f"a run should show 100 more that it holds; run.end_time = "
+                      f"{BED_PERIODS * geo['period'] / sed['morfac']:g} s gives {BED_PERIODS}")
     n_seed = seed_count(geo, lam_wh)
     stations = (np.arange(int(round(Lx / dx))) + 0.5) * dx
     z = hs + 0.5 * geo["seed_ripple_height"] * np.sin(2 * np.pi * n_seed * stations / Lx)
