@@ -418,3 +418,12 @@ def test_waves_asked_for_by_height_get_biesels_stroke():
     with pytest.raises(ConfigError, match="paddle.wave_height.*paddle.hs"):
         resolve(flume, None, {"paddle.wave_height": 0.05, "paddle.spectrum": "jonswap", "paddle.hs": 0.04,
                               "paddle.tp": 1.0, "run.end_time": 20.0})
+
+
+def test_gauge_period_and_mean_level_over_whole_waves():
+    """Each gauge's zero up-crossing period and its mean level (set-up) over whole waves."""
+    t = np.linspace(0.0, 20.0, 4001)
+    eta = 0.002 + 0.03 * np.sin(2 * np.pi * t / 1.2)
+    T, level = wm.crossing_period_and_level(t, eta, 5.0, 20.0)
+    assert T == pytest.approx(1.2, rel=1e-3) and level == pytest.approx(0.002, abs=2e-4)
+    assert np.isnan(wm.crossing_period_and_level(t, np.zeros_like(t), 5.0, 20.0)[0])

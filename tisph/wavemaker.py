@@ -132,6 +132,25 @@ def wave_height(t, eta, t0, t1, period):
     return (float(np.mean(hs)) if hs else float("nan")), len(hs)
 
 
+def crossing_period_and_level(t, eta, t0, t1):
+    """(mean zero up-crossing period about the window's mean, that mean level) of eta over
+    [t0, t1]: what a gauge's record says of the waves' period and of the set-up or set-down.
+    NaN where the window holds under two up-crossings."""
+    t, eta = np.asarray(t, float), np.asarray(eta, float)
+    m = (t >= t0) & (t <= t1) & np.isfinite(eta)
+    if m.sum() < 4:
+        return float("nan"), float("nan")
+    tt, e = t[m], eta[m]
+    level = float(e.mean())
+    d = e - level
+    up = np.nonzero((d[:-1] < 0) & (d[1:] >= 0))[0]
+    tc = tt[up] - d[up] * (tt[up + 1] - tt[up]) / (d[up + 1] - d[up])
+    if len(tc) < 2:
+        return float("nan"), level
+    whole = (tt >= tc[0]) & (tt < tc[-1])          # the level over whole waves only
+    return float(np.mean(np.diff(tc))), float(e[whole].mean())
+
+
 def wave_period(p):
     """The paddle table's period: the peak period with a spectrum."""
     return p["tp"] if p.get("spectrum") else p["period"]
@@ -179,10 +198,16 @@ class Gauges:
         """gauges_x and the mean wave height at each over whole periods once the ramped waves
         have reached it at the group velocity cg (at the paddle's depth: on a slope, where waves
         slow, an early bound) and to the end of the run."""
-        return dict(gauges_x=list(self.xs),
-                    wave_height_at_gauges=[None if x in self.dry else height_at(c, col, x, p, cg)[0]
-                                           for x, col in zip(self.xs, self.columns)],
-                    gauges_on_dry_land=list(self.dry))
+        out = dict(gauges_x=list(self.xs), gauges_on_dry_land=list(self.dry),
+                   wave_height_at_gauges=[], wave_period_at_gauges=[], mean_level_at_gauges=[])
+        for x, col in zip(self.xs, self.columns):
+            wet = x not in self.dry and len(c["t"])
+            T, level = (crossing_period_and_level(c["t"], c[col], arrival_time(p, x, cg), float(c["t"][-1]))
+                        if wet else (None, None))
+            out["wave_height_at_gauges"].append(height_at(c, col, x, p, cg)[0] if wet else None)
+            out["wave_period_at_gauges"].append(T)
+            out["mean_level_at_gauges"].append(level)
+        return out
 
 
 # ---------------------------------------------------------------- a paddle from a scene's config

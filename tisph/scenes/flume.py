@@ -124,7 +124,7 @@ def build(cfg):
         if not xg or p["series"] or p["spectrum"]:
             return out
         t_end = float(c["t"][-1])
-        H, H1, err, err1 = [], [], [], []
+        H, H1, err, err1, Tz, mean_level = [], [], [], [], [], []
         for x, col in zip(xg, cols):
             t0 = wm.arrival_time(p, x, cg)
             t1 = t_end
@@ -132,12 +132,16 @@ def build(cfg):
                 # no absorbing zone worth the name: stop before the end wall's reflection is back
                 t1 = min(t1, (2 * Lf - x) / cg)
             h_pp, n = wm.wave_height(c["t"], c[col], t0, t1, p["period"])
+            per, level = wm.crossing_period_and_level(c["t"], c[col], t0, t1)
+            Tz.append(per)
+            mean_level.append(level)
             a = waves.harmonics(c["t"], c[col], omega, t0, t1, 1)
             H.append(h_pp if n else float("nan"))
             H1.append(2 * abs(a[0]) if a is not None else float("nan"))
             err.append(abs(H[-1] - H_biesel) / H_biesel)
             err1.append(abs(H1[-1] - H_biesel) / H_biesel)
-        out.update(wave_height_at_gauges=H, first_harmonic_height_at_gauges=H1,
+        out.update(wave_height_at_gauges=H, wave_period_at_gauges=Tz, mean_level_at_gauges=mean_level,
+                   first_harmonic_height_at_gauges=H1,
                    wave_height_errors=err, first_harmonic_errors=err1,
                    # the worst gauge: the target is Biesel's height everywhere in the flume
                    wave_height_error=worst(err), first_harmonic_error=worst(err1))
