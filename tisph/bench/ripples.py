@@ -156,7 +156,8 @@ def plot(rows, path_fig, path_growth):
         rr = [r for r in rows if r["kind"] == kind]
         if not rr:
             continue
-        a1.plot([r["d0"] for r in rr], [r["lam_d0"] for r in rr], m, color=c, label=lab, ms=8)
+        if kind != "sheet":       # a flat bed has no ripple length to show
+            a1.plot([r["d0"] for r in rr], [r["lam_d0"] for r in rr], m, color=c, label=lab, ms=8)
         a2.plot([r["d0"] for r in rr], [r["steepness"] for r in rr], m, color=c, label=lab, ms=8)
     for ax, band, ref, name in ((a1, BAND, 0.62, "ripple length / d0"), (a2, STEEP_BAND, 0.17, "steepness")):
         ax.axhspan(*band, color="0.9", label="Wiberg & Harris band")
@@ -169,12 +170,12 @@ def plot(rows, path_fig, path_growth):
     a2.set_title("steepness (height / length)")
     save(fig, path_fig)
     fig, ax = plt.subplots(figsize=(8, 4.5))
-    for k, r in enumerate(rows):
+    shown = [r for r in rows if r["kind"] != "sheet"]       # a flat bed's count is noise
+    for k, r in enumerate(shown):
         t, lam = growth(os.path.join(r["dir"], "probes.csv"))
         if len(t):
-            morfac = 10.0
-            ax.plot(t / r["T"] * morfac, lam / r["d0"], color=f"C{k % 10}", lw=1,
-                    label=f"{r['label']} ({r['kind']})")
+            ax.plot(t / r["T"] * 10.0, lam / r["d0"], color=f"C{k % 10}", lw=1.2,
+                    ls="-" if k < 10 else "--", label=f"{r['label']} ({r['kind']})")
     ax.axhspan(*BAND, color="0.9")
     ax.set_xlabel("bed periods (wave periods x morfac 10)")
     ax.set_ylabel("mean ripple length / d0")
@@ -187,15 +188,21 @@ def plot(rows, path_fig, path_growth):
 def report(rows, wall):
     head = ("case", "kind", "d0 m", "T s", "mobility", "dx m", "ripples", "length / d0", "steepness", "in band",
             "held (bed periods)",
-            "density error max / mean", "near-bed / U_m", "particles", "steps", "wall s")
+            "density error max / mean", "near-bed at z_r / U_m", "particles", "steps", "wall s")
     body = [(r["label"], r["kind"], f"{r['d0']:g}", f"{r['T']:g}", f"{r['psi']:.0f}", f"{r['dx']:g}", r["count"],
              f"{r['lam_d0']:.2f}", f"{r['steepness']:.3f}", "yes" if r["in_band"] else "**no**", f"{r['held']:.0f}",
              f"{r['rho_max']:.1%} / {r['rho_mean']:.2%}", f"{r['near_bed']:.2f}", r["particles"], r["steps"],
              f"{r['wall']:.0f}") for r in rows]
     ok = sum(r["in_band"] for r in rows)
+    rip = [r for r in rows if r["kind"] != "sheet"]
+    n_len = sum(BAND[0] <= r["lam_d0"] <= BAND[1] for r in rip)
+    n_st = sum(STEEP_BAND[0] <= r["steepness"] <= STEEP_BAND[1] for r in rip)
+    cost = sum(r["wall"] for r in rows if np.isfinite(r["wall"]))
     return "\n".join(["# Ripples against the orbital diameter", "",
                       f"{len(rows)} tunnel cases, {ok} in the band (length 0.5-0.75 d0 and steepness 0.10-0.20; "
-                      f"sheet flow: steepness under {SHEET_STEEPNESS}), {wall:.0f} s of wall time.", "",
+                      f"sheet flow: steepness under {SHEET_STEEPNESS}). Of the {len(rip)} with ripples, {n_len} have "
+                      f"their length in the band and {n_st} their steepness. The cases' wall times add up to "
+                      f"{cost:.0f} s ({wall:.0f} s of wall time for this call, on the sweep's workers).", "",
                       table(head, body), "", "![length and steepness against d0](ripples.png)", "",
                       "![growth](growth.png)", ""])
 
