@@ -476,7 +476,7 @@ def test_bed_faster_than_the_water_allows_stops_the_run_with_a_message():
         run(1.0)
 
 
-def test_a_ripple_under_twelve_spacings_is_warned_about():
+def test_a_ripple_under_the_resolved_spacings_is_warned_about():
     """A tunnel whose predicted ripple spans under RESOLVED_DX spacings says so (and the dx that
     resolves it); one that resolves it does not."""
     import warnings

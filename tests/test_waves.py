@@ -427,3 +427,9 @@ def test_gauge_period_and_mean_level_over_whole_waves():
     T, level = wm.crossing_period_and_level(t, eta, 5.0, 20.0)
     assert T == pytest.approx(1.2, rel=1e-3) and level == pytest.approx(0.002, abs=2e-4)
     assert np.isnan(wm.crossing_period_and_level(t, np.zeros_like(t), 5.0, 20.0)[0])
+
+
+def test_gauge_period_ignores_a_shoaling_waves_secondary_crests():
+    t = np.linspace(0.0, 20.0, 4001)
+    eta = 0.03 * np.sin(2 * np.pi * t / 1.2) + 0.012 * np.sin(2 * np.pi * 3 * t / 1.2 + 0.5)
+    assert wm.crossing_period_and_level(t, eta, 5.0, 20.0)[0] == pytest.approx(1.2, rel=1e-2)

@@ -135,6 +135,8 @@ def wave_height(t, eta, t0, t1, period):
 def crossing_period_and_level(t, eta, t0, t1):
     """(mean zero up-crossing period about the window's mean, that mean level) of eta over
     [t0, t1]: what a gauge's record says of the waves' period and of the set-up or set-down.
+    A crossing counts once the record has dipped a tenth of its range below the mean since the
+    last one.
     NaN where the window holds under two up-crossings."""
     t, eta = np.asarray(t, float), np.asarray(eta, float)
     m = (t >= t0) & (t <= t1) & np.isfinite(eta)
@@ -143,7 +145,18 @@ def crossing_period_and_level(t, eta, t0, t1):
     tt, e = t[m], eta[m]
     level = float(e.mean())
     d = e - level
-    up = np.nonzero((d[:-1] < 0) & (d[1:] >= 0))[0]
+    # a crossing counts once the record has been below -b since the last one: a shoaling wave's
+    # secondary crests (its harmonics) near the mean are not waves of their own
+    b = 0.1 * float(d.max() - d.min())
+    up, low = [], False
+    for i in range(len(d) - 1):
+        low = low or d[i] < -b
+        if low and d[i] < 0 <= d[i + 1]:
+            up.append(i)
+            low = False
+    up = np.array(up, int)
+    if len(up) < 2:
+        return float("nan"), level
     tc = tt[up] - d[up] * (tt[up + 1] - tt[up]) / (d[up + 1] - d[up])
     if len(tc) < 2:
         return float("nan"), level
