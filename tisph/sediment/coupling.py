@@ -49,10 +49,9 @@ DEFAULTS = {
     # wall_function: Launder & Spalding's, from the k equation's k as well, scaled the same way
     "shear": "waves",
     "reference_height": 1.5,       # z_r / dx: where the near-bed velocity is read
-    # shear = "waves": the near-bed velocity is scaled so its amplitude, averaged along the bed over
-    # one orbital diameter, is the amplitude outer_height dx above the bed (above the SPH's near-wall
-    # layer: the tunnel's bed reads 0.70 of U_m at 1.5 dx and 0.65 at dx / 1.5; 0.95 and 0.93
-    # scaled from 6 dx); 0: not scaled
+    # shear = "waves": the near-bed velocity scaled so its amplitude, averaged along the bed over d0, is the
+    # amplitude outer_height dx up (above the SPH's near-wall layer: the tunnel's bed read 0.70 U_m at 1.5
+    # dx, 0.65 at dx / 1.5; scaled from 6 dx, 0.95 and 0.93); 0: not scaled
     "outer_height": 6.0,
     "filter_time": 0.05,           # s: time constant of the near-bed velocity's filter
     "update_every": 10,            # steps between bed updates
@@ -82,13 +81,11 @@ RANGES = {"sediment.porosity": (0.0, 0.9, True, True), "sediment.repose_angle": 
           "sediment.seed": (0, None, True, True)}
 CHOICES = {"sediment.model": ("particles", "bedload"), "sediment.formula": ("mpm", "nielsen"),
            "sediment.shear": ("waves", "log", "log_far_field", "wall_function")}
-# One set of bed parameters for sand under waves, the tunnel's and the beach's alike (docs/sediment.md
-# says which are empirical and what they were chosen on); a scene adds only its physical inputs
-# (morfac, the initial roughness seed_rms). The pipeline's current differs in its physics.
+# One set of bed parameters for sand under waves, the tunnel's and the beach's (docs/sediment.md: which are
+# empirical, chosen on what); a scene adds only physical inputs (morfac, seed_rms). The pipeline's differ.
 WAVE_RIPPLES = dict(model="bedload", grain_density=2650.0, shear="waves", reference_height=1.5, outer_height=6.0,
                     lee_vortex=0.5, separation_length=6.0, separation_slope=10.0, separation_excursion=0.6)
-# the numerics of the water over it: the near-bed flow must not be slowed by artificial viscosity
-# (alpha h c0 / 8 is an eddy viscosity; its Stokes layer at the tunnel's c0 is 1.6 dx thick)
+# the water over it: no artificial viscosity (alpha h c0 / 8's Stokes layer is 1.6 dx at the tunnel's c0)
 WAVE_NUMERICS = dict(h_factor=1.3, artificial_viscosity=0.0, laminar_viscosity=True, density_diffusion="fourtakas",
                      delta=0.1)
 # the fastest the bed may move, in units of the sound speed (BedCoupler.check_speed)
