@@ -296,7 +296,7 @@ def _build_bedload(cfg):
     domain = ((0.0, float(z.min()) - (L + 2) * dx - pad), (Lx, 2.0 * ytop + pad))
     physics = physics_from_config(cfg, periodic_x=True, materials_used=["water"], moving_bed=True)
     bed = coupling.BedCoupler(sed, stations, z, dx, h, geo["grain_diameter"], sed["grain_density"],
-                              amplitude=0.5 * d0, periodic=True, rho_w=rw, omega=drive.omega)
+                              amplitude=0.5 * d0, periodic=True, rho_w=rw, omega=drive.omega, still_level=ytop)
     rows = []
 
     def ripples_round(zb):

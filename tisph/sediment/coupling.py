@@ -22,6 +22,7 @@ from ..particles import BED
 from ..terms.tke import SQRT_CMU
 from .bed import Bed
 from .lee import lee_vortex_shear
+from .outer import outer_heights, outer_scale
 from .transport import reference_concentration, settling_velocity, shear_log_law, shear_waves, shields_number
 
 
@@ -108,17 +109,6 @@ def refuse_unused_sediment_keys(cfg, scene_defaults):
                      for k, v in sed.items() if k != "model" and k in base and v != base[k]])
 
 
-def running_mean(v, w, periodic):
-    """v averaged over w (odd) neighbouring stations: periodic, or over the stations there are at
-    the ends of a closed bed."""
-    v = np.asarray(v, float)
-    k = np.ones(w)
-    if periodic:
-        pad = np.concatenate([v[-(w // 2):], v, v[:w // 2]])
-        return np.convolve(pad, k / w, mode="valid")
-    return np.convolve(v, k, mode="same") / np.convolve(np.ones_like(v), k, mode="same")
-
-
 def initial_bed(stations, z, sed, dx):
     """The initial bed: z plus a random perturbation of RMS seed_rms, smoothed over 2 dx (a white
     perturbation at one station would be a 1-dx spike) and rescaled to that RMS."""
@@ -165,7 +155,7 @@ def add_bed_particles(ps, stations, zb, dx, layers, rho_w, density):
 
 class BedCoupler:
     def __init__(self, sed, stations, z, dx, h, d50, rho_s, amplitude=0.0, periodic=True, rho_w=1000.0,
-                 omega=0.0, z0=None, far_field=None, surface=None):
+                 omega=0.0, z0=None, far_field=None, surface=None, still_level=None):
         """amplitude: the near-bed orbital amplitude A (Swart's f_w, the lee zone's cap), a number;
         None: measured at each station from the filtered near-bed velocity over the last wave
         period 2 pi / omega, A = (u_max - u_min) / (2 omega): Wiberg & Harris's d0 = U_m T / pi
@@ -203,6 +193,7 @@ class BedCoupler:
             raise ConfigError("sediment.settling_delay", True, "false unless sediment.lee_transit = true: the "
                               "delay is a stage of the load that crosses the lee with the current")
         self.water_top = surface
+        self.still_level = still_level       # the still water's level: caps the outer reading's height
         self.w_s = sed["settling_velocity"] or settling_velocity(d50, self.bed.s)
         self.suspended = 0.0                 # sand volume in the water per unit width (m2)
         self.u = np.zeros(len(stations))
@@ -221,8 +212,11 @@ class BedCoupler:
         """(Tangential water velocity, k or None) at z_r above the bed at each station (NaN: no
         water there), sampled on the solver's own cells (Solver.sample_velocity); k, in the same
         pass, for the wall function only."""
-        heights = [self.sed["reference_height"]] + ([self.sed["outer_height"]] if self.outer else [])
-        pts = np.vstack([np.column_stack([self.stations, self.bed.z + z * self.dx]) for z in heights])
+        z = self.bed.z
+        heights = [z + self.sed["reference_height"] * self.dx]
+        if self.outer:
+            heights.append(z + np.nan_to_num(self.outer_heights(), nan=self.sed["reference_height"] * self.dx))
+        pts = np.vstack([np.column_stack([self.stations, zz]) for zz in heights])
         k = None
         if self.sed["shear"] == "wall_function":
             u, k = s.sample_velocity(pts, tke=True)
@@ -251,27 +245,16 @@ class BedCoupler:
                                    self.mobility())
         return tau
 
+    def outer_heights(self):
+        """The outer reading's height above the bed at each station (outer.outer_heights)."""
+        return outer_heights(self.sed, self.dx, self.bed.z, self.still_level)
+
     def outer_scale(self, full_period):
-        """The factor on the near-bed velocity at each station: the amplitude outer_height dx above
-        the bed over the amplitude at z_r, each over the last wave period and averaged along the bed
-        over one orbital diameter (a ripple's crest speed-up and lee slow-down stay in the near-bed
-        velocity; the numerical boundary layer's loss, uniform over that length, goes). Swart's f_w
-        relates the bed shear to the orbital velocity outside the wave boundary layer, which the
-        SPH resolves only above its own near-wall layer of a few dx. 1 until a whole period has
-        been seen, and where either reading is dry."""
+        """The factor on the near-bed velocity at each station (outer.outer_scale); 1 until a
+        whole wave period has been seen."""
         if not full_period:
             return np.ones(len(self.stations))
-        h = self.history
-        ur = np.array([x[1] for x in h])
-        uo = np.array([x[2] for x in h])
-        ar = 0.5 * (ur.max(0) - ur.min(0))
-        ao = 0.5 * (uo.max(0) - uo.min(0))
-        amp = np.asarray(self.amplitude, float)
-        d0 = 2.0 * float(np.median(amp[amp > 0])) if np.any(amp > 0) else 0.0
-        w = max(3, int(round(d0 / self.dx)) | 1)
-        ar_s, ao_s = (running_mean(v, w, self.bed.periodic) for v in (ar, ao))
-        ok = (ar_s > 1e-9) & (ao_s > 0)
-        return np.where(ok, ao_s / np.where(ok, ar_s, 1.0), 1.0)
+        return outer_scale(self.history, self.amplitude, self.dx, self.bed.periodic, self.outer_heights())
 
     def to_far_field(self, tau):
         """tau scaled so that its median magnitude over the far field's stations is tau_inf."""
