@@ -89,7 +89,7 @@ class SolverAPI:
         """Add one sample of the mean |rho/rho0 - 1| over the fluid particles of a state read
         (the outputs' probe samples); mean_density_error is their average over the run, and
         rhodev_p999 the largest 99.9th percentile of a sample (the 10th-largest value where a case
-        has under 10,000 fluid particles): the bulk's worst, which a breaking wave's impact on a few
+        has under 10,000 fluid particles, none under 100): the bulk's worst, which a breaking wave's impact on a few
         particles (the largest error, max_density_error) does not set."""
         from ..particles import FLUID
         fl = st["kind"] == FLUID
@@ -98,8 +98,9 @@ class SolverAPI:
             dev = np.abs(st["rho"][fl] / rho0 - 1.0)
             self.rhodev_sum += float(np.mean(dev))
             self.rhodev_n += 1
-            q = 100.0 * (1.0 - max(1e-3, 10.0 / len(dev)))     # the 10th-largest under 1e4 particles
-            self.rhodev_p999 = max(self.rhodev_p999, float(np.percentile(dev, q)))
+            if len(dev) >= 100:    # a bulk to speak of; the 10th-largest under 1e4 particles
+                q = 100.0 * (1.0 - max(1e-3, 10.0 / len(dev)))
+                self.rhodev_p999 = max(self.rhodev_p999, float(np.percentile(dev, q)))
 
     @property
     def mean_density_error(self):
