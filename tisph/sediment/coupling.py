@@ -215,7 +215,8 @@ class BedCoupler:
         z = self.bed.z
         heights = [z + self.sed["reference_height"] * self.dx]
         if self.outer:
-            heights.append(z + np.nan_to_num(self.outer_heights(), nan=self.sed["reference_height"] * self.dx))
+            self.zo = self.outer_heights()      # outer_scale reads the same heights this update
+            heights.append(z + np.nan_to_num(self.zo, nan=self.sed["reference_height"] * self.dx))
         pts = np.vstack([np.column_stack([self.stations, zz]) for zz in heights])
         k = None
         if self.sed["shear"] == "wall_function":
@@ -254,7 +255,7 @@ class BedCoupler:
         whole wave period has been seen."""
         if not full_period:
             return np.ones(len(self.stations))
-        return outer_scale(self.history, self.amplitude, self.dx, self.bed.periodic, self.outer_heights())
+        return outer_scale(self.history, self.amplitude, self.dx, self.bed.periodic, self.zo)
 
     def to_far_field(self, tau):
         """tau scaled so that its median magnitude over the far field's stations is tau_inf."""
