@@ -2,7 +2,7 @@
 what is allowed; none reaches Taichi or prints a traceback."""
 import pytest
 
-from tisph.run import run_scene
+from tisph.runner import run_scene
 from tisph.scenes import beach, dam_break, flume, pipeline_scour, tank, tunnel
 
 CASES = [

@@ -177,7 +177,7 @@ def test_tunnel_bedload_moves_the_bed_particles_and_keeps_the_sand(tmp_path):
     """The tunnel over the morphodynamic bed, one period at dx 2 cm with morfac 20: the bed moves,
     its volume is conserved to 1e-6 and the BED particles' top layer sits dx/2 under z_b."""
     from tisph.particles import BED
-    from tisph.run import Log, Run, build_case, resolve
+    from tisph.runner import Log, Run, build_case, resolve
     from tisph import runtime
     from tisph.scenes import tunnel
     cfg = resolve(tunnel, overrides={"numerics.dx": 0.02, "run.end_time": 2.0, "output.render": False,
@@ -456,7 +456,7 @@ def test_bed_faster_than_the_water_allows_stops_the_run_with_a_message():
     its speed, the shear and the Shields number (the water would blow up a few steps later with a
     message about its sound speed); with a sound speed that allows it the same bed moves its
     particles."""
-    from tisph.run.setup import SimulationError
+    from tisph.runner.setup import SimulationError
     from tisph.sediment.coupling import BED_MACH, DEFAULTS, BedCoupler
     dx = 0.0025
     x = (np.arange(80) + 0.5) * dx
@@ -481,7 +481,7 @@ def test_a_ripple_under_the_resolved_spacings_is_warned_about():
     resolves it); one that resolves it does not."""
     import warnings
     from tisph.ripples import RESOLVED_DX
-    from tisph.run import resolve
+    from tisph.runner import resolve
     from tisph.scenes import tunnel
     for dx, warned in ((0.01, False), (0.02, True)):
         cfg = resolve(tunnel, None, {"numerics.dx": dx})
@@ -505,7 +505,7 @@ def test_ripple_statistics_of_an_unresolved_ripple_are_null_with_the_reason():
 
 def test_a_tunnel_run_too_short_for_its_period_says_the_end_time_it_needs():
     import warnings
-    from tisph.run import resolve
+    from tisph.runner import resolve
     from tisph.scenes import tunnel
     for ov, warned in (({}, False), ({"geometry.period": 3.0}, True), ({"run.end_time": 20.0}, True)):
         with warnings.catch_warnings(record=True) as w:

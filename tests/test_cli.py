@@ -199,7 +199,7 @@ def test_every_case_file_is_valid_for_the_scene_its_header_names():
     import glob
     import importlib
     import re
-    from tisph.run.entry import resolve
+    from tisph.runner.entry import resolve
     files = sorted(glob.glob(os.path.join(ROOT, "scenes", "*.toml")))
     assert len(files) >= 15
     for path in files:

@@ -69,7 +69,7 @@ def test_every_bad_key_is_reported_at_once(tmp_path):
 
 def test_summary_says_why_laminar_viscosity_is_on_when_the_config_says_off():
     from tisph.config import physics_from_config
-    from tisph.run.summary import physics_notes
+    from tisph.runner.summary import physics_notes
     cfg = build_config(tank.DEFAULTS, None, {"geometry.sediment_depth": 0.2})
     assert cfg["numerics"]["laminar_viscosity"] is False
     ph = physics_from_config(cfg)
@@ -83,8 +83,8 @@ def test_every_keyed_module_parameter_reaches_the_solver():
     did not pass ran at its default: numerics.stress_limiter, found by a bench that changed nothing)."""
     from tisph.config import _module_keys
     from tisph.engine.state import PARAM_ALIASES
-    from tisph.run import resolve
-    from tisph.run.setup import common_params
+    from tisph.runner import resolve
+    from tisph.runner.setup import common_params
     from tisph.scenes import pipeline_scour
     cfg = resolve(pipeline_scour, None, {"numerics.turbulence": "k_equation", "numerics.stress_limiter": 0.5,
                                          "numerics.mixing_length": 0.003, "numerics.delta": 0.05})

@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from tisph.io import read_csv
-from tisph.run import simulate
+from tisph.runner import simulate
 from tisph.scenes import dam_break
 from tisph.validation import martin_moyce
 

@@ -1,7 +1,7 @@
 """A tank at rest keeps hydrostatic pressure, stays still and keeps its water, for both wall types."""
 import pytest
 
-from tisph.run import simulate
+from tisph.runner import simulate
 from tisph.scenes import tank
 
 

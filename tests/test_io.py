@@ -13,7 +13,7 @@ import pytest
 
 from tisph import io as tio
 from tisph.config import tomllib
-from tisph.run import simulate
+from tisph.runner import simulate
 from tisph.scenes import dam_break
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -143,7 +143,7 @@ def test_full_disk_gives_a_clear_error(tmp_path, monkeypatch, capsys):
         return real(name, mode, *a, **k)
 
     monkeypatch.setattr(_h5, "File", full)
-    from tisph.run import run_scene
+    from tisph.runner import run_scene
     code = run_scene(dam_break, ["--dx", "0.06", "--max-steps", "3", "--no-render", "--quiet",
                                  "--out", str(tmp_path / "o")])
     err = capsys.readouterr().err
@@ -153,7 +153,7 @@ def test_full_disk_gives_a_clear_error(tmp_path, monkeypatch, capsys):
 
 @pytest.mark.slow
 def test_corrupt_and_foreign_restart_files(tmp_path, capsys):
-    from tisph.run import run_scene
+    from tisph.runner import run_scene
     bad = tmp_path / "garbage.h5"
     bad.write_bytes(b"\x00not hdf5 at all" * 100)
     code = run_scene(dam_break, ["--dx", "0.06", "--no-render", "--quiet", "--out", str(tmp_path / "a"),
@@ -214,7 +214,7 @@ def test_snapshots_say_their_units_and_codes_and_the_run_its_disk(tmp_path):
     """Each dataset carries its units, kind and material their codes (also in the XDMF's
     Information for ParaView); the run prints its disk estimate at the start; by default a run
     writes about 50 snapshots on frame times, not one per frame."""
-    from tisph.run.loop import default_snapshot_interval
+    from tisph.runner.loop import default_snapshot_interval
     s = simulate(dam_break, dict(FAST, **{"run.end_time": 0.05, "output.snapshot_every": 0.025}), out=str(tmp_path))
     with h5py.File(tmp_path / "snapshots" / "00001.h5", "r") as f:
         assert f["pressure"].attrs["units"] == "Pa" and f["position"].attrs["units"] == "m"

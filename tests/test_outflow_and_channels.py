@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from tisph.io import read_csv
-from tisph.run import simulate
+from tisph.runner import simulate
 from tisph.scenes import dam_break, hatch
 from tisph.validation import shallow_water as sw
 

@@ -9,7 +9,7 @@ import taichi as ti
 
 from tisph.config import Physics
 from tisph.particles import ParticleSet, block, FLUID, tait_B
-from tisph.run import run_scene
+from tisph.runner import run_scene
 from tisph.engine.solver import Solver
 from tisph.terms.sps import sps_stress, CS, CI
 

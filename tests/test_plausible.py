@@ -4,8 +4,8 @@ null, not a number."""
 import pytest
 
 from tisph.config import ConfigError
-from tisph.run import resolve
-from tisph.run.setup import build_case
+from tisph.runner import resolve
+from tisph.runner.setup import build_case
 from tisph.scenes import beach, flume, tunnel
 from tisph import wavemaker as wm
 

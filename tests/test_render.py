@@ -81,7 +81,7 @@ def test_zoom_window_from_the_config_and_its_outline():
 
 
 def test_gauges_are_marked_on_the_flume_frame():
-    from tisph.run import resolve
+    from tisph.runner import resolve
     from tisph.scenes import flume
     cfg = resolve(flume, None, {"numerics.dx": 0.025})
     case = flume.build(cfg)

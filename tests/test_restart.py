@@ -5,7 +5,7 @@ import os
 
 import pytest
 
-from tisph.run import simulate
+from tisph.runner import simulate
 from tisph.scenes import beach, erodible_bed, flume, pipeline_scour, tunnel
 
 FAST = {"output.render": False, "output.quiet": True, "output.snapshot_every": 0.0}

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 import taichi as ti
 
-from tisph.run import simulate
+from tisph.runner import simulate
 from tisph.scenes import tank
 from tisph.terms.rheology import bingham, bingham_np, cross, cross_np
 from tisph.validation import poiseuille
@@ -99,7 +99,7 @@ def _heap_case(tau, unyielded="rest"):
     import types
     from tisph.config import physics_from_config
     from tisph.particles import ParticleSet, block, box_walls, hydrostatic_density, tait_B, FLUID, WALL
-    from tisph.run import common_params
+    from tisph.runner import common_params
     from tisph.case import make_case
     defaults = {"run": {"end_time": 0.4},
                 "numerics": {"dx": 0.01, "artificial_viscosity": 0.1, "density_diffusion": "fourtakas"},
@@ -144,7 +144,7 @@ def test_bingham_heap_large_yield_stays_small_yield_slumps(tmp_path):
 
 @pytest.mark.slow
 def test_erodible_bed_command_runs_a_few_steps(tmp_path):
-    from tisph.run import run_scene
+    from tisph.runner import run_scene
     from tisph.scenes import erodible_bed
     out = tmp_path / "eb"
     code = run_scene(erodible_bed, ["--max-steps", "30", "--out", str(out), "--quiet", "--frame-interval", "0.002"])

@@ -6,7 +6,7 @@ import re
 import numpy as np
 
 from tisph import io as tio
-from tisph.run import run_scene
+from tisph.runner import run_scene
 from tisph.scenes import dam_break
 
 
@@ -36,7 +36,7 @@ def test_wall_crossing_stops_the_run(tmp_path):
     """A fluid particle past a wall's first row of particles is an instability: the run stops at
     once, says which particle crossed where, and the last healthy state has every fluid particle
     inside the walls."""
-    from tisph.run import simulate
+    from tisph.runner import simulate
     out = tmp_path / "o"
     # a repulsive wall 1000x too weak and one particle thick: the column pushes through the floor
     s = simulate(dam_break, {"numerics.dx": 0.06, "numerics.wall": "repulsive", "numerics.wall_strength": 0.001,
@@ -56,7 +56,7 @@ def test_wall_crossing_stops_the_run(tmp_path):
 def test_overtopping_is_told_apart_from_penetration(tmp_path):
     """Sound speed 3x too low: the run-up jet goes over the 4 m wall and falls outside. The run
     is warned about at the start and stops cleanly, naming the spill, not a penetration."""
-    from tisph.run import simulate
+    from tisph.runner import simulate
     s = simulate(dam_break, {"numerics.dx": 0.06, "numerics.c0_factor": 10.0 / 3.0, "run.end_time": 2.0,
                              "output.render": False, "output.quiet": True, "output.snapshot_every": 0.0},
                  out=str(tmp_path / "o"))

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from tisph.particles import FLUID
-from tisph.run import Log, build_case, resolve, run_scene
+from tisph.runner import Log, build_case, resolve, run_scene
 from tisph.scenes import pipeline_scour, tank
 from tisph.sediment.transport import reference_concentration, settling_velocity, shields_critical
 from tisph.engine.solver import Solver

@@ -10,7 +10,7 @@ import pytest
 
 pytest.importorskip("dask.distributed")
 
-from tisph.run import simulate  # noqa: E402
+from tisph.runner import simulate  # noqa: E402
 from tisph.scenes import tank  # noqa: E402
 from tisph.sweep import main  # noqa: E402
 

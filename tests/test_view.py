@@ -6,7 +6,7 @@ import numpy as np
 
 from tisph import view
 from tisph.render import Renderer
-from tisph.run import simulate
+from tisph.runner import simulate
 from tisph.scenes import dam_break
 
 

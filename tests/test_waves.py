@@ -10,7 +10,7 @@ import pytest
 from tisph import wavemaker as wm
 from tisph.io import read_station_rows
 from tisph.ripples import ripple_stats, orbital_diameter, wiberg_harris
-from tisph.run import resolve, build_case, Log, simulate
+from tisph.runner import resolve, build_case, Log, simulate
 from tisph.engine.solver import Solver
 from tisph.particles import MOVING
 from tisph.scenes import flume, beach, tunnel

@@ -17,7 +17,7 @@ from .config import ConfigError
 from .io import OutputError, ensure_dir, write_csv, write_text
 from .particles import ParticleSet, box_walls, FLUID, WALL, tait_B
 from .case import make_case
-from .run import common_params, simulate, sound_speed
+from .runner import common_params, simulate, sound_speed
 from .scenes import dam_break, tank
 
 

@@ -94,7 +94,7 @@ def file_digest(path):
 def plan(scene, config, sets, zipped, out, base=None):
     """The cases, each validated: [(id, swept values, overrides)]; a ConfigError on the first bad
     key or value, before anything runs."""
-    from .run import resolve
+    from .runner import resolve
     cases = []
     for k, values in enumerate(combinations(sets, zipped)):
         ov = dict(base or {})
@@ -124,7 +124,7 @@ def run_case(scene_name, config, overrides, arch, threads):
     """One case on a worker: the ordinary scene run. Returns (status, message, summary or None).
     Taichi is initialised once per worker process with `threads` CPU threads."""
     os.environ.setdefault("TISPH_THREADS", str(threads))
-    from .run import simulate
+    from .runner import simulate
     scene = scene_module(scene_name)
     ov = dict(overrides)
     ov["run.arch"] = arch

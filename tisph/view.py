@@ -43,7 +43,7 @@ def scene_picture(attrs):
     if that fails."""
     cfg_text, name = attrs.get("config", ""), attrs.get("scene", "")
     try:
-        from .run import resolve
+        from .runner import resolve
         scene = importlib.import_module(f"tisph.scenes.{name}")
         cfg = resolve(scene, None, flatten(tomllib.loads(cfg_text)))
         return scene.build(cfg).picture, cfg["numerics"]["dx"]

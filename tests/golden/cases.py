@@ -69,7 +69,7 @@ def run(case_id, steps=STEPS):
     """Final state digest of one case: a hash of x, v, rho (by particle id) and of probes.csv."""
     import numpy as np
     from tisph import runtime
-    from tisph.run import Log, Run, build_case, resolve
+    from tisph.runner import Log, Run, build_case, resolve
     _, modname, cfile, ov = next(c for c in CASES if c[0] == case_id)
     scene = importlib.import_module(modname)
     overrides = dict(FAST, **ov)

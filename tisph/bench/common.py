@@ -21,7 +21,7 @@ def table(header, rows):
 def run_case(case, dx, quick, out):
     """One run of a benchmark or validation case (scene, config, overrides, quick_overrides) at dx,
     without pictures or snapshots, into out: (summary, wall seconds)."""
-    from ..run import simulate
+    from ..runner import simulate
     ov = {"output.render": False, "output.quiet": True, "output.snapshot_every": 0.0, "numerics.dx": dx}
     ov.update(case.overrides)
     if quick:

@@ -109,7 +109,7 @@ def scaling(sizes, steps=100):
 def specialisation(quick, steps=None):
     """The dam break as shipped against the same case compiled with the rheology, laminar
     viscosity, XSPH and no-slip terms switched on at zero strength."""
-    from ..run import build_case, Log, resolve
+    from ..runner import build_case, Log, resolve
     from ..scenes import dam_break
     from ..engine.solver import Solver
     cfg = resolve(dam_break, overrides={"numerics.dx": 0.03, "output.quiet": True})
@@ -138,7 +138,7 @@ import os, sys, io, contextlib
 os.environ["ENABLE_TAICHI_HEADER_PRINT"] = "0"
 import taichi as ti
 ti.init(arch=ti.cpu, kernel_profiler=True, default_fp=ti.f32, log_level=ti.WARN)
-from tisph.run import build_case, Log, resolve
+from tisph.runner import build_case, Log, resolve
 from tisph.scenes import dam_break
 from tisph.engine.solver import Solver
 cfg = resolve(dam_break, overrides={"numerics.dx": 0.03, "output.quiet": True})

@@ -83,7 +83,7 @@ def average_from(end_time):
 def run_pipeline(cfg_file, overrides, dx, run_dir):
     """The pipeline case file with these overrides (and dx, if given) run into run_dir:
     (config, summary, wall seconds, geometry)."""
-    from ..run import resolve, simulate
+    from ..runner import resolve, simulate
     from ..scenes import pipeline_scour
     ov = dict(overrides, **({"numerics.dx": dx} if dx else {}))
     cfg = resolve(pipeline_scour, cfg_file, ov)
@@ -117,7 +117,7 @@ def run_gap(gap, D, dx, end_time, out, cfg_file):
 
 def main(a):
     from ..io import ensure_dir, write_csv, write_text
-    from ..run import resolve
+    from ..runner import resolve
     from ..scenes import pipeline_scour
     ensure_dir(a.out)
     cfg_file = a.config or os.path.join(ROOT, "scenes", "pipeline_scour_mao.toml")

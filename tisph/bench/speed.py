@@ -51,7 +51,7 @@ CHILD = r"""
 import json, os, sys, time, importlib, resource
 t0 = time.perf_counter()
 from tisph import runtime
-from tisph.run import build_case, Log, resolve
+from tisph.runner import build_case, Log, resolve
 try:
     from tisph.engine.solver import Solver
 except ImportError:

@@ -20,7 +20,7 @@ from ..config import ConfigError, physics_from_config
 from ..particles import ParticleSet, block, hydrostatic_density, tait_B, wall_density, FLUID, WALL, OUTFLOW
 from ..profiles import depth_profile, plot_profiles, write_profile
 from ..case import make_case
-from ..run import common_params, run_scene, sound_speed
+from ..runner import common_params, run_scene, sound_speed
 from ..validation import martin_moyce, shallow_water
 
 NAME = "dam_break"

@@ -26,7 +26,7 @@ from ..io import write_csv
 from ..particles import ParticleSet, block, density_from_pressure, tait_B, FLUID, WALL
 from ..render import SAND
 from ..case import make_case
-from ..run import common_params, run_scene, sound_speed
+from ..runner import common_params, run_scene, sound_speed
 from ..probes.gauges import surface_heights
 from ..probes.plots import pyplot, save
 

@@ -27,7 +27,7 @@ import numpy as np
 from ..config import ConfigError, physics_from_config
 from ..particles import ParticleSet, block, hydrostatic_density, tait_B, wall_density, FLUID, WALL, MOVING
 from ..case import make_case
-from ..run import common_params, run_scene, sound_speed
+from ..runner import common_params, run_scene, sound_speed
 from .. import wavemaker as wm
 from ..constants import G
 from ..plausible import warn_waves, warn_window

@@ -20,7 +20,7 @@ from ..config import ConfigError, physics_from_config
 from ..particles import ParticleSet, block, hydrostatic_density, tait_B, wall_density, FLUID, WALL
 from ..profiles import surface_profile, write_profile, plot_profiles
 from ..case import make_case
-from ..run import common_params, run_scene, sound_speed
+from ..runner import common_params, run_scene, sound_speed
 
 NAME = "hatch"
 

@@ -16,7 +16,7 @@ from ..config import ConfigError, physics_from_config
 from ..particles import (ParticleSet, block, box_walls, density_from_pressure, layered_pressure, surface_above, tait_B,
                          FLUID, WALL)
 from ..case import make_case
-from ..run import common_params, run_scene, sound_speed
+from ..runner import common_params, run_scene, sound_speed
 
 NAME = "tank"
 

@@ -30,7 +30,7 @@ from ..ripples import (MIN_HEIGHT_DX, MIN_LENGTH_DX, last_finite, periodic_rippl
                        ripple_band, ripple_stats, unresolved, warn_unresolved, wiberg_harris)
 from ..probes.control import PIDrive
 from ..case import make_case
-from ..run import common_params, run_scene, sound_speed
+from ..runner import common_params, run_scene, sound_speed
 from ..materials import BINGHAM_SAND, WATER
 from ..probes.gauges import surface_heights
 from ..probes.plots import pyplot, save

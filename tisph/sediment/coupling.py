@@ -318,7 +318,7 @@ class BedCoupler:
         i = int(np.argmax(np.abs(w)))
         if abs(w[i]) <= BED_MACH * s.c0:
             return
-        from ..run.setup import SimulationError, unstable
+        from ..runner.setup import SimulationError, unstable
         k = int(np.argmax(np.abs(self.tau)))
         raise SimulationError(unstable(
             s, f"the bed moved faster than {BED_MACH:g} c0",

@@ -14,7 +14,7 @@ import numpy as np
 from ..config import ConfigError, physics_from_config
 from ..particles import ParticleSet, block, tait_B, FLUID, WALL
 from ..case import make_case
-from ..run import common_params, run_scene, sound_speed
+from ..runner import common_params, run_scene, sound_speed
 
 NAME = "poiseuille"
 

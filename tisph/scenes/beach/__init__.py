@@ -42,7 +42,7 @@ from ...render import SAND
 from ...profiles import streamlines_png
 from ...ripples import MIN_HEIGHT_DX, MIN_LENGTH_DX, last_finite, orbital_diameter, ripple_stats, wiberg_harris
 from ...case import make_case
-from ...run import common_params, run_scene, sound_speed
+from ...runner import common_params, run_scene, sound_speed
 from ... import wavemaker as wm
 from ...materials import BINGHAM_SAND, WATER
 from ...probes.gauges import surface_at, surface_heights

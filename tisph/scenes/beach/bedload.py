@@ -20,7 +20,7 @@ from ...particles import ParticleSet, block, density_from_pressure, tait_B, FLUI
 from ...ripples import (MIN_LENGTH_DX, last_finite, orbital_diameter, ripple_stats, unresolved, warn_unresolved,
                         wiberg_harris)
 from ...case import make_case
-from ...run import common_params, sound_speed
+from ...runner import common_params, sound_speed
 from ...probes.gauges import surface_at
 from ...probes.plots import pyplot, save
 from .shoaling import Shoaling

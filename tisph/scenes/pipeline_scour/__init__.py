@@ -35,7 +35,7 @@ from ...config import TURBULENCE_DEFAULTS, ConfigError, physics_from_config
 from ...particles import ParticleSet, block, density_from_pressure, layered_pressure, tait_B, FLUID, WALL
 from ...render import SAND
 from ...case import make_case
-from ...run import common_params, run_scene, sound_speed
+from ...runner import common_params, run_scene, sound_speed
 from ...sediment import coupling
 from ...validation import mao
 from .common import (NAME, add_pipe, friction_velocity, geometry, has_bedload, initial_bed,  # noqa: F401

@@ -32,7 +32,7 @@ from ...config import ConfigError, physics_from_config
 from ...io import write_csv, write_station_rows
 from ...particles import ParticleSet, block, density_from_pressure, tait_B, FLUID
 from ...case import make_case
-from ...run import common_params, sound_speed
+from ...runner import common_params, sound_speed
 from ...probes.plots import pyplot, save
 from ...sediment import coupling
 from ...sediment.transport import rouse_profile, transport_scale
