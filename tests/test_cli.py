@@ -210,7 +210,7 @@ def test_every_case_file_is_valid_for_the_scene_its_header_names():
 
 
 @pytest.mark.parametrize("name", ["beach", "tunnel", "flume", "tank", "dam_break", "hatch", "erodible_bed",
-                                  "pipeline_scour"])
+                                  "pipeline_scour", "custom"])
 def test_every_key_has_one_description_of_its_own(name):
     """--describe gives every key a description taken from its own table: a scene's geometry.width
     is not the frame's width in pixels, sediment.seed and paddle.seed keep their own words, and no

@@ -1,7 +1,9 @@
 """A run that goes unstable stops with a message and leaves its last healthy state readable."""
 import json
-import pytest
+import os
 import re
+
+import pytest
 
 import numpy as np
 
@@ -64,3 +66,31 @@ def test_overtopping_is_told_apart_from_penetration(tmp_path):
     assert s["status"] == "unstable" and "went over a side wall" in s["message"], s["message"]
     x = float(re.search(r"at x = \(([-0-9.e]+),", s["message"]).group(1))
     assert x > dam_break.DEFAULTS["geometry"]["tank_width"] + 0.06
+
+
+def _droplets(tmp_path, n, spray):
+    """A still tank with n particles of water at 0.6 rest density flying above it."""
+    import tisph
+    from tisph.particles import FLUID
+    from tisph.runner import Log, run_case
+    case = tisph.Case.custom([0.0, 1.0, 0.0, 1.0], [{"line": [[0.0, 1.0], [0.0, 0.0], [1.0, 0.0], [1.0, 1.0]]}],
+                             [{"level": 0.3}], numerics={"dx": 0.05, "spray_limit": spray},
+                             run={"end_time": 0.02}, output={"render": False, "quiet": True})
+    cfg = case.config()
+    from tisph.scenes import custom
+    built = custom.build(cfg)
+    x = np.column_stack([0.1 + (0.12 * np.arange(n)) % 0.8, 0.6 + 0.1 * (np.arange(n) // 7)])
+    built.particles.add(x, FLUID, 0, 600.0, 1000 * 0.05 ** 2)
+    out = str(tmp_path / f"o{n}_{spray}")
+    os.makedirs(out, exist_ok=True)
+    return run_case(built, cfg, out, Log(os.path.join(out, "run.log"), True), "custom")
+
+
+def test_spray_is_removed_and_counted_and_bulk_tearing_still_stops(tmp_path):
+    s = _droplets(tmp_path, 3, 0.0)
+    assert s["status"] == "unstable" and "density left the allowed band" in s["message"]
+    s = _droplets(tmp_path, 3, 0.05)     # 5 % of the 120 water particles may go: 6
+    assert s["status"] == "ok" and s["mass"]["spray_particles"] == 3
+    assert s["mass"]["mass_balance_error"] < 1e-6 and any("spray" in n for n in s["physics_notes"])
+    s = _droplets(tmp_path, 10, 0.05)    # beyond the limit: the water came apart, not spray
+    assert s["status"] == "unstable" and "than numerics.spray_limit allows" in s["message"]

@@ -5,3 +5,11 @@ import os as _os
 _os.environ.setdefault("ENABLE_TAICHI_HEADER_PRINT", "0")
 
 __version__ = "0.1.0"
+
+
+def __getattr__(name):
+    """tisph.Case and tisph.run (tisph/api.py), imported when first used: `import tisph` stays light."""
+    if name in ("Case", "run", "Result"):
+        from . import api
+        return getattr(api, name)
+    raise AttributeError(f"module 'tisph' has no attribute {name!r}")

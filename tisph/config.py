@@ -335,11 +335,11 @@ def get_path(d: dict, path: str):
 
 def build_config(scene_defaults: dict, toml_path=None, overrides: dict | None = None,
                  extra_ranges=None, extra_choices=None) -> dict:
-    """Defaults <- TOML file <- CLI overrides (dotted paths), validated."""
+    """Defaults <- TOML file (or its tables as a dict) <- CLI overrides (dotted paths), validated."""
     base = merge(SHARED_DEFAULTS, {}) if not scene_defaults else _deep_union(SHARED_DEFAULTS, scene_defaults)
     cfg, errors = base, []
     if toml_path:
-        cfg = merge(cfg, read_toml(toml_path), errors=errors)
+        cfg = merge(cfg, toml_path if isinstance(toml_path, dict) else read_toml(toml_path), errors=errors)
     if overrides:
         ov: dict = {}
         for path, value in overrides.items():
@@ -367,8 +367,7 @@ def _deep_union(a: dict, b: dict) -> dict:
 
 
 def dump_toml(d: dict, notes=None) -> str:
-    """The resolved config as TOML text (scalars, lists and nested tables only); notes: {dotted
-    key: text} written as a comment beside the key."""
+    """The resolved config as TOML text; notes: {dotted key: text} written as a comment beside it."""
     notes = notes or {}
     lines: list[str] = []
 
@@ -379,8 +378,9 @@ def dump_toml(d: dict, notes=None) -> str:
             return repr(v)
         if isinstance(v, str):
             return '"' + v.replace("\\", "\\\\").replace('"', '\\"') + '"'
-        if isinstance(v, list):
-            return "[" + ", ".join(fmt(x) for x in v) + "]"
+        if isinstance(v, (list, dict)):   # a dict: an entry of a list of tables ([[solid]]), inline
+            return ("{%s}" % ", ".join(f"{k} = {fmt(x)}" for k, x in v.items() if x is not None) if isinstance(v, dict)
+                    else "[" + ", ".join(fmt(x) for x in v) + "]")
         raise TypeError(type(v))
 
     def table(prefix, t):

@@ -90,12 +90,15 @@ def rows(scene):
     from . import materials, wavemaker
     from .sediment import coupling
     docs = {}
-    for m, table in ((materials, ""), (wavemaker, "paddle"), (coupling, "sediment"), (config, ""),
-                     (scene, "")):   # the scene's own words win
+    extra = tuple((importlib.import_module(n), t) for n, t in getattr(scene, "DESCRIBED", ()))
+    for m, table in ((materials, ""), (wavemaker, "paddle"), (coupling, "sediment"), (config, "")) + extra + (
+            (scene, ""),):   # the scene's own words win
         docs.update(comments(m, table))
     mod_docs = _module_docs()
     out = []
     for key, v in config.flatten(cfg).items():
+        if key in getattr(scene, "ELEMENTS", {}):
+            continue                             # a list of tables: element_rows has its keys
         leaf = key.split(".")[-1]
         if key in choices:
             allowed = "one of " + ", ".join(repr(c) for c in choices[key])
@@ -112,6 +115,17 @@ def rows(scene):
     return out
 
 
+def element_rows(scene):
+    """(list, key, default, meaning) of the keys of each entry of a scene's lists of tables
+    ([[solid]], [[water]], [[gauge]] of a custom case)."""
+    elements = getattr(scene, "ELEMENTS", {})
+    if not elements:
+        return []
+    docs = comments(sys.modules[scene.ELEMENTS_MODULE])
+    return [(table, k, "(not given)" if v is None else repr(v) if isinstance(v, str) else str(v),
+             docs.get(f"{table}.{k}", "")) for table, spec in elements.items() for k, v in spec.items()]
+
+
 def describe(scene):
     """The table as text, one key per line, grouped by table."""
     lines = [f"Config keys of {scene.NAME} (defaults; set them in a case file with --config, "
@@ -123,6 +137,11 @@ def describe(scene):
             lines.append(f"[{table}]")
             last = table
         lines.append(f"  {key.rsplit('.', 1)[1]} = {default}    ({allowed}){'  ' + meaning if meaning else ''}")
+    for table, key, default, meaning in element_rows(scene):
+        if table != last:
+            lines.append(f"[[{table}]]  (as many as the case needs; each entry's keys)")
+            last = table
+        lines.append(f"  {key} = {default}  {meaning}")
     return "\n".join(lines)
 
 
@@ -135,8 +154,15 @@ def as_toml(scene):
             "# what it means: generated from the code by `python -m tisph.describe --write scenes/defaults`",
             "# (tests/test_cli.py checks it is current). Copy the keys you change into a case file;",
             f"#   python -m tisph.scenes.{scene.NAME} --config scenes/defaults/{scene.NAME}.toml",
-            "# runs the defaults.", ""]
-    return "\n".join(head) + config.dump_toml(cfg, notes) + "\n"
+            "# runs the defaults." if not getattr(scene, "ELEMENTS", None) else
+            "# needs its own domain.box, [[solid]] and [[water]] (scenes/breakwater.toml is a whole case).", ""]
+    tail, last = [], None
+    for table, key, default, meaning in element_rows(scene):
+        if table != last:
+            tail += ["", f"# [[{table}]]    (as many entries as the case needs; the keys of each)"]
+            last = table
+        tail.append(f"# {key} = {default}    # {meaning}")
+    return "\n".join(head) + config.dump_toml(cfg, notes) + "\n" + ("\n".join(tail) + "\n" if tail else "")
 
 
 def scenes():

@@ -122,7 +122,7 @@ SNAPSHOT_UNITS = {"position": "m", "velocity": "m/s", "density": "kg/m3", "press
                   "mass": "kg per metre of width (2D)", "kind": "code (kind_codes)",
                   "material": "index (material_names)", "id": "particle number", "concentration": "volume fraction"}
 KIND_CODES = ("0 fluid (water or particle sand), 1 wall, 2 paddle (a moving wall), 3 bed (a bed-load bed's "
-              "boundary), -1 left the domain, -2 left through an outflow")
+              "boundary), -1 left the domain, -2 left through an outflow, -3 removed as spray (numerics.spray_density)")
 OPTIONAL = ("c",)   # members only some cases carry (c: suspended sand); snapshots and frames take them there
 
 

@@ -6,9 +6,10 @@ import os
 import numpy as np
 
 FLUID, WALL, MOVING, BED = 0, 1, 2, 3   # BED: boundary particles of a morphodynamic bed (they follow z_b)
-OUT, OUTFLOW = -1, -2   # parked: left the domain (a leak), or left through an open boundary
+# parked: left the domain (a leak), left through an open boundary, or torn off as spray and removed
+OUT, OUTFLOW, SPRAY = -1, -2, -3
 KIND_NAMES = {FLUID: "fluid", WALL: "fixed boundary", MOVING: "moving boundary", BED: "sand bed", OUT: "leaked",
-              OUTFLOW: "outflow"}
+              OUTFLOW: "outflow", SPRAY: "spray"}
 
 
 class ParticleSet:

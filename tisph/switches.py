@@ -28,6 +28,7 @@ class Physics:
     dem: bool = False           # DEM spring-dashpot contacts between sediment particles (paper 002 eqs. 17-28)
     moving_bed: bool = False    # BED particles follow a morphodynamic bed z_b(x) (tisph/sediment)
     suspension: bool = False    # the water carries suspended sand exchanged with that bed (physics/suspension.py)
+    spray: bool = False         # fluid leaving the density band is removed as spray, up to numerics.spray_limit (zones.Spray)
 
     def as_dict(self):
         return asdict(self)
@@ -65,4 +66,5 @@ def physics_from_config(cfg: dict, periodic_x=False, noslip=False, materials_use
         shifting=n["shifting"] > 0.0,
         density_diffusion=n["density_diffusion"],
         shepard=n["shepard_every"] > 0,
+        spray=n["spray_limit"] > 0.0,
     )

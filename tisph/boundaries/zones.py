@@ -5,8 +5,10 @@ import math
 import taichi as ti
 
 from ..constants import KAPPA
-from ..engine.health import BAD_SPILL, BAD_WALL, report
+from ..engine.health import BAD_SPILL, BAD_SPRAY, BAD_WALL, report
+from ..engine.keys import KEYED
 from ..engine.module import MatParam, Module, Param
+from ..particles import FLUID, SPRAY
 
 
 @ti.data_oriented
@@ -22,6 +24,30 @@ class Outflow(Module):
             xx = S.p.x[i]
             if z[0] <= xx[0] <= z[2] and z[1] <= xx[1] <= z[3]:
                 gone = True
+        return gone
+
+
+@ti.data_oriented
+class Spray(Module):
+    """Spray torn off a breaker: a droplet of two or three particles whose continuity sum drifts
+    as they fly apart (or clump) leaves the density band; such a particle is removed as SPRAY and
+    counted, as DualSPHysics removes particles outside RhopOutMin/Max, instead of stopping the
+    run. More than spray_limit of the water is the flow coming apart, not spray: the run stops."""
+    name = "spray"
+    on = {"spray": True}
+    kind_out = SPRAY
+    params = {"spray_limit": KEYED["numerics.spray_limit"],
+              "spray_cap": Param(lambda S, v: max(1, int(v.get("spray_limit", 0.0) * S.particles.count(FLUID))),
+                                 "particles", (1, None, True, True), "spray particles beyond which the run stops")}
+    stats = {"spray": "int"}
+
+    @ti.func
+    def remove(self, S, i):
+        gone = False
+        if ti.abs(S.p.rho[i] / S.mat_rho0[ti.cast(S.p.mat[i], ti.i32)] - 1.0) > S.prm[None].band:
+            gone = True
+            if ti.atomic_add(S.stats[None].spray, 1) >= S.prm[None].spray_cap:
+                report(S.stats, BAD_SPRAY, S.p.id[i])
         return gone
 
 

@@ -7,7 +7,7 @@ import taichi as ti
 
 from ..io import OPTIONAL
 from ..kernels import CubicSpline2D
-from ..particles import FLUID
+from ..particles import FLUID, SPRAY
 from .health import BAD_NONE
 from .state import ParticleFields, np_dtype, type_bytes
 
@@ -208,6 +208,8 @@ class SolverAPI:
         self._set_dt(float(scalars["dt"]))
         self._dt = None
         self.stats[None].leaked = int(scalars["leaked"])
+        if self.physics.spray:   # the spray removed so far counts towards its cap
+            self.stats[None].spray = int(np.sum(np.asarray(arrays["kind"]) == SPRAY))
         self.stats[None].rhodev = float(scalars.get("rhodev", 0.0))
         self.rhodev_sum = float(scalars.get("rhodev_sum", 0.0))
         self.rhodev_n = int(scalars.get("rhodev_n", 0))

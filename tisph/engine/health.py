@@ -2,8 +2,11 @@
 import taichi as ti
 
 # Codes of the instability detector, most severe last (the kernel keeps the maximum).
-BAD_NONE, BAD_DENSITY, BAD_SPEED, BAD_SPILL, BAD_WALL, BAD_LEAK, BAD_DT, BAD_NAN = 0, 1, 2, 3, 4, 5, 6, 7
+BAD_NONE, BAD_DENSITY, BAD_SPRAY, BAD_SPEED, BAD_SPILL, BAD_WALL, BAD_LEAK, BAD_DT, BAD_NAN = range(9)
 BAD_TEXT = {
+    BAD_SPRAY: ("more of the water left the density band than numerics.spray_limit allows as spray",
+                "the flow came apart in bulk, not as spray off a breaker: raise the sound speed, lower "
+                "dx, or check the forces; a particle torn off alone is removed, this many is an instability"),
     BAD_SPILL: ("a fluid particle went over a side wall and out of the tank",
                 "a jet or splash overtopped the walls: raise the walls, or the sound speed is too low "
                 "and the run-up too violent"),

@@ -10,6 +10,10 @@ KEYED = {p.key: p for p in (
     Param(1e-3, "s", (0.0, None, False, True), "user cap on the time step", key="numerics.dt_max"),
     Param(0.3, "-", (0.0, 1.0, False, True), "stop when |rho/rho0 - 1| exceeds this (instability)",
           key="numerics.density_band"),
+    Param(0.0, "-", (0.0, 0.1, True, True),
+          "the fraction of the water that may leave density_band as spray: such a particle (a droplet torn "
+          "off a breaker) is removed and counted, as DualSPHysics removes particles outside RhopOutMin/Max; "
+          "more stops the run; 0: any particle leaving the band stops it", key="numerics.spray_limit"),
     Param(0.1, "-", (0.0, 2.0, True, True), "Monaghan alpha; 0 compiles the term out",
           key="numerics.artificial_viscosity"),
     Param(0.1, "-", (0.0, 1.0, True, True), "density diffusion coefficient",

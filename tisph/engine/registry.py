@@ -7,7 +7,7 @@ config key that sets it), and test it (tests/test_terms.py).
 from ..boundaries.bed import MovingBed
 from ..boundaries.paddle import Paddle
 from ..boundaries.walls import DynamicWall, ExtrapolatedWall, NoSlip, RepulsiveWall
-from ..boundaries.zones import Container, Damping, Drive, Inflow, Outflow
+from ..boundaries.zones import Container, Damping, Drive, Inflow, Outflow, Spray
 from ..physics.fluid import (XSPH, ArtificialViscosity, Continuity, DensityDiffusion, LaminarViscosity,
                              Pressure, Shifting, VelocityGradient)
 from ..physics.sediment import DEM, Drag, Rheology
@@ -21,7 +21,7 @@ MODULES = (
     NoSlip,               # the ghost velocity, before the viscous terms read it
     LaminarViscosity, VelocityGradient, TKE, Omega, SPS, DEM, Drag, DensityDiffusion, XSPH, Shifting, Suspension,
     Rheology,             # finish: the effective viscosity for the next step (may rest the plug)
-    Drive, Damping, Inflow, Paddle, MovingBed, DynamicWall, ExtrapolatedWall, Outflow, Container, Shepard,
+    Drive, Damping, Inflow, Paddle, MovingBed, DynamicWall, ExtrapolatedWall, Outflow, Spray, Container, Shepard,
 )
 
 

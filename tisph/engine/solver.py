@@ -31,7 +31,7 @@ from ..particles import FLUID, MOVING, OUT, OUTFLOW
 from ..terms.pressure import tait
 from . import state as st_mod
 from .grid import Grid
-from .health import BAD_LEAK, BAD_NONE, fluid_code, report
+from .health import BAD_DENSITY, BAD_LEAK, BAD_NONE, fluid_code, report
 from .limits import next_dt
 from .access import SolverAPI
 from .module import HOOKS
@@ -165,19 +165,18 @@ class Solver(SolverAPI):
             if ti.static(len(self.hooks["remove"]) > 0):
                 if k == FLUID:
                     for m in ti.static(self.hooks["remove"]):
-                        if m.remove(self, i):
-                            gone = True
+                        if not gone and m.remove(self, i):
+                            gone = True   # parked as the module says: OUTFLOW, or SPRAY
+                            p.kind[i] = ti.cast(ti.static(getattr(m, "kind_out", OUTFLOW)), p.kind.dtype)
             if ti.static(len(self.hooks["position_check"]) > 0):
                 if k == FLUID and not gone:
                     for m in ti.static(self.hooks["position_check"]):
                         m.position_check(self, i)
-            if gone:
-                p.kind[i] = ti.cast(OUTFLOW, p.kind.dtype)
-            elif self.grid.inside(p.x[i]):
+            if not gone and self.grid.inside(p.x[i]):
                 key = self.grid.key_of(p.x[i])
                 if p.kind[i] == FLUID:
                     self.grid.fcnt[key] = ti.cast(1, self.grid.fdtype)
-            else:
+            elif not gone:
                 if k == FLUID:
                     report(self.stats, BAD_LEAK, p.id[i])
                 p.kind[i] = ti.cast(OUT, p.kind.dtype)
@@ -261,6 +260,9 @@ class Solver(SolverAPI):
             dev = ti.abs(rho / self.mat_rho0[mi] - 1.0)
             ti.atomic_max(self.stats[None].rhodev, dev)
             code = fluid_code(a, rho, pt.v.dot(pt.v), dev, prm.c0, prm.band)
+            if ti.static(self.physics.spray):
+                if code == BAD_DENSITY:
+                    code = BAD_NONE       # spray: the next step removes it (zones.Spray), up to its limit
             if code != BAD_NONE:
                 report(self.stats, code, t.id[i])
         elif k >= 0:

@@ -52,21 +52,33 @@ def surface_at(st, xg, dx, h, floor=0.0, mat=0):
 def velocity_at(st, points, h, mat=0):
     """SPH velocity of material `mat` at the given points, Shepard-normalised (sum V_j u_j W /
     sum V_j W, so a point near the bed or the surface is not biased low); NaN where no water is
-    within the kernel. All points at once: every (point, particle) pair in each point's column."""
+    within the kernel."""
+    return shepard_at(st, points, h, "v", mat)
+
+
+def shepard_at(st, points, h, name, mat=0, min_fraction=0.0):
+    """Shepard-normalised SPH interpolation of st[name] (a scalar or a 2-vector per particle) of
+    material `mat` at the given points: sum V_j f_j W / sum V_j W (DualSPHysics' MeasureTool does
+    the same); NaN where no water is within the kernel, or where the water fraction sum V_j W is
+    under min_fraction (MeasureTool's KClimit, 0.5: a point in the air near one droplet reads
+    nothing, not the droplet's value). All points at once: every (point, particle) pair in each
+    point's column."""
     pts = np.asarray(points, float).reshape(-1, 2)
-    x, v, vol, lo, hi = _near_columns(st, mat, pts[:, 0], K.support * h)
-    out = np.full((len(pts), 2), np.nan)
+    x, _, vol, lo, hi = _near_columns(st, mat, pts[:, 0], K.support * h)
+    fl = st["kind"] == FLUID
+    if mat is not None and st.get("mat") is not None:
+        fl &= st["mat"] == mat
+    f = np.asarray(st[name])[fl][np.argsort(st["x"][fl][:, 0])].reshape(int(fl.sum()), -1)
+    out = np.full((len(pts), f.shape[1]), np.nan)
     counts = np.maximum(hi - lo, 0)
     if counts.sum() == 0:
-        return out
+        return out if f.shape[1] > 1 else out[:, 0]
     k = np.repeat(np.arange(len(pts)), counts)
     first = np.cumsum(counts) - counts
     j = np.repeat(lo, counts) + (np.arange(counts.sum()) - np.repeat(first, counts))
     w = K.shape_np(np.hypot(x[j, 0] - pts[k, 0], x[j, 1] - pts[k, 1]) / h) * vol[j]
     sw = np.bincount(k, w, minlength=len(pts))
-    su = np.bincount(k, w * v[j, 0], minlength=len(pts))
-    sv = np.bincount(k, w * v[j, 1], minlength=len(pts))
-    ok = sw > 0
-    out[ok, 0] = su[ok] / sw[ok]
-    out[ok, 1] = sv[ok] / sw[ok]
-    return out
+    ok = sw > max(min_fraction * h * h / K.sigma, 0.0)    # sum V W with W's normalisation sigma / h^2 left out
+    for c in range(f.shape[1]):
+        out[ok, c] = np.bincount(k, w * f[j, c], minlength=len(pts))[ok] / sw[ok]
+    return out if f.shape[1] > 1 else out[:, 0]

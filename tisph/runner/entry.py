@@ -66,6 +66,8 @@ def resolve(scene, config=None, overrides=None):
     cfg = build_config(scene.DEFAULTS, config, overrides or {},
                        getattr(scene, "RANGES", None), getattr(scene, "CHOICES", None))
     refuse_unused_sediment_keys(cfg, scene.DEFAULTS)
+    if isinstance(config, str) and cfg.get("domain", {}).get("base_dir") == "":
+        cfg["domain"]["base_dir"] = os.path.dirname(os.path.abspath(config))   # a case's files sit beside it
     check_materials(cfg)
     if hasattr(scene, "check"):
         scene.check(cfg)

@@ -7,7 +7,7 @@ import numpy as np
 
 from .. import __version__
 from ..io import OutputError, json_safe, write_json
-from ..particles import FLUID, OUT, OUTFLOW
+from ..particles import FLUID, OUT, OUTFLOW, SPRAY
 
 # a weakly compressible run whose largest density error passes this warns (Monaghan's c0 = 10 u
 # keeps the typical error near 1 %)
@@ -22,9 +22,11 @@ def mass_balance(initial, final):
     m_in = float(np.sum(final["m"][final["kind"] == FLUID], dtype=np.float64))
     m_out = float(np.sum(final["m"][final["kind"] == OUTFLOW], dtype=np.float64))
     m_leak = float(np.sum(final["m"][final["kind"] == OUT], dtype=np.float64))
-    return dict(initial_fluid_mass=m0, fluid_mass=m_in, outflow_mass=m_out, leaked_mass=m_leak,
-                mass_balance_error=abs(m_in + m_out + m_leak - m0) / m0 if m0 > 0 else 0.0,
-                outflow_particles=int(np.sum(final["kind"] == OUTFLOW)))
+    m_spray = float(np.sum(final["m"][final["kind"] == SPRAY], dtype=np.float64))
+    return dict(initial_fluid_mass=m0, fluid_mass=m_in, outflow_mass=m_out, leaked_mass=m_leak, spray_mass=m_spray,
+                mass_balance_error=abs(m_in + m_out + m_leak + m_spray - m0) / m0 if m0 > 0 else 0.0,
+                outflow_particles=int(np.sum(final["kind"] == OUTFLOW)),
+                spray_particles=int(np.sum(final["kind"] == SPRAY)))
 
 
 def crossed_wall(solver, final):
@@ -70,6 +72,11 @@ def summarize(run, status, message, wall, step_s, nsteps, compile_s, segment=Non
         else:
             density_notes.append(w + "only a few particles (an impact, a splash) passed "
                               f"{DENSITY_ERROR_LIMIT:.0%}; the bulk stayed within it")
+    mass = mass_balance(case.particles, final)
+    if mass["spray_particles"]:
+        density_notes.append(f"{mass['spray_particles']} particles ({mass['spray_mass'] / mass['initial_fluid_mass']:.2%} "
+                             "of the water) left the density band as spray and were removed "
+                             f"(numerics.spray_limit = {cfg['numerics']['spray_limit']:g})")
     crossed = crossed_wall(s, final)
     nb = int(np.sum(case.particles.kind != FLUID))
     seg_step = segment[1] if segment else step_s
@@ -87,7 +94,7 @@ def summarize(run, status, message, wall, step_s, nsteps, compile_s, segment=Non
         snapshots=len(run.snapshots), c0=float(s.c0), h=float(s.h),
         physics=case.physics.as_dict(), modules=[m.name for m in s.modules],
         physics_notes=physics_notes(cfg, case.physics) + density_notes,
-        warnings=list(case.warnings), mass=mass_balance(case.particles, final), metrics=metrics,
+        warnings=list(case.warnings), mass=mass, metrics=metrics,
     )
     if run.restart:
         summary["restarted_from"] = os.path.abspath(run.restart)

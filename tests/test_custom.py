@@ -1,0 +1,159 @@
+"""Custom cases (python -m tisph.scenes.custom): the geometry, the checks a case file gets, the
+dam break written as a custom case against the built-in scene, and the example cases at a coarse dx."""
+import os
+
+import numpy as np
+import pytest
+
+from tisph.geometry import Polygon, Polyline, crossings, lattice, read_profile
+from tisph.io import read_csv
+from tisph.scenes import custom
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+TANK = """
+[numerics]
+dx = 0.05
+[domain]
+box = [0.0, 2.0, 0.0, 2.0]
+[[solid]]
+label = "tank"
+line = [[0.0, 2.0], [0.0, 0.0], [2.0, 0.0], [2.0, 2.0]]
+"""
+WATER = """
+[[water]]
+level = 0.5
+"""
+
+
+def run_cli(tmp_path, text, *flags):
+    path = tmp_path / "case.toml"
+    path.write_text(text)
+    return custom.main(["--config", str(path), "--out", str(tmp_path / "out"), "--no-render", "--quiet", *flags])
+
+
+def refused(tmp_path, capsys, text):
+    assert run_cli(tmp_path, text, "--end-time", "0.01") == 2
+    return capsys.readouterr().err
+
+
+def test_polyline_sides_and_band():
+    bed = Polyline([[0.0, 0.0], [1.0, 0.0], [2.0, 0.5]])
+    p = np.array([[0.5, -0.1], [0.5, 0.1], [1.8, 0.3], [1.8, 0.5], [-0.5, -0.01], [3.0, 0.9]])
+    # below the walk from left to right is solid, also beyond the ends (the end segments as rays)
+    assert bed.inside(p).tolist() == [True, False, True, False, True, True]
+    pts = lattice(-0.2, 2.2, -0.3, 0.8, 0.05)
+    band = bed.band(pts, 0.15)
+    assert band.any()
+    assert np.all(bed.distance(pts[band]) < 0.15 * 1.5)      # mitred joint: at most a bit beyond the thickness
+    assert not band[pts[:, 0] < 0].any() and not band[pts[:, 0] > 2.0 + 0.15].any()   # square ends
+
+
+def test_tank_line_gives_the_dam_break_walls():
+    from tisph.particles import block
+    dx, T = 0.025, 0.075
+    pts = lattice(-0.2, 4.2, -0.2, 4.2, dx)
+    tank = Polyline([[0.0, 4.0], [0.0, 0.0], [4.0, 0.0], [4.0, 4.0]])
+    got = pts[tank.band(pts, T)]
+    want = np.vstack([block(-T, -T, 4 + T, 0.0, dx), block(-T, 0.0, 0.0, 4.0, dx), block(4.0, 0.0, 4 + T, 4.0, dx)])
+    key = lambda a: set(map(tuple, np.round(a / dx * 2).astype(int)))   # noqa: E731
+    assert key(got) == key(want)
+
+
+def test_crossing_and_profile(tmp_path):
+    assert crossings([[0, 0], [1, 1], [1, 0], [0, 1]], True)
+    assert not crossings([[0, 0], [1, 0], [1, 1], [0, 1]], True)
+    f = tmp_path / "p.csv"
+    f.write_text("x,z\n2,0.3\n0,0.1\n1,0.2\n")
+    assert read_profile(f).tolist() == [[0, 0.1], [1, 0.2], [2, 0.3]]
+    f.write_text("x,z\n0,0.1\n0,0.2\n")
+    with pytest.raises(ValueError, match="same x"):
+        read_profile(f)
+    assert Polygon([[0, 0], [1, 0], [1, 1], [0, 1]]).inside(np.array([[0.5, 0.5], [1.5, 0.5]])).tolist() == [True, False]
+
+
+@pytest.mark.parametrize("text, expect", [
+    (TANK + WATER.replace("level = 0.5", "level = 0.5\nvelocty = [0.0, 0.0]"), "did you mean 'velocity'"),
+    (TANK + "[[solid]]\npolygon = [[0.5, 0.5], [1.0, 1.0], [1.0, 0.5], [0.5, 1.0]]\n" + WATER, "solid[1].polygon"),
+    (TANK + "[[solid]]\nbox = [0.5, 0.52, 0.1, 1.0]\n" + WATER, "two particle spacings thick"),
+    (TANK + "[[solid]]\nbox = [0.5, 1.0, 0.1, 1.0]\ncircle = [1, 1, 0.2]\n" + WATER, "exactly one of"),
+    (TANK + "[[water]]\npolygon = [[0.2, -0.1], [1.0, -0.1], [1.0, 0.5], [0.2, 0.5]]\n", "overlap a solid"),
+    (TANK.replace("[2.0, 0.0], [2.0, 2.0]", "[2.0, 0.0]") + WATER, "nothing holds it at the domain's right edge"),
+    (TANK + WATER + "[[gauge]]\nx = 3.0\n", "gauge[0].x"),
+    (TANK + WATER + "[[gauge]]\ntype = \"pressure\"\nx = 1.0\n", "gauge[0].z"),
+    (TANK + WATER + "[[gauge]]\ntype = \"pressur\"\nx = 1.0\n", "one of 'surface'"),
+    (TANK + WATER + "[paddle]\ntype = \"piston\"\nx = 2.5\n", "paddle.x"),
+    (TANK + "[[solid]]\ncsv = \"missing.csv\"\n" + WATER, "solid[1].csv"),
+    (TANK + "[[water]]\nlevel = 0.04\n", "two particle spacings"),
+])
+def test_bad_case_files_are_refused(tmp_path, capsys, text, expect):
+    err = refused(tmp_path, capsys, text)
+    assert expect in err, err
+    assert "Traceback" not in err
+
+
+def test_every_error_at_once(tmp_path, capsys):
+    err = refused(tmp_path, capsys, TANK + "[[water]]\nlevl = 0.5\n[[gauge]]\ntype = \"x\"\nx = 1.0\n")
+    assert "water[0].levl" in err and "gauge[0].type" in err
+
+
+def test_dam_break_as_custom_case_matches_the_builtin(tmp_path):
+    """At dx = 0.025 (4 m and 2 m are whole numbers of spacings) the custom case puts every particle
+    where the built-in scene does, and the run agrees to round-off."""
+    from tisph.runner import simulate
+    from tisph.scenes import dam_break
+    ov = {"numerics.dx": 0.025, "run.end_time": 0.25, "output.render": False, "output.quiet": True}
+    a = simulate(custom, ov, out=str(tmp_path / "custom"), config=os.path.join(ROOT, "scenes", "dam_break_custom.toml"))
+    b = simulate(dam_break, ov, out=str(tmp_path / "builtin"))
+    assert a["particles"] == b["particles"] and a["steps"] == b["steps"]
+    pa, pb = read_csv(tmp_path / "custom" / "probes.csv")[1], read_csv(tmp_path / "builtin" / "probes.csv")[1]
+    assert max(pa["front_surge"]) > 1.5      # the front has moved half a column width
+    assert np.abs(np.array(pa["front_surge"]) - np.array(pb["front_x"])).max() < 1e-5
+
+
+def _coarse(tmp_path, name, **ov):
+    from tisph.runner import simulate
+    ov = dict({"output.render": False, "output.quiet": True}, **ov)
+    return simulate(custom, ov, out=str(tmp_path / name), config=os.path.join(ROOT, "scenes", f"{name}.toml"))
+
+
+@pytest.mark.slow
+def test_seawall_reads_hydrostatic_at_rest_then_wave_loads(tmp_path):
+    s = _coarse(tmp_path, "seawall", **{"numerics.dx": 0.025, "run.end_time": 9.0})
+    assert s["status"] == "ok"
+    c = read_csv(tmp_path / "seawall" / "probes.csv")[1]
+    t = np.array(c["t"])
+    rest = (t > 0.2) & (t < 1.0)          # the paddle's ramp has sent nothing to the wall yet
+    for lab, z in (("p_low", 0.21), ("p_mid", 0.25)):
+        p = np.array(c[f"p_{lab}"])[rest].mean()
+        assert abs(p - 1000 * 9.81 * (0.3 - z)) < 0.15 * 1000 * 9.81 * (0.3 - z), (lab, p)
+    F = np.array(c["F_wall_force"])[rest].mean()
+    d = 0.3 - 0.2
+    assert abs(F - 0.5 * 1000 * 9.81 * d * d) < 0.2 * 0.5 * 1000 * 9.81 * d * d, F
+    m = s["metrics"]
+    assert m["wall_force_max"] > 1.5 * F          # the waves load the wall beyond the still water's force
+    assert m["toe_wave_height"] > 0.02
+
+
+@pytest.mark.slow
+def test_breakwater_separates_the_incident_wave_and_measures_the_overtopping(tmp_path):
+    s = _coarse(tmp_path, "breakwater", **{"numerics.dx": 0.025, "run.end_time": 12.0})
+    assert s["status"] == "ok" and s["mass"]["mass_balance_error"] < 1e-9
+    m = s["metrics"]
+    # a smooth 1:2 slope reflects a good part of a wave (Seelig & Ahrens: Kr about 0.4-0.6 here)
+    assert 0.15 < m["overtopping_reflection_coefficient"] < 0.8
+    assert 0.02 < m["overtopping_eurotop_wave_height"] < 0.1 and m["overtopping_eurotop_discharge"] > 0
+    assert m["overtopping_freeboard"] == pytest.approx(0.28 - 0.25, abs=0.026)   # level to within a row
+    # the discharge is the basin's volume over the window, and the volume never falls
+    V = np.array(read_csv(tmp_path / "breakwater" / "probes.csv")[1]["V_overtopping"])
+    assert np.all(np.diff(V) >= -1e-12) and m["overtopping_volume_end"] == pytest.approx(V[-1])
+
+
+@pytest.mark.slow
+def test_surveyed_beach_bed_moves_and_keeps_its_sand(tmp_path):
+    s = _coarse(tmp_path, "surveyed_beach", **{"numerics.dx": 0.03, "run.end_time": 8.0})
+    assert s["status"] == "ok"
+    m = s["metrics"]
+    assert m["sand_volume_error"] < 1e-12
+    assert m["bed_change_rms"] > 1e-5 and m["bed_deposition_max"] > 0 and m["bed_erosion_max"] > 0
+    rows = (tmp_path / "surveyed_beach" / "bed_profile.csv").read_text().splitlines()
+    assert len(rows) > 10 and (tmp_path / "surveyed_beach" / "bed_profile.png").exists()

@@ -1,0 +1,159 @@
+"""tisph from Python: build a case, run it, read what it wrote (docs/api.md).
+
+    import tisph
+    case = tisph.Case.from_toml("scenes/breakwater.toml")     # a custom case file
+    case.set("run.end_time", 4.0)
+    result = tisph.run(case, out="renders/bw", render=False)
+    result.summary["metrics"], result.probes["t"], result.snapshot(-1)["position"]
+
+A case is a scene and the settings a case file would hold; tisph.run takes the same path as
+`python -m tisph.scenes.NAME` (every key checked, ConfigError on bad input; Ctrl-C or SIGTERM
+stops it with a checkpoint that tisph.run(case, restart=...) continues from).
+"""
+import copy
+import importlib
+import json
+import os
+
+import numpy as np
+
+from .config import ConfigError, read_toml, set_path
+
+SCENES = ("dam_break", "hatch", "erodible_bed", "tank", "flume", "beach", "tunnel", "pipeline_scour", "custom")
+
+
+def _scene(name):
+    if name not in SCENES:
+        raise ConfigError("scene", name, "one of " + ", ".join(SCENES))
+    return importlib.import_module(f"tisph.scenes.{name}")
+
+
+def _entry(shape):
+    """A geometry object (tisph.geometry) or a dict as a [[solid]] entry."""
+    from .geometry import Circle, Polygon, Polyline
+    if isinstance(shape, dict):
+        return dict(shape)
+    if isinstance(shape, Circle):
+        return {"circle": [float(shape.c[0]), float(shape.c[1]), shape.r], "label": shape.label}
+    if isinstance(shape, Polyline):
+        return {"line": shape.pts.tolist(), "label": shape.label}
+    if isinstance(shape, Polygon):
+        return {"polygon": shape.pts.tolist(), "label": shape.label}
+    raise ConfigError("solid", repr(shape), "a tisph.geometry Polyline, Polygon or Circle, or a dict of [[solid]] keys")
+
+
+class Case:
+    """A scene and its settings (the tables of a case file, as nested dicts)."""
+
+    def __init__(self, scene="custom", settings=None, base_dir="."):
+        self.scene = scene
+        self.module = _scene(scene)
+        self.settings = copy.deepcopy(settings or {})
+        self.base_dir = os.path.abspath(base_dir)
+
+    @classmethod
+    def from_toml(cls, path, scene=None):
+        """A case file; the scene is `custom` when the file has a [domain] table, else name it."""
+        settings = read_toml(path)
+        scene = scene or ("custom" if "domain" in settings else None)
+        if scene is None:
+            raise ConfigError("scene", None, "a scene name for a built-in scene's case file, e.g. "
+                              "Case.from_toml(path, scene=\"tunnel\")")
+        return cls(scene, settings, os.path.dirname(os.path.abspath(path)))
+
+    @classmethod
+    def custom(cls, box, solids, water, gauges=(), **tables):
+        """A custom case from Python: box [x0, x1, z0, z1]; solids: tisph.geometry shapes (or
+        dicts of [[solid]] keys); water and gauges: dicts of [[water]] and [[gauge]] keys; tables:
+        any other table, e.g. numerics={"dx": 0.02}, paddle={...}, run={"end_time": 2.0}."""
+        s = {k: dict(v) for k, v in tables.items()}
+        s.setdefault("domain", {})["box"] = [float(v) for v in box]
+        s["solid"] = [_entry(v) for v in solids]
+        s["water"] = [dict(v) for v in water]
+        s["gauge"] = [dict(v) for v in gauges]
+        return cls("custom", s)
+
+    def set(self, key, value):
+        """Set a dotted key (run.end_time, numerics.dx): checked when the case is resolved."""
+        set_path(self.settings, key, value)
+        return self
+
+    def config(self, **overrides):
+        """The resolved, checked config (ConfigError naming every bad key)."""
+        from .runner.entry import resolve
+        settings = copy.deepcopy(self.settings)
+        if self.scene == "custom":
+            settings.setdefault("domain", {}).setdefault("base_dir", self.base_dir)
+        return resolve(self.module, settings, overrides)
+
+    def describe(self):
+        """Every key of the case's scene with its default, what is allowed and what it means."""
+        from .describe import describe
+        return describe(self.module)
+
+
+class Result:
+    """What a run wrote into its folder: summary, probes, snapshots."""
+
+    def __init__(self, out):
+        self.out = out
+        with open(os.path.join(out, "summary.json")) as f:
+            self.summary = json.load(f)
+        self.status = self.summary["status"]
+        self.metrics = self.summary.get("metrics", {})
+
+    @property
+    def probes(self):
+        """probes.csv as {column: NumPy array}."""
+        from .io import read_csv
+        path = os.path.join(self.out, "probes.csv")
+        if not os.path.exists(path):
+            return {}
+        return {k: np.asarray(v) for k, v in read_csv(path)[1].items()}
+
+    def dataframe(self):
+        """probes.csv as a pandas DataFrame (pandas must be installed)."""
+        import pandas
+        return pandas.DataFrame(self.probes)
+
+    @property
+    def snapshots(self):
+        """The snapshot files in time order."""
+        from .io import snapshot_files
+        return snapshot_files(self.out)
+
+    def snapshot(self, k=-1):
+        """Snapshot k's particles as {name: array} (position (N, 2), velocity, pressure, kind, ...) and
+        its time as ["time"]."""
+        from .io import load
+        arrays, attrs = load(self.snapshots[k])
+        arrays["time"] = float(attrs.get("time", attrs.get("t", np.nan)))
+        return arrays
+
+    @property
+    def checkpoint(self):
+        """The checkpoint an interrupted run left (None if there is none)."""
+        path = os.path.join(self.out, "checkpoint.h5")
+        return path if os.path.exists(path) else None
+
+    def __repr__(self):
+        s = self.summary
+        return (f"Result({self.out!r}: {s['status']}, {s.get('particles')} particles, {s.get('steps')} steps, "
+                f"{s.get('wall_time_s', 0):.3g} s)")
+
+
+def run(case, out=None, render=False, progress=True, restart=None, force=False, **overrides):
+    """Run a case (a Case, a case file's path or a built-in scene's name) and return its Result.
+    overrides: dotted keys, e.g. run(case, **{"numerics.dx": 0.04})."""
+    from .runner.entry import output_dir, simulate
+    if isinstance(case, str):
+        case = Case.from_toml(case) if os.path.isfile(case) else Case(case)
+    ov = dict(overrides)
+    ov["output.render"] = bool(render)
+    ov["output.quiet"] = not progress
+    if out:
+        ov["output.dir"] = str(out)
+    cfg = case.config(**ov)
+    out = output_dir(case.module, cfg)
+    simulate(case.module, cfg=cfg, out=out, restart=restart, force=force, echo=progress)
+    return Result(out)

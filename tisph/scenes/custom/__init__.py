@@ -1,0 +1,259 @@
+"""Your own case: a 2D domain described in a case file, in metres (docs/cases.md).
+
+  python -m tisph.scenes.custom --config scenes/breakwater.toml
+
+[domain] gives the box and gravity; [[solid]] entries are the walls (polylines, polygons, boxes,
+circles, a surveyed CSV profile), their particle layers laid on the solid side; [[water]]
+entries fill regions below a level or inside a polygon, starting hydrostatic; [paddle] is a
+piston or flap wave maker at x (every key of the flume's paddle); [absorber] a damping zone;
+domain.outflow open boxes the water leaves through; [[gauge]] entries read the free surface,
+velocity, pressure, the force on a wall face and the discharge through a section (overtopping,
+with EurOtop's mean discharge beside it). Every particle sits on one lattice (tisph/geometry.py).
+"""
+import math
+import os
+import sys
+
+import numpy as np
+
+from ...case import make_case
+from ...config import ConfigError, physics_from_config, raise_collected
+from ...particles import ParticleSet, hydrostatic_density, tait_B, wall_density, FLUID, WALL, MOVING
+from ...runner import common_params, run_scene, sound_speed
+from ...wavemaker import IRREGULAR_CHOICES, IRREGULAR_DEFAULTS, IRREGULAR_RANGES, PADDLE_DEFAULTS, PADDLE_RANGES
+from ... import wavemaker as wm
+from .elements import ELEMENTS, entries, numbers  # noqa: F401  (ELEMENTS: --describe reads the entries' keys)
+from .gauges import CaseGauges
+from .layout import Layout, who
+from .sand import SAND_DEFAULTS, SEDIMENT_DEFAULTS, SandBed, check as check_sand
+from ...sediment import coupling
+
+NAME = "custom"
+ELEMENTS_MODULE = "tisph.scenes.custom.elements"   # where --describe reads the entries' keys
+DESCRIBED = (("tisph.scenes.custom.sand", "sand"),)  # and the [sand] table's
+
+DEFAULTS = {
+    "run": {"end_time": 1.0},
+    "numerics": {"dx": 0.02, "h_factor": 1.3, "artificial_viscosity": 0.1, "density_diffusion": "fourtakas",
+                 "delta": 0.1},
+    "domain": {"box": [],             # [x0, x1, z0, z1] m: the region particles may occupy (a particle leaving it is lost)
+               "gravity": 9.81,       # m/s2, acting in -z
+               "outflow": [],         # [[x0, x1, z0, z1], ...] m: open boxes; water entering one leaves the run
+               "base_dir": ""},       # where a solid's CSV is looked for; "": the case file's folder
+    "paddle": dict(PADDLE_DEFAULTS, **IRREGULAR_DEFAULTS, **{
+        "type": "none",               # none | piston | flap: the wave maker
+        "x": 0.0,                     # m: the paddle's water-side face at rest; the water behind it is removed
+        "top": 0.0}),                 # m: the top of the paddle plate; 0: the top of domain.box
+    "absorber": {"start": 0.0,        # m: where the damping zone begins (its strength ramps up from here)
+                 "end": 0.0,          # m: where it is strongest (beyond, too); start = end: no absorber
+                 "rate": 10.0},       # 1/s: the strongest velocity relaxation rate
+    "solid": [], "water": [], "gauge": [],
+    "sand": SAND_DEFAULTS,
+    # the bed-load bed's keys: the beach's set (coupling.WAVE_RIPPLES read unscaled, docs/sediment.md)
+    "sediment": SEDIMENT_DEFAULTS,
+    "materials": {"water": {"rho0": 1000.0, "viscosity": 1.0e-3}},
+    "output": {"frame_interval": 0.04, "probe_interval": 0.01},
+}
+RANGES = dict(PADDLE_RANGES, **IRREGULAR_RANGES, **coupling.RANGES)
+RANGES.update({"domain.gravity": (0.0, None, False, True), "absorber.rate": (0.0, None, False, True)})
+CHOICES = {"paddle.type": ("none", "piston", "flap"), **IRREGULAR_CHOICES, **coupling.CHOICES,
+           "sediment.model": ("bedload",)}
+BOX = "[x0, x1, z0, z1] in m with x0 < x1 and z0 < z1"
+
+
+def _parts(cfg):
+    """The checked entries and the layout, or every error at once."""
+    errors = []
+    base = cfg["domain"]["base_dir"] or "."
+    solids = entries(cfg, "solid", base, errors)
+    waters = entries(cfg, "water", base, errors)
+    gauges = entries(cfg, "gauge", base, errors)
+    try:
+        box = numbers("domain.box", cfg["domain"]["box"], 4, BOX, (0, 2))
+    except ConfigError as e:
+        raise_collected(errors + [e])
+    outflow = []
+    for i, b in enumerate(cfg["domain"]["outflow"]):
+        try:
+            outflow.append(numbers(f"domain.outflow[{i}]", b, 4, BOX, (0, 2)))
+        except ConfigError as e:
+            errors.append(e)
+    if not solids:
+        errors.append(ConfigError("solid", [], "at least one [[solid]] (the water needs something to stand on)"))
+    if not waters:
+        errors.append(ConfigError("water", [], "at least one [[water]] region"))
+    labels = [g["label"] for g in gauges]
+    for g in gauges:
+        if labels.count(g["label"]) > 1:
+            errors.append(ConfigError(f"{g['name']}.label", g["label"], "a label no other gauge has"))
+        for key, v, lo, hi in (("x", g["x"], box[0], box[1]), ("z", g["z"], box[2], box[3])):
+            if v is not None and not lo <= v <= hi:
+                errors.append(ConfigError(f"{g['name']}.{key}", v, f"inside domain.box ({lo:g} to {hi:g} m)"))
+        surface = [q["label"] for q in gauges if q["type"] == "surface"]
+        if any(lab not in surface for lab in g["toe_gauges"]):
+            errors.append(ConfigError(f"{g['name']}.toe_gauges", g["toe_gauges"], "labels of surface gauges"))
+    raise_collected(errors)
+    num = cfg["numerics"]
+    lay = Layout(box, solids, waters, num["dx"], num["wall_layers"], errors)
+    raise_collected(errors)
+    p = cfg["paddle"]
+    if p["type"] != "none":
+        lay.water &= lay.pts[:, 0] > p["x"]
+    bad = lay.unheld(outflow)
+    if bad is not None:
+        (x, z), d = bad
+        side = {(1, 0): "right", (-1, 0): "left", (0, 1): "top", (0, -1): "bottom"}[d]
+        raise ConfigError(who(waters[int(lay.region[np.argmin(np.hypot(*(lay.pts - [x, z]).T))])]),
+                          f"water at ({x:.4g}, {z:.4g}) m", "water held by a solid or an outflow",
+                          f"nothing holds it at the domain's {side} edge: draw a wall there, an outflow box, "
+                          "or lower the level")
+    sand_site = check_sand(cfg, solids, box, errors)
+    raise_collected(errors)
+    if sand_site and cfg["sand"]["x"][0] <= cfg["paddle"]["x"]:
+        raise ConfigError("sand.x", cfg["sand"]["x"], f"a stretch in front of the paddle (x0 > paddle.x = {cfg['paddle']['x']:g} m)")
+    return box, outflow, solids, waters, gauges, lay, sand_site
+
+
+def check(cfg):
+    box, outflow, solids, waters, gauges, lay, _ = _parts(cfg)
+    a, p = cfg["absorber"], cfg["paddle"]
+    for key in ("start", "end"):
+        if a["start"] != a["end"] and not box[0] <= a[key] <= box[1]:
+            raise ConfigError(f"absorber.{key}", a[key], f"inside domain.box ({box[0]:g} to {box[1]:g} m)")
+    if p["type"] != "none":
+        paddle_site(cfg, lay, box)
+
+
+def paddle_site(cfg, lay, box):
+    """(floor, level, reach) at the paddle, after its checks: water in front of it, a floor under
+    its travel, nothing solid in its way."""
+    p, dx = cfg["paddle"], cfg["numerics"]["dx"]
+    col = lay.column(p["x"])
+    if col is None:
+        raise ConfigError("paddle.x", p["x"], "a position with water just in front of it (x + dx/2)")
+    floor, level = col
+    depth = level - floor
+    length = float(lay.pts[lay.water, 0].max()) - p["x"]
+    pc = dict(cfg, paddle=dict(p))
+    wm.check_paddle(pc, depth, length, default_stroke=0.04)
+    cfg["paddle"]["stroke"] = pc["paddle"]["stroke"]
+    reach = 0.5 * p["stroke"] if not (p["series"] or p["spectrum"]) else \
+        wm.paddle(pc, depth, box[3], floor)[3]
+    back = p["x"] - lay.T - reach
+    top = p["top"] or box[3]
+    if top <= level:
+        raise ConfigError("paddle.top", top, f"above the water at the paddle ({level:.4g} m)")
+    if back - lay.T < box[0]:
+        raise ConfigError("paddle.x", p["x"], f"at least {box[0] + 2 * lay.T + reach:.4g} m: the paddle's plate and "
+                          f"travel ({lay.T + reach:.3g} m behind its face) and the wall behind stay in domain.box")
+    pts = lay.pts
+    travel = (pts[:, 0] > back) & (pts[:, 0] < p["x"] + reach)
+    blocked = travel & lay.wall & (pts[:, 1] > floor) & (pts[:, 1] < top)
+    if blocked.any():
+        q = pts[blocked][0]
+        raise ConfigError("paddle.x", p["x"], "a position where no solid stands in the paddle's travel",
+                          f"a wall particle at ({q[0]:.4g}, {q[1]:.4g}) m")
+    under = travel & lay.wall & (pts[:, 1] < floor) & (pts[:, 1] > floor - dx)
+    cols = np.unique(np.round(pts[under, 0] / dx - 0.5))
+    need = int(round((p["x"] + reach - back) / dx)) - 1
+    if len(cols) < need:
+        raise ConfigError("paddle.x", p["x"], f"a position with a floor under the paddle's travel ({back:.4g} to "
+                          f"{p['x'] + reach:.4g} m at z = {floor:.4g} m): extend the solid under it")
+    return floor, level, depth, reach, pc
+
+
+def build(cfg):
+    box, outflow, solids, waters, gauges, lay, sand_site = _parts(cfg)
+    num, g = cfg["numerics"], cfg["domain"]["gravity"]
+    dx = num["dx"]
+    h = num["h_factor"] * dx
+    rho0 = cfg["materials"]["water"]["rho0"]
+    water = lay.pts[lay.water]
+    height = float(water[:, 1].max() - water[:, 1].min()) + dx
+    # free fall from the water's height bounds the speeds of a collapse and of a wave's crest
+    c0, u_max = sound_speed(cfg, math.sqrt(2 * g * height), height, g)
+    params = common_params(cfg, c0, g, depth=height)
+    p = cfg["paddle"]
+    physics_kw, period, paddle_parts, sand = {}, None, None, None
+    if p["type"] != "none":
+        floor, level, depth, reach, pc = paddle_site(cfg, lay, box)
+        paddle_parts = wm.paddle(pc, depth, p["top"] or box[3], floor)
+        physics_kw["paddle"] = p["type"]
+        period = wm.wave_period(p)
+        if sand_site:
+            sand = SandBed(cfg, *sand_site, lay, level, 2 * math.pi / period, h, rho0, c0, g)
+            physics_kw.update(moving_bed=True, materials_used=["water"])
+    water = lay.pts[lay.water]
+    col = np.round(water[:, 0] / dx - 0.5).astype(int)
+    col -= col.min()
+    tops = np.full(col.max() + 1, -np.inf)
+    np.maximum.at(tops, col, water[:, 1] + 0.5 * dx)
+    top = tops[col]                      # the surface of each particle's column
+    still = level if paddle_parts else float(np.median(top))
+    ps = ParticleSet()
+    ps.add(water, FLUID, 0, hydrostatic_density(top - water[:, 1], rho0, c0, g), rho0 * dx * dx,
+           v=lay.velocity[lay.water])
+    walls = lay.pts[lay.wall]
+    ps.add(walls, WALL, 0, wall_density(walls, water, dx, h, rho0, c0, g), rho0 * dx * dx)
+    if paddle_parts:
+        pts, motion, extra, _ = paddle_parts
+        pts = pts + [p["x"], 0.0]
+        extra["pivot"] = (p["x"], floor)
+        params.update(extra)
+        ps.add(pts, MOVING, 0, wall_density(pts, water, dx, h, rho0, c0, g), rho0 * dx * dx)
+    if sand:
+        sand.add_particles(ps, num["wall_layers"])
+        params["bed_stations"] = len(sand.stations)
+    a = cfg["absorber"]
+    if a["start"] != a["end"]:
+        physics_kw["damping"] = (a["start"], a["end"], a["rate"])
+    pad = 3 * lay.T + 4 * h
+    domain = ((box[0] - pad, box[2] - pad), (box[1] + pad, box[3] + pad))
+
+    def wall_side(pts):
+        """Unit vector from each point towards the nearest water particle at the start."""
+        out = np.zeros_like(pts)
+        for k, q in enumerate(pts):
+            d = water - q
+            n = d[np.argmin(np.hypot(d[:, 0], d[:, 1]))]
+            out[k] = n / max(np.hypot(*n), 1e-12)
+        return out
+
+    def depth_at(x):
+        col = lay.column(x)
+        return col[1] - col[0] if col else float("nan")
+
+    cg = CaseGauges(gauges, dx, h, g, wall_side, depth_at)
+    parts = dict(probe_columns=cg.columns, probe=cg.read, persist=(cg,),
+                 metrics=lambda c: cg.metrics(c, period, still),
+                 finalize=lambda out, m: cg.plot(os.path.join(out, "gauges.png")))
+    if sand:
+        def finalize(out, m):
+            cg.plot(os.path.join(out, "gauges.png"))
+            sand.finalize(out)
+
+        parts = dict(probe_columns=cg.columns + ("bed_change_rms",), probe=lambda st: cg.read(st) + sand.probe(st),
+                     metrics=lambda c: dict(cg.metrics(c, period, still), **sand.metrics(c)),
+                     finalize=finalize, control=sand.coupler.update,
+                     control_every=cfg["sediment"]["update_every"], persist=(cg, sand.coupler, sand), **sand.picture())
+    if paddle_parts and not p["series"]:
+        # colour top: twice the linear surface orbital speed at the paddle, as the flume's
+        omega, k = 2 * math.pi / period, wm.wavenumber(2 * math.pi / period, depth, g)
+        H = p["hs"] if p["spectrum"] else wm.linear_wave(pc, depth)[4] * p["stroke"]
+        parts["speed_scale"] = H * omega / math.tanh(k * depth)
+    margin = lay.T + dx
+    zones = [(min(a["start"], a["end"]), max(a["start"], a["end"]), "absorber")] if "damping" in physics_kw else []
+    return make_case(name=NAME, particles=ps, materials=[dict(name="water", rho0=rho0,
+                     viscosity=cfg["materials"]["water"]["viscosity"], B=tait_B(rho0, c0))],
+                     domain=domain, params=params, outflow=tuple((b[0], b[2], b[1], b[3]) for b in outflow),
+                     physics=physics_from_config(cfg, **physics_kw), u_max=u_max,
+                     view=((box[0] - margin, box[2] - margin), (box[1] + margin, box[3] + margin)),
+                     marks=[(q["x"], q["label"]) for q in gauges if q["type"] == "surface"], zones=zones, **parts)
+
+
+def main(argv=None):
+    return run_scene(sys.modules[__name__], argv)
+
+
+if __name__ == "__main__":
+    sys.exit(main())
