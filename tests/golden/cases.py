@@ -62,6 +62,10 @@ CASES = [
       "numerics.length_scale": "omega", "numerics.stress_limiter": 0.875, "sediment.shear": "wall_function"}),
     ("pipe_on_rigid_bed", "tisph.scenes.pipeline_scour", "scenes/pipe_on_rigid_bed.toml", {}),
     ("poiseuille_bingham", "tisph.validation.poiseuille", None, {"numerics.dx": 0.005}),
+    ("dam_break_custom", "tisph.scenes.custom", "scenes/dam_break_custom.toml", {"numerics.dx": 0.06}),
+    ("breakwater", "tisph.scenes.custom", "scenes/breakwater.toml", {"numerics.dx": 0.03}),
+    ("seawall", "tisph.scenes.custom", "scenes/seawall.toml", {"numerics.dx": 0.03}),
+    ("surveyed_beach", "tisph.scenes.custom", "scenes/surveyed_beach.toml", {"numerics.dx": 0.03}),
 ]
 
 
