@@ -30,3 +30,19 @@ def test_a_bad_key_is_a_config_error_naming_it():
         case.config()
     with pytest.raises(ConfigError, match="scene"):
         tisph.Case.from_toml(os.path.join(ROOT, "scenes", "tunnel.toml"))
+
+
+def test_a_run_continues_from_its_checkpoint(tmp_path):
+    """tisph.run(..., restart=checkpoint) continues a run as --restart does: the continued run ends
+    where one straight run ends, bit for bit."""
+    import numpy as np
+    import tisph
+    case = tisph.Case.from_toml(os.path.join(ROOT, "scenes", "dam_break_custom.toml")).set("numerics.dx", 0.08)
+    straight = tisph.run(case, out=tmp_path / "a", progress=False, **{"run.end_time": 0.2})
+    first = tisph.run(case, out=tmp_path / "b", progress=False,
+                      **{"run.end_time": 0.1, "output.checkpoint_every": 0.1})
+    assert first.checkpoint is not None
+    second = tisph.run(case, out=tmp_path / "b", progress=False, restart=first.checkpoint, **{"run.end_time": 0.2})
+    assert second.status == "ok" and second.summary["steps"] == straight.summary["steps"]
+    a, b = straight.snapshot(-1), second.snapshot(-1)
+    assert a["time"] == b["time"] and np.array_equal(a["position"], b["position"])

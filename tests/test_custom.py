@@ -118,7 +118,7 @@ def _coarse(tmp_path, name, **ov):
 
 @pytest.mark.slow
 def test_seawall_reads_hydrostatic_at_rest_then_wave_loads(tmp_path):
-    s = _coarse(tmp_path, "seawall", **{"numerics.dx": 0.025, "run.end_time": 9.0})
+    s = _coarse(tmp_path, "seawall", **{"numerics.dx": 0.025, "run.end_time": 7.0})
     assert s["status"] == "ok"
     c = read_csv(tmp_path / "seawall" / "probes.csv")[1]
     t = np.array(c["t"])
@@ -136,7 +136,7 @@ def test_seawall_reads_hydrostatic_at_rest_then_wave_loads(tmp_path):
 
 @pytest.mark.slow
 def test_breakwater_separates_the_incident_wave_and_measures_the_overtopping(tmp_path):
-    s = _coarse(tmp_path, "breakwater", **{"numerics.dx": 0.025, "run.end_time": 12.0})
+    s = _coarse(tmp_path, "breakwater", **{"numerics.dx": 0.025, "run.end_time": 10.0})
     assert s["status"] == "ok" and s["mass"]["mass_balance_error"] < 1e-9
     m = s["metrics"]
     # a smooth 1:2 slope reflects a good part of a wave (Seelig & Ahrens: Kr about 0.4-0.6 here)

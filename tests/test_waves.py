@@ -433,3 +433,44 @@ def test_gauge_period_ignores_a_shoaling_waves_secondary_crests():
     t = np.linspace(0.0, 20.0, 4001)
     eta = 0.03 * np.sin(2 * np.pi * t / 1.2) + 0.012 * np.sin(2 * np.pi * 3 * t / 1.2 + 0.5)
     assert wm.crossing_period_and_level(t, eta, 5.0, 20.0)[0] == pytest.approx(1.2, rel=1e-2)
+
+
+def _closed_flume(tmp_path, absorb, end_time):
+    """A closed 2 m flume (no absorbing zone): the wall's reflection is back at the paddle by 6 s."""
+    from tisph import runtime
+    from tisph.runner import Run
+    out = str(tmp_path / f"absorb_{absorb}")
+    cfg = resolve(flume, None, {"numerics.dx": 0.025, "geometry.length": 2.0, "geometry.damping_length": 0.0,
+                                "geometry.gauges_x": [0.9], "geometry.array_gauges": 0, "paddle.absorb": absorb,
+                                "run.end_time": end_time, "output.render": False, "output.quiet": True,
+                                "output.snapshot_every": 0.0, "output.dir": out})
+    runtime.init("cpu", "f32")
+    os.makedirs(out, exist_ok=True)
+    log = Log(os.path.join(out, "run.log"), True)
+    case = build_case(flume, cfg, log)
+    r = Run(case, cfg, out, log, "flume")
+    r.arch = runtime.current_arch()
+    return r.execute(), case.params["motion"]
+
+
+@pytest.mark.slow
+def test_absorbing_paddle_makes_the_same_wave_then_answers_the_reflection(tmp_path):
+    """paddle.absorb: before the wall's reflection is back the gauge at the paddle reads the wave
+    it means to make (so the correction stays small and the wave leaving is the rigid paddle's);
+    once the reflection arrives, the correction grows to answer it."""
+    s, m = _closed_flume(tmp_path, True, 9.0)
+    assert s["status"] == "ok"
+    h = np.array(m.history)
+    t, eta, target, uc = h.T
+    early, late = (t > 1.6) & (t < 4.8), t > 6.5
+    u_stroke = 0.5 * 0.04 * 2 * math.pi / 0.8            # the piston's velocity amplitude
+    assert np.corrcoef(eta[early], target[early])[0, 1] > 0.98
+    assert np.abs(uc[early]).max() < 0.25 * u_stroke
+    assert uc[late].std() > 2.0 * uc[early].std()
+
+
+def test_absorbing_paddle_is_refused_where_its_target_is_not_defined(tmp_path):
+    from tisph.config import ConfigError
+    for ov in ({"paddle.type": "flap"}, {"paddle.order": 2}):
+        with pytest.raises(ConfigError, match="paddle.absorb"):
+            resolve(flume, None, dict(ov, **{"paddle.absorb": True}))

@@ -1,5 +1,5 @@
-"""Prescribed paddle motions for wave makers: piston (horizontal stroke) and flap (hinged at the
-bottom), sinusoidal with a start-up ramp or read from a (t, displacement) CSV time series.
+"""Paddle motions for wave makers: piston or flap (hinged at the bottom), a ramped sine or a
+(t, displacement) CSV series; paddle.absorb wraps a piston's in active absorption (tisph/awas.py).
 
 A motion is a callable m(t) -> (displacement, rate): metres and m/s for a piston, radians and
 rad/s for a flap (the solver rotates the paddle about its hinge). For a flap the stroke S is the
@@ -12,6 +12,7 @@ import numpy as np
 
 from .config import ConfigError
 from .constants import G
+from .awas import absorbing, check_absorb
 from .particles import block
 from .probes.gauges import surface_heights
 
@@ -223,9 +224,8 @@ class Gauges:
         return out
 
 
-# ---------------------------------------------------------------- a paddle from a scene's config
-# The [paddle] table every wave scene shares (flume, beach): its defaults, ranges and checks,
-# the paddle's particles and motion, and the linear wave it makes.
+# ---------- the [paddle] table every wave scene shares (flume, beach, custom): its defaults, ranges
+# and checks, the paddle's particles and motion, and the linear wave it makes.
 PADDLE_DEFAULTS = {
     "type": "piston",       # piston (translates) | flap (hinged at the floor)
     "stroke": 0.04,         # m: the full stroke (peak to peak, not the amplitude): piston travel, or the flap's at the still-water level
@@ -234,6 +234,7 @@ PADDLE_DEFAULTS = {
     "ramp_periods": 2.0,    # periods over which the stroke ramps up (no start-up transient)
     "series": "",           # CSV of t, displacement (m or rad): a measured paddle signal instead of a sine
     "order": 1,             # 1: a sine; 2: with Madsen's second-order stroke (a piston's regular waves)
+    "absorb": False,        # active absorption: the piston corrects its motion from the surface it sees (tisph/awas.py)
 }
 PADDLE_RANGES = {"paddle.stroke": (0.0, None, False, True), "paddle.wave_height": (0.0, None, True, True),
                  "paddle.period": (0.0, None, False, True),
@@ -335,6 +336,7 @@ def check_paddle(cfg, depth, length, default_stroke=None):
     """The paddle's keys against the depth and dx; with paddle.wave_height the stroke is set from it
     (Biesel's first-order H / S for the paddle type and kh), and a stroke given beside it is refused."""
     p, dx = cfg["paddle"], cfg["numerics"]["dx"]
+    check_absorb(p)
     H = p.get("wave_height", 0.0)
     if H > 0:
         if p.get("spectrum") or p["series"]:
@@ -369,8 +371,8 @@ def check_paddle(cfg, depth, length, default_stroke=None):
 
 
 def paddle(cfg, depth, height, floor_y=0.0):
-    """The paddle's particles (a plate of wall_layers columns left of x = 0, from the floor to
-    `height`), its motion, and the solver parameters it needs. depth: still water over the hinge."""
+    """The paddle's particles (wall_layers columns left of x = 0 from the floor to `height`), its
+    motion and the solver parameters it needs. depth: still water over the hinge."""
     p, num = cfg["paddle"], cfg["numerics"]
     dx, L = num["dx"], num["wall_layers"]
     pts = block(-L * dx, floor_y, 0.0, height, dx)
@@ -383,6 +385,8 @@ def paddle(cfg, depth, height, floor_y=0.0):
     motion = Motion(p["type"], p["stroke"], p["period"], p["ramp_periods"], lever=depth, series=series,
                     second=second)
     reach = 0.5 * (p["stroke"] if series is None else 2 * float(np.abs(series[1]).max()))
+    if p.get("absorb"):   # the correction may take the piston as far again as its stroke
+        motion, reach = absorbing(motion, cfg, depth, floor_y + depth), 2 * reach
     return pts, motion, dict(motion=motion, pivot=(0.0, floor_y)), reach
 
 

@@ -29,6 +29,7 @@ from ..particles import ParticleSet, block, hydrostatic_density, tait_B, wall_de
 from ..case import make_case
 from ..runner import common_params, run_scene, sound_speed
 from .. import wavemaker as wm
+from ..awas import with_control
 from ..constants import G
 from ..plausible import warn_waves, warn_window
 from ..wavemaker import (IRREGULAR_CHOICES, IRREGULAR_DEFAULTS, IRREGULAR_RANGES, PADDLE_DEFAULTS, PADDLE_RANGES,
@@ -206,7 +207,8 @@ def build(cfg):
                 # colour top: twice the linear surface orbital speed, not the sound-speed bound
                 speed_scale=2.0 * 0.5 * (p["hs"] if p["spectrum"] else H_biesel) * omega / math.tanh(k * d),
                 probe_columns=cols + acols, probe=gauges.read, metrics=metrics, finalize=finalize,
-                container=(-reach - dx, 0.0, Lf, float("inf"), Hw), persist=(gauges,))
+                container=(-reach - dx, 0.0, Lf, float("inf"), Hw), control=with_control(extra["motion"]),
+                persist=(gauges,) + ((extra["motion"],) if p["absorb"] else ()))
 
 
 def gauge_positions(geo, wavelength):

@@ -49,6 +49,7 @@ from ...probes.gauges import surface_at, surface_heights
 from ...wavemaker import PADDLE_DEFAULTS, PADDLE_RANGES, check_paddle, linear_wave, paddle
 from ...probes.plots import pyplot, save
 from ...sediment import coupling
+from ...awas import with_control
 from .bedload import build_bedload
 
 NAME = "beach"
@@ -146,7 +147,8 @@ def build(cfg):
                      probe_columns=("ripple_length", "ripple_height", "bed_change_rms", "eta_toe") + bed.gauges.columns,
                      probe=bed.probe, metrics=bed.metrics, finalize=bed.finalize, events=events, stills=STILLS,
                      container=(-reach - dx, 0.0, Lf, float("inf"), Hw),
-                     render_modes=("phase",), mat_colors=(None, SAND), persist=(bed,))
+                     render_modes=("phase",), mat_colors=(None, SAND), control=with_control(extra["motion"]),
+                     persist=(bed,) + ((extra["motion"],) if p["absorb"] else ()))
 
 
 def _particles(cfg, c0):

@@ -27,6 +27,7 @@ from .shoaling import Shoaling
 from ...plausible import warn_waves
 from ...sediment import coupling
 from ...wavemaker import Gauges, height_at, linear_wave, paddle
+from ...awas import with_control
 
 RIGID = 0.5           # m of rigid floor in front of the paddle
 RIPPLE_WINDOW = 0.6   # m: bedforms longer than this (the profile's bar and shoreline) are not ripples
@@ -93,7 +94,8 @@ def build_bedload(cfg, name, stills):
                      speed_scale=u_col,
                      probe_columns=BeachBed.COLUMNS + rec.gauges.columns, probe=rec.probe, metrics=rec.metrics,
                      finalize=rec.finalize, stills=stills, container=(-reach - dx, floor - T, Lf, float("inf"), Hw),
-                     control=bed.update, control_every=sed["update_every"], persist=(bed, rec),
+                     control=with_control(motion, bed.update), control_every=sed["update_every"],
+                     persist=(bed, rec) + ((motion,) if p["absorb"] else ()),
                      **bed.picture(left=ts))
 
 

@@ -22,6 +22,7 @@ from ...particles import ParticleSet, hydrostatic_density, tait_B, wall_density,
 from ...runner import common_params, run_scene, sound_speed
 from ...wavemaker import IRREGULAR_CHOICES, IRREGULAR_DEFAULTS, IRREGULAR_RANGES, PADDLE_DEFAULTS, PADDLE_RANGES
 from ... import wavemaker as wm
+from ...awas import with_control
 from .elements import ELEMENTS, entries, numbers  # noqa: F401  (ELEMENTS: --describe reads the entries' keys)
 from .gauges import CaseGauges
 from .layout import Layout, who
@@ -137,8 +138,7 @@ def paddle_site(cfg, lay, box):
     pc = dict(cfg, paddle=dict(p))
     wm.check_paddle(pc, depth, length, default_stroke=0.04)
     cfg["paddle"]["stroke"] = pc["paddle"]["stroke"]
-    reach = 0.5 * p["stroke"] if not (p["series"] or p["spectrum"]) else \
-        wm.paddle(pc, depth, box[3], floor)[3]
+    reach = wm.paddle(pc, depth, box[3], floor)[3]
     back = p["x"] - lay.T - reach
     top = p["top"] or box[3]
     if top <= level:
@@ -178,6 +178,8 @@ def build(cfg):
     if p["type"] != "none":
         floor, level, depth, reach, pc = paddle_site(cfg, lay, box)
         paddle_parts = wm.paddle(pc, depth, p["top"] or box[3], floor)
+        if p["absorb"]:
+            paddle_parts[1].x_abs += p["x"]      # the absorbing gauge stands in front of this paddle
         physics_kw["paddle"] = p["type"]
         period = wm.wave_period(p)
         if sand_site:
@@ -236,6 +238,9 @@ def build(cfg):
                      metrics=lambda c: dict(cg.metrics(c, period, still), **sand.metrics(c)),
                      finalize=finalize, control=sand.coupler.update,
                      control_every=cfg["sediment"]["update_every"], persist=(cg, sand.coupler, sand), **sand.picture())
+    if paddle_parts and p["absorb"]:   # the absorbing paddle reads its gauge at the same interval
+        parts["control"] = with_control(paddle_parts[1], parts.get("control"))
+        parts["persist"] += (paddle_parts[1],)
     if paddle_parts and not p["series"]:
         # colour top: twice the linear surface orbital speed at the paddle, as the flume's
         omega, k = 2 * math.pi / period, wm.wavenumber(2 * math.pi / period, depth, g)

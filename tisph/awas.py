@@ -1,0 +1,102 @@
+"""Active wave absorption at a piston paddle (paddle.absorb): the paddle corrects its motion from the
+surface elevation it sees, so waves coming back from the far end leave through it instead of
+reflecting and building a seiche (DualSPHysics' AWAS, Altomare et al. 2017; Schaffer & Klopman
+2000).
+
+Every control interval the free surface is read at a gauge that moves with the paddle, a smoothing
+length in front of its face (the theory wants the elevation at the paddle); what differs from the wave the paddle is making there (linear theory: the
+progressive wave of Biesel's height, eta_T = H/2 r(t) cos(omega t - k x_g)) is a wave arriving from
+the flume, eta_R (less its running mean over a period: a set-down or the crests' asymmetry is not a
+wave). The paddle adds the velocity of that wave, U_c = -G eta_R, with the gain
+G = omega / F(kh) that turns a wave elevation into the piston velocity that makes it (F: Biesel's
+H/S; G = sqrt(g/h) in shallow water). Its displacement is integrated, and pulled back towards the
+paddle's mean position over DRIFT_PERIODS periods so that the paddle does not wander.
+"""
+import math
+
+from .probes.gauges import surface_at
+
+DRIFT_PERIODS = 5.0     # the correction's displacement relaxes to zero over this many wave periods
+
+
+class AbsorbingMotion:
+    """A piston Motion plus the absorbing correction; callable as the Motion is (t -> X, V)."""
+
+    def __init__(self, motion, height, k, depth, gain, x_gauge, x_paddle, still_level, dx, h):
+        """x_gauge: the gauge's distance in front of the paddle's mean position x_paddle."""
+        self.motion, self.H, self.k, self.depth, self.gain = motion, float(height), k, depth, gain
+        self.x_gauge, self.x_abs, self.level, self.dx, self.h = x_gauge, x_paddle + x_gauge, still_level, dx, h
+        self.xc = self.uc = 0.0     # the correction's displacement and velocity
+        self.mean = 0.0             # the running mean of eta - eta_T over a period: a mean level is not a wave
+        self.t_last = 0.0
+        self.zero = None            # the gauge's reading at rest (the SPH surface sits about dx/2 low)
+        self.history = []           # (t, eta measured, eta target, correction velocity)
+
+    def __getattr__(self, name):   # the wrapped Motion's period, stroke, ramp
+        if name == "motion":
+            raise AttributeError(name)
+        return getattr(self.motion, name)
+
+    def target(self, t):
+        """The elevation at the gauge of the wave the paddle makes (linear, ramped as the stroke)."""
+        m = self.motion
+        r = 1.0 if t >= m.t_ramp else 0.5 * (1 - math.cos(math.pi * t / m.t_ramp)) if m.t_ramp > 0 else 1.0
+        return 0.5 * self.H * r * math.cos(m.omega * t - self.k * self.x_gauge)
+
+    def __call__(self, t):
+        dt = max(t - self.t_last, 0.0)
+        self.t_last = t
+        self.xc += dt * (self.uc - self.xc / (DRIFT_PERIODS * self.motion.T))
+        X, V = self.motion(t)
+        return X + self.xc, V + self.uc
+
+    def control(self, solver):
+        """Read the gauge and set the correction velocity (every control interval)."""
+        st = solver.state(("x", "kind", "rho", "m", "mat"))
+        eta = surface_at(st, self.x_abs + self.motion(solver.time)[0] + self.xc, self.dx, self.h, floor=self.level - self.depth, mat=0) - self.level
+        if self.zero is None:
+            self.zero = eta
+        eta -= self.zero
+        t = solver.time
+        eta_r = eta - self.target(t)
+        dt = t - self.history[-1][0] if self.history else 0.0
+        self.mean += min(dt / self.motion.T, 1.0) * (eta_r - self.mean)
+        self.uc = -self.gain * (eta_r - self.mean)
+        self.history.append((t, eta, self.target(t), self.uc))
+
+
+def absorbing(motion, cfg, depth, still_level, x_paddle=0.0):
+    """Wrap a piston Motion for paddle.absorb: the gauge moves with the paddle, a smoothing length
+    in front of its face (the paddle's mean position is x_paddle)."""
+    from .wavemaker import biesel_piston, wavenumber
+    p, dx = cfg["paddle"], cfg["numerics"]["dx"]
+    h = cfg["numerics"]["h_factor"] * dx
+    omega = 2 * math.pi / p["period"]
+    k = wavenumber(omega, depth)
+    F = biesel_piston(k * depth)
+    return AbsorbingMotion(motion, F * p["stroke"], k, depth, omega / F, h, x_paddle, still_level, dx, h)
+
+
+def check_absorb(p):
+    """paddle.absorb: a piston's regular first-order waves (the target is their linear wave)."""
+    from .config import ConfigError
+    if not p.get("absorb"):
+        return
+    for key, bad, what in (("type", p["type"] != "piston", "a piston"), ("series", p["series"], "no series"),
+                           ("spectrum", p.get("spectrum"), "regular waves"), ("order", p["order"] != 1, "order 1")):
+        if bad:
+            raise ConfigError("paddle.absorb", True, f"false with paddle.{key} = {p[key]!r}",
+                              f"active absorption here is for {what}: its target is the linear wave of a "
+                              "piston's first-order stroke")
+
+
+def with_control(motion, control=None):
+    """The control hook a scene passes to make_case: the absorbing paddle's, then the scene's own."""
+    mine = getattr(motion, "control", None)
+    if mine is None or control is None:
+        return mine or control
+
+    def both(solver):
+        mine(solver)
+        control(solver)
+    return both
