@@ -458,7 +458,7 @@ def test_absorbing_paddle_makes_the_same_wave_then_answers_the_reflection(tmp_pa
     """paddle.absorb: before the wall's reflection is back the gauge at the paddle reads the wave
     it means to make (so the correction stays small and the wave leaving is the rigid paddle's);
     once the reflection arrives, the correction grows to answer it."""
-    s, m = _closed_flume(tmp_path, True, 9.0)
+    s, m = _closed_flume(tmp_path, True, 8.0)
     assert s["status"] == "ok"
     h = np.array(m.history)
     t, eta, target, uc = h.T
@@ -474,3 +474,13 @@ def test_absorbing_paddle_is_refused_where_its_target_is_not_defined(tmp_path):
     for ov in ({"paddle.type": "flap"}, {"paddle.order": 2}):
         with pytest.raises(ConfigError, match="paddle.absorb"):
             resolve(flume, None, dict(ov, **{"paddle.absorb": True}))
+
+
+def test_flume_water_stops_at_the_end_wall_whatever_the_length():
+    """A length that is not a whole number of spacings (3.23 m at dx = 0.02 m: 161.5) puts no water
+    particle inside the end wall: the last column ends before it."""
+    case = flume.build(resolve(flume, None, {"numerics.dx": 0.02, "geometry.length": 3.23,
+                                             "geometry.gauges_wavelengths": [1.0]}))
+    x = case.particles.x[case.particles.kind == FLUID]
+    assert x[:, 0].max() + 0.01 <= 3.23 + 1e-9
+    assert x[:, 0].max() > 3.23 - 0.03          # and reaches the wall to within a spacing and a half

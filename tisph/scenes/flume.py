@@ -299,7 +299,9 @@ def _particles(cfg, c0):
     T = num["wall_layers"] * dx
     h = num["h_factor"] * dx
     ps = ParticleSet()
-    water = block(0.0, 0.0, Lf, d, dx)
+    # whole columns up to the end wall: a length that is not a whole number of spacings would round
+    # the last column into the wall (3.23 m at dx 0.02 did, and stopped at once)
+    water = block(0.0, 0.0, dx * math.floor(Lf / dx + 1e-9), d, dx)
     ps.add(water, FLUID, 0, hydrostatic_density(d - water[:, 1], rho0, c0, G), rho0 * dx * dx)
     pad_pts, motion, extra, reach = paddle(cfg, d, Hw)
     x_left = -reach - 2 * T
