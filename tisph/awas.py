@@ -68,12 +68,10 @@ class AbsorbingMotion:
 def absorbing(motion, cfg, depth, still_level, x_paddle=0.0):
     """Wrap a piston Motion for paddle.absorb: the gauge moves with the paddle, a smoothing length
     in front of its face (the paddle's mean position is x_paddle)."""
-    from .wavemaker import biesel_piston, wavenumber
+    from .wavemaker import linear_wave
     p, dx = cfg["paddle"], cfg["numerics"]["dx"]
     h = cfg["numerics"]["h_factor"] * dx
-    omega = 2 * math.pi / p["period"]
-    k = wavenumber(omega, depth)
-    F = biesel_piston(k * depth)
+    omega, k, _, _, F = linear_wave(cfg, depth)   # a piston's: absorb is refused for any other
     return AbsorbingMotion(motion, F * p["stroke"], k, depth, omega / F, h, x_paddle, still_level, dx, h)
 
 

@@ -5,15 +5,15 @@ from ..kernels import CubicSpline2D as K
 from ..particles import FLUID
 
 
-def _near_columns(st, mat, xs, reach):
-    """The particles of material `mat` (None: every fluid), sorted by x, as (x, v, volume), and
-    for each position in xs the index range [lo, hi) of those within `reach` of it in x."""
+def _near_columns(st, mat, xs, reach, field="v"):
+    """The particles of material `mat` (None: every fluid), sorted by x, as (x, st[field],
+    volume), and for each position in xs the index range [lo, hi) of those within `reach` of it in x."""
     fl = st["kind"] == FLUID
     if mat is not None and st.get("mat") is not None:
         fl &= st["mat"] == mat
     order = np.argsort(st["x"][fl][:, 0])
     x = st["x"][fl][order]
-    v = st["v"][fl][order] if "v" in st else None
+    v = np.asarray(st[field])[fl][order] if field in st else None
     vol = (st["m"][fl] / st["rho"][fl])[order]
     xs = np.asarray(xs, float)
     return x, v, vol, np.searchsorted(x[:, 0], xs - reach), np.searchsorted(x[:, 0], xs + reach)
@@ -64,11 +64,8 @@ def shepard_at(st, points, h, name, mat=0, min_fraction=0.0):
     nothing, not the droplet's value). All points at once: every (point, particle) pair in each
     point's column."""
     pts = np.asarray(points, float).reshape(-1, 2)
-    x, _, vol, lo, hi = _near_columns(st, mat, pts[:, 0], K.support * h)
-    fl = st["kind"] == FLUID
-    if mat is not None and st.get("mat") is not None:
-        fl &= st["mat"] == mat
-    f = np.asarray(st[name])[fl][np.argsort(st["x"][fl][:, 0])].reshape(int(fl.sum()), -1)
+    x, f, vol, lo, hi = _near_columns(st, mat, pts[:, 0], K.support * h, field=name)
+    f = f.reshape(len(x), -1)
     out = np.full((len(pts), f.shape[1]), np.nan)
     counts = np.maximum(hi - lo, 0)
     if counts.sum() == 0:

@@ -126,7 +126,7 @@ def check(cfg):
 
 
 def paddle_site(cfg, lay, box):
-    """(floor, level, reach) at the paddle, after its checks: water in front of it, a floor under
+    """(floor, level, the paddle's particles, motion, parameters and reach), after its checks: water in front of it, a floor under
     its travel, nothing solid in its way."""
     p, dx = cfg["paddle"], cfg["numerics"]["dx"]
     col = lay.column(p["x"])
@@ -138,7 +138,8 @@ def paddle_site(cfg, lay, box):
     pc = dict(cfg, paddle=dict(p))
     wm.check_paddle(pc, depth, length, default_stroke=0.04)
     cfg["paddle"]["stroke"] = pc["paddle"]["stroke"]
-    reach = wm.paddle(pc, depth, box[3], floor)[3]
+    parts = wm.paddle(pc, depth, p["top"] or box[3], floor)   # built once: the travel here, the particles in build
+    reach = parts[3]
     back = p["x"] - lay.T - reach
     top = p["top"] or box[3]
     if top <= level:
@@ -159,7 +160,7 @@ def paddle_site(cfg, lay, box):
     if len(cols) < need:
         raise ConfigError("paddle.x", p["x"], f"a position with a floor under the paddle's travel ({back:.4g} to "
                           f"{p['x'] + reach:.4g} m at z = {floor:.4g} m): extend the solid under it")
-    return floor, level, depth, reach, pc
+    return floor, level, parts
 
 
 def build(cfg):
@@ -176,8 +177,7 @@ def build(cfg):
     p = cfg["paddle"]
     physics_kw, period, paddle_parts, sand = {}, None, None, None
     if p["type"] != "none":
-        floor, level, depth, reach, pc = paddle_site(cfg, lay, box)
-        paddle_parts = wm.paddle(pc, depth, p["top"] or box[3], floor)
+        floor, level, paddle_parts = paddle_site(cfg, lay, box)
         if p["absorb"]:
             paddle_parts[1].x_abs += p["x"]      # the absorbing gauge stands in front of this paddle
         physics_kw["paddle"] = p["type"]
@@ -243,8 +243,9 @@ def build(cfg):
         parts["persist"] += (paddle_parts[1],)
     if paddle_parts and not p["series"]:
         # colour top: twice the linear surface orbital speed at the paddle, as the flume's
-        omega, k = 2 * math.pi / period, wm.wavenumber(2 * math.pi / period, depth, g)
-        H = p["hs"] if p["spectrum"] else wm.linear_wave(pc, depth)[4] * p["stroke"]
+        depth = level - floor
+        omega, k, _, _, F = wm.linear_wave(cfg, depth)
+        H = p["hs"] if p["spectrum"] else F * p["stroke"]
         parts["speed_scale"] = H * omega / math.tanh(k * depth)
     margin = lay.T + dx
     zones = [(min(a["start"], a["end"]), max(a["start"], a["end"]), "absorber")] if "damping" in physics_kw else []
