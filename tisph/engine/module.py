@@ -10,7 +10,9 @@ Declarations (class attributes, all optional):
   params         runtime parameters (a Taichi struct field, changeable without a recompile):
                  {name: Param}; each has its ONE default, unit and allowed range
   acc            accumulator slots it adds to a fluid particle's neighbour sum: {name: type}
-  stats          per-step statistics slots (maxima) it adds: {name: type}
+  stats          per-step statistics slots it adds (counters): {name: type}
+  maxima         per-step maxima it adds: {name: type}; its finish hook raises pt.<name>,
+                 which the solver reduces per block of particles (no atomics)
 
 Hooks (define only those the module uses; `S` is the solver):
   drift(S, i, u) -> u              fluid drift velocity (XSPH)
@@ -71,6 +73,7 @@ class Module:
     params = {}
     acc = {}
     stats = {}
+    maxima = {}
 
     @classmethod
     def enabled(cls, S):

@@ -95,8 +95,8 @@ CORE_PARAMS = {
 # The names solver params dicts use where they differ from the field's.
 PARAM_ALIASES = {"band": "density_band", "eps": "xsph"}
 
-CORE_STATS = {"amax2": "real", "mumax": "real", "bad_code": "int", "bad_idx": "int", "leaked": "int",
-              "rhodev": "real"}
+CORE_MAXIMA = {"amax2": "real", "mumax": "real", "rhodev": "real"}
+CORE_STATS = dict(CORE_MAXIMA, bad_code="int", bad_idx="int", leaked="int")
 
 
 def material_table(S, modules, materials):
@@ -157,6 +157,7 @@ def stats_struct(S, modules):
     decl = dict(CORE_STATS)
     for m in modules:
         decl.update(m.stats)
+        decl.update(m.maxima)
     S.stats = ti.types.struct(**{k: resolve(t, S.real) for k, t in decl.items()}).field(shape=())
     return decl
 

@@ -59,7 +59,7 @@ class ArtificialViscosity(Module):
 
     @ti.func
     def finish(self, S, i, mi, acc: ti.template(), pt: ti.template()):
-        ti.atomic_max(S.stats[None].mumax, acc.mu)
+        pt.mumax = ti.max(pt.mumax, acc.mu)
 
 
 @ti.data_oriented

@@ -54,7 +54,7 @@ class Rheology(Module):
         "unyielded": MatParam("creep", "-", "creep | rest: an unyielded Bingham material creeps or rests",
                               "int", lambda v, mat, S: int(v == "rest"), "rest"),
     }
-    stats = {"numax": "real"}
+    maxima = {"numax": "real"}
 
     @staticmethod
     def enabled(S):
@@ -88,7 +88,7 @@ class Rheology(Module):
         elif rh == CROSS:
             mu_new = cross(S.mat_mu0[mi], S.mat_mu[mi], S.mat_K[mi], S.mat_m1[mi], S.mat_mumax[mi], gdot)
         S.p.mu[i] = mu_new
-        ti.atomic_max(S.stats[None].numax, mu_new / pt.rho)
+        pt.numax = ti.max(pt.numax, mu_new / pt.rho)
 
 
 @ti.data_oriented
@@ -127,7 +127,7 @@ class DEM(Module):
     acc = {"cid_old": ti.types.vector(DEM_SLOTS, ti.i32), "es_old": "vec%d" % DEM_SLOTS,
            "cid_new": ti.types.vector(DEM_SLOTS, ti.i32), "es_new": "vec%d" % DEM_SLOTS,
            "nc": "int", "dem": "int", "mi": "real", "near": "int"}
-    stats = {"dem_near": "int"}
+    maxima = {"dem_near": "int"}
 
     @staticmethod
     def default_dt(materials, dx, kn):
@@ -183,8 +183,7 @@ class DEM(Module):
         # the contacts of this step, with their springs, replace the old list
         S.p.cid[i] = acc.cid_new
         S.p.ces[i] = acc.es_new
-        if acc.near == 1:
-            ti.atomic_max(S.stats[None].dem_near, 1)
+        pt.dem_near = ti.max(pt.dem_near, acc.near)
 
     @ti.func
     def dt_limit(self, S, dt_new):

@@ -17,7 +17,7 @@ class SPS(Module):
     stress is one step behind the velocity gradient it comes from."""
     name = "sps"
     on = {"sps": True}
-    stats = {"numax": "real"}
+    maxima = {"numax": "real"}
     params = {"mixing_length": KEYED["numerics.mixing_length"]}
 
     def fields(self, real):
@@ -50,7 +50,7 @@ class SPS(Module):
             else:
                 tau, nut = sps_stress(acc.gv, S.dx, S.prm[None].mixing_length)
         S.p.sps[i] = tau
-        ti.atomic_max(S.stats[None].numax, nut + S.mat_mu[mi] / pt.rho)
+        pt.numax = ti.max(pt.numax, nut + S.mat_mu[mi] / pt.rho)
 
 
 @ti.data_oriented
