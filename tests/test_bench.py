@@ -222,3 +222,47 @@ def test_ripple_sweep_cases_and_dry_run(tmp_path):
     assert bench.main(["--ripples", "--dry-run", "--out", str(tmp_path)]) == 0
     for f in ("ripples.md", "ripples.csv", "ripples.png", "growth.png"):
         assert (tmp_path / "ripples" / f).stat().st_size > 100
+
+
+def test_peers_are_a_comma_separated_list_of_known_codes(capsys):
+    assert bench._peers("pysph,dualsphysics") == ("pysph", "dualsphysics")
+    with pytest.raises(SystemExit) as e:
+        bench.main(["--speed", "--peer", "pysph,dualsph"])
+    assert e.value.code == 2
+    assert "'pysph,dualsph': peers are pysph, dualsphysics" in capsys.readouterr().err
+
+
+def test_dualsphysics_case_and_its_csv_are_read(tmp_path):
+    from tisph.bench import dualsphysics
+    xml = ('<definition dp="0.01" units_comment="m"><special><gauges/></special>'
+           '<parameter key="TimeMax" value="2.0" /><parameter key="TimeOut" value="0.01" />'
+           '<coefsound value="20" comment="" />')
+    s = dualsphysics.case_xml(xml, 0.015, 0.3, 0.02, coefsound=14.14)
+    assert 'dp="0.015"' in s and 'key="TimeMax" value="0.3"' in s and 'key="TimeOut" value="0.02"' in s
+    assert "<special>" not in s and '<coefsound value="14.14"' in s
+    with pytest.raises(dualsphysics.NotAvailable, match="TimeOut"):
+        dualsphysics.case_xml(xml.replace("TimeOut", "Tout"), 0.015, 0.3, 0.02)
+    # PartVTK's CSV at two times: the front is the rightmost fluid within 2 dp of the floor + dp / 2
+    rows = {0: [(0.005, 0.005), (0.995, 0.005), (0.5, 1.0)], 1: [(0.005, 0.005), (1.4, 0.015), (2.0, 0.5)]}
+    for k, pts in rows.items():
+        body = "".join(f"  {x:.7E};  0.0000000E+00;  {z:.7E};\n" for x, z in pts)
+        (tmp_path / f"PartFluid_{k:04d}.csv").write_text(
+            f"TimeStep [s];Np;Nbound\n{0.1 * k};3;10\n\nPos.x [m];Pos.y [m];Pos.z [m];\n{body}")
+    (tmp_path / "PartFluid_Info.csv").write_text("not a time")
+    t, front = dualsphysics._fronts(str(tmp_path), 0.01)
+    assert list(t) == [0.0, 0.1]
+    assert front == pytest.approx([1.0, 1.405])
+    with pytest.raises(dualsphysics.NotAvailable, match="--dualsphysics"):
+        dualsphysics.ensure(str(tmp_path / "cache"), None, print)
+
+
+@pytest.mark.slow
+def test_speed_bench_on_gpu_falls_back_to_the_cpu_with_a_warning(tmp_path):
+    import subprocess
+    import sys
+    r = subprocess.run([sys.executable, "-m", "tisph.bench", "--speed", "--arch", "gpu", "--quick", "--repeats", "1",
+                        "--out", str(tmp_path)], capture_output=True, text=True, cwd=ROOT, timeout=600)
+    assert r.returncode == 0, r.stderr[-2000:]
+    assert "warning: --arch gpu: Taichi found no GPU" in r.stderr
+    md = (tmp_path / "speed.md").read_text()
+    assert "Taichi arch x64" in md and "| tank 4.4e4 |" in md

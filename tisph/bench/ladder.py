@@ -242,12 +242,30 @@ def _engine_sections(a, log):
     return md
 
 
+def _peers(text):
+    from .codes import PEERS
+    names = tuple(n.strip() for n in text.split(",") if n.strip())
+    bad = [n for n in names if n not in PEERS]
+    if bad or not names:
+        raise argparse.ArgumentTypeError(f"{text!r}: peers are {', '.join(PEERS)} (comma-separated)")
+    return names
+
+
 def main(argv=None):
     p = argparse.ArgumentParser(prog="python -m tisph.bench", description=__doc__,
                                 formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--quick", action="store_true", help="coarse ladders and short runs (about 5 minutes)")
-    p.add_argument("--peer", choices=["pysph"], help="also run PySPH's dam_break_2d and compare")
-    p.add_argument("--peer-venv", help="PySPH's virtual environment (default OUT/pysph-venv; made if absent)")
+    p.add_argument("--peer", type=_peers, default=(), metavar="pysph,dualsphysics",
+                   help="also run these codes' dam break beside ours (with --speed: all three at dp 0.03 and 0.015, "
+                        "back to back)")
+    p.add_argument("--peer-venv", help="PySPH's virtual environment (default ~/.cache/tisph/peers/pysph-venv; made "
+                                       "if absent)")
+    p.add_argument("--dualsphysics", metavar="CLONE",
+                   help="a git clone of DualSPHysics to build its v5.0 CPU solver from, once, into "
+                        "~/.cache/tisph/peers (needed until it is built)")
+    p.add_argument("--arch", choices=["cpu", "gpu"], default="cpu",
+                   help="with --speed: gpu runs the tank ladder on CUDA, Vulkan or Metal, on the CPU with a warning "
+                        "where none is present")
     p.add_argument("--out", default=os.path.join("renders", "bench"))
     p.add_argument("--scheduler", metavar="ADDRESS",
                    help="run the ladders on this Dask scheduler (tcp://host:8786), the path tisph.sweep takes; "
@@ -352,7 +370,7 @@ def main(argv=None):
         log(f"warning: no plot: {e}")
     if not a.no_scaling:
         md += _engine_sections(a, log)
-    if a.peer == "pysph":
+    if "pysph" in a.peer:
         md += peer_pysph(a.out, log, a.peer_venv)
     write_text(os.path.join(a.out, "bench.md"), "\n".join(md) + "\n")
     print("\n".join(md))

@@ -47,7 +47,8 @@ for f in files:
         y0 = float(y.min()) - 0.5 * dx   # the floor
     m = y - y0 < 2 * dx
     out.append((float(d['solver_data']['t']), float(x[m].max() + 0.5 * dx - x0) if m.any() else float('nan'),
-                int(d['solver_data'].get('count', 0)), int(len(x))))
+                int(d['solver_data'].get('count', 0)), int(len(x)),
+                int(sum(len(a.get('x')) for a in d['arrays'].values()))))
 print(json.dumps(out))
 """
 
@@ -117,11 +118,13 @@ def run_pysph(py, out, dx=DX, tf=TF):
     front = np.array([r[1] for r in rows])
     steps = max(r[2] for r in rows)
     n = rows[0][3]
-    return dict(wall_time_s=wall, run_s=run_s, steps=steps, fluid_particles=n, t=t, front=front, log=r.stdout[-3000:])
+    return dict(wall_time_s=wall, run_s=run_s, steps=steps, fluid_particles=n, particles=rows[0][4], t=t,
+                front=front, log=r.stdout[-3000:])
 
 
 def compare(out, log, venv=None, dxs=DXS):
-    root = venv or os.path.join(out, "pysph-venv")
+    from .codes import cache_dir
+    root = venv or os.path.join(cache_dir(), "pysph-venv")
     try:
         py = ensure_pysph(root, log)
     except Exception as e:

@@ -44,6 +44,14 @@ CASES = [
                             "geometry.tank_height": 2.1}, 20),
 ]
 QUICK = 4   # --quick: the first four
+# the bed-load scenes as a user runs them, the Python side of the bed coupling included: steps
+# timed by the runner (its step_time_s, without the outputs), from the start of the run
+SCENES = [
+    ("beach (default)", "beach", {}, 1500),
+    ("tunnel (default)", "tunnel", {}, 1500),
+]
+# --arch gpu: the tank ladder, the case whose size a GPU is for
+GPU_CASES = [c for c in CASES if c[1] == "tank"]
 
 # Runs in the tree under test (this one or REV's): only APIs every revision since the engine
 # refactor has (resolve, build_case, Log, the Solver from tisph.engine.solver or the older shim).
@@ -56,7 +64,7 @@ try:
     from tisph.engine.solver import Solver
 except ImportError:
     from tisph.engine.solver import Solver
-runtime.init("cpu", "f32")
+arch = runtime.init(sys.argv[4] if len(sys.argv) > 4 else "cpu", "f32")
 scene = importlib.import_module("tisph.scenes." + sys.argv[1])
 ov = json.loads(sys.argv[2]); ov["output.quiet"] = True
 steps = int(sys.argv[3])
@@ -73,20 +81,38 @@ el = time.perf_counter() - t2
 fb = s.field_bytes() / s.n if hasattr(s, "field_bytes") else float("nan")
 rss = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
 print(json.dumps(dict(particles=s.n, steps=steps, seconds=el, pps=s.n * steps / el, setup=t1 - t0,
-                      compile=t2 - t1, field_bytes=fb, peak_rss_mb=rss)))
+                      compile=t2 - t1, field_bytes=fb, peak_rss_mb=rss, arch=arch)))
+"""
+
+# A scene run as the runner runs it, to a number of steps (run.max_steps), no pictures or snapshots.
+CHILD_SCENE = r"""
+import json, sys, tempfile, importlib
+try:
+    from tisph.runner import simulate
+except ImportError:
+    from tisph.run.entry import simulate
+scene = importlib.import_module("tisph.scenes." + sys.argv[1])
+ov = json.loads(sys.argv[2])
+ov.update({"output.quiet": True, "output.render": False, "output.snapshot_every": 0.0,
+           "run.max_steps": int(sys.argv[3]), "run.end_time": 1e6})
+with tempfile.TemporaryDirectory() as d:
+    s = simulate(scene, ov, out=d)
+print(json.dumps(dict(particles=s["particles"], steps=s["steps"], seconds=s["step_time_s"],
+                      pps=s["particle_steps_per_s"], compile=s["compile_time_s"], field_bytes=float("nan"),
+                      arch=s.get("arch", "x64"))))
 """
 
 
-def measure(tree, scene, overrides, steps, cache=None):
+def measure(tree, scene, overrides, steps, cache=None, arch="cpu", whole=False):
     """One measurement in a fresh process on the tree at `tree`; cache: Taichi's offline cache
-    folder (a new empty one for a cold compile)."""
+    folder (a new empty one for a cold compile); whole: the scene as the runner runs it."""
     env = dict(os.environ, PYTHONPATH=tree)
     if "--config" in overrides:   # this tree's case file, whichever tree runs it
         overrides = dict(overrides, **{"--config": os.path.join(ROOT, overrides["--config"])})
     if cache:
         env["TI_OFFLINE_CACHE_FILE_PATH"] = cache
-    r = subprocess.run([sys.executable, "-c", CHILD, scene, json.dumps(overrides), str(steps)], cwd=tree,
-                       capture_output=True, text=True, env=env, timeout=3600)
+    r = subprocess.run([sys.executable, "-c", CHILD_SCENE if whole else CHILD, scene, json.dumps(overrides),
+                        str(steps), arch], cwd=tree, capture_output=True, text=True, env=env, timeout=3600)
     if r.returncode != 0:
         raise RuntimeError(f"{scene} {overrides} on {tree} failed: {r.stderr[-1500:]}")
     return json.loads(r.stdout.strip().splitlines()[-1])
@@ -102,39 +128,55 @@ def worktree(rev, base):
     return path
 
 
-def _measure_old(tree, rev, name, scene, ov, steps, log):
+def _measure_old(tree, rev, name, scene, ov, steps, log, arch, whole):
     try:
-        return measure(tree, scene, ov, steps)["pps"]
+        return measure(tree, scene, ov, steps, arch=arch, whole=whole)["pps"]
     except RuntimeError as e:   # a case newer than REV
         log(f"{name}: not measured on {rev}: {str(e).splitlines()[-1]}")
         return float("nan")
 
 
+def cases_for(a):
+    """(name, scene, overrides, steps, whole) of the run a asks for."""
+    arch = getattr(a, "arch", "cpu") or "cpu"
+    if arch == "gpu":   # --quick: the smallest tank, a few steps (the fallback's test)
+        return [GPU_CASES[0][:3] + (20, False)] if a.quick else [c + (False,) for c in GPU_CASES]
+    if a.quick:
+        return [c + (False,) for c in CASES[:QUICK]]
+    return [c + (False,) for c in CASES] + [c + (True,) for c in SCENES]
+
+
 def run(a, log):
-    cases = CASES[:QUICK] if a.quick else CASES
+    arch = getattr(a, "arch", "cpu") or "cpu"
+    cases = cases_for(a)
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
         old = worktree(a.against, tmp) if a.against else None
         try:
             # compile, cold (an empty offline cache) then warm (the same cache again)
             cache = os.path.join(tmp, "cache")
-            cold = measure(ROOT, *cases[0][1:3], 5, cache)["compile"]
-            warm = measure(ROOT, *cases[0][1:3], 5, cache)["compile"]
-            for name, scene, ov, steps in cases:
+            cold = measure(ROOT, *CASES[0][1:3], 5, cache, arch=arch)
+            warm = measure(ROOT, *CASES[0][1:3], 5, cache, arch=arch)["compile"]
+            if arch == "gpu" and cold.get("arch") in ("x64", "arm64"):
+                log("warning: --arch gpu: Taichi found no GPU (CUDA, Vulkan or Metal) here; the cases run on the "
+                    "CPU, and the table says so")
+            used = cold.get("arch", "x64")
+            cold = cold["compile"]
+            for name, scene, ov, steps, whole in cases:
                 new_pps, old_pps = [], []
                 for k in range(a.repeats):
                     # every other pair REV first: the one run second measured 8-10 % faster on
                     # these VMs whichever tree it was (cases the change could not touch, 3 pairs)
                     if old and k % 2:
-                        old_pps.append(_measure_old(old, a.against, name, scene, ov, steps, log))
-                    m = measure(ROOT, scene, ov, steps)
+                        old_pps.append(_measure_old(old, a.against, name, scene, ov, steps, log, arch, whole))
+                    m = measure(ROOT, scene, ov, steps, arch=arch, whole=whole)
                     new_pps.append(m["pps"])
                     if old and not k % 2:
-                        old_pps.append(_measure_old(old, a.against, name, scene, ov, steps, log))
+                        old_pps.append(_measure_old(old, a.against, name, scene, ov, steps, log, arch, whole))
                     log(f"{name}: {m['particles']} particles, {new_pps[-1]:.3g} particle-steps/s"
                         + (f", {a.against}: {old_pps[-1]:.3g}" if old else ""))
-                row = dict(case=name, particles=m["particles"], steps=steps, pps=statistics.median(new_pps),
-                           field_bytes=round(m["field_bytes"], 1))
+                row = dict(case=name, particles=m["particles"], steps=m.get("steps", steps),
+                           pps=statistics.median(new_pps), field_bytes=round(m["field_bytes"], 1), arch=used)
                 if old:
                     row["pps_against"] = statistics.median(old_pps)
                     row["ratio"] = float("nan") if any(math.isnan(o) for o in old_pps) else \
@@ -153,7 +195,8 @@ def report(a, rows, cold, warm):
         hdr += f" {a.against} particle-steps/s | ratio (median of {a.repeats} pairs) |"
         sep += "---|---|"
     lines = ["# tisph engine speed", "",
-             f"{time.strftime('%Y-%m-%d %H:%M')}, CPU backend, f32, {os.cpu_count()} threads; each figure the "
+             f"{time.strftime('%Y-%m-%d %H:%M')}, Taichi arch {rows[0]['arch']}, f32, {os.cpu_count()} threads; "
+             "each figure the "
              f"median of {a.repeats} runs, each in a fresh process"
              + (f", alternating with {a.against} back to back" if a.against else "") + ".", "",
              hdr, sep]
@@ -173,9 +216,9 @@ def main(a):
     ensure_dir(a.out)
     rows, cold, warm = run(a, log)
     lines = report(a, rows, cold, warm)
-    if getattr(a, "peer", None) == "pysph":
-        from . import peer
-        lines += peer.compare(a.out, log, getattr(a, "peer_venv", None))
+    if getattr(a, "peer", ()):
+        from . import codes
+        lines += codes.compare(a.out, log, a.peer, getattr(a, "peer_venv", None), getattr(a, "dualsphysics", None))
     write_text(os.path.join(a.out, "speed.md"), "\n".join(lines) + "\n")
     write_csv(os.path.join(a.out, "speed.csv"), tuple(rows[0]), [tuple(r.values()) for r in rows])
     print("\n".join(lines))

@@ -94,15 +94,17 @@ class Solver(SolverAPI):
         self.cfl = float(self.param_values["cfl"])   # the viscosity cap reads it (materials below)
         mat_writes = st_mod.material_table(self, self.modules, materials)
         self.stat_decl = st_mod.stats_struct(self, self.modules)
-        # the force pass's maxima, per block of particles: no atomics in the pass, and the blocks
-        # many enough (1,024) that Taichi's CPU range-for deals them to every thread
+        # the force pass's maxima: on the CPU per block of particles, reduced once on one thread
+        # (no atomics in the pass; 1,024 blocks or more, so Taichi's CPU range-for deals them to
+        # every thread); on a GPU per particle, by its hardware atomics
         self.maxima = dict(st_mod.CORE_MAXIMA)
         for m in self.modules:
             self.maxima.update(m.maxima)
         self.MaxT = ti.types.struct(**{k: st_mod.resolve(t, self.real) for k, t in self.maxima.items()})
-        self.blk = max(1, self.n // 1024)
+        self.cpu = st_mod.on_cpu()   # the CPU-only paths below; a GPU build turns them off
+        self.blk = max(1, self.n // 1024) if self.cpu else 1
         self.nblk = (self.n + self.blk - 1) // self.blk
-        self.bmax = self.MaxT.field(shape=self.nblk)
+        self.bmax = self.MaxT.field(shape=self.nblk if self.cpu else 1)
         # the maxima a finish hook raises through pt (the pass itself raises amax2 and rhodev)
         self._module_max0 = {k: 0 if t == "int" else 0.0 for k, t in self.maxima.items()
                              if k not in ("amax2", "rhodev")}
@@ -304,15 +306,19 @@ class Solver(SolverAPI):
             mx = self.MaxT(0)
             for i in range(b * self.blk, ti.min((b + 1) * self.blk, self.n)):
                 self.forces(i, dt, mx)
-            self.bmax[b] = mx
-        # light loops on one thread: a parallel loop's wake-up cost more than zeroing the cells
+            if ti.static(self.cpu):
+                self.bmax[b] = mx
+            else:
+                for k in ti.static(self._maxima):
+                    ti.atomic_max(self.stats[None][k], mx[k])
+        # light loops on one CPU thread: a parallel loop's wake-up cost more than zeroing the cells
         # (measured: 0.12 ms a step at 8e3 cells, 4 % of a dam-break step at dx 0.015)
-        ti.loop_config(serialize=True)
+        ti.loop_config(serialize=self.cpu)
         for c in range(ncell + 2):
             self.grid.fcnt[c] = ti.cast(0, self.grid.fdtype)
         ti.loop_config(serialize=True)
         for _ in range(1):   # one serial task after the parallel loops
-            for b in range(self.nblk):
+            for b in range(self.nblk if ti.static(self.cpu) else 0):
                 for k in ti.static(self._maxima):
                     self.stats[None][k] = ti.max(self.stats[None][k], self.bmax[b][k])
             next_dt(self)
