@@ -81,13 +81,17 @@ class Grid:
 
     # ---------------------------------------------------------------- counting sort, per item
     @ti.func
-    def prefix(self, c):
+    def prefix(self):
         """Serial prefix sum over the cell counts (cells are few next to particles); cnt becomes
-        a write cursor. Run in a serialized loop over c = 0 .. ncells."""
-        if c == 0:
-            self.start[0] = 0
-        self.start[c + 1] = self.start[c] + self.cnt[c]
-        self.cnt[c] = self.start[c]
+        a write cursor. One task: the running sum stays in a register (reading start[c] back
+        chained every cell to the store before it)."""
+        run = 0
+        for c in range(self.ncells + 1):
+            n = self.cnt[c]
+            self.start[c] = run
+            self.cnt[c] = run
+            run += n
+        self.start[self.ncells + 1] = run
 
     @ti.func
     def scatter(self, i):

@@ -296,8 +296,8 @@ class Solver(SolverAPI):
         for i in range(self.n):
             self.advance(i, dt)
         ti.loop_config(serialize=True)
-        for c in range(ncell + 1):
-            self.grid.prefix(c)
+        for _ in range(1):
+            self.grid.prefix()
         for i in range(self.n):
             self.grid.scatter(i)
         for c in range(ncell + 1):
