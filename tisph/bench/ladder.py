@@ -276,6 +276,8 @@ def main(argv=None):
                    help="engine speed only (tisph/bench/speed.py): particle-steps/s from 3.4e3 to 6.5e5 particles, compile")
     p.add_argument("--against", metavar="REV", help="with --speed: the same runs on this git revision, back to back")
     p.add_argument("--repeats", type=int, default=3, help="with --speed: runs (pairs) per case (default 3)")
+    p.add_argument("--threads", type=int, help="with --speed: Taichi's CPU threads in every run (default all cores; "
+                                               "1 measured 4 %% run-to-run spread here against 10 %% on two)")
     p.add_argument("--shedding", action="store_true",
                    help="vortex shedding behind a pipe above a fixed bed against the gap (tisph/bench/shedding.py)")
     p.add_argument("--mao-held", action="store_true",

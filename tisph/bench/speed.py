@@ -1,15 +1,16 @@
 """Engine speed: particle-steps/s of the dam break and the tank over a range of sizes, cold and
 warm compile, and the same cases on another git revision, run back to back.
 
-    python -m tisph.bench --speed [--against REV] [--repeats N] [--quick] [--peer pysph] [--out renders/bench]
+    python -m tisph.bench --speed [--against REV] [--repeats N] [--threads N] [--quick]
+                                  [--peer pysph,dualsphysics] [--arch gpu] [--out renders/bench]
 
 Each measurement runs in its own process (Taichi compiles once per process): build the case,
 prime, one warm-up step, then a fixed number of steps timed with a field read at the end (it
 waits for the last kernel). With --against, every case is run on this tree and on REV (checked
 out into a temporary git worktree) alternately, every other pair REV first, --repeats times, and
 the ratio is the median of the pairs: these machines are shared and drift, so only ratios from
-one run mean anything. With --peer pysph, PySPH's dam_break_2d beside ours at dx 0.03 and 0.015
-(tisph/bench/peer.py). Writes OUT/speed.md and OUT/speed.csv.
+one run mean anything. With --peer, PySPH's and DualSPHysics' dam breaks beside ours
+(tisph/bench/codes.py). Writes OUT/speed.md and OUT/speed.csv.
 """
 import json
 import math
@@ -103,10 +104,12 @@ print(json.dumps(dict(particles=s["particles"], steps=s["steps"], seconds=s["ste
 """
 
 
-def measure(tree, scene, overrides, steps, cache=None, arch="cpu", whole=False):
+def measure(tree, scene, overrides, steps, cache=None, arch="cpu", whole=False, threads=None):
     """One measurement in a fresh process on the tree at `tree`; cache: Taichi's offline cache
     folder (a new empty one for a cold compile); whole: the scene as the runner runs it."""
     env = dict(os.environ, PYTHONPATH=tree)
+    if threads:
+        env["TISPH_THREADS"] = str(threads)
     if "--config" in overrides:   # this tree's case file, whichever tree runs it
         overrides = dict(overrides, **{"--config": os.path.join(ROOT, overrides["--config"])})
     if cache:
@@ -128,9 +131,9 @@ def worktree(rev, base):
     return path
 
 
-def _measure_old(tree, rev, name, scene, ov, steps, log, arch, whole):
+def _measure_old(tree, rev, name, scene, ov, steps, log, arch, whole, threads):
     try:
-        return measure(tree, scene, ov, steps, arch=arch, whole=whole)["pps"]
+        return measure(tree, scene, ov, steps, arch=arch, whole=whole, threads=threads)["pps"]
     except RuntimeError as e:   # a case newer than REV
         log(f"{name}: not measured on {rev}: {str(e).splitlines()[-1]}")
         return float("nan")
@@ -148,6 +151,7 @@ def cases_for(a):
 
 def run(a, log):
     arch = getattr(a, "arch", "cpu") or "cpu"
+    threads = getattr(a, "threads", None)   # Taichi's CPU threads in every run (None: all cores)
     cases = cases_for(a)
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
@@ -168,11 +172,13 @@ def run(a, log):
                     # every other pair REV first: the one run second measured 8-10 % faster on
                     # these VMs whichever tree it was (cases the change could not touch, 3 pairs)
                     if old and k % 2:
-                        old_pps.append(_measure_old(old, a.against, name, scene, ov, steps, log, arch, whole))
-                    m = measure(ROOT, scene, ov, steps, arch=arch, whole=whole)
+                        old_pps.append(_measure_old(old, a.against, name, scene, ov, steps, log, arch, whole,
+                                                    threads))
+                    m = measure(ROOT, scene, ov, steps, arch=arch, whole=whole, threads=threads)
                     new_pps.append(m["pps"])
                     if old and not k % 2:
-                        old_pps.append(_measure_old(old, a.against, name, scene, ov, steps, log, arch, whole))
+                        old_pps.append(_measure_old(old, a.against, name, scene, ov, steps, log, arch, whole,
+                                                    threads))
                     log(f"{name}: {m['particles']} particles, {new_pps[-1]:.3g} particle-steps/s"
                         + (f", {a.against}: {old_pps[-1]:.3g}" if old else ""))
                 row = dict(case=name, particles=m["particles"], steps=m.get("steps", steps),
@@ -195,7 +201,8 @@ def report(a, rows, cold, warm):
         hdr += f" {a.against} particle-steps/s | ratio (median of {a.repeats} pairs) |"
         sep += "---|---|"
     lines = ["# tisph engine speed", "",
-             f"{time.strftime('%Y-%m-%d %H:%M')}, Taichi arch {rows[0]['arch']}, f32, {os.cpu_count()} threads; "
+             f"{time.strftime('%Y-%m-%d %H:%M')}, Taichi arch {rows[0]['arch']}, f32, "
+             f"{getattr(a, 'threads', None) or os.cpu_count()} threads; "
              "each figure the "
              f"median of {a.repeats} runs, each in a fresh process"
              + (f", alternating with {a.against} back to back" if a.against else "") + ".", "",
