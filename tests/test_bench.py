@@ -56,11 +56,11 @@ def test_speed_measures_a_known_case_in_a_fresh_process_and_reports_its_ratio():
     import argparse
     from tisph.bench import speed
     m = speed.measure(speed.ROOT, "dam_break", {"numerics.dx": 0.08}, 20)
-    assert m["particles"] == 768 and m["steps"] == 20
+    assert m["particles"] == 768 and m["steps"] == 20 and m["arch"] == "x64"
     assert m["pps"] == pytest.approx(768 * 20 / m["seconds"], rel=1e-9) and 50 < m["field_bytes"] < 1000
     a = argparse.Namespace(against="abc123", repeats=1)
     rows = [dict(case="dam break dx 0.08", particles=m["particles"], steps=20, pps=m["pps"],
-                 field_bytes=m["field_bytes"], pps_against=m["pps"] / 2, ratio=2.0)]
+                 field_bytes=m["field_bytes"], pps_against=m["pps"] / 2, ratio=2.0, arch=m["arch"])]
     text = "\n".join(speed.report(a, rows, 1.3, 0.5))
     assert "| dam break dx 0.08 | 768 | 20 |" in text and "| 2.00 |" in text
     assert "cold 1.30 s" in text and "warm 0.50 s" in text

@@ -4,7 +4,7 @@ CaseDambreakVal2D: a 1 x 2 m column in a 4 m tank, the case tisph's dam break ru
 end time, and read its particles, steps, time-loop wall time and surge front.
 
 Its source is not on PyPI: pass a clone of github.com/DualSPHysics/DualSPHysics (a work tree or
-its .git folder) with --dualsphysics; commit 1dfd0cd (v5.0, 2021-02-01) is the last that ships
+its .git folder) with --dualsphysics; its v5.0 commit (2021-02-01, V50 below) is the last that ships
 the Linux GenCase and PartVTK binaries the case needs. The CPU solver is built with
 `make -f Makefile_cpu USE_GCC5=YES COMPILE_CHRONO=NO COMPILE_CHRONO_OMP=NO` (its bundled static
 libraries use the old C++ string ABI; a dam break needs no Chrono), about a minute on two cores.
@@ -23,7 +23,7 @@ import time
 
 import numpy as np
 
-V50 = "1dfd0cd"
+V50 = "1dfd0cd8ff5b8cd1bf45a3cf2c50d17d22a4a967"   # v5.0, 2021-02-01
 EXAMPLE = os.path.join("examples", "main", "01_DamBreak", "CaseDambreakVal2D_Def.xml")
 BIN = os.path.join("bin", "linux")
 SOLVER = "DualSPHysics5.0CPU_linux64"
@@ -79,7 +79,7 @@ def ensure(cache, source, log):
         return root
     if not source:
         raise NotAvailable("not built yet and no source given: clone https://github.com/DualSPHysics/DualSPHysics "
-                           "and pass its folder with --dualsphysics (commit 1dfd0cd, v5.0, is used)")
+                           "and pass its folder with --dualsphysics (its v5.0 commit is used)")
     if not os.path.isdir(source):
         raise NotAvailable(f"--dualsphysics {source}: no such folder")
     tmp = root + ".partial"
