@@ -123,15 +123,32 @@ class Grid:
         j = i is visited too: a `j != i` test in this loop measured 2.7x slower, and every
         gradient term vanishes at r = 0 anyway; a task that must skip itself tests r2 > 0.
         """
+        self._visit(src, i, xi, task, acc, False)
+
+    @ti.func
+    def for_forward(self, src: ti.template(), i, xi, task: ti.template(), acc: ti.template()):
+        """The forward half of i's stencil (engine/pairs.py): its own cell row after i in the
+        sorted order, and the rows above; each pair of neighbours is in one of the two halves."""
+        self._visit(src, i, xi, task, acc, True)
+
+    @ti.func
+    def _visit(self, src: ti.template(), i, xi, task: ti.template(), acc: ti.template(), forward: ti.template()):
         c = self.cell_of(xi)
+        dy0 = -self.cdiv
+        if ti.static(forward):
+            dy0 = 0
         if ti.static(not self.periodic_x):
             x0 = ti.max(c[0] - self.cdiv, 0)
             x1 = ti.min(c[0] + self.cdiv, self.nx - 1)
-            for dy in range(-self.cdiv, self.cdiv + 1):  # runtime: one copy of the pair tasks (compiles 4x faster)
+            for dy in range(dy0, self.cdiv + 1):  # runtime: one copy of the pair tasks (compiles 4x faster)
                 cy = c[1] + dy
                 if 0 <= cy < self.ny:
                     row = cy * self.nx
-                    for j in range(self.start[row + x0], self.start[row + x1 + 1]):
+                    j0 = self.start[row + x0]
+                    if ti.static(forward):
+                        if dy == 0:
+                            j0 = ti.max(j0, i + 1)
+                    for j in range(j0, self.start[row + x1 + 1]):
                         r = xi - src.x[j]
                         r2 = r.dot(r)
                         if r2 < self.support * self.support:
@@ -141,7 +158,7 @@ class Grid:
             # seam (the wrapped part first where it comes first, so the sum runs in the same
             # order as cell by cell did); r is the nearest image
             d = self.cdiv
-            for dy in range(-d, d + 1):
+            for dy in range(dy0, d + 1):
                 cy = c[1] + dy
                 if 0 <= cy < self.ny:
                     row = cy * self.nx
@@ -164,6 +181,9 @@ class Grid:
                         j0, j1 = a0, a1
                         if seg == 1:
                             j0, j1 = b0, b1
+                        if ti.static(forward):
+                            if dy == 0:
+                                j0 = ti.max(j0, i + 1)
                         for j in range(j0, j1):
                             r = xi - src.x[j]
                             r[0] -= self.period * ti.round(r[0] * self.inv_period)

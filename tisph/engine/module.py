@@ -13,6 +13,9 @@ Declarations (class attributes, all optional):
   stats          per-step statistics slots it adds (counters): {name: type}
   maxima         per-step maxima it adds: {name: type}; its finish hook raises pt.<name>,
                  which the solver reduces per block of particles (no atomics)
+  pair_once      set (to the acc slots it sums, {slot: 'sum' | 'max'}) when its pair hook gives
+                 j's term if called as pair(S, j, i, -r, r2, <j's view of i>, <j's acc>): each
+                 pair is then visited once (engine/pairs.py)
 
 Hooks (define only those the module uses; `S` is the solver):
   drift(S, i, u) -> u              fluid drift velocity (XSPH)
@@ -74,6 +77,7 @@ class Module:
     acc = {}
     stats = {}
     maxima = {}
+    pair_once = None   # {acc slot: 'sum' | 'max'} if its pair hook also runs with i and j swapped
 
     @classmethod
     def enabled(cls, S):

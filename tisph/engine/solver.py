@@ -35,11 +35,13 @@ from .health import BAD_DENSITY, BAD_LEAK, BAD_NONE, fluid_code, report
 from .limits import next_dt
 from .access import SolverAPI
 from .module import HOOKS
+from . import pairs
+from .pairs import PairOnce
 from .registry import enabled_modules
 
 # The base slots of a fluid particle's accumulator (the modules add theirs).
 ACC_CORE = {"a": "vec2", "drho": "real", "vi": "vec2", "rhoi": "real", "pi": "real", "inv_rhoi": "real",
-            "mui": "real", "mat": "int"}
+            "mui": "real", "mat": "int", "kind": "int", "m": "real"}
 
 
 @ti.data_oriented
@@ -109,13 +111,18 @@ class Solver(SolverAPI):
         self._module_max0 = {k: 0 if t == "int" else 0.0 for k, t in self.maxima.items()
                              if k not in ("amax2", "rhodev")}
         self._module_max, self._maxima = tuple(self._module_max0), tuple(self.maxima)
-        for m in self.modules:
-            m.allocate(self)          # module fields that are not per particle, if any
-        st_mod.write_tables(self, mat_writes, self.param_values)   # every field exists now
         acc = dict(ACC_CORE)
         for m in self.modules:
             acc.update(m.acc)
-        self.Acc = ti.types.struct(**{k: st_mod.resolve(t, self.real) for k, t in acc.items()})
+        self.acc_types = {k: st_mod.resolve(t, self.real) for k, t in acc.items()}
+        self.Acc = ti.types.struct(**self.acc_types)
+        # each pair once where the modules allow it (engine/pairs.py); params["pair_once"] False
+        # keeps the gather pass (the tests compare the two)
+        self.pair_once = PairOnce(self) if params.get("pair_once", True) and pairs.applicable(self) else None
+        self.once = self.pair_once is not None
+        for m in self.modules:
+            m.allocate(self)          # module fields that are not per particle, if any
+        st_mod.write_tables(self, mat_writes, self.param_values)   # every field exists now
         self.motion = params.get("motion")   # motion(t) -> (displacement, rate), for the paddle
 
         fp = self.np_real
@@ -222,6 +229,8 @@ class Solver(SolverAPI):
             mt = ti.cast(t.mat[a], ti.i32)       # a byte on the CPU; an index here
             t.p[a] = tait(t.rhoe[a], self.mat_rho0[mt], self.mat_B[mt])
             t.ir[a] = 1.0 / t.rhoe[a]
+            if ti.static(self.once):
+                self.pair_once.clear(a)
 
     @ti.func
     def fluid_pair(self, i, j, r, r2, acc: ti.template()):
@@ -257,7 +266,10 @@ class Solver(SolverAPI):
             acc.mui, acc.mat = self.mat_mu[mi], mi
             for m in ti.static(self.hooks["init_acc"]):
                 m.init_acc(self, i, acc)
-            self.grid.for_neighbours(t, i, t.x[i], self.fluid_pair, acc)
+            if ti.static(self.once):
+                self.pair_once.load(i, acc)         # the pair passes' sums
+            else:
+                self.grid.for_neighbours(t, i, t.x[i], self.fluid_pair, acc)
             a = acc.a + prm.g
             for m in ti.static(self.hooks["body_force"]):
                 a = m.body_force(self, i, mi, a)
@@ -298,10 +310,17 @@ class Solver(SolverAPI):
         ti.loop_config(serialize=True)
         for _ in range(1):
             self.grid.prefix()
+            if ti.static(self.once):
+                self.pair_once.zones()
         for i in range(self.n):
             self.grid.scatter(i)
         for c in range(ncell + 1):
             self.gather(c, dt)
+        if ti.static(self.once):
+            for u in range(pairs.ZONES // 2 * pairs.LANE):   # the even zones, then the odd ones
+                self.pair_once.phase(u, 0)
+            for u in range(pairs.ZONES // 2 * pairs.LANE):
+                self.pair_once.phase(u, 1)
         for b in range(self.nblk):
             mx = self.MaxT(0)
             for i in range(b * self.blk, ti.min((b + 1) * self.blk, self.n)):

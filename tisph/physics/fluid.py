@@ -26,26 +26,43 @@ def viscous_step(h, materials):
 class Continuity(Module):
     """Continuity equation, paper 000 eq. 8 / paper 002 eq. 8: d rho_i/dt = rho_i sum V_j v_ij . grad W."""
     name = "continuity"
+    pair_once = {}   # a and drho only (engine/pairs.py)
 
     @ti.func
     def pair(self, S, i, j, r, r2, nb, acc: ti.template()):
         acc.drho += continuity(acc.rhoi, nb.vol_j, nb.v_ij, nb.gw)
+
+    @ti.func
+    def pair2(self, S, i, j, r, r2, nb, acc: ti.template(), sj: ti.template()):
+        """Both fluid particles' terms (engine/pairs.py): v_ji . grad W_ji = v_ij . grad W_ij."""
+        vg = nb.v_ij.dot(nb.gw)
+        acc.drho += acc.rhoi * nb.vol_j * vg
+        sj.drho += nb.rho_j * nb.vol_i * vg
 
 
 @ti.data_oriented
 class Pressure(Module):
     """Momentum equation's pressure term, paper 000 eq. 7 (Tait pressure, eqs. 11-12)."""
     name = "pressure"
+    pair_once = {}
 
     @ti.func
     def pair(self, S, i, j, r, r2, nb, acc: ti.template()):
         acc.a += pressure_accel(nb.m_j, acc.pi, nb.p_j, acc.inv_rhoi, nb.ir_j, nb.gw)
+
+    @ti.func
+    def pair2(self, S, i, j, r, r2, nb, acc: ti.template(), sj: ti.template()):
+        """Both fluid particles' terms: one (p_i + p_j) / (rho_i rho_j), equal and opposite."""
+        f = (acc.pi + nb.p_j) * (acc.inv_rhoi * nb.ir_j) * nb.gw
+        acc.a -= nb.m_j * f
+        sj.a += nb.m_i * f
 
 
 @ti.data_oriented
 class ArtificialViscosity(Module):
     """Monaghan's artificial viscosity, paper 000 eq. 9; its signal speed enters the time step."""
     name = "artificial_viscosity"
+    pair_once = {"mu": "max"}
     on = {"artificial_viscosity": True}
     params = {"alpha": KEYED["numerics.artificial_viscosity"]}
     acc = {"mu": "real"}
@@ -58,6 +75,17 @@ class ArtificialViscosity(Module):
         acc.mu = ti.max(acc.mu, -mu)
 
     @ti.func
+    def pair2(self, S, i, j, r, r2, nb, acc: ti.template(), sj: ti.template()):
+        """Both fluid particles' terms: mu_ij is symmetric, the force equal and opposite."""
+        prm = S.prm[None]
+        mu = monaghan_mu(S.h, nb.v_ij, r, nb.ie)
+        f = prm.alpha * prm.c0 * mu * 0.5 * (acc.inv_rhoi + nb.ir_j) * nb.gw
+        acc.a += nb.m_j * f
+        sj.a -= nb.m_i * f
+        acc.mu = ti.max(acc.mu, -mu)
+        sj.mu = ti.max(sj.mu, -mu)
+
+    @ti.func
     def finish(self, S, i, mi, acc: ti.template(), pt: ti.template()):
         pt.mumax = ti.max(pt.mumax, acc.mu)
 
@@ -66,6 +94,7 @@ class ArtificialViscosity(Module):
 class LaminarViscosity(Module):
     """Laminar viscosity, paper 002 eq. 10 (Morris et al. 1997), with the harmonic pair mean."""
     name = "laminar_viscosity"
+    pair_once = {}
     on = {"laminar_viscosity": True}
     params = {"dt_visc": Param(lambda S, values: viscous_step(S.h, S.materials), "s", (0.0, None),
                                "viscous step 0.125 h^2 / nu_max of the materials")}
@@ -81,6 +110,14 @@ class LaminarViscosity(Module):
                 mu_j = S.mat_mu[ti.cast(s.mat[j], ti.i32)]
         acc.a += laminar_viscosity(nb.m_j, harmonic_pair(acc.mui, mu_j), acc.inv_rhoi, nb.ir_j,
                                    nb.v_visc, r, nb.ie, nb.gw)
+
+    @ti.func
+    def pair2(self, S, i, j, r, r2, nb, acc: ti.template(), sj: ti.template()):
+        """Both fluid particles' terms: the harmonic mean and r . grad W are symmetric."""
+        mu_j = S.mat_mu[ti.cast(S.tmp.mat[j], ti.i32)]
+        f = harmonic_pair(acc.mui, mu_j) * (acc.inv_rhoi * nb.ir_j) * r.dot(nb.gw) * nb.ie * nb.v_visc
+        acc.a += nb.m_j * f
+        sj.a -= nb.m_i * f
 
 
 @ti.data_oriented
@@ -105,6 +142,7 @@ class DensityDiffusion(Module):
     """Density diffusion within a material: Molteni & Colagrossi (2009), or Fourtakas et al.
     (2019) with the hydrostatic part removed (numerics.density_diffusion)."""
     name = "density_diffusion"
+    pair_once = {}   # rho0_c02 is set per particle (init_acc)
     on = {"density_diffusion": "molteni"}
     params = {"delta": KEYED["numerics.delta"]}
     acc = {"rho0_c02": "real"}
@@ -127,6 +165,19 @@ class DensityDiffusion(Module):
                 hyd = hydrostatic_density_difference(acc.rho0_c02, prm.g, r)
             acc.drho += density_diffusion(prm.delta, S.h, prm.c0, nb.vol_j, acc.rhoi,
                                           nb.rho_j, hyd, r, nb.ie, nb.gw)
+
+    @ti.func
+    def pair2(self, S, i, j, r, r2, nb, acc: ti.template(), sj: ti.template()):
+        """Both fluid particles' terms: within one material rho0 / c0^2 is shared, so j's
+        hydrostatic difference is -i's and its term is -V_i / V_j times i's."""
+        prm = S.prm[None]
+        if S.tmp.mat[j] == acc.mat:
+            hyd = 0.0
+            if ti.static(S.physics.density_diffusion == "fourtakas"):
+                hyd = hydrostatic_density_difference(acc.rho0_c02, prm.g, r)
+            f = 2.0 * prm.delta * S.h * prm.c0 * ((acc.rhoi - nb.rho_j) + hyd) * r.dot(nb.gw) * nb.ie
+            acc.drho += nb.vol_j * f
+            sj.drho -= nb.vol_i * f
 
 
 @ti.data_oriented

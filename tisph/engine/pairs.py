@@ -1,0 +1,179 @@
+"""Each pair once, on the CPU: the force pass visits every pair of neighbours once and gives
+both particles their terms, in an order that does not depend on the threads.
+
+The gather pass (solver.forces) visits every pair twice, once from each side: half of its
+candidate scan and of its kernel evaluations (|r|, W', 1/(r^2 + eta^2)) are repeats. Here each
+particle scans the forward half of its stencil only (its own cell row after itself, and the two
+rows above), computes the pair's kernel once and calls the same module pair hooks for both sides
+(for j with the roles swapped: -r, -grad W, -v_ij, which are exact negations, so every pair's
+terms are bit for bit the gather's; only the order of the sums differs).
+
+Writing to j from many threads would race. The cell rows are cut into ZONES zones of at least
+two rows (balanced by particle count); a particle's forward half reaches at most two rows up,
+into the next zone only, so the even zones run in parallel first, then the odd ones, each zone
+in sorted order on one thread. The zones are a fixed number, so the sums' order, and with it
+every bit of a run, is the same on any number of threads: restarts stay bit for bit.
+
+It applies where every pair hook has a swapped form (Module.pair_once) and no module changes how
+i sees j (view hooks): the fluid terms of continuity, pressure, artificial and laminar viscosity
+and density diffusion with dynamic or extrapolated walls, which is the dam break, the flume, the
+beach and the tunnel. Other cases, and any GPU, keep the gather pass.
+"""
+import taichi as ti
+
+from ..particles import FLUID
+
+ZONES = 16      # 8 a phase: the rows are cut the same way whatever the thread count
+LANE = 512      # Taichi's CPU range-for deals each thread max(ceil(N / T), 512) iterations in one
+                # piece: a loop of (zones a phase) x 512 iterations, one zone at every 512th,
+                # runs the zones on all threads (a loop under 1,024 iterations runs on one)
+
+
+def applicable(S):
+    """Whether the solver's modules allow each pair once (and it runs on the CPU)."""
+    if not S.cpu or S.hooks["view"]:
+        return False
+    return all(getattr(m, "pair_once", None) is not None and m.has("pair2") for m in S.hooks["pair"])
+
+
+def sum_slots(S):
+    """{slot: 'sum' | 'max'}: the accumulator slots that pairs add to, kept per particle."""
+    slots = {"a": "sum", "drho": "sum"}
+    for m in S.hooks["pair"]:
+        slots.update(m.pair_once)
+    return slots
+
+
+@ti.data_oriented
+class PairOnce:
+    def __init__(self, S):
+        self.S = S
+        self.slots = sum_slots(S)
+        self.names = tuple(self.slots)
+        acc_types = dict(S.acc_types)
+        self.SumT = ti.types.struct(**{k: acc_types[k] for k in self.names})
+        self.sums = self.SumT.field(shape=S.n)
+        self.zr = ti.field(ti.i32, ZONES + 1)     # each zone's first cell row
+
+    @ti.func
+    def zones(self):
+        """Cut the rows into zones of at least two rows, about n / ZONES particles each (one task,
+        after the prefix sum)."""
+        g = self.S.grid
+        n_in = g.start[g.ncells]
+        self.zr[0] = 0
+        z = 1
+        for row in range(g.ny):
+            if z < ZONES and row >= self.zr[z - 1] + g.cdiv and g.start[row * g.nx] * ZONES >= z * n_in:
+                self.zr[z] = row
+                z += 1
+        for k in range(z, ZONES + 1):
+            self.zr[k] = g.ny
+
+    @ti.func
+    def clear(self, a):
+        self.sums[a] = self.SumT(0)
+
+    @ti.func
+    def phase(self, u, ph):
+        """Iteration u of a phase's loop: zone 2 (u / LANE) + ph, in sorted order, at u % LANE == 0."""
+        if u % LANE == 0:
+            g = self.S.grid
+            z = 2 * (u // LANE) + ph
+            i0 = g.start[self.zr[z] * g.nx]
+            i1 = g.start[self.zr[z + 1] * g.nx]
+            for i in range(i0, i1):
+                self.visit(i)
+
+    @ti.func
+    def own(self, i, acc: ti.template(), ve, rhoe, ir, p, mi):
+        """Particle i's own values in an accumulator, as the gather pass sets them."""
+        S = self.S
+        acc.vi, acc.rhoi, acc.pi, acc.inv_rhoi = ve, rhoe, p, ir
+        acc.mui, acc.mat = S.mat_mu[mi], mi
+        for m in ti.static(S.hooks["init_acc"]):
+            m.init_acc(S, i, acc)
+
+    @ti.func
+    def visit(self, i):
+        S = self.S
+        t = S.tmp
+        k = t.kind[i]
+        acc = S.Acc(0)
+        self.own(i, acc, t.ve[i], t.rhoe[i], t.ir[i], t.p[i], ti.cast(t.mat[i], ti.i32))
+        acc.kind = ti.cast(k, ti.i32)
+        acc.m = t.m[i]
+        if k == FLUID:
+            for s in ti.static(self.names):
+                acc[s] = self.sums[i][s]
+            S.grid.for_forward(t, i, t.x[i], self.pair, acc)
+            for s in ti.static(self.names):
+                self.sums[i][s] = acc[s]
+        elif k >= 0:
+            if S.grid.fluid_near(t.x[i]):
+                S.grid.for_forward(t, i, t.x[i], self.bound_pair, acc)
+
+    @ti.func
+    def pair(self, i, j, r, r2, acc: ti.template()):
+        """The pair (i, j) of a fluid i, j in i's forward half: with a fluid j, both particles'
+        terms at once (the modules' pair2, which share the arithmetic of the two sides); with a
+        boundary j, i's terms."""
+        S = self.S
+        s = S.tmp
+        kj = ti.cast(s.kind[j], ti.i32)
+        q = ti.sqrt(r2) * S.inv_h
+        ie = 1.0 / (r2 + S.eta2)
+        gw = S.g_scale * S.K.fshape(q) * r
+        rho_j, ir_j, m_j = s.rhoe[j], s.ir[j], s.m[j]
+        v_ij = acc.vi - s.ve[j]
+        if kj == FLUID:
+            nb = ti.Struct(kj=kj, rho_j=rho_j, ir_j=ir_j, p_j=s.p[j], q=q, m_j=m_j, vol_j=m_j * ir_j,
+                           m_i=acc.m, vol_i=acc.m * acc.inv_rhoi, ie=ie, gw=gw, v_ij=v_ij, v_visc=v_ij)
+            sj = self.SumT(0)
+            for m in ti.static(S.hooks["pair"]):
+                m.pair2(S, i, j, r, r2, nb, acc, sj)
+            for sl in ti.static(self.names):
+                if ti.static(self.slots[sl] == "max"):
+                    self.sums[j][sl] = ti.max(self.sums[j][sl], sj[sl])
+                else:
+                    self.sums[j][sl] += sj[sl]
+        else:
+            nb = ti.Struct(kj=kj, rho_j=rho_j, ir_j=ir_j, p_j=s.p[j], q=q, m_j=m_j, vol_j=m_j * ir_j,
+                           ie=ie, gw=gw, v_ij=v_ij, v_visc=v_ij)
+            for m in ti.static(S.hooks["pair"]):
+                m.pair(S, i, j, r, r2, nb, acc)
+
+    @ti.func
+    def bound_pair(self, i, j, r, r2, acc: ti.template()):
+        """The pair (i, j) of a boundary particle i: j's terms if j is fluid."""
+        S = self.S
+        s = S.tmp
+        if s.kind[j] == FLUID:
+            q = ti.sqrt(r2) * S.inv_h
+            ie = 1.0 / (r2 + S.eta2)
+            gw = S.g_scale * S.K.fshape(q) * r
+            ve_j = s.ve[j]
+            self.other(i, j, r, r2, acc, q, ie, gw, acc.vi - ve_j, ve_j, s.rhoe[j], s.ir[j], s.p[j])
+
+    @ti.func
+    def other(self, i, j, r, r2, acc: ti.template(), q, ie, gw, v_ij, ve_j, rho_j, ir_j, p_j):
+        """Fluid j's terms from i, the hooks called with the roles swapped (-r, -grad W, -v_ij:
+        exact negations, so the terms are the ones j's own gather would compute)."""
+        S = self.S
+        accj = S.Acc(0)
+        self.own(j, accj, ve_j, rho_j, ir_j, p_j, ti.cast(S.tmp.mat[j], ti.i32))
+        nbi = ti.Struct(kj=acc.kind, rho_j=acc.rhoi, ir_j=acc.inv_rhoi, p_j=acc.pi, q=q, m_j=acc.m,
+                        vol_j=acc.m * acc.inv_rhoi, ie=ie, gw=-gw, v_ij=-v_ij, v_visc=-v_ij)
+        for m in ti.static(S.hooks["pair"]):
+            m.pair(S, j, i, -r, r2, nbi, accj)
+        for sl in ti.static(self.names):
+            if ti.static(self.slots[sl] == "max"):
+                self.sums[j][sl] = ti.max(self.sums[j][sl], accj[sl])
+            else:
+                self.sums[j][sl] += accj[sl]
+
+    @ti.func
+    def load(self, i, acc: ti.template()):
+        """Fluid particle i's finished sums into its accumulator (the closing pass)."""
+        for s in ti.static(self.names):
+            acc[s] = self.sums[i][s]
