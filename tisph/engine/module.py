@@ -13,9 +13,9 @@ Declarations (class attributes, all optional):
   stats          per-step statistics slots it adds (counters): {name: type}
   maxima         per-step maxima it adds: {name: type}; its finish hook raises pt.<name>,
                  which the solver reduces per block of particles (no atomics)
-  pair_once      set (to the acc slots it sums, {slot: 'sum' | 'max'}) when its pair hook gives
-                 j's term if called as pair(S, j, i, -r, r2, <j's view of i>, <j's acc>): each
-                 pair is then visited once (engine/pairs.py)
+  pair_once      the acc slots it sums ({slot: 'sum' | 'max'}) when it has a pair2 hook and its
+                 pair hook also gives j's term when called as pair(S, j, i, -r, r2, <j's view
+                 of i>, <j's acc>): each pair is then visited once (engine/pairs.py)
 
 Hooks (define only those the module uses; `S` is the solver):
   drift(S, i, u) -> u              fluid drift velocity (XSPH)
@@ -28,6 +28,8 @@ Hooks (define only those the module uses; `S` is the solver):
   init_acc(S, i, acc)              load particle i's own values into its accumulator
   view(S, i, j, r, r2, nb, acc)    change how i sees neighbour j before the terms (pressure mirror)
   pair(S, i, j, r, r2, nb, acc)    add j's contribution to i's sums
+  pair2(S, i, j, r, r2, nb, acc, sj)  a fluid pair's terms for both: i's into acc, j's into sj
+                                   (nb also holds m_i and vol_i); each pair once only
   body_force(S, i, mi, a) -> a     a body force per material (periodic drive)
   relax(S, i, mi, v, dt) -> v      a velocity relaxation after the kick (damping, inflow zones)
   finish(S, i, mi, acc, pt)        per particle after the neighbour pass (stress, viscosity)
@@ -38,7 +40,7 @@ Hooks (define only those the module uses; `S` is the solver):
 import dataclasses
 
 HOOKS = ("drift", "move", "boundary_motion", "boundary_kick", "remove", "position_check", "prepare", "init_acc",
-         "view", "pair", "body_force", "relax", "finish", "boundary_pass", "dt_limit", "after_step")
+         "view", "pair", "pair2", "body_force", "relax", "finish", "boundary_pass", "dt_limit", "after_step")
 
 
 @dataclasses.dataclass(frozen=True)
@@ -77,7 +79,7 @@ class Module:
     acc = {}
     stats = {}
     maxima = {}
-    pair_once = None   # {acc slot: 'sum' | 'max'} if its pair hook also runs with i and j swapped
+    pair_once = None   # {acc slot: "sum" | "max"} it sums, with a pair2 hook (engine/pairs.py)
 
     @classmethod
     def enabled(cls, S):
