@@ -9,6 +9,7 @@ import numpy as np
 from tisph import runtime
 from tisph.engine.solver import Solver
 from tisph.runner import Log, build_case, resolve
+from tisph.runner.setup import PAIR_ONCE_MIN, pair_once_wanted
 from tisph.scenes import dam_break, tunnel
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -45,10 +46,11 @@ from tisph import runtime
 runtime.init("cpu", "f32")
 from tisph.engine.solver import Solver
 from tisph.runner import Log, build_case, resolve
+from tisph.runner.setup import PAIR_ONCE_MIN, pair_once_wanted
 from tisph.scenes import dam_break
 cfg = resolve(dam_break, overrides={"numerics.dx": 0.03, "output.quiet": True})
 case = build_case(dam_break, cfg, Log(os.devnull, True))
-s = Solver(case.physics, case.particles, case.materials, case.domain, case.params)
+s = Solver(case.physics, case.particles, case.materials, case.domain, dict(case.params, pair_once=True))
 assert s.pair_once is not None
 for _ in range(200):
     s.step()
@@ -65,3 +67,20 @@ def test_pair_once_is_the_same_bit_for_bit_on_one_and_two_threads():
         assert r.returncode == 0, r.stderr[-2000:]
         digests.append(r.stdout.strip().splitlines()[-1])
     assert digests[0] == digests[1]
+
+
+def test_auto_takes_each_pair_once_where_the_run_repays_its_compile():
+    cfg = resolve(dam_break, overrides={"numerics.dx": 0.03})
+    n, h, c0 = 3426, 0.039, 62.6
+    steps = cfg["run"]["end_time"] / (cfg["numerics"]["cfl"] * h / c0)
+    assert pair_once_wanted(cfg, n, h, c0) == (n * steps >= PAIR_ONCE_MIN) is False   # a short run: 1.1e7
+    assert pair_once_wanted(cfg, 10 * n, h, c0)
+    cfg["run"]["max_steps"] = 100
+    assert not pair_once_wanted(cfg, 10 * n, h, c0)
+    for mode, want in (("on", True), ("off", False)):
+        cfg["run"]["pair_once"] = mode
+        assert pair_once_wanted(cfg, n, h, c0) is want
+    runtime.init("cpu", "f32")
+    case = build_case(dam_break, resolve(dam_break, overrides={"numerics.dx": 0.04, "run.pair_once": "on"}),
+                      Log(os.devnull, True))
+    assert case.params["pair_once"] and case.model.solver().pair_once is not None

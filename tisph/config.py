@@ -57,6 +57,7 @@ SHARED_DEFAULTS = {
         "max_steps": 0,       # 0: no limit
         "arch": "cpu",        # cpu | gpu | auto
         "precision": "f32",   # f32 | f64
+        "pair_once": "auto",  # each pair once on the CPU: auto (where the run is long enough to repay its compile) | on | off
     },
     "numerics": {
         "dx": 0.03,                  # initial particle spacing (m)
@@ -95,8 +96,7 @@ SHARED_DEFAULTS = {
 }
 
 CHOICES = {
-    "run.arch": ("cpu", "gpu", "auto"),
-    "run.precision": ("f32", "f64"),
+    "run.arch": ("cpu", "gpu", "auto"), "run.precision": ("f32", "f64"), "run.pair_once": ("auto", "on", "off"),
     "numerics.kernel": ("cubic", "wendland"),
     "numerics.wall": ("dynamic", "repulsive", "adami"),
     "numerics.density_diffusion": ("none", "molteni", "fourtakas"),

@@ -116,9 +116,9 @@ class Solver(SolverAPI):
             acc.update(m.acc)
         self.acc_types = {k: st_mod.resolve(t, self.real) for k, t in acc.items()}
         self.Acc = ti.types.struct(**self.acc_types)
-        # each pair once where the modules allow it (engine/pairs.py); params["pair_once"] False
-        # keeps the gather pass (the tests compare the two)
-        self.pair_once = PairOnce(self) if params.get("pair_once", True) and pairs.applicable(self) else None
+        # each pair once where asked (run.pair_once, runner/setup.py) and the modules allow it
+        # (engine/pairs.py); otherwise the gather pass
+        self.pair_once = PairOnce(self) if params.get("pair_once", False) and pairs.applicable(self) else None
         self.once = self.pair_once is not None
         for m in self.modules:
             m.allocate(self)          # module fields that are not per particle, if any

@@ -66,12 +66,30 @@ class Log:
             pass
 
 
+# each pair once compiles about 1.8 s longer (cold) and steps about 10 % faster at 3e6
+# particle-steps/s: it repays its compile beyond about 5e7 particle-steps (docs/performance.md)
+PAIR_ONCE_MIN = 5e7
+
+
+def pair_once_wanted(cfg, n, h, c0):
+    """run.pair_once: on, off, or auto: on when the run's particle-steps, estimated from its
+    acoustic step cfl h / c0, reach PAIR_ONCE_MIN."""
+    mode = cfg["run"]["pair_once"]
+    if mode != "auto":
+        return mode == "on"
+    steps = cfg["run"]["end_time"] / (cfg["numerics"]["cfl"] * h / c0)
+    if cfg["run"]["max_steps"]:
+        steps = min(steps, cfg["run"]["max_steps"])
+    return n * steps >= PAIR_ONCE_MIN
+
+
 def build_case(scene, cfg, log):
     """scene.build(cfg), with its warnings and the sound-speed check logged."""
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         case = scene.build(cfg)
         c0 = case.params["c0"]
+        case.params["pair_once"] = pair_once_wanted(cfg, len(case.particles), case.params["h"], c0)
         if c0 < 10.0 * case.u_max * (1 - 1e-9):
             warnings.warn(f"sound speed c0 = {c0:.3g} m/s is below 10 x the expected peak speed "
                           f"{case.u_max:.3g} m/s: density errors above 1 % are likely")
