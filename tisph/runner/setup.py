@@ -67,8 +67,9 @@ class Log:
 
 
 # each pair once compiles about 1.8 s longer (cold) and steps about 10 % faster at 3e6
-# particle-steps/s: it repays its compile beyond about 5e7 particle-steps (docs/performance.md)
-PAIR_ONCE_MIN = 5e7
+# particle-steps/s: it repays its compile beyond about 5e7 particle-steps; at 1e8 it gains twice
+# what it costs (docs/performance.md)
+PAIR_ONCE_MIN = 1e8
 
 
 def pair_once_wanted(cfg, n, h, c0):
