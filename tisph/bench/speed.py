@@ -94,8 +94,15 @@ except ImportError:
     from tisph.run.entry import simulate
 scene = importlib.import_module("tisph.scenes." + sys.argv[1])
 ov = json.loads(sys.argv[2])
-ov.update({"output.quiet": True, "output.render": False, "output.snapshot_every": 0.0,
-           "run.max_steps": int(sys.argv[3]), "run.end_time": 1e6})
+ov.update({"output.quiet": True, "output.render": False, "output.snapshot_every": 0.0})
+try:   # each pair once as the scene's whole run would take it (run.pair_once = auto), where known
+    import os
+    from tisph.runner import Log, build_case, resolve
+    case = build_case(scene, resolve(scene, overrides=dict(ov)), Log(os.devnull, True))
+    ov["run.pair_once"] = "on" if case.params["pair_once"] else "off"
+except (ImportError, KeyError):
+    pass
+ov.update({"run.max_steps": int(sys.argv[3]), "run.end_time": 1e6})
 with tempfile.TemporaryDirectory() as d:
     s = simulate(scene, ov, out=d)
 print(json.dumps(dict(particles=s["particles"], steps=s["steps"], seconds=s["step_time_s"],
