@@ -9,14 +9,9 @@ Each code runs its own recommended settings (PySPH's stock dam_break_2d, DualSPH
 CaseDambreakVal2D, tisph's dam_break scene); the front is read from each one's particles the
 same way (peer.py, dualsphysics.py).
 """
-import json
 import os
-import subprocess
-import sys
-import time
 
 from . import dualsphysics, peer
-from .common import this_tree_env
 from ..validation import martin_moyce
 
 RUNS = ((0.03, 0.7), (0.015, 0.3))
@@ -30,16 +25,7 @@ def cache_dir():
 
 
 def run_tisph(out, dx, tf):
-    d = os.path.join(out, f"tisph_dam_break_dx{dx:g}_t{tf:g}")
-    t0 = time.perf_counter()
-    r = subprocess.run([sys.executable, "-m", "tisph.scenes.dam_break", "--dx", str(dx), "--end-time", str(tf),
-                        "--no-render", "--quiet", "--snapshot-every", "0", "--out", d],
-                       capture_output=True, text=True, env=this_tree_env())
-    wall = time.perf_counter() - t0
-    if r.returncode != 0:
-        raise RuntimeError(f"tisph's dam break failed: {r.stderr[-1500:]}")
-    with open(os.path.join(d, "summary.json")) as f:
-        s = json.load(f)
+    s, wall = peer.run_tisph_dam_break(out, dx, tf)
     from ..runner import resolve
     from ..scenes import dam_break
     num = resolve(dam_break, overrides={"numerics.dx": dx})["numerics"]

@@ -152,13 +152,12 @@ def compare(out, log, venv=None, dxs=DXS):
     return md
 
 
-def _side_by_side(out, log, dx, tf, p):
-    """Our dam break at dx beside PySPH's run p: (table rows, one line of ratios)."""
-    rms_p, npts = martin_moyce.front_rms_error(p["t"], p["front"], 1.0)
-    d = os.path.join(out, f"tisph_dam_break_dx{dx:g}")
-    # our side as PySPH's is run, from the command line in a fresh process: the wall time counts
-    # the interpreter, the imports and the compile for both (in the bench's own process, after
-    # its other work, our start-up measured 2.7-4.2 s against 1.7-1.9 s fresh)
+def run_tisph_dam_break(out, dx, tf):
+    """Our dam break at dx to tf as a peer's is run, from the command line in a fresh process (the
+    wall time counts the interpreter, the imports and the compile for both; in the bench's own
+    process, after its other work, our start-up measured 2.7-4.2 s against 1.7-1.9 s fresh):
+    (summary, wall seconds)."""
+    d = os.path.join(out, f"tisph_dam_break_dx{dx:g}_t{tf:g}")
     t0 = time.perf_counter()
     r = subprocess.run([sys.executable, "-m", "tisph.scenes.dam_break", "--dx", str(dx), "--end-time", str(tf),
                         "--no-render", "--quiet", "--snapshot-every", "0", "--out", d],
@@ -167,7 +166,13 @@ def _side_by_side(out, log, dx, tf, p):
     if r.returncode != 0:
         raise RuntimeError(f"tisph's dam break failed (return code {r.returncode}): {r.stderr[-2000:]}")
     with open(os.path.join(d, "summary.json")) as f:
-        s = json.load(f)
+        return json.load(f), wall
+
+
+def _side_by_side(out, log, dx, tf, p):
+    """Our dam break at dx beside PySPH's run p: (table rows, one line of ratios)."""
+    rms_p, npts = martin_moyce.front_rms_error(p["t"], p["front"], 1.0)
+    s, wall = run_tisph_dam_break(out, dx, tf)
     rms_t = s["metrics"]["front_rms_error"]
     ratio = p["wall_time_s"] / wall
     ratio_run = p["run_s"] / s["wall_time_s"]
