@@ -4,9 +4,11 @@ both particles their terms, in an order that does not depend on the threads.
 The gather pass (solver.forces) visits every pair twice, once from each side: half of its
 candidate scan and of its kernel evaluations (|r|, W', 1/(r^2 + eta^2)) are repeats. Here each
 particle scans the forward half of its stencil only (its own cell row after itself, and the two
-rows above), computes the pair's kernel once and calls the same module pair hooks for both sides
-(for j with the roles swapped: -r, -grad W, -v_ij, which are exact negations, so every pair's
-terms are bit for bit the gather's; only the order of the sums differs).
+rows above) and computes the pair's kernel once. A fluid-fluid pair's terms for both particles
+come from the modules' pair2 hooks, which share the two sides' arithmetic (one
+(p_i + p_j) / (rho_i rho_j), one v_ij . grad W); a fluid-boundary pair's from the pair hooks,
+called with the roles swapped where the boundary particle holds the pair (-r, -grad W, -v_ij:
+exact negations). The terms equal the gather pass's to rounding.
 
 Writing to j from many threads would race. The cell rows are cut into ZONES zones of at least
 two rows (balanced by particle count); a particle's forward half reaches at most two rows up,
@@ -14,10 +16,11 @@ into the next zone only, so the even zones run in parallel first, then the odd o
 in sorted order on one thread. The zones are a fixed number, so the sums' order, and with it
 every bit of a run, is the same on any number of threads: restarts stay bit for bit.
 
-It applies where every pair hook has a swapped form (Module.pair_once) and no module changes how
-i sees j (view hooks): the fluid terms of continuity, pressure, artificial and laminar viscosity
-and density diffusion with dynamic or extrapolated walls, which is the dam break, the flume, the
-beach and the tunnel. Other cases, and any GPU, keep the gather pass.
+It applies where every module with a pair hook has pair2 (Module.pair_once) and none changes how
+i sees j (view hooks): continuity, pressure, artificial and laminar viscosity and density
+diffusion with dynamic or extrapolated walls, as in the dam break, the flume, the beach and the
+tunnel. Other cases, and any GPU, keep the gather pass; run.pair_once chooses (by default, runs
+long enough to repay its longer compile, runner/setup.py).
 """
 import taichi as ti
 

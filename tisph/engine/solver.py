@@ -18,8 +18,11 @@ The step's loops, in order:
   3. scatter particle indices into their cells
   4. per cell: order by id, gather every member into the sorted copy, evaluation state
      (predicted velocity and density, Tait pressure, 1/rho)
-  5. forces: each fluid particle's neighbour pass (the modules' pair hooks), closing half kick,
-     the modules' finish hooks, health; boundary particles' own pass (dynamic walls)
+  5a. where run.pair_once takes it (engine/pairs.py): each pair once, both particles' terms,
+     in zones of cell rows, the even zones then the odd ones
+  5. forces: each fluid particle's neighbour pass (the modules' pair hooks; with 5a, its sums),
+     closing half kick, the modules' finish hooks, health, the maxima per block of particles;
+     boundary particles' own pass (dynamic walls)
   6. the next time step (engine/limits.py)
 """
 import numpy as np
