@@ -21,8 +21,9 @@ CASES = [
                       "sediment.morph_start": 0.0, "numerics.turbulence": "k_equation",
                       "numerics.length_scale": "omega", "numerics.stress_limiter": 0.875,
                       "sediment.shear": "wall_function"}, 0.06),
+    # each pair once (run.pair_once): its zones cut from the restored state, the same sums' order
     (flume, {"numerics.dx": 0.025, "geometry.length": 2.0, "geometry.damping_length": 0.6,
-             "geometry.gauges_x": [0.5, 1.0]}, 0.3),
+             "geometry.gauges_x": [0.5, 1.0], "run.pair_once": "on"}, 0.3),
     (erodible_bed, {"numerics.dx": 0.025, "output.probe_interval": 0.01}, 0.3),   # a profile at 0.25 s
 ]
 SKIP = {"wall_time_s", "step_time_s", "compile_time_s", "particle_steps_per_s", "wall_s_per_sim_s",
@@ -49,6 +50,7 @@ def test_restart_continues_every_output(scene, ov, t2, tmp_path):
     assert first["sim_time"] < t2
     again = simulate(scene, base, out=str(tmp_path / "seg"), restart=str(tmp_path / "seg" / "checkpoint.h5"))
     assert full["status"] == again["status"] == "ok" and again["steps"] == full["steps"]
+    assert first["pair_once"] == again["pair_once"] == full["pair_once"] == ("run.pair_once" in ov)
     a, b = csvs(tmp_path / "full"), csvs(tmp_path / "seg")
     assert sorted(a) == sorted(b) and "probes.csv" in a and (len(a) >= 2 or scene is flume)   # and the scene's own
     for f in a:

@@ -73,14 +73,13 @@ PAIR_ONCE_MIN = 1e8
 
 
 def pair_once_wanted(cfg, n, h, c0):
-    """run.pair_once: on, off, or auto: on when the run's particle-steps, estimated from its
-    acoustic step cfl h / c0, reach PAIR_ONCE_MIN."""
+    """run.pair_once: on, off, or auto: on when the run's particle-steps to its end time,
+    estimated from its acoustic step cfl h / c0, reach PAIR_ONCE_MIN. Not from run.max_steps:
+    a segment stopped by it and the run restarted from its checkpoint must choose alike."""
     mode = cfg["run"]["pair_once"]
     if mode != "auto":
         return mode == "on"
     steps = cfg["run"]["end_time"] / (cfg["numerics"]["cfl"] * h / c0)
-    if cfg["run"]["max_steps"]:
-        steps = min(steps, cfg["run"]["max_steps"])
     return n * steps >= PAIR_ONCE_MIN
 
 
