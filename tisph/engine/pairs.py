@@ -117,6 +117,22 @@ class PairOnce:
                 S.grid.for_forward(t, i, t.x[i], self.bound_pair, acc)
 
     @ti.func
+    def kernel(self, r, r2):
+        """The pair's q = |r| / h, 1 / (r^2 + eta^2) and grad W, once for both sides."""
+        S = self.S
+        q = ti.sqrt(r2) * S.inv_h
+        return q, 1.0 / (r2 + S.eta2), S.g_scale * S.K.fshape(q) * r
+
+    @ti.func
+    def add_to(self, j, part: ti.template()):
+        """Fluid j's share of a pair into its sums (no other thread writes j: the zones)."""
+        for sl in ti.static(self.names):
+            if ti.static(self.slots[sl] == "max"):
+                self.sums[j][sl] = ti.max(self.sums[j][sl], part[sl])
+            else:
+                self.sums[j][sl] += part[sl]
+
+    @ti.func
     def pair(self, i, j, r, r2, acc: ti.template()):
         """The pair (i, j) of a fluid i, j in i's forward half: with a fluid j, both particles'
         terms at once (the modules' pair2, which share the arithmetic of the two sides); with a
@@ -124,56 +140,38 @@ class PairOnce:
         S = self.S
         s = S.tmp
         kj = ti.cast(s.kind[j], ti.i32)
-        q = ti.sqrt(r2) * S.inv_h
-        ie = 1.0 / (r2 + S.eta2)
-        gw = S.g_scale * S.K.fshape(q) * r
-        rho_j, ir_j, m_j = s.rhoe[j], s.ir[j], s.m[j]
+        q, ie, gw = self.kernel(r, r2)
+        m_j, ir_j = s.m[j], s.ir[j]
         v_ij = acc.vi - s.ve[j]
+        nb = ti.Struct(kj=kj, rho_j=s.rhoe[j], ir_j=ir_j, p_j=s.p[j], q=q, m_j=m_j, vol_j=m_j * ir_j,
+                       m_i=acc.m, vol_i=acc.m * acc.inv_rhoi, ie=ie, gw=gw, v_ij=v_ij, v_visc=v_ij)
         if kj == FLUID:
-            nb = ti.Struct(kj=kj, rho_j=rho_j, ir_j=ir_j, p_j=s.p[j], q=q, m_j=m_j, vol_j=m_j * ir_j,
-                           m_i=acc.m, vol_i=acc.m * acc.inv_rhoi, ie=ie, gw=gw, v_ij=v_ij, v_visc=v_ij)
             sj = self.SumT(0)
             for m in ti.static(S.hooks["pair"]):
                 m.pair2(S, i, j, r, r2, nb, acc, sj)
-            for sl in ti.static(self.names):
-                if ti.static(self.slots[sl] == "max"):
-                    self.sums[j][sl] = ti.max(self.sums[j][sl], sj[sl])
-                else:
-                    self.sums[j][sl] += sj[sl]
+            self.add_to(j, sj)
         else:
-            nb = ti.Struct(kj=kj, rho_j=rho_j, ir_j=ir_j, p_j=s.p[j], q=q, m_j=m_j, vol_j=m_j * ir_j,
-                           ie=ie, gw=gw, v_ij=v_ij, v_visc=v_ij)
             for m in ti.static(S.hooks["pair"]):
                 m.pair(S, i, j, r, r2, nb, acc)
 
     @ti.func
     def bound_pair(self, i, j, r, r2, acc: ti.template()):
-        """The pair (i, j) of a boundary particle i: j's terms if j is fluid."""
+        """The pair (i, j) of a boundary particle i: fluid j's terms from i, the hooks called with
+        the roles swapped (-r, -grad W, -v_ij: exact negations, so the terms are the ones j's own
+        gather would compute)."""
         S = self.S
         s = S.tmp
         if s.kind[j] == FLUID:
-            q = ti.sqrt(r2) * S.inv_h
-            ie = 1.0 / (r2 + S.eta2)
-            gw = S.g_scale * S.K.fshape(q) * r
+            q, ie, gw = self.kernel(r, r2)
             ve_j = s.ve[j]
-            self.other(i, j, r, r2, acc, q, ie, gw, acc.vi - ve_j, ve_j, s.rhoe[j], s.ir[j], s.p[j])
-
-    @ti.func
-    def other(self, i, j, r, r2, acc: ti.template(), q, ie, gw, v_ij, ve_j, rho_j, ir_j, p_j):
-        """Fluid j's terms from i, the hooks called with the roles swapped (-r, -grad W, -v_ij:
-        exact negations, so the terms are the ones j's own gather would compute)."""
-        S = self.S
-        accj = S.Acc(0)
-        self.own(j, accj, ve_j, rho_j, ir_j, p_j, ti.cast(S.tmp.mat[j], ti.i32))
-        nbi = ti.Struct(kj=acc.kind, rho_j=acc.rhoi, ir_j=acc.inv_rhoi, p_j=acc.pi, q=q, m_j=acc.m,
-                        vol_j=acc.m * acc.inv_rhoi, ie=ie, gw=-gw, v_ij=-v_ij, v_visc=-v_ij)
-        for m in ti.static(S.hooks["pair"]):
-            m.pair(S, j, i, -r, r2, nbi, accj)
-        for sl in ti.static(self.names):
-            if ti.static(self.slots[sl] == "max"):
-                self.sums[j][sl] = ti.max(self.sums[j][sl], accj[sl])
-            else:
-                self.sums[j][sl] += accj[sl]
+            v_ij = acc.vi - ve_j
+            accj = S.Acc(0)
+            self.own(j, accj, ve_j, s.rhoe[j], s.ir[j], s.p[j], ti.cast(s.mat[j], ti.i32))
+            nbi = ti.Struct(kj=acc.kind, rho_j=acc.rhoi, ir_j=acc.inv_rhoi, p_j=acc.pi, q=q, m_j=acc.m,
+                            vol_j=acc.m * acc.inv_rhoi, ie=ie, gw=-gw, v_ij=-v_ij, v_visc=-v_ij)
+            for m in ti.static(S.hooks["pair"]):
+                m.pair(S, j, i, -r, r2, nbi, accj)
+            self.add_to(j, accj)
 
     @ti.func
     def load(self, i, acc: ti.template()):
