@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 
-from tisph import wavemaker as wm
+from tisph import irregular, wavemaker as wm
 from tisph.io import read_station_rows
 from tisph.ripples import ripple_stats, orbital_diameter, wiberg_harris
 from tisph.runner import resolve, build_case, Log, simulate
@@ -137,7 +137,7 @@ def test_irregular_paddle_signal_makes_the_target_spectrum():
     from tisph.probes import waves
     p = dict(type="piston", spectrum="jonswap", hs=0.04, tp=0.9, gamma=3.3, seed=1, band=[0.5, 2.0], ramp_periods=2.0)
     d = 0.25
-    t, x = wm.irregular_series(p, d, 400.0)
+    t, x = irregular.irregular_series(p, d, 400.0)
     f, S, n = waves.welch(t, x, 10.0, 400.0, 16 * 0.9)
     assert n > 40
     fp = 1 / 0.9
@@ -147,7 +147,7 @@ def test_irregular_paddle_signal_makes_the_target_spectrum():
     assert hm0 == pytest.approx(0.04, rel=0.04) and tp == pytest.approx(0.9, rel=0.03)
     k = 400
     fr = 0.5 * fp + (np.arange(k) + 0.5) * 1.5 * fp / k
-    a = np.sqrt(2 * wm.spectrum(fr, 0.04, 0.9, 3.3) * 1.5 * fp / k)
+    a = np.sqrt(2 * irregular.spectrum(fr, 0.04, 0.9, 3.3) * 1.5 * fp / k)
     ph = np.random.default_rng(7).uniform(0, 2 * np.pi, k)
     tt = np.arange(0.0, 400.0, 0.01)
     eta = (a[:, None] * np.sin(2 * np.pi * fr[:, None] * tt[None, :] + ph[:, None])).sum(0)
@@ -155,8 +155,8 @@ def test_irregular_paddle_signal_makes_the_target_spectrum():
     hm0, tp = waves.spectral_height_and_peak(f, S, 0.5 * fp, 2.0 * fp)
     assert hm0 == pytest.approx(0.04, rel=0.04) and tp == pytest.approx(0.9, rel=0.03)
     # the same seed makes the same sea; another seed another
-    assert np.array_equal(wm.irregular_series(p, d, 50.0)[1], wm.irregular_series(p, d, 50.0)[1])
-    assert not np.allclose(wm.irregular_series(dict(p, seed=2), d, 50.0)[1], wm.irregular_series(p, d, 50.0)[1])
+    assert np.array_equal(irregular.irregular_series(p, d, 50.0)[1], irregular.irregular_series(p, d, 50.0)[1])
+    assert not np.allclose(irregular.irregular_series(dict(p, seed=2), d, 50.0)[1], irregular.irregular_series(p, d, 50.0)[1])
 
 
 @pytest.mark.parametrize("kind", ["piston", "flap"])
@@ -435,15 +435,15 @@ def test_gauge_period_ignores_a_shoaling_waves_secondary_crests():
     assert wm.crossing_period_and_level(t, eta, 5.0, 20.0)[0] == pytest.approx(1.2, rel=1e-2)
 
 
-def _closed_flume(tmp_path, absorb, end_time):
-    """A closed 2 m flume (no absorbing zone): the wall's reflection is back at the paddle by 6 s."""
+def _closed_flume(tmp_path, absorb, end_time, length=2.0, gauges=(0.9,), **more):
+    """A closed flume (no absorbing zone; 2 m: the wall's reflection is back at the paddle by 6 s)."""
     from tisph import runtime
     from tisph.runner import Run
     out = str(tmp_path / f"absorb_{absorb}")
-    cfg = resolve(flume, None, {"numerics.dx": 0.025, "geometry.length": 2.0, "geometry.damping_length": 0.0,
-                                "geometry.gauges_x": [0.9], "geometry.array_gauges": 0, "paddle.absorb": absorb,
-                                "run.end_time": end_time, "output.render": False, "output.quiet": True,
-                                "output.snapshot_every": 0.0, "output.dir": out})
+    cfg = resolve(flume, None, dict({"numerics.dx": 0.025, "geometry.length": length, "geometry.damping_length": 0.0,
+                                     "geometry.gauges_x": list(gauges), "geometry.array_gauges": 0,
+                                     "paddle.absorb": absorb, "run.end_time": end_time, "output.render": False,
+                                     "output.quiet": True, "output.snapshot_every": 0.0, "output.dir": out}, **more))
     runtime.init("cpu", "f32")
     os.makedirs(out, exist_ok=True)
     log = Log(os.path.join(out, "run.log"), True)
@@ -454,19 +454,48 @@ def _closed_flume(tmp_path, absorb, end_time):
 
 
 @pytest.mark.slow
-def test_absorbing_paddle_makes_the_same_wave_then_answers_the_reflection(tmp_path):
-    """paddle.absorb: before the wall's reflection is back the gauge at the paddle reads the wave
-    it means to make (so the correction stays small and the wave leaving is the rigid paddle's);
-    once the reflection arrives, the correction grows to answer it."""
-    s, m = _closed_flume(tmp_path, True, 8.0)
-    assert s["status"] == "ok"
-    h = np.array(m.history)
-    t, eta, target, uc = h.T
-    early, late = (t > 1.6) & (t < 4.8), t > 6.5
-    u_stroke = 0.5 * 0.04 * 2 * math.pi / 0.8            # the piston's velocity amplitude
+def test_absorbing_paddle_makes_its_wave_then_takes_out_the_wave_that_comes_back(tmp_path):
+    """Seven periods made, then the paddle stops (paddle.duration); in a closed 3 m flume the train
+    goes to the end wall and back. Before anything comes back the absorbing paddle's gauge reads
+    the wave it means to make, so its correction stays small. Once all of the train has met the
+    paddle (and before its head comes back a second time) a rigid paddle has sent it all down the
+    flume again; the absorbing one keeps little of it (measured at this dx: 0.17 of it with the
+    gauge's reading delayed by x_g / c, 0.32 without the delay)."""
+    import csv
+    cg = wm.group_velocity(2 * math.pi / 0.8, wm.wavenumber(2 * math.pi / 0.8, 0.25), 0.25)
+    w0, w1 = 5.6 + 2 * 3.0 / cg + 0.8, 0.3 + 4 * 3.0 / cg
+    rms = {}
+    for absorb in (False, True):
+        s, m = _closed_flume(tmp_path, absorb, w1, length=3.0, gauges=(0.6, 1.05, 1.5, 1.95, 2.4),
+                             **{"paddle.duration": 5.6})
+        assert s["status"] == "ok"
+        with open(os.path.join(str(tmp_path), f"absorb_{absorb}", "probes.csv")) as f:
+            rows = list(csv.DictReader(f))
+        t = np.array([float(r["t"]) for r in rows])
+        w = (t >= w0) & (t < w1)
+        rms[absorb] = np.sqrt(np.mean([np.array([float(r[f"eta_{i}"]) for r in rows])[w].var() for i in range(5)]))
+    t, eta, target, uc = np.array(m.history).T
+    early = (t > 1.6) & (t < 4.0)
     assert np.corrcoef(eta[early], target[early])[0, 1] > 0.98
-    assert np.abs(uc[early]).max() < 0.25 * u_stroke
-    assert uc[late].std() > 2.0 * uc[early].std()
+    assert uc[early].std() < 0.15 * (0.5 * 0.04 * 2 * math.pi / 0.8)   # of the stroke's velocity amplitude
+    back = (t > 1.6 + 2 * 3.0 / cg) & (t < w0 - 0.8)                          # the train meets the paddle
+    assert uc[back].std() > 2.0 * uc[early].std()
+    assert rms[False] > 0.004                          # the rigid paddle's train is still there
+    assert rms[True] < 0.25 * rms[False]
+
+
+def test_paddle_duration_ramps_down_and_stops():
+    m = wm.Motion("piston", 0.04, 0.8, 2.0, duration=4.0)
+    ts = np.linspace(0.0, 5.0, 5001)
+    X = np.array([m(t)[0] for t in ts])
+    V = np.array([m(t)[1] for t in ts])
+    assert np.all(X[ts >= 4.0] == 0.0) and np.all(V[ts >= 4.0] == 0.0)
+    assert np.abs(X[(ts > 1.6) & (ts < 2.4)]).max() == pytest.approx(0.02, rel=1e-3)
+    # the rate is the displacement's derivative through the ramp down
+    mid = (ts > 2.4) & (ts < 4.0)
+    assert np.gradient(X, ts)[mid] == pytest.approx(V[mid], abs=2e-3)
+    with pytest.raises(Exception, match="paddle.duration"):
+        resolve(flume, None, {"paddle.duration": 2.0})
 
 
 def test_absorbing_paddle_is_refused_where_its_target_is_not_defined(tmp_path):

@@ -5,7 +5,6 @@ A motion is a callable m(t) -> (displacement, rate): metres and m/s for a piston
 rad/s for a flap (the solver rotates the paddle about its hinge). For a flap the stroke S is the
 horizontal excursion at the still-water level, as in Biesel's transfer function.
 """
-import functools
 import math
 
 import numpy as np
@@ -18,12 +17,15 @@ from .probes.gauges import surface_heights
 
 
 class Motion:
-    def __init__(self, kind, stroke=0.0, period=1.0, ramp_periods=2.0, lever=1.0, series=None, second=0.0):
+    def __init__(self, kind, stroke=0.0, period=1.0, ramp_periods=2.0, lever=1.0, series=None, second=0.0,
+                 duration=0.0):
         """kind: piston | flap; stroke S (m, peak to peak); period T (s); ramp over
         ramp_periods periods (0: none); lever: hinge to still-water level (flap); series:
         (t, X) arrays of surface displacement in metres instead of the sinusoid; second: the
-        amplitude (m) of the second-order stroke at 2 omega (madsen_second_order)."""
+        amplitude (m) of the second-order stroke at 2 omega (madsen_second_order); duration: the
+        paddle ramps down over the same ramp before this time and stands still after it (0: never)."""
         self.kind = kind
+        self.duration = float(duration)
         self.second = float(second)
         self.S, self.T = float(stroke), float(period)
         self.omega = 2 * math.pi / self.T if self.T > 0 else 0.0
@@ -34,8 +36,25 @@ class Motion:
             t, x = (np.asarray(a, float) for a in series)
             self.series = (t, x, np.gradient(x, t) if len(t) > 1 else np.zeros_like(x))
 
+    def envelope(self, t):
+        """(e, e'): 1 until the ramp down before `duration`, 0 after it (half-cosine between)."""
+        if self.duration <= 0 or t <= self.duration - self.t_ramp:
+            return 1.0, 0.0
+        if t >= self.duration:
+            return 0.0, 0.0
+        a = math.pi * (self.duration - t) / self.t_ramp
+        return 0.5 * (1 - math.cos(a)), -0.5 * math.pi / self.t_ramp * math.sin(a)
+
     def surface(self, t):
         """Horizontal displacement X(t) at the still-water level and its rate X'(t)."""
+        e, de = self.envelope(t)
+        if e == 0.0:
+            return 0.0, 0.0
+        X, V = self.made(t)
+        return e * X, e * V + de * X
+
+    def made(self, t):
+        """X(t) and X'(t) before the ramp down."""
         if self.series is not None:
             ts, xs, vs = self.series
             return float(np.interp(t, ts, xs)), float(np.interp(t, ts, vs))
@@ -235,101 +254,12 @@ PADDLE_DEFAULTS = {
     "series": "",           # CSV of t, displacement (m or rad): a measured paddle signal instead of a sine
     "order": 1,             # 1: a sine; 2: with Madsen's second-order stroke (a piston's regular waves)
     "absorb": False,        # active absorption: the piston corrects its motion from the surface it sees (tisph/awas.py)
+    "duration": 0.0,        # s: the paddle ramps down (over ramp_periods) to stand still at this time; 0: it runs to the end
 }
 PADDLE_RANGES = {"paddle.stroke": (0.0, None, False, True), "paddle.wave_height": (0.0, None, True, True),
                  "paddle.period": (0.0, None, False, True),
-                 "paddle.ramp_periods": (0.0, None, True, True), "paddle.order": (1, 2, True, True)}
-
-
-# Irregular waves, the flume's only (the beach's ripples read one period).
-IRREGULAR_DEFAULTS = {
-    "spectrum": "",         # "": regular waves (stroke, period) | jonswap | pm (Pierson-Moskowitz)
-    "hs": 0.0,              # m: the spectrum's target significant height Hm0 = 4 sqrt(m0)
-    "tp": 0.0,              # s: its peak period
-    "gamma": 3.3,           # JONSWAP peak enhancement (pm: 1)
-    "seed": 1,              # the random phases' seed
-    "band": [0.5, 2.0],     # the frequencies sent and measured, as multiples of the peak frequency
-}
-IRREGULAR_RANGES = {"paddle.hs": (0.0, None, True, True), "paddle.tp": (0.0, None, True, True),
-                    "paddle.gamma": (1.0, 20.0, True, True), "paddle.seed": (0, None, True, True)}
-IRREGULAR_CHOICES = {"paddle.spectrum": ("", "jonswap", "pm")}
-
-
-def spectrum(f, hs, tp, gamma):
-    """JONSWAP spectral density (m2/Hz) with sigma 0.07 below the peak and 0.09 above (Hasselmann
-    et al. 1973), gamma = 1 for Pierson-Moskowitz, scaled so that 4 sqrt(m0) = hs over f."""
-    f = np.asarray(f, float)
-    fp = 1.0 / tp
-    sig = np.where(f <= fp, 0.07, 0.09)
-    S = f ** -5.0 * np.exp(-1.25 * (fp / f) ** 4) * gamma ** np.exp(-((f - fp) ** 2) / (2 * sig * sig * fp * fp))
-    m0 = float(((S[1:] + S[:-1]) * np.diff(f)).sum() / 2) if len(f) > 1 else float(S.sum())
-    return S * (hs / 4.0) ** 2 / m0
-
-
-def irregular_series(p, depth, t_end, g=G):
-    """(t, X): the paddle's displacement at the still-water level for p's spectrum: components
-    df apart (df = 1 / the longer of the run and 100 peak periods, so the signal does not repeat
-    within the run), each with the amplitude sqrt(2 S df) (deterministic amplitudes, random phases
-    from the seed) divided by the paddle's first-order transfer at its frequency (Biesel), ramped
-    up over ramp_periods peak periods. Kept for the last few tables (the checks and the paddle
-    ask for the same one); the arrays are read-only."""
-    return _irregular_series(p["type"], p["spectrum"], float(p["hs"]), float(p["tp"]), float(p["gamma"]),
-                             int(p["seed"]), tuple(float(b) for b in p["band"]), float(p["ramp_periods"]),
-                             float(depth), float(t_end), g)
-
-
-@functools.lru_cache(maxsize=4)
-def _irregular_series(kind, name, hs, tp, gamma, seed, band, ramp_periods, depth, t_end, g):
-    fp = 1.0 / tp
-    lo, hi = (b * fp for b in band)
-    t_rep = max(t_end, 100.0 * tp)
-    n = max(int(math.ceil((hi - lo) * t_rep)), 8)
-    f = lo + (np.arange(n) + 0.5) * (hi - lo) / n
-    a = np.sqrt(2 * spectrum(f, hs, tp, 1.0 if name == "pm" else gamma) * (hi - lo) / n)
-    transfer = biesel_piston if kind == "piston" else biesel_flap
-    kh = np.array([wavenumber(2 * math.pi * v, depth, g) * depth for v in f])
-    X = a / np.array([transfer(v) for v in kh])
-    phase = np.random.default_rng(seed).uniform(0, 2 * math.pi, n)
-    t = np.arange(0.0, t_end + 2 * tp, tp / 50.0)
-    x = np.zeros_like(t)
-    for i in range(0, n, 64):      # in blocks: n x len(t) at once can be large
-        x += (X[i:i + 64, None] * np.sin(2 * math.pi * f[i:i + 64, None] * t[None, :] + phase[i:i + 64, None])).sum(0)
-    t_ramp = ramp_periods * tp
-    if t_ramp > 0:
-        x *= np.where(t < t_ramp, 0.5 * (1 - np.cos(math.pi * np.minimum(t, t_ramp) / t_ramp)), 1.0)
-    t.setflags(write=False)
-    x.setflags(write=False)
-    return t, x
-
-
-def check_irregular(cfg, depth):
-    p, dx = cfg["paddle"], cfg["numerics"]["dx"]
-    if not p["spectrum"]:
-        return
-    h = cfg["numerics"]["h_factor"] * dx
-    for key in ("hs", "tp"):
-        if p[key] <= 0:
-            raise ConfigError(f"paddle.{key}", p[key], f"> 0 with paddle.spectrum = {p['spectrum']!r}")
-    b = p["band"]
-    if (not isinstance(b, list) or len(b) != 2 or any(isinstance(v, bool) or not isinstance(v, (int, float)) for v in b)
-            or not 0 < b[0] < 1 < b[1]):
-        raise ConfigError("paddle.band", b, "[lo, hi] multiples of the peak frequency, 0 < lo < 1 < hi")
-    if p["series"] or p["order"] == 2:
-        key = "paddle.series" if p["series"] else "paddle.order"
-        raise ConfigError(key, p["series"] or 2, f"{'' if p['series'] else '1'} with a spectrum (a spectrum makes its own "
-                          "first-order paddle signal)".lstrip())
-    if p["hs"] < 2 * dx:
-        raise ConfigError("paddle.hs", p["hs"], f"at least 2 dx = {2 * dx:g} m (a wave under two particle spacings "
-                          "high is not resolved)")
-    shortest = 2 * math.pi / wavenumber(2 * math.pi * b[1] / p["tp"], depth, G)
-    if shortest < 8 * h:
-        raise ConfigError("paddle.band", b, f"a highest frequency whose wavelength is at least 8 h = {8 * h:.3g} m, "
-                          f"which the kernel does not smooth away (at {b[1]:g} fp = {b[1] / p['tp']:.3g} Hz the wave is "
-                          f"{shortest:.3g} m long; lower the band's top or dx)")
-    t, x = irregular_series(p, depth, cfg["run"]["end_time"])
-    if np.abs(x).max() > 0.5 * depth:
-        raise ConfigError("paddle.hs", p["hs"], f"a spectrum the paddle can make: it would travel {np.abs(x).max():.3g} m "
-                          f"from its mean position, more than half the depth ({0.5 * depth:g} m)")
+                 "paddle.ramp_periods": (0.0, None, True, True), "paddle.order": (1, 2, True, True),
+                 "paddle.duration": (0.0, None, True, True)}
 
 
 def check_paddle(cfg, depth, length, default_stroke=None):
@@ -351,7 +281,12 @@ def check_paddle(cfg, depth, length, default_stroke=None):
             raise ConfigError("paddle.wave_height", H, f"a height whose stroke is at most the depth ({depth:g} m): "
                               f"Biesel gives a stroke of {S:.4g} m for it")
         p["stroke"] = S
+    ramp = p["ramp_periods"] * wave_period(p)
+    if 0 < p.get("duration", 0.0) < 2 * ramp:
+        raise ConfigError("paddle.duration", p["duration"], f"0 or at least twice the ramp ({2 * ramp:g} s: "
+                          "paddle.ramp_periods periods up and as many down)")
     if p.get("spectrum"):
+        from .irregular import check_irregular
         check_irregular(cfg, depth)
         return
     # a shallow-water piston moves the whole column: a stroke beyond the depth makes a bore, not a wave
@@ -378,11 +313,14 @@ def paddle(cfg, depth, height, floor_y=0.0):
     pts = block(-L * dx, floor_y, 0.0, height, dx)
     series = read_series(p["series"]) if p["series"] else None
     if p.get("spectrum"):
+        from .irregular import irregular_series
         series = irregular_series(p, depth, cfg["run"]["end_time"])
     second = 0.0
     if p["order"] == 2:
         second = madsen_second_order(p["stroke"], wavenumber(2 * math.pi / p["period"], depth, G), depth)
-    motion = Motion(p["type"], p["stroke"], p["period"], p["ramp_periods"], lever=depth, series=series,
+    # a series or a spectrum ramps down over ramp_periods of its own (peak) period
+    motion = Motion(p["type"], p["stroke"], wave_period(p), p["ramp_periods"], lever=depth, series=series,
+                    duration=p.get("duration", 0.0),
                     second=second)
     reach = 0.5 * (p["stroke"] if series is None else 2 * float(np.abs(series[1]).max()))
     if p.get("absorb"):   # the correction may take the piston as far again as its stroke

@@ -32,8 +32,8 @@ from .. import wavemaker as wm
 from ..awas import with_control
 from ..constants import G
 from ..plausible import warn_waves, warn_window
-from ..wavemaker import (IRREGULAR_CHOICES, IRREGULAR_DEFAULTS, IRREGULAR_RANGES, PADDLE_DEFAULTS, PADDLE_RANGES,
-                         check_paddle, linear_wave, paddle)
+from ..irregular import IRREGULAR_CHOICES, IRREGULAR_DEFAULTS, IRREGULAR_RANGES, spectrum
+from ..wavemaker import PADDLE_DEFAULTS, PADDLE_RANGES, check_paddle, linear_wave, paddle
 from ..probes.plots import pyplot, save
 from ..probes import waves
 
@@ -132,6 +132,8 @@ def build(cfg):
             if geo["damping_length"] < 0.5 * wavelength:
                 # no absorbing zone worth the name: stop before the end wall's reflection is back
                 t1 = min(t1, (2 * Lf - x) / cg)
+            if p["duration"] > 0:   # and before the paddle's ramp down has arrived
+                t1 = min(t1, p["duration"] - p["ramp_periods"] * p["period"] + x / cg)
             h_pp, n = wm.wave_height(c["t"], c[col], t0, t1, p["period"])
             per, level = wm.crossing_period_and_level(c["t"], c[col], t0, t1)
             Tz.append(per)
@@ -258,7 +260,7 @@ def write_spectra(out, spectra, p, xg):
     fp = 1.0 / p["tp"]
     band = (f >= p["band"][0] * fp) & (f <= p["band"][1] * fp)
     target = np.zeros_like(f)
-    target[band] = wm.spectrum(f[band], p["hs"], p["tp"], 1.0 if p["spectrum"] == "pm" else p["gamma"])
+    target[band] = spectrum(f[band], p["hs"], p["tp"], 1.0 if p["spectrum"] == "pm" else p["gamma"])
     cols = {"f_hz": f, "target_m2_per_hz": target}
     cols.update({f"S_x{x:.2f}": spectra[x][1] for x in xg if x in spectra})
     write_csv(os.path.join(out, "spectra.csv"), list(cols), np.column_stack(list(cols.values())))

@@ -20,7 +20,8 @@ from ...case import make_case
 from ...config import ConfigError, physics_from_config, raise_collected
 from ...particles import ParticleSet, hydrostatic_density, tait_B, wall_density, FLUID, WALL, MOVING
 from ...runner import common_params, run_scene, sound_speed
-from ...wavemaker import IRREGULAR_CHOICES, IRREGULAR_DEFAULTS, IRREGULAR_RANGES, PADDLE_DEFAULTS, PADDLE_RANGES
+from ...irregular import IRREGULAR_CHOICES, IRREGULAR_DEFAULTS, IRREGULAR_RANGES
+from ...wavemaker import PADDLE_DEFAULTS, PADDLE_RANGES
 from ... import wavemaker as wm
 from ...awas import with_control
 from .elements import ELEMENTS, entries, numbers  # noqa: F401  (ELEMENTS: --describe reads the entries' keys)
