@@ -159,6 +159,33 @@ def test_irregular_paddle_signal_makes_the_target_spectrum():
     assert not np.allclose(irregular.irregular_series(dict(p, seed=2), d, 50.0)[1], irregular.irregular_series(p, d, 50.0)[1])
 
 
+def test_irregular_target_is_the_components_waves_where_the_gauge_is():
+    """The absorbing paddle's target for a spectrum: at the paddle each component's elevation is
+    its stroke times Biesel's transfer, a quarter period ahead (X sin -> eta cos, as the regular
+    wave's), so eta(0) is the Hilbert transform of the displacement filtered by the transfer, and
+    its Hm0 is the target's; farther out each component is delayed by k x / omega."""
+    p = dict(type="piston", spectrum="jonswap", hs=0.04, tp=0.9, gamma=3.3, seed=1, band=[0.5, 2.0], ramp_periods=2.0)
+    d = 0.25
+    t, x = irregular.irregular_series(p, d, 200.0)
+    t0, e0 = irregular.irregular_elevation(p, d, 200.0, 0.0)
+    assert np.array_equal(t, t0)
+    late = t > 10.0
+    assert 4 * e0[late].std() == pytest.approx(0.04, rel=0.05)
+    # one component at a time: a regular sea is the limit of a narrow band
+    q = dict(p, band=[0.999, 1.001])
+    t, x = irregular.irregular_series(q, d, 60.0)
+    _, e0 = irregular.irregular_elevation(q, d, 60.0, 0.0)
+    _, e1 = irregular.irregular_elevation(q, d, 60.0, 0.3)
+    w = 2 * np.pi / 0.9
+    k = wm.wavenumber(w, d)
+    F = wm.biesel_piston(k * d)
+    late = (t > 5.0) & (t < t[-2])
+    v = np.gradient(x, t)                                  # X sin(w t) -> X w cos(w t)
+    assert e0[late] == pytest.approx(F * v[late] / w, abs=0.003 * np.abs(e0).max())
+    shifted = np.interp(t[late] - k * 0.3 / w, t, e0)
+    assert e1[late] == pytest.approx(shifted, abs=0.01 * np.abs(e0).max())
+
+
 @pytest.mark.parametrize("kind", ["piston", "flap"])
 def test_paddle_particles_follow_the_prescribed_motion(tmp_path, kind):
     cfg = resolve(flume, overrides={"paddle.type": kind, "numerics.dx": 0.025, "geometry.length": 2.0,
@@ -482,6 +509,20 @@ def test_absorbing_paddle_makes_its_wave_then_takes_out_the_wave_that_comes_back
     assert uc[back].std() > 2.0 * uc[early].std()
     assert rms[False] > 0.004                          # the rigid paddle's train is still there
     assert rms[True] < 0.25 * rms[False]
+
+
+@pytest.mark.slow
+def test_absorbing_paddle_makes_an_irregular_sea(tmp_path):
+    """paddle.absorb with a JONSWAP sea: before anything comes back the gauge at the paddle reads
+    the components' summed linear waves, so the correction stays small."""
+    s, m = _closed_flume(tmp_path, True, 5.0, length=3.0, **{"numerics.dx": 0.02, "paddle.spectrum": "jonswap",
+                                                              "paddle.hs": 0.04, "paddle.tp": 0.9, "paddle.band": [0.5, 1.6]})
+    assert s["status"] == "ok"
+    t, eta, target, uc = np.array(m.history).T
+    early = (t > 1.8) & (t < 5.0)
+    assert np.corrcoef(eta[early], target[early])[0, 1] > 0.95
+    assert 4 * target[early].std() > 0.02                         # a sea, not a still target
+    assert uc[early].std() < 0.15 * m.gain * target[early].std()   # of the paddle velocity that makes the sea
 
 
 def test_paddle_duration_ramps_down_and_stops():

@@ -12,10 +12,18 @@ G = omega / F(kh) that turns a wave elevation into the piston velocity that make
 H/S; G = sqrt(g/h) in shallow water). eta_R is taken as it was x_g / c ago (c = omega / k): the
 returning wave passes the gauge that long before it reaches the face the theory is written for.
 Without that delay (19 degrees of phase at T = 0.8 s, dx = 0.02) a closed flume kept twice the
-wave after the returning train had met the paddle (docs/waves.md). Its displacement is integrated, and pulled back towards the
-paddle's mean position over DRIFT_PERIODS periods so that the paddle does not wander.
+wave after the returning train had met the paddle (docs/waves.md). Its displacement is integrated,
+and pulled back towards the paddle's mean position over DRIFT_PERIODS periods so that the paddle
+does not wander.
+
+With a spectrum (paddle.spectrum) the target is the components' linear waves summed at the gauge
+(tisph.irregular.irregular_elevation), and the gain and the delay are the peak period's: one
+number for the band, as DualSPHysics' long-wave gain is (for the flume's 0.9 s sea over 0.25 m,
+omega / F is 5.3 1/s at the peak, 6.0 at half its frequency and 7.0 at twice it).
 """
 import math
+
+import numpy as np
 
 from .probes.gauges import surface_at
 
@@ -25,8 +33,10 @@ DRIFT_PERIODS = 5.0     # the correction's displacement relaxes to zero over thi
 class AbsorbingMotion:
     """A piston Motion plus the absorbing correction; callable as the Motion is (t -> X, V)."""
 
-    def __init__(self, motion, height, k, depth, gain, x_gauge, x_paddle, still_level, dx, h):
-        """x_gauge: the gauge's distance in front of the paddle's mean position x_paddle."""
+    def __init__(self, motion, height, k, depth, gain, x_gauge, x_paddle, still_level, dx, h, target_series=None):
+        """x_gauge: the gauge's distance in front of the paddle's mean position x_paddle;
+        target_series: (t, eta) at the gauge for irregular waves (height is then unused)."""
+        self.target_series = target_series
         self.motion, self.H, self.k, self.depth, self.gain = motion, float(height), k, depth, gain
         self.x_gauge, self.x_abs, self.level, self.dx, self.h = x_gauge, x_paddle + x_gauge, still_level, dx, h
         self.xc = self.uc = 0.0     # the correction's displacement and velocity
@@ -44,6 +54,8 @@ class AbsorbingMotion:
     def target(self, t):
         """The elevation at the gauge of the wave the paddle makes (linear, ramped as the stroke)."""
         m = self.motion
+        if self.target_series is not None:
+            return float(np.interp(t, *self.target_series)) * m.envelope(t)[0]
         r = 1.0 if t >= m.t_ramp else 0.5 * (1 - math.cos(math.pi * t / m.t_ramp)) if m.t_ramp > 0 else 1.0
         return 0.5 * self.H * r * m.envelope(t)[0] * math.cos(m.omega * t - self.k * self.x_gauge)
 
@@ -87,17 +99,22 @@ def absorbing(motion, cfg, depth, still_level, x_paddle=0.0):
     from .wavemaker import linear_wave
     p, dx = cfg["paddle"], cfg["numerics"]["dx"]
     h = cfg["numerics"]["h_factor"] * dx
-    omega, k, _, _, F = linear_wave(cfg, depth)   # a piston's: absorb is refused for any other
-    return AbsorbingMotion(motion, F * p["stroke"], k, depth, omega / F, h, x_paddle, still_level, dx, h)
+    omega, k, _, _, F = linear_wave(cfg, depth)   # a piston's (absorb is refused for any other); the peak's
+    target = None
+    if p.get("spectrum"):
+        from .irregular import irregular_elevation
+        target = irregular_elevation(p, depth, cfg["run"]["end_time"], h)
+    return AbsorbingMotion(motion, F * p["stroke"], k, depth, omega / F, h, x_paddle, still_level, dx, h, target)
 
 
 def check_absorb(p):
-    """paddle.absorb: a piston's regular first-order waves (the target is their linear wave)."""
+    """paddle.absorb: a piston's first-order waves, regular or from a spectrum (the target is their
+    linear wave)."""
     from .config import ConfigError
     if not p.get("absorb"):
         return
     for key, bad, what in (("type", p["type"] != "piston", "a piston"), ("series", p["series"], "no series"),
-                           ("spectrum", p.get("spectrum"), "regular waves"), ("order", p["order"] != 1, "order 1")):
+                           ("order", p["order"] != 1, "order 1")):
         if bad:
             raise ConfigError("paddle.absorb", True, f"false with paddle.{key} = {p[key]!r}",
                               f"active absorption here is for {what}: its target is the linear wave of a "

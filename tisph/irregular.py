@@ -41,13 +41,23 @@ def irregular_series(p, depth, t_end, g=G):
     from the seed) divided by the paddle's first-order transfer at its frequency (Biesel), ramped
     up over ramp_periods peak periods. Kept for the last few tables (the checks and the paddle
     ask for the same one); the arrays are read-only."""
-    return _irregular_series(p["type"], p["spectrum"], float(p["hs"]), float(p["tp"]), float(p["gamma"]),
-                             int(p["seed"]), tuple(float(b) for b in p["band"]), float(p["ramp_periods"]),
-                             float(depth), float(t_end), g)
+    return _irregular_series(*_key(p, depth, t_end, g))
+
+
+def irregular_elevation(p, depth, t_end, x, g=G):
+    """(t, eta): the first-order surface elevation those components make at x (m in front of the
+    paddle's mean position): each a cos(omega t + phase - k x) under the same ramp (for a piston's
+    displacement X sin(omega t + phase), as Biesel's regular wave; the active absorber's target)."""
+    return _irregular_series(*_key(p, depth, t_end, g), x_at=float(x))
+
+
+def _key(p, depth, t_end, g):
+    return (p["type"], p["spectrum"], float(p["hs"]), float(p["tp"]), float(p["gamma"]), int(p["seed"]),
+            tuple(float(b) for b in p["band"]), float(p["ramp_periods"]), float(depth), float(t_end), g)
 
 
 @functools.lru_cache(maxsize=4)
-def _irregular_series(kind, name, hs, tp, gamma, seed, band, ramp_periods, depth, t_end, g):
+def _irregular_series(kind, name, hs, tp, gamma, seed, band, ramp_periods, depth, t_end, g, x_at=None):
     fp = 1.0 / tp
     lo, hi = (b * fp for b in band)
     t_rep = max(t_end, 100.0 * tp)
@@ -61,7 +71,11 @@ def _irregular_series(kind, name, hs, tp, gamma, seed, band, ramp_periods, depth
     t = np.arange(0.0, t_end + 2 * tp, tp / 50.0)
     x = np.zeros_like(t)
     for i in range(0, n, 64):      # in blocks: n x len(t) at once can be large
-        x += (X[i:i + 64, None] * np.sin(2 * math.pi * f[i:i + 64, None] * t[None, :] + phase[i:i + 64, None])).sum(0)
+        w = 2 * math.pi * f[i:i + 64, None] * t[None, :] + phase[i:i + 64, None]
+        if x_at is None:
+            x += (X[i:i + 64, None] * np.sin(w)).sum(0)
+        else:
+            x += (a[i:i + 64, None] * np.cos(w - kh[i:i + 64, None] / depth * x_at)).sum(0)
     t_ramp = ramp_periods * tp
     if t_ramp > 0:
         x *= np.where(t < t_ramp, 0.5 * (1 - np.cos(math.pi * np.minimum(t, t_ramp) / t_ramp)), 1.0)
