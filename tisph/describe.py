@@ -87,11 +87,12 @@ def rows(scene):
     cfg = config.build_config(scene.DEFAULTS, None, {}, getattr(scene, "RANGES", None), getattr(scene, "CHOICES", None))
     ranges = dict(RANGES, **getattr(scene, "RANGES", {}))
     choices = dict(CHOICES, **getattr(scene, "CHOICES", {}))
-    from . import materials, wavemaker
+    from . import irregular, materials, wavemaker
     from .sediment import coupling
     docs = {}
     extra = tuple((importlib.import_module(n), t) for n, t in getattr(scene, "DESCRIBED", ()))
-    for m, table in ((materials, ""), (wavemaker, "paddle"), (coupling, "sediment"), (config, "")) + extra + (
+    for m, table in ((materials, ""), (wavemaker, "paddle"), (irregular, "paddle"), (coupling, "sediment"),
+                     (config, "")) + extra + (
             (scene, ""),):   # the scene's own words win
         docs.update(comments(m, table))
     mod_docs = _module_docs()
