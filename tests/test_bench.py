@@ -266,3 +266,39 @@ def test_speed_bench_on_gpu_falls_back_to_the_cpu_with_a_warning(tmp_path):
     assert "warning: --arch gpu: Taichi found no GPU" in r.stderr
     md = (tmp_path / "speed.md").read_text()
     assert "Taichi arch x64" in md and "| tank 4.4e4 |" in md
+
+
+def test_waves_bench_builds_dualsphysics_flume_and_reads_its_gauges(tmp_path):
+    """The DualSPHysics flume is the default flume: its gauges at ours (their x measured from the
+    piston's face, half a spacing out), Biesel's height for its piston, water to the depth on the
+    lattice, c0 as asked; the SWL records go through the flume scene's window and height."""
+    import xml.etree.ElementTree as ET
+    from tisph.bench import waves
+    f = waves.flume_setup(0.0125)
+    xml, info = waves.flume_xml(0.0125, 9.6, f, waves.MATCHED)
+    root = ET.fromstring(xml)
+    xs = [float(g.find("point0").get("x")) for g in root.iter("swl")]
+    assert xs == pytest.approx([x + 0.00625 for x in f["gauges"]], abs=1e-5)
+    assert float(root.find(".//piston/waveheight").get("value")) == pytest.approx(f["height"], rel=1e-5)
+    assert float(root.find(".//piston/depth").get("value")) == pytest.approx(0.25)
+    assert float(root.find(".//speedsound").get("value")) == pytest.approx(10 * math.sqrt(9.81 * 0.25), rel=1e-5)
+    assert info["h"] == pytest.approx(2.5 * 0.0125)
+    fill = root.find(".//fillbox")
+    assert float(fill.find("size").get("z")) == pytest.approx(0.25 + 0.0125)   # its border row stays empty
+    assert float(root.find(".//damping/dampingzone/limitmin").get("x")) == pytest.approx(4.5125 - 1.2)
+    # 0.02 does not divide 0.25: both codes hold round(12.5) = 12 rows
+    assert waves.flume_xml(0.02, 1.0, waves.flume_setup(0.02), waves.OWN)[1]["depth"] == pytest.approx(0.24)
+    # gauge records: a wave of 0.9 Biesel arriving on the group velocity, a still level of 0.27 m
+    t = np.arange(0.0, 9.6, 0.01)
+    recs = []
+    for x in f["gauges"]:
+        t0 = waves.wm.arrival_time(f["paddle"], x, f["cg"]) - f["period"]
+        eta = np.where(t > t0, 0.45 * f["height"] * np.sin(2 * math.pi * (t - t0) / f["period"]), 0.0)
+        recs.append((t, 0.27 + eta))
+    H, err = waves.heights(f, recs)
+    assert H == pytest.approx([0.9 * f["height"]] * 3, rel=0.01)
+    assert err == pytest.approx([0.1] * 3, abs=0.01)
+    lines = ["time [s];swlx [m];swly [m];swlz [m]"] + [f"{a:.6f};1;0;{b:.6f}" for a, b in zip(*recs[0])]
+    (tmp_path / "GaugesSWL_g0.csv").write_text("\n".join(lines) + "\n")
+    (tt, zz), = waves._swl(str(tmp_path), ["g0"])
+    assert zz == pytest.approx(recs[0][1], abs=1e-6) and tt[-1] == pytest.approx(9.59)

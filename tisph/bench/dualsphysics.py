@@ -154,34 +154,42 @@ def _fronts(csv_dir, dp):
     return np.array(t), np.array(front)
 
 
-def run(root, work, dp, tmax, coefsound=None, threads=2):
-    """The dam break at dp to tmax: particles, steps, wall times, the front history and the settings."""
+def run_xml(root, d, name, xml, threads=2):
+    """GenCase and the CPU solver on the case definition `xml` in folder d (emptied first):
+    particles, steps and the time loop's seconds (its Run.csv), the process's wall seconds, and
+    the output folder with the environment its tools need."""
     bindir = os.path.join(root, BIN)
     env = dict(os.environ, LD_LIBRARY_PATH=bindir + os.pathsep + os.environ.get("LD_LIBRARY_PATH", ""))
-    d = os.path.join(work, f"dualsphysics_dam_break_dp{dp:g}" + ("" if coefsound is None else f"_cs{coefsound:g}"))
     shutil.rmtree(d, ignore_errors=True)
     os.makedirs(d)
-    with open(os.path.join(root, EXAMPLE)) as f:
-        text = f.read()
-    with open(os.path.join(d, "Dambreak_Def.xml"), "w") as f:
-        f.write(case_xml(text, dp, tmax, 0.01, coefsound))
+    with open(os.path.join(d, f"{name}_Def.xml"), "w") as f:
+        f.write(xml)
     out = os.path.join(d, "out")
-    r = subprocess.run([os.path.join(bindir, "GenCase_linux64"), os.path.join(d, "Dambreak_Def"),
-                        os.path.join(out, "Dambreak"), "-save:all"], capture_output=True, text=True, env=env)
+    r = subprocess.run([os.path.join(bindir, "GenCase_linux64"), os.path.join(d, f"{name}_Def"),
+                        os.path.join(out, name), "-save:all"], capture_output=True, text=True, env=env)
     if r.returncode != 0:
         raise NotAvailable(f"GenCase failed: {(r.stdout + r.stderr)[-1500:]}")
     t0 = time.perf_counter()
-    r = subprocess.run([os.path.join(bindir, SOLVER), os.path.join(out, "Dambreak"), out, "-dirdataout", "data",
+    r = subprocess.run([os.path.join(bindir, SOLVER), os.path.join(out, name), out, "-dirdataout", "data",
                         "-svres", f"-ompthreads:{threads}"], capture_output=True, text=True, env=env)
     wall = time.perf_counter() - t0
     if r.returncode != 0:
         raise NotAvailable(f"DualSPHysics failed: {(r.stdout + r.stderr)[-1500:]}")
-    res = _read_run_csv(os.path.join(out, "Run.csv"))
-    r = subprocess.run([os.path.join(bindir, "PartVTK_linux64"), "-dirin", os.path.join(out, "data"),
+    return dict(_read_run_csv(os.path.join(out, "Run.csv")), wall_s=wall, out=out, env=env)
+
+
+def run(root, work, dp, tmax, coefsound=None, threads=2):
+    """The dam break at dp to tmax: particles, steps, wall times, the front history and the settings."""
+    d = os.path.join(work, f"dualsphysics_dam_break_dp{dp:g}" + ("" if coefsound is None else f"_cs{coefsound:g}"))
+    with open(os.path.join(root, EXAMPLE)) as f:
+        text = f.read()
+    res = run_xml(root, d, "Dambreak", case_xml(text, dp, tmax, 0.01, coefsound), threads)
+    out, env = res.pop("out"), res.pop("env")
+    r = subprocess.run([os.path.join(root, BIN, "PartVTK_linux64"), "-dirin", os.path.join(out, "data"),
                         "-savecsv", os.path.join(d, "csv", "PartFluid"), "-onlytype:-all,+fluid", "-vars:-all"],
                        capture_output=True, text=True, env=env)
     if r.returncode != 0:
         raise NotAvailable(f"PartVTK failed: {(r.stdout + r.stderr)[-1500:]}")
     t, front = _fronts(os.path.join(d, "csv"), dp)
     settings = SETTINGS if coefsound is None else SETTINGS.replace("coefsound 20", f"coefsound {coefsound:g}")
-    return dict(res, wall_s=wall, t=t, front=front, settings=settings)
+    return dict(res, t=t, front=front, settings=settings)

@@ -5,6 +5,7 @@
     python -m tisph.bench --shedding [--gaps G ...] [--dx DX] [--end-time T] [--config F]   (tisph/bench/shedding.py)
     python -m tisph.bench --mao-held [--times T ...] [--dx DX] [--end-time T] [--config F]   (tisph/bench/mao_held.py)
     python -m tisph.bench --validate [--quick] [--only WORD ...]   (tisph/bench/validate.py: docs/validation.md)
+    python -m tisph.bench --waves [--quick] [--dx DX] [--dualsphysics CLONE]   (tisph/bench/waves.py)
 
 Every validation case runs at a ladder of resolutions; each run records particles, steps, wall
 time, Taichi compile time (the first call, separately), particle-steps/s and its error against
@@ -286,15 +287,21 @@ def main(argv=None):
     p.add_argument("--gaps", type=float, nargs="*", help="with --shedding: gaps in pipe diameters (default 0.5 1 2)")
     p.add_argument("--times", type=float, nargs="*", choices=[11.0, 18.0, 25.0],
                    help="with --mao-held: Mao's profiles to hold (default 11 18 25)")
-    p.add_argument("--dx", type=float, help="with --shedding or --mao-held: particle spacing (default the case "
+    p.add_argument("--dx", type=float, help="with --shedding, --mao-held or --waves: particle spacing (default the case "
                                             "file's, D/20)")
-    p.add_argument("--end-time", type=float, help="with --shedding or --mao-held: seconds of flow (default 4; "
-                                                  "2.5 held)")
+    p.add_argument("--end-time", type=float, help="with --shedding, --mao-held or --waves: seconds of flow (default 4; "
+                                                  "2.5 held; 9.6 waves)")
     p.add_argument("--config", help="with --shedding or --mao-held: the pipeline case file whose current and "
                                     "numerics it runs (default scenes/pipeline_scour_mao.toml)")
     p.add_argument("--ripples", action="store_true",
                    help="the tunnel's ripples against the orbital diameter, 15 cases through the Dask sweep "
                         "(tisph/bench/ripples.py; about an hour on two cores)")
+    p.add_argument("--waves", action="store_true",
+                   help="the default flume in tisph and DualSPHysics at H/dx = 3, 5, 8, 12 against Biesel, back to back "
+                        "(tisph/bench/waves.py; about an hour and a half on two cores)")
+    p.add_argument("--peer-finest", type=float, default=0.0075,
+                   help="with --waves: the finest dp DualSPHysics runs at (default 0.0075; at 0.005 its own settings "
+                        "take about an hour)")
     p.add_argument("--validate", action="store_true",
                    help="run every validation case and write docs/validation.md, its figures and the README's "
                         "table (tisph/bench/validate.py; with --quick: coarse, short versions)")
@@ -306,6 +313,9 @@ def main(argv=None):
     if a.ripples:
         from . import ripples
         return ripples.main(a)
+    if a.waves:
+        from . import waves
+        return waves.main(a)
     if a.validate:
         from . import validate
         return validate.main(a)
@@ -328,7 +338,7 @@ def main(argv=None):
         return mao_held.main(a)
     for name in ("gaps", "times", "dx", "end_time", "config"):
         if getattr(a, name) is not None:
-            p.error(f"--{name.replace('_', '-')} needs --shedding or --mao-held")
+            p.error(f"--{name.replace('_', '-')} needs --shedding, --mao-held (or --waves for --dx, --end-time)")
     from .. import runtime
     runtime.init("cpu", "f32")
     ensure_dir(a.out)
