@@ -5,7 +5,7 @@
     python -m tisph.bench --shedding [--gaps G ...] [--dx DX] [--end-time T] [--config F]   (tisph/bench/shedding.py)
     python -m tisph.bench --mao-held [--times T ...] [--dx DX] [--end-time T] [--config F]   (tisph/bench/mao_held.py)
     python -m tisph.bench --validate [--quick] [--only WORD ...]   (tisph/bench/validate.py: docs/validation.md)
-    python -m tisph.bench --waves [--quick] [--dx DX] [--dualsphysics CLONE]   (tisph/bench/waves.py)
+    python -m tisph.bench --waves [--quick] [--dx DX] [--peer-finest DP] [--dualsphysics CLONE]   (tisph/bench/waves.py)
 
 Every validation case runs at a ladder of resolutions; each run records particles, steps, wall
 time, Taichi compile time (the first call, separately), particle-steps/s and its error against
@@ -297,11 +297,11 @@ def main(argv=None):
                    help="the tunnel's ripples against the orbital diameter, 15 cases through the Dask sweep "
                         "(tisph/bench/ripples.py; about an hour on two cores)")
     p.add_argument("--waves", action="store_true",
-                   help="the default flume in tisph and DualSPHysics at H/dx = 3, 5, 8, 12 against Biesel, back to back "
-                        "(tisph/bench/waves.py; about an hour and a half on two cores)")
-    p.add_argument("--peer-finest", type=float, default=0.0075,
-                   help="with --waves: the finest dp DualSPHysics runs at (default 0.0075; at 0.005 its own settings "
-                        "take about an hour)")
+                   help="the default flume against Biesel, tisph at H/dx = 3, 5, 8, 12 and DualSPHysics beside it, "
+                        "back to back (tisph/bench/waves.py; about an hour on two cores)")
+    p.add_argument("--peer-finest", type=float, default=0.0125,
+                   help="with --waves: the finest dp DualSPHysics runs at (default 0.0125, H/dx = 5; at 0.0075 its two "
+                        "runs take about two hours)")
     p.add_argument("--validate", action="store_true",
                    help="run every validation case and write docs/validation.md, its figures and the README's "
                         "table (tisph/bench/validate.py; with --quick: coarse, short versions)")

@@ -3,7 +3,7 @@ absorbing zone at the far end) in tisph and in DualSPHysics 5.0 (CPU), at the sa
 back, each run to the same time: wave height error against Biesel at 1, 2 and 3 wavelengths,
 particles, steps and wall time.
 
-    python -m tisph.bench --waves [--quick] [--dx DX ...] [--dualsphysics CLONE]
+    python -m tisph.bench --waves [--quick] [--dx DX] [--peer-finest DP] [--dualsphysics CLONE]
 
 DualSPHysics runs twice at each dp: with the settings of its own 2D wave cases (Wendland with
 coefh 1.2, symplectic, CFL 0.2, artificial viscosity 0.01, Fourtakas diffusion 0.1, c0 = 20
