@@ -302,3 +302,9 @@ def test_waves_bench_builds_dualsphysics_flume_and_reads_its_gauges(tmp_path):
     (tmp_path / "GaugesSWL_g0.csv").write_text("\n".join(lines) + "\n")
     (tt, zz), = waves._swl(str(tmp_path), ["g0"])
     assert zz == pytest.approx(recs[0][1], abs=1e-6) and tt[-1] == pytest.approx(9.59)
+
+
+def test_waves_bench_refuses_a_dx_the_flume_refuses(capsys):
+    assert bench.main(["--waves", "--dx", "0.04"]) == 2
+    err = capsys.readouterr().err
+    assert "numerics.dx = 0.04" in err and "8 particles across the depth" in err

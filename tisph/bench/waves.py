@@ -15,6 +15,7 @@ gauges (JGaugeSystem) at our gauges' x; both records go through one analysis (ti
 import csv
 import math
 import os
+import sys
 import time
 
 import numpy as np
@@ -203,13 +204,17 @@ def run_dualsphysics(root, work, dp, tmax, s, threads=2):
 
 
 def run_tisph(work, dx, tmax):
+    from ..runner import resolve
+    from ..scenes import flume
     s, wall = run_case(_Case(tmax), dx, False, os.path.join(work, f"tisph_flume_dx{dx:g}"))
-    m = s["metrics"]
+    m, num = s["metrics"], resolve(flume, overrides={"numerics.dx": dx})["numerics"]
     return dict(code="tisph", dx=dx, particles=s["particles"], steps=s["steps"], wall_s=wall,
                 loop_s=s["step_time_s"], H=m["wave_height_at_gauges"], errors=m["wave_height_errors"],
-                settings=f"Wendland, h = 2.5 dx, velocity Verlet with CFL 0.4, c0 {s['c0']:.1f} m/s, laminar "
-                         "viscosity, Fourtakas diffusion 0.1, extrapolated walls (Adami et al. 2012, 5 layers), its "
-                         "piston and absorbing zone, surface gauges; modules: " + ", ".join(s["modules"]))
+                settings=f"{num['kernel']}, h = {s['h'] / dx:.2f} dx, velocity Verlet with CFL {num['cfl']:g}, "
+                         f"c0 {s['c0']:.1f} m/s, artificial viscosity {num['artificial_viscosity']:g}, "
+                         f"{num['density_diffusion']} diffusion {num['delta']:g}, {num['wall']} walls "
+                         f"({num['wall_layers']} layers), its piston and absorbing zone, surface gauges; modules: "
+                         + ", ".join(s["modules"]))
 
 
 def plot(rows, f, path):
@@ -247,8 +252,15 @@ def main(a):
     log = lambda m: print(m, flush=True)
     from .. import runtime
     runtime.init("cpu", "f32")
+    from ..config import ConfigError
     dxs = (a.dx,) if a.dx else QUICK if a.quick else LADDER
     tmax = a.end_time or (8.0 if a.quick else END_TIME)    # 8 s: two periods past the arrival at 3 L
+    try:
+        for dx in dxs:
+            flume_setup(dx)
+    except ConfigError as e:   # a --dx the flume refuses: its message, no traceback
+        print(f"--dx: {e}", file=sys.stderr)
+        return 2
     out = ensure_dir(os.path.join(a.out, "waves"))
     notes = []
     try:
