@@ -56,8 +56,7 @@ class AbsorbingMotion:
         m = self.motion
         if self.target_series is not None:
             return float(np.interp(t, *self.target_series)) * m.envelope(t)[0]
-        r = 1.0 if t >= m.t_ramp else 0.5 * (1 - math.cos(math.pi * t / m.t_ramp)) if m.t_ramp > 0 else 1.0
-        return 0.5 * self.H * r * m.envelope(t)[0] * math.cos(m.omega * t - self.k * self.x_gauge)
+        return 0.5 * self.H * m.ramp(t)[0] * m.envelope(t)[0] * math.cos(m.omega * t - self.k * self.x_gauge)
 
     def __call__(self, t):
         dt = max(t - self.t_last, 0.0)

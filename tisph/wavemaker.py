@@ -53,16 +53,20 @@ class Motion:
         X, V = self.made(t)
         return e * X, e * V + de * X
 
+    def ramp(self, t):
+        """(r, r'): the half-cosine ramp up over t_ramp: amplitude and its rate start at zero."""
+        if t < self.t_ramp:
+            return (0.5 * (1 - math.cos(math.pi * t / self.t_ramp)),
+                    0.5 * math.pi / self.t_ramp * math.sin(math.pi * t / self.t_ramp))
+        return 1.0, 0.0
+
     def made(self, t):
         """X(t) and X'(t) before the ramp down."""
         if self.series is not None:
             ts, xs, vs = self.series
             return float(np.interp(t, ts, xs)), float(np.interp(t, ts, vs))
         a, w = 0.5 * self.S, self.omega
-        r, dr = 1.0, 0.0
-        if t < self.t_ramp:  # half-cosine ramp: amplitude and its rate start at zero
-            r = 0.5 * (1 - math.cos(math.pi * t / self.t_ramp))
-            dr = 0.5 * math.pi / self.t_ramp * math.sin(math.pi * t / self.t_ramp)
+        r, dr = self.ramp(t)
         X = r * a * math.sin(w * t)
         V = dr * a * math.sin(w * t) + r * a * w * math.cos(w * t)
         if self.second:   # second order in the amplitude, so its ramp is r^2

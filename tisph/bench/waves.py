@@ -13,6 +13,7 @@ its own first-order piston (JWavePaddles) given Biesel's height; its gauges are 
 gauges (JGaugeSystem) at our gauges' x; both records go through one analysis (tisph.wavemaker).
 """
 import csv
+import dataclasses
 import math
 import os
 import sys
@@ -23,27 +24,22 @@ import numpy as np
 from . import dualsphysics
 from .codes import cache_dir
 from .common import run_case, table
+from .ladder import CASES
+from ..constants import G
 from .. import wavemaker as wm
 from ..io import ensure_dir, write_csv, write_text
 from ..probes.plots import pyplot, save
 
-LADDER = (0.02, 0.0125, 0.0075, 0.005)      # H / dx = 3, 5, 8, 12 at the default H = 0.061 m
+# the flume as the bench ladder runs it (H / dx = 3, 5, 8, 12, to the end of the window at three
+# wavelengths), one case for both benches
+FLUME = next(c for c in CASES if c.scene == "scenes.flume")
+LADDER = FLUME.ladder
 QUICK = (0.025,)
-END_TIME = 9.6                              # to the end of the window at three wavelengths
-SCENE = "scenes.flume"
-G = 9.81
+END_TIME = FLUME.overrides["run.end_time"]
 
 OWN = dict(label="DualSPHysics, its settings", coefh=1.2, visco_treatment=1, visco=0.01, c0_factor=20.0)
 MATCHED = dict(label="DualSPHysics, our settings", coefh=2.5 / math.sqrt(2.0), visco_treatment=2, visco=1e-6,
                c0_factor=10.0)
-
-
-class _Case:
-    """The flume as the bench ladders run it (tisph/bench/common.run_case)."""
-    name, scene, config, quick_overrides = "flume", SCENE, "", {}
-
-    def __init__(self, end_time):
-        self.overrides = {"run.end_time": end_time, "geometry.array_gauges": 0}
 
 
 def flume_setup(dx):
@@ -56,7 +52,8 @@ def flume_setup(dx):
     omega, k, wavelength, cg, ratio = wm.linear_wave(cfg, d)
     return dict(depth=d, length=geo["length"], wall_height=geo["wall_height"], damping=geo["damping_length"],
                 period=p["period"], ramp=p["ramp_periods"], height=ratio * p["stroke"],
-                gauges=flume.gauge_positions(geo, wavelength), wavelength=wavelength, cg=cg, paddle=p)
+                gauges=flume.gauge_positions(geo, wavelength), wavelength=wavelength, cg=cg, paddle=p,
+                numerics=cfg["numerics"])
 
 
 def flume_xml(dp, tmax, f, s):
@@ -204,10 +201,9 @@ def run_dualsphysics(root, work, dp, tmax, s, threads=2):
 
 
 def run_tisph(work, dx, tmax):
-    from ..runner import resolve
-    from ..scenes import flume
-    s, wall = run_case(_Case(tmax), dx, False, os.path.join(work, f"tisph_flume_dx{dx:g}"))
-    m, num = s["metrics"], resolve(flume, overrides={"numerics.dx": dx})["numerics"]
+    case = dataclasses.replace(FLUME, overrides=dict(FLUME.overrides, **{"run.end_time": tmax}))
+    s, wall = run_case(case, dx, False, os.path.join(work, f"tisph_flume_dx{dx:g}"))
+    m, num = s["metrics"], flume_setup(dx)["numerics"]
     return dict(code="tisph", dx=dx, particles=s["particles"], steps=s["steps"], wall_s=wall,
                 loop_s=s["step_time_s"], H=m["wave_height_at_gauges"], errors=m["wave_height_errors"],
                 settings=f"{num['kernel']}, h = {s['h'] / dx:.2f} dx, velocity Verlet with CFL {num['cfl']:g}, "
