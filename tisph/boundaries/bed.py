@@ -22,7 +22,6 @@ class MovingBed(Module):
 
     def allocate(self, S):
         self.nst = int(S.params.get("bed_stations", 1))
-        self.np_real = S.np_real
         self.dz = ti.field(S.real, self.nst)     # z_b - z_b0 per station
         self.w = ti.field(S.real, self.nst)      # dz_b/dt per station
 
@@ -46,5 +45,11 @@ class MovingBed(Module):
         return {"dz": self.dz, "w": self.w}
 
     def set(self, dz, w):
-        self.dz.from_numpy(np.asarray(dz, dtype=self.np_real))
-        self.w.from_numpy(np.asarray(w, dtype=self.np_real))
+        self._set(np.ascontiguousarray(dz, dtype=np.float64), np.ascontiguousarray(w, dtype=np.float64))
+
+    @ti.kernel
+    def _set(self, dz: ti.types.ndarray(dtype=ti.f64, ndim=1), w: ti.types.ndarray(dtype=ti.f64, ndim=1)):
+        # one launch for both (two from_numpy calls cost twice the launch overhead)
+        for c in range(self.nst):
+            self.dz[c] = ti.cast(dz[c], self.dz.dtype)
+            self.w[c] = ti.cast(w[c], self.w.dtype)

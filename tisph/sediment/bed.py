@@ -83,20 +83,21 @@ class Bed:
         if self.lee_transit:
             return self.saturate_transit(qb, a, ad)
         n = len(qb)
-        q = self.q.copy()                   # the last flux: the sweeps start from it
-        fwd = qb >= 0
+        # Python floats in lists: the same double arithmetic as NumPy's scalars, 4x faster to index
+        q = self.q.tolist()                 # the last flux: the sweeps start from it
+        qbl = np.asarray(qb, float).tolist()
+        fwd = [i for i in range(n) if qbl[i] >= 0]
+        back = [i for i in range(n - 1, -1, -1) if not qbl[i] >= 0]
         for _ in range(3):
-            for i in range(n):              # flow to +x: upwind neighbour on the left
-                if fwd[i]:
-                    up = q[i - 1] if (i > 0 or self.periodic) else 0.0
-                    k = a if up <= qb[i] else ad
-                    q[i] = (qb[i] + k * up) / (1.0 + k)
-            for i in range(n - 1, -1, -1):  # flow to -x: upwind neighbour on the right
-                if not fwd[i]:
-                    up = q[(i + 1) % n] if (i < n - 1 or self.periodic) else 0.0
-                    k = a if up >= qb[i] else ad
-                    q[i] = (qb[i] + k * up) / (1.0 + k)
-        return q
+            for i in fwd:                   # flow to +x: upwind neighbour on the left
+                up = q[i - 1] if (i > 0 or self.periodic) else 0.0
+                k = a if up <= qbl[i] else ad
+                q[i] = (qbl[i] + k * up) / (1.0 + k)
+            for i in back:                  # flow to -x: upwind neighbour on the right
+                up = q[(i + 1) % n] if (i < n - 1 or self.periodic) else 0.0
+                k = a if up >= qbl[i] else ad
+                q[i] = (qbl[i] + k * up) / (1.0 + k)
+        return np.array(q)
 
     def saturate_transit(self, qb, a, ad):
         """saturate for a current over a separated lee (sediment.lee_transit). The load is split
@@ -178,12 +179,14 @@ class Bed:
         began and the face after each one it relaxed (the only ones that can be steep when
         reached; the periodic bed's last face too, as its far end is z[0]): the same result as
         visiting every face (tests/test_bedload.py), 6x faster on the Mao case's beds."""
-        z, dx, t = self.z, self.dx, self.tan_repose
-        n = len(z)
+        dx, t = self.dx, self.tan_repose
+        n = len(self.z)
         faces = n if self.periodic else n - 1
         for sweep in range(max_sweeps):
-            dz_all = (np.append(z[1:], z[0]) if self.periodic else z[1:]) - z[:faces]
+            za = self.z
+            dz_all = (np.append(za[1:], za[0]) if self.periodic else za[1:]) - za[:faces]
             steep = np.nonzero(np.abs(dz_all) - t * dx > 1e-12 * dx)[0].tolist()
+            z = za.tolist()                  # the sweep on Python floats (the same arithmetic, faster to index)
             if self.periodic and (not steep or steep[-1] != faces - 1):
                 steep.append(faces - 1)
             moved = relaxed = False
@@ -210,6 +213,7 @@ class Bed:
                     moved = True
             if not moved:
                 return sweep
+            self.z[:] = z
         return max_sweeps
 
     def max_slope_deg(self):

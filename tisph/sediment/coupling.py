@@ -13,8 +13,6 @@ Each update (every sediment.update_every steps):
   3. Bed.step (tisph/sediment/bed.py) over the elapsed time; the solver's bed particles move
      with the new z_b (solver.set_bed).
 """
-import collections
-
 import numpy as np
 
 from ..constants import G
@@ -22,7 +20,7 @@ from ..particles import BED
 from ..terms.tke import SQRT_CMU
 from .bed import Bed
 from .lee import lee_vortex_shear
-from .outer import outer_heights, outer_scale
+from .outer import Window, outer_heights, outer_scale
 from .transport import reference_concentration, settling_velocity, shear_log_law, shear_waves, shields_number
 
 
@@ -177,7 +175,7 @@ class BedCoupler:
         self.d50, self.omega, self.z0_log, self.far_field = d50, omega, z0, far_field
         self.measured = amplitude is None
         self.amplitude = np.zeros(len(stations)) if self.measured else amplitude
-        self.history = collections.deque()   # (t, filtered u) over the last wave period, when measured
+        self.history = Window(len(stations))   # (t, filtered u, u outer) over the last wave period
         from ..config import ConfigError
         if sed["shear"] in FAR_FIELD_SHEARS and far_field is None:
             raise ConfigError("sediment.shear", sed["shear"], "'waves' or 'log' in this scene: the far-field "
@@ -288,14 +286,13 @@ class BedCoupler:
             self.u_outer += a * (np.where(np.isfinite(uo), uo, self.u_outer) - self.u_outer)
         if self.measured or self.outer:
             period = 2.0 * np.pi / self.omega
-            self.history.append((s.time, self.u.copy(), self.u_outer.copy()))
-            while self.history[0][0] < s.time - period:
-                self.history.popleft()
+            self.history.append(s.time, self.u, self.u_outer)
+            self.history.drop_before(s.time - period)
             if self.outer:
-                self.outer_factor = self.outer_scale(s.time - self.history[0][0] >= 0.95 * period)
+                self.outer_factor = self.outer_scale(s.time - self.history.first >= 0.95 * period)
             self.u_eff = self.u * self.outer_factor
             if self.measured:
-                us = np.array([h[1] for h in self.history]) * self.outer_factor
+                us = self.history.near * self.outer_factor
                 self.amplitude = 0.5 * (us.max(0) - us.min(0)) / self.omega
         else:
             self.u_eff = self.u

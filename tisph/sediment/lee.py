@@ -43,25 +43,28 @@ def lee_vortex_shear(tau, z, dx, u, sed, periodic=True, amplitude=0.0, mobility=
         zl, zr = np.append(z[0], z[:-1]), np.append(z[1:], z[-1])
     up_all = np.where(d_all > 0, zl, zr)          # the upstream neighbour (the end's own height)
     down_all = np.where(d_all > 0, zr, zl)
-    crests = idx[(d_all != 0) & (z >= up_all) & (z > down_all)]
+    crests = idx[(d_all != 0) & (z >= up_all) & (z > down_all)].tolist()
+    # the walks on Python floats: the same double arithmetic as NumPy's scalars, faster to index
+    zs, res, taul = np.asarray(z, float).tolist(), out.tolist(), np.asarray(tau, float).tolist()
+    dl, strl, ampl = d_all.tolist(), strength.tolist(), amp.tolist()
     for c in crests:
-        d = int(d_all[c])
-        k, trough, steepest = c, z[c], 0.0
+        d = dl[c]
+        k, trough, steepest = c, zs[c], 0.0
         while True:                                # down the lee to the trough
             j = nxt(k, d)
-            if j is None or j == c or z[j] > z[k]:
+            if j is None or j == c or zs[j] > zs[k]:
                 break
-            steepest = max(steepest, (z[k] - z[j]) / dx)
-            k, trough = j, z[j]
-        if steepest < t_sep or strength[c] <= 0:
+            steepest = max(steepest, (zs[k] - zs[j]) / dx)
+            k, trough = j, zs[j]
+        if steepest < t_sep or strl[c] <= 0:
             continue                               # a gentle lee: no separation
-        length = sed["separation_length"] * (z[c] - trough)
-        if cap > 0 and amp[c] > 0:
-            length = min(length, cap * amp[c])
+        length = sed["separation_length"] * (zs[c] - trough)
+        if cap > 0 and ampl[c] > 0:
+            length = min(length, cap * ampl[c])
         j = c
         for _ in range(int(np.ceil(length / dx))):
             j = nxt(j, d)
             if j is None:
                 break
-            out[j] = -strength[c] * abs(tau[c]) * d   # towards the crest, against the flow
-    return out
+            res[j] = -strl[c] * abs(taul[c]) * d   # towards the crest, against the flow
+    return np.array(res)
