@@ -517,3 +517,25 @@ def test_a_tunnel_run_too_short_for_its_period_says_the_end_time_it_needs():
         warnings.simplefilter("always")
         tunnel.build(resolve(tunnel, None, {"geometry.period": 3.0}))
     assert any("run.end_time = 60 s gives 200" in str(x.message) for x in w)
+
+
+def test_the_near_bed_window_holds_one_period_as_a_deque_would():
+    """outer.Window keeps the rows of the last wave period in preallocated arrays: after each of
+    500 updates (several regrowths and compactions of its buffer) its rows are those a deque
+    trimmed to the period holds, in order, the newest always kept."""
+    import collections
+    from tisph.sediment.outer import Window
+    rng = np.random.default_rng(3)
+    w, ref, t, period = Window(5), collections.deque(), 0.0, 0.37
+    for _ in range(500):
+        t += float(rng.uniform(0.001, 0.02))
+        u, uo = rng.normal(size=5), rng.normal(size=5)
+        w.append(t, u, uo)
+        w.drop_before(t - period)
+        ref.append((t, u.copy(), uo.copy()))
+        while ref[0][0] < t - period:
+            ref.popleft()
+        assert w.first == ref[0][0]
+        assert np.array_equal(w.near, np.array([r[1] for r in ref]))
+        assert np.array_equal(w.outer, np.array([r[2] for r in ref]))
+    assert len(ref) > 20

@@ -29,8 +29,8 @@ def outer_heights(sed, dx, z, still_level=None):
 
 class Window:
     """The rows (t, u at z_r, u outer) of the last wave period, in preallocated arrays: the
-    window's rows are one contiguous slice, so its extremes are one reduction (stacking a deque
-    of per-update arrays at every update cost a tenth of the tunnel's run time)."""
+    window's rows are one contiguous slice, so its extremes are one reduction (a deque of
+    per-update arrays had to be stacked again at every update)."""
 
     def __init__(self, n):
         self.n = n

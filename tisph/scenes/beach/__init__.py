@@ -80,10 +80,10 @@ DEFAULTS = {
     "materials": {"water": dict(WATER), "sand": dict(BINGHAM_SAND)},
     # sediment.model = "bedload": the bed below particle scale (tisph/sediment, scenes/beach.toml);
     # "particles": the paper's Bingham sand (scenes/beach_bingham_tau200.toml)
-    # the tunnel's bed parameters but the outer scaling: on the slope it undid the near-bed amplitude's
-    # growth as the waves shoal (dx 0.03, 9 s: flat 0.127 m, x = 4.5-5.5 m 0.120 m; unscaled 0.094 and
-    # 0.108, linear theory 2.2x), so the beach reads its near-bed velocity unscaled (docs/sediment.md)
-    "sediment": dict(coupling.DEFAULTS, **dict(coupling.WAVE_RIPPLES, outer_height=0.0), morfac=30.0, seed_rms=0.005),
+    # the tunnel's bed parameters, the outer scaling included: the beach's near-wall layer is as thick
+    # (at 1.5 dx the velocity amplitude is half of that 6 dx up) and the flow above it carries the
+    # waves' flux within 5 % of (H / 2) sqrt(g h) up the slope (docs/sediment.md)
+    "sediment": dict(coupling.DEFAULTS, **coupling.WAVE_RIPPLES, morfac=30.0, seed_rms=0.005),
     "output": {"frame_interval": 0.04, "probe_interval": 0.04, "width": 1280},
 }
 RANGES = {f"geometry.{k}": (0.0, None, False, True) for k in DEFAULTS["geometry"] if k != "gauges_x"}

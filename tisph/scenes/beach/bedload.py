@@ -150,6 +150,7 @@ class BeachBed:
         rms = float(np.sqrt(np.mean((zb - self.bed.z0) ** 2)))
         eta = surface_at(st, self.toe, self.dx, self.cfg["numerics"]["h_factor"] * self.dx, mat=0) - self.yw
         lp = float(lam_p[zone].mean()) if zone.any() else float("nan")
+        self.lengths = (lam, lp)          # measured and predicted, over the zone: the figure's lines
         self.shoal.read(st)
         return (lam, hr, count, rms, eta, lp, float(np.abs(self.bed.tau).max())) + self.gauges.read(st)
 
@@ -198,9 +199,16 @@ class BeachBed:
         a1.set_ylabel("bed change (mm)")
         a1.legend(fontsize=7, ncol=5, loc="lower left")
         a2.plot(x, 100 * lam, label="Wiberg & Harris length (measured d0)")
+        lengths = getattr(self, "lengths", (float("nan"),) * 2)
+        if self.zone is not None and np.isfinite(lengths[0]):
+            x0, x1 = x[self.zone][0], x[self.zone][-1]
+            a2.hlines(100 * lengths[1], x0, x1, color="C0", lw=2.0, ls="--",
+                      label=f"its mean over the ripple zone, {100 * lengths[1]:.1f} cm")
+            a2.hlines(100 * lengths[0], x0, x1, color="C3", lw=2.0,
+                      label=f"the ripples' mean length there, {100 * lengths[0]:.1f} cm")
         a2.axhline(100 * 8 * self.dx, color="k", lw=0.8, ls=":", label="8 dx")
         a2.set_ylabel("ripple length (cm)")
         a2.set_xlabel("x (m)")
-        a2.legend(fontsize=7, loc="upper left")
+        a2.legend(fontsize=7, loc="lower left", ncol=2)
         fig.suptitle(f"beach over a bed-load sand bed (morfac {self.cfg['sediment']['morfac']:g})", fontsize=10)
         save(fig, path)
