@@ -82,7 +82,7 @@ DEFAULTS = {
     # "particles": the paper's Bingham sand (scenes/beach_bingham_tau200.toml)
     # the tunnel's bed parameters, the outer scaling included: the beach's near-wall layer is as thick
     # (at 1.5 dx the velocity amplitude is half of that 6 dx up) and the flow above it carries the
-    # waves' flux within 5 % of (H / 2) sqrt(g h) up the slope (docs/sediment.md)
+    # waves' flux at 0.89-1.02 of (H / 2) sqrt(g h) up the slope (docs/sediment.md)
     "sediment": dict(coupling.DEFAULTS, **coupling.WAVE_RIPPLES, morfac=30.0, seed_rms=0.005),
     "output": {"frame_interval": 0.04, "probe_interval": 0.04, "width": 1280},
 }
