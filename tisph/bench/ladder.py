@@ -287,8 +287,8 @@ def main(argv=None):
     p.add_argument("--gaps", type=float, nargs="*", help="with --shedding: gaps in pipe diameters (default 0.5 1 2)")
     p.add_argument("--times", type=float, nargs="*", choices=[11.0, 18.0, 25.0],
                    help="with --mao-held: Mao's profiles to hold (default 11 18 25)")
-    p.add_argument("--dx", type=float, help="with --shedding, --mao-held or --waves: particle spacing (default the case "
-                                            "file's, D/20)")
+    p.add_argument("--dx", type=float, help="with --shedding or --mao-held: particle spacing (default the case "
+                                            "file's, D/20); with --waves: one dx in place of the ladder")
     p.add_argument("--end-time", type=float, help="with --shedding, --mao-held or --waves: seconds of flow (default 4; "
                                                   "2.5 held; 9.6 waves)")
     p.add_argument("--config", help="with --shedding or --mao-held: the pipeline case file whose current and "

@@ -22,7 +22,6 @@ def lee_vortex_shear(tau, z, dx, u, sed, periodic=True, amplitude=0.0, mobility=
     strength is scaled by sheet_flow_factor(mobility): ripples wash out above psi = 240. That is
     imposed from the ripple predictor, not computed: the bed load has no suspension."""
     n = len(z)
-    out = np.array(tau, float)
     u = np.broadcast_to(np.asarray(u, float), (n,))
     amp = np.broadcast_to(np.asarray(amplitude, float), (n,))
     strength = sed["lee_vortex"] * np.broadcast_to(sheet_flow_factor(mobility), (n,))
@@ -45,7 +44,8 @@ def lee_vortex_shear(tau, z, dx, u, sed, periodic=True, amplitude=0.0, mobility=
     down_all = np.where(d_all > 0, zr, zl)
     crests = idx[(d_all != 0) & (z >= up_all) & (z > down_all)].tolist()
     # the walks on Python floats: the same double arithmetic as NumPy's scalars, faster to index
-    zs, res, taul = np.asarray(z, float).tolist(), out.tolist(), np.asarray(tau, float).tolist()
+    zs, taul = np.asarray(z, float).tolist(), np.asarray(tau, float).tolist()
+    res = list(taul)                               # tau, with the lee zones written over it
     dl, strl, ampl = d_all.tolist(), strength.tolist(), amp.tolist()
     for c in crests:
         d = dl[c]

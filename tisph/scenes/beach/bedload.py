@@ -114,6 +114,7 @@ class BeachBed:
         self.yw = geo["sand_thickness"] + geo["depth"]
         self.toe, self.grain = geo["toe_x"], geo["grain_diameter"]
         self.rows, self.zone = [], None
+        self.lengths = (float("nan"), float("nan"))   # the last probe's measured and predicted means
         self.gauges = Gauges(geo["gauges_x"], self.dx, cfg["numerics"]["h_factor"] * self.dx, self.yw,
                              dry_from=geo["toe_x"] + geo["depth"] * geo["slope"])
         self.shoal = Shoaling(geo, lambda x: self.yw - float(bed_profile(geo, x)), self.yw, self.dx,
@@ -150,7 +151,7 @@ class BeachBed:
         rms = float(np.sqrt(np.mean((zb - self.bed.z0) ** 2)))
         eta = surface_at(st, self.toe, self.dx, self.cfg["numerics"]["h_factor"] * self.dx, mat=0) - self.yw
         lp = float(lam_p[zone].mean()) if zone.any() else float("nan")
-        self.lengths = (lam, lp)          # measured and predicted, over the zone: the figure's lines
+        self.lengths = (lam, lp)
         self.shoal.read(st)
         return (lam, hr, count, rms, eta, lp, float(np.abs(self.bed.tau).max())) + self.gauges.read(st)
 
@@ -199,7 +200,7 @@ class BeachBed:
         a1.set_ylabel("bed change (mm)")
         a1.legend(fontsize=7, ncol=5, loc="lower left")
         a2.plot(x, 100 * lam, label="Wiberg & Harris length (measured d0)")
-        lengths = getattr(self, "lengths", (float("nan"),) * 2)
+        lengths = self.lengths
         if self.zone is not None and np.isfinite(lengths[0]):
             x0, x1 = x[self.zone][0], x[self.zone][-1]
             a2.hlines(100 * lengths[1], x0, x1, color="C0", lw=2.0, ls="--",
