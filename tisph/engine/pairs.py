@@ -22,6 +22,7 @@ diffusion with dynamic or extrapolated walls, as in the dam break, the flume, th
 tunnel. Other cases, and any GPU, keep the gather pass; run.pair_once chooses (by default, runs
 long enough to repay its longer compile, runner/setup.py).
 """
+import numpy as np
 import taichi as ti
 
 from ..particles import FLUID
@@ -30,6 +31,15 @@ ZONES = 16      # 8 a phase: the rows are cut the same way whatever the thread c
 LANE = 512      # Taichi's CPU range-for deals each thread max(ceil(N / T), 512) iterations in one
                 # piece: a loop of (zones a phase) x 512 iterations, one zone at every 512th,
                 # runs the zones on all threads (a loop under 1,024 iterations runs on one)
+
+
+def deal(per_phase, threads):
+    """The zone (of a phase's per_phase) that each LANE of the phase's loop takes, so that thread t's
+    contiguous piece of the loop holds zones t, t + threads, ...: the zones round the threads."""
+    if threads > per_phase or per_phase % threads:
+        return list(range(per_phase))
+    piece = per_phase // threads
+    return [(q % piece) * threads + q // piece for q in range(per_phase)]
 
 
 def applicable(S):
@@ -57,6 +67,13 @@ class PairOnce:
         self.SumT = ti.types.struct(**{k: acc_types[k] for k in self.names})
         self.sums = self.SumT.field(shape=S.n)
         self.zr = ti.field(ti.i32, ZONES + 1)     # each zone's first cell row
+        # which of a phase's zones each LANE of its loop takes: Taichi deals each thread one
+        # contiguous piece of the loop, and a shallow domain's water fills only the first few
+        # zones, so in row order one thread would get them all; dealt round the threads instead.
+        # Each zone still runs in sorted order on one thread: the sums' order does not change.
+        threads = max(1, int(ti.lang.impl.current_cfg().cpu_max_num_threads))
+        self.slot = ti.field(ti.i32, ZONES // 2)
+        self.slot.from_numpy(np.array(deal(ZONES // 2, threads), dtype=np.int32))
 
     @ti.func
     def zones(self):
@@ -82,7 +99,7 @@ class PairOnce:
         """Iteration u of a phase's loop: zone 2 (u / LANE) + ph, in sorted order, at u % LANE == 0."""
         if u % LANE == 0:
             g = self.S.grid
-            z = 2 * (u // LANE) + ph
+            z = 2 * self.slot[u // LANE] + ph
             i0 = g.start[self.zr[z] * g.nx]
             i1 = g.start[self.zr[z + 1] * g.nx]
             for i in range(i0, i1):
