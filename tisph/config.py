@@ -70,7 +70,7 @@ SHARED_DEFAULTS = {
         "c0_factor": 10.0,           # c0 = this x max(expected speed, sqrt(g depth)) when c0 = 0
         "u_max": 0.0,                # expected peak flow speed (m/s); 0: the scene's estimate
         "laminar_viscosity": False,  # paper 002 eq. 10 with the materials' viscosity
-        "density_diffusion": "none", # none | molteni | fourtakas
+        "density_diffusion": "none", # none | molteni | fourtakas | antuono (renormalised gradients: waves)
         "turbulence": "smagorinsky", # smagorinsky (paper 002 eq. 10) | k_equation (transported k, tisph/terms/tke.py); where SPS is on
         "length_scale": "prescribed",  # the k equation's length: prescribed (the scene's wall distance) | omega (transported, bounded by it)
         "shepard_every": 0,          # Shepard density filter every N steps (paper 002 eq. 14); 0 off
@@ -99,7 +99,7 @@ CHOICES = {
     "run.arch": ("cpu", "gpu", "auto"), "run.precision": ("f32", "f64"), "run.pair_once": ("auto", "on", "off"),
     "numerics.kernel": ("cubic", "wendland"),
     "numerics.wall": ("dynamic", "repulsive", "adami"),
-    "numerics.density_diffusion": ("none", "molteni", "fourtakas"),
+    "numerics.density_diffusion": ("none", "molteni", "fourtakas", "antuono"),
     "numerics.turbulence": ("smagorinsky", "k_equation"),
     "numerics.length_scale": ("prescribed", "omega"),
     "output.field": ("", "speed", "pressure", "density", "material", "vorticity", "concentration"),

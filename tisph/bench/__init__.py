@@ -7,4 +7,6 @@ peer.py       --peer pysph: PySPH's dam break beside ours
 shedding.py   --shedding: a pipe's wake over a fixed bed against the gap
 mao_held.py   --mao-held: Mao's measured beds held still under the pipeline's flow
 ripples.py    --ripples: the tunnel's ripples against the orbital diameter (the Dask sweep)
+waves.py      --waves: the default flume against Biesel, tisph and DualSPHysics at equal dp
+standing.py   --standing: a standing wave's loss per period under each density diffusion
 """

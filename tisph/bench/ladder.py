@@ -299,6 +299,9 @@ def main(argv=None):
     p.add_argument("--waves", action="store_true",
                    help="the default flume against Biesel, tisph at H/dx = 3, 5, 8, 12 and DualSPHysics beside it, "
                         "back to back (tisph/bench/waves.py; about an hour on two cores)")
+    p.add_argument("--standing", action="store_true",
+                   help="a standing wave in a closed tank: the height the flume's numerics take per period, with "
+                        "each density diffusion (tisph/bench/standing.py; --dx, --end-time in periods)")
     p.add_argument("--peer-finest", type=float, default=0.0125,
                    help="with --waves: the finest dp DualSPHysics runs at (default 0.0125, H/dx = 5; at 0.0075 its two "
                         "runs take about two hours)")
@@ -316,6 +319,9 @@ def main(argv=None):
     if a.waves:
         from . import waves
         return waves.main(a)
+    if a.standing:
+        from . import standing
+        return standing.main(a)
     if a.validate:
         from . import validate
         return validate.main(a)
@@ -338,7 +344,8 @@ def main(argv=None):
         return mao_held.main(a)
     for name in ("gaps", "times", "dx", "end_time", "config"):
         if getattr(a, name) is not None:
-            p.error(f"--{name.replace('_', '-')} needs --shedding, --mao-held (or --waves for --dx, --end-time)")
+            p.error(f"--{name.replace('_', '-')} needs --shedding, --mao-held (or --waves, --standing for --dx, "
+                    "--end-time)")
     from .. import runtime
     runtime.init("cpu", "f32")
     ensure_dir(a.out)

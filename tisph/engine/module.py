@@ -81,6 +81,10 @@ class Module:
     maxima = {}
     pair_once = None   # {acc slot: "sum" | "max"} it sums, with a pair2 hook (engine/pairs.py)
 
+    def __init__(self, S=None):
+        """S: the solver being built (its physics; its fields do not exist yet). A module whose
+        sums or fields depend on a switch sets them here."""
+
     @classmethod
     def enabled(cls, S):
         """On when every switch in `on` holds (a tuple switch: non-empty); override for others."""

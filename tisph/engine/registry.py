@@ -26,4 +26,4 @@ MODULES = (
 
 
 def enabled_modules(S):
-    return [cls() for cls in MODULES if cls.enabled(S)]
+    return [cls(S) for cls in MODULES if cls.enabled(S)]

@@ -15,8 +15,10 @@ when the wave reflected from the far end is back over the array.
 The numerics are chosen for waves (what each does to the height: docs/waves.md): walls
 whose pressure is extrapolated from the water (Adami et al. 2012), where the dynamic wall's
 density ratchets up under the paddle's foot and the wave comes out low; no artificial viscosity
-(density diffusion keeps the pressure smooth; the water's own viscosity stays); a Wendland kernel
-with h = 2.5 dx, whose wider support carries the wave with less loss.
+(density diffusion keeps the pressure smooth; the water's own viscosity stays); density diffusion
+with renormalised gradients (Antuono et al. 2010), which leaves a wave's dynamic pressure under the
+free surface alone; a Wendland kernel with h = 2.5 dx, whose wider support carries the wave with
+less loss.
 """
 import math
 import os
@@ -44,7 +46,7 @@ DEFAULTS = {
     # long enough for the wave reflected from the far end to be back over the array (reflection)
     "run": {"end_time": 16.0},
     "numerics": {"dx": 0.0125, "h_factor": 2.5, "kernel": "wendland", "wall": "adami", "wall_layers": 5,
-                 "artificial_viscosity": 0.0, "laminar_viscosity": True, "density_diffusion": "fourtakas",
+                 "artificial_viscosity": 0.0, "laminar_viscosity": True, "density_diffusion": "antuono",
                  "delta": 0.1},
     "geometry": {"length": 4.5,                   # paddle (x = 0) to the end wall (m)
                  "depth": 0.25,                  # still water (m)

@@ -21,3 +21,18 @@ def hydrostatic_density_difference(rho0_over_c02, g, r):
     g dz / c0^2 < 1e-3 over a kernel support, so this saves a pow per pair at no visible cost.
     """
     return rho0_over_c02 * (-g.dot(r))  # -g . r = g . (x_j - x_i) > 0 when j lies deeper
+
+
+@ti.func
+def renormalisation_sums(rho_i, rho_j, r, gw):
+    """One neighbour's (rho_j - rho_i) grad W_ij and r_ji (x) grad W_ij, the sums of the
+    renormalised density gradient (Randles & Libersky 1996, as Antuono et al. 2010 use it).
+    r = x_i - x_j and grad W lies along r, so the matrix is symmetric: (xx, xy, yy)."""
+    return (rho_j - rho_i) * gw, -ti.Vector([r[0] * gw[0], r[1] * gw[0], r[1] * gw[1]])
+
+
+@ti.func
+def renormalised_correction(delta, h, c0, grad_i, grad_j, gw):
+    """The renormalised gradients' part of Antuono et al.'s (2010) psi_ij . grad W, times
+    delta h c0: subtracted from the Molteni term, it cancels that term for a linear field."""
+    return delta * h * c0 * (grad_i + grad_j).dot(gw)
