@@ -27,14 +27,14 @@ DEPTH, AMPLITUDE = 0.25, 0.03
 KINDS = ("fourtakas", "antuono")
 
 
-def mode(depth=DEPTH):
-    """Wave number, angular frequency and period of the tank's mode: the flume's wave."""
+def mode():
+    """Wave number, angular frequency, period, wavelength and group velocity of the tank's mode:
+    the flume's wave."""
     from ..runner import resolve
     from ..scenes import flume
     from .. import wavemaker as wm
-    cfg = resolve(flume)
-    omega, k, wavelength, cg, ratio = wm.linear_wave(cfg, depth)
-    return k, omega, 2 * math.pi / omega, wavelength
+    omega, k, wavelength, cg, ratio = wm.linear_wave(resolve(flume), DEPTH)
+    return k, omega, 2 * math.pi / omega, wavelength, cg
 
 
 def case(dx, periods, diffusion):
@@ -42,7 +42,7 @@ def case(dx, periods, diffusion):
     from tisph.geometry import Polyline
     from ..runner import resolve
     from ..scenes import flume
-    k, omega, T, L = mode()
+    k, omega, T, L, cg = mode()
     num = dict(resolve(flume)["numerics"], dx=dx, density_diffusion=diffusion)
     xs = np.linspace(0.0, L, 241)
     top = [[float(x), DEPTH + AMPLITUDE * math.cos(k * x)] for x in xs]
@@ -61,7 +61,7 @@ def case(dx, periods, diffusion):
 
 def decay(probes, periods):
     """The mode's amplitude over each period (in units of a) and its decay per period."""
-    k, omega, T, L = mode()
+    k, omega, T, L, cg = mode()
     w = np.array([math.cos(k * f * L) for f in (0.1, 0.4, 0.6, 0.9)])
     eta = sum(wi * probes[f"eta_g{n}"] for n, wi in enumerate(w)) / (w @ w)
     t = probes["t"]
@@ -81,7 +81,7 @@ def main(a):
     periods = int(a.end_time or (8 if a.quick else 20))
     out = ensure_dir(os.path.join(a.out, "standing"))
     rows = []
-    k, omega, T, L = mode()
+    k, omega, T, L, cg = mode()
     for kind in KINDS:
         t0 = time.time()
         r = tisph.run(case(dx, periods, kind), out=os.path.join(out, f"{kind}_dx{dx:g}"), render=False,
@@ -90,7 +90,7 @@ def main(a):
         amp, rate = decay(r.probes, periods)
         s = r.summary
         rows.append((kind, dx, s["particles"], s["steps"], round(wall, 1), round(float(amp[-1]), 4),
-                     round(float(rate), 5), round(float(rate * L / (T * mode_cg())), 5), s["status"]))
+                     round(float(rate), 5), round(float(rate * L / (T * cg)), 5), s["status"]))
         print(f"{kind}: {s['particles']} particles, {s['steps']} steps, {wall:.1f} s, amplitude after "
               f"{periods} periods {amp[-1]:.3f} a, decay {rate * 100:.2f} % a period", flush=True)
     cols = ("diffusion", "dx", "particles", "steps", "wall_s", "last_amplitude", "decay_per_period",
@@ -107,9 +107,3 @@ def main(a):
     print("\n".join(md))
     return 0
 
-
-def mode_cg():
-    """The mode's group velocity (the progressive wave's energy speed)."""
-    k, omega, T, L = mode()
-    kh = k * DEPTH
-    return 0.5 * (omega / k) * (1.0 + 2.0 * kh / math.sinh(2.0 * kh))

@@ -18,8 +18,9 @@ every bit of a run, is the same on any number of threads: restarts stay bit for 
 
 It applies where every module with a pair hook has pair2 (Module.pair_once) and none changes how
 i sees j (view hooks): continuity, pressure, artificial and laminar viscosity and density
-diffusion with dynamic or extrapolated walls, as in the dam break, the flume, the beach and the
-tunnel. Other cases, and any GPU, keep the gather pass; run.pair_once chooses (by default, runs
+diffusion (but the renormalised one) with dynamic or extrapolated walls, as in the dam break, the
+beach and the tunnel. Other cases (the flume's renormalised diffusion), and any GPU, keep the
+gather pass; run.pair_once chooses (by default, runs
 long enough to repay its longer compile, runner/setup.py).
 """
 import numpy as np
