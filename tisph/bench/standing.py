@@ -13,6 +13,7 @@ period. It runs the flume's numerics (tisph.scenes.flume) with each density diff
 flume's waves lose c / c_g = 1.6 times as much per wavelength as the mode does per period.
 Writes OUT/standing/standing.md and standing.csv.
 """
+import functools
 import math
 import os
 import time
@@ -27,9 +28,10 @@ DEPTH, AMPLITUDE = 0.25, 0.03
 KINDS = ("fourtakas", "antuono")
 
 
+@functools.lru_cache(maxsize=None)
 def mode():
     """Wave number, angular frequency, period, wavelength and group velocity of the tank's mode:
-    the flume's wave."""
+    the flume's wave (solved once: the case, the analysis and the report all ask)."""
     from ..runner import resolve
     from ..scenes import flume
     from .. import wavemaker as wm
