@@ -488,20 +488,22 @@ def _closed_flume(tmp_path, absorb, end_time, length=2.0, gauges=(0.9,), **more)
 
 
 @pytest.mark.slow
-def test_absorbing_paddle_makes_its_wave_then_takes_out_the_wave_that_comes_back(tmp_path):
+@pytest.mark.parametrize("kind", ["piston", "flap"])
+def test_absorbing_paddle_makes_its_wave_then_takes_out_the_wave_that_comes_back(tmp_path, kind):
     """Five periods made, then the paddle stops (paddle.duration); in a closed 2.5 m flume the train
     goes to the end wall and back. Before anything comes back the absorbing paddle's gauge reads
     the wave it means to make, so its correction stays small. Once all of the train has met the
     paddle (and before its head comes back a second time) a rigid paddle has sent it all down the
     flume again; the absorbing one keeps little of it (measured at this dx: 0.15 of it with the
-    gauge's reading delayed by x_g / c, 0.32 without the delay)."""
+    gauge's reading delayed by x_g / c, 0.32 without the delay; a flap, its correction made at the
+    still-water level and turned about the hinge, 0.17)."""
     import csv
     cg = wm.group_velocity(2 * math.pi / 0.8, wm.wavenumber(2 * math.pi / 0.8, 0.25), 0.25)
     w0, w1 = 4.0 + 2 * 2.5 / cg + 0.8, 0.3 + 4 * 2.5 / cg
     rms = {}
     for absorb in (False, True):
         s, m = _closed_flume(tmp_path, absorb, w1, length=2.5, gauges=(0.5, 0.875, 1.25, 1.625, 2.0),
-                             **{"paddle.duration": 4.0, "paddle.ramp_periods": 1.0})
+                             **{"paddle.duration": 4.0, "paddle.ramp_periods": 1.0, "paddle.type": kind})
         assert s["status"] == "ok"
         with open(os.path.join(str(tmp_path), f"absorb_{absorb}", "probes.csv")) as f:
             rows = list(csv.DictReader(f))
@@ -548,7 +550,7 @@ def test_paddle_duration_ramps_down_and_stops():
 
 def test_absorbing_paddle_is_refused_where_its_target_is_not_defined(tmp_path):
     from tisph.config import ConfigError
-    for ov in ({"paddle.type": "flap"}, {"paddle.order": 2}):
+    for ov in ({"paddle.series": "x.csv"}, {"paddle.order": 2}):
         with pytest.raises(ConfigError, match="paddle.absorb"):
             resolve(flume, None, dict(ov, **{"paddle.absorb": True}))
 

@@ -1,4 +1,4 @@
-"""Active wave absorption at a piston paddle (paddle.absorb): the paddle corrects its motion from the
+"""Active wave absorption at a piston or flap paddle (paddle.absorb): the paddle corrects its motion from the
 surface elevation it sees, so waves coming back from the far end leave through it instead of
 reflecting and building a seiche (DualSPHysics' AWAS, Altomare et al. 2017; Schaffer & Klopman
 2000).
@@ -8,8 +8,10 @@ length in front of its face (the theory wants the elevation at the paddle); what
 progressive wave of Biesel's height, eta_T = H/2 r(t) cos(omega t - k x_g)) is a wave arriving from
 the flume, eta_R (less its running mean over a period: a set-down or the crests' asymmetry is not a
 wave). The paddle adds the velocity of that wave, U_c = -G eta_R, with the gain
-G = omega / F(kh) that turns a wave elevation into the piston velocity that makes it (F: Biesel's
-H/S; G = sqrt(g/h) in shallow water). eta_R is taken as it was x_g / c ago (c = omega / k): the
+G = omega / F(kh) that turns a wave elevation into the paddle velocity that makes it (F: Biesel's
+H/S, the piston's or the flap's; G = sqrt(g/h) for a piston in shallow water). A flap takes the
+correction as a displacement and velocity at the still-water level, where its stroke is defined,
+and turns them into its angle about the hinge (Motion.at_level), as its own stroke is. eta_R is taken as it was x_g / c ago (c = omega / k): the
 returning wave passes the gauge that long before it reaches the face the theory is written for.
 Without that delay (19 degrees of phase at T = 0.8 s, dx = 0.02) a closed flume kept twice the
 wave after the returning train had met the paddle (docs/waves.md). Its displacement is integrated,
@@ -31,7 +33,8 @@ DRIFT_PERIODS = 5.0     # the correction's displacement relaxes to zero over thi
 
 
 class AbsorbingMotion:
-    """A piston Motion plus the absorbing correction; callable as the Motion is (t -> X, V)."""
+    """A paddle's Motion plus the absorbing correction; callable as the Motion is (t -> X, V for a
+    piston, angle and its rate for a flap)."""
 
     def __init__(self, motion, height, k, depth, gain, x_gauge, x_paddle, still_level, dx, h, target_series=None):
         """x_gauge: the gauge's distance in front of the paddle's mean position x_paddle;
@@ -62,13 +65,16 @@ class AbsorbingMotion:
         dt = max(t - self.t_last, 0.0)
         self.t_last = t
         self.xc += dt * (self.uc - self.xc / (DRIFT_PERIODS * self.motion.T))
-        X, V = self.motion(t)
-        return X + self.xc, V + self.uc
+        return self.motion.at_level(self.face(t), self.motion.surface(t)[1] + self.uc)
+
+    def face(self, t):
+        """The paddle's displacement at the still-water level, correction included."""
+        return self.motion.surface(t)[0] + self.xc
 
     def control(self, solver):
         """Read the gauge and set the correction velocity (every control interval)."""
         st = solver.state(("x", "kind", "rho", "m", "mat"))
-        eta = surface_at(st, self.x_abs + self.motion(solver.time)[0] + self.xc, self.dx, self.h, floor=self.level - self.depth, mat=0) - self.level
+        eta = surface_at(st, self.x_abs + self.face(solver.time), self.dx, self.h, floor=self.level - self.depth, mat=0) - self.level
         if self.zero is None:
             self.zero = eta
         eta -= self.zero
@@ -93,12 +99,12 @@ class AbsorbingMotion:
 
 
 def absorbing(motion, cfg, depth, still_level, x_paddle=0.0):
-    """Wrap a piston Motion for paddle.absorb: the gauge moves with the paddle, a smoothing length
+    """Wrap a paddle's Motion for paddle.absorb: the gauge moves with the paddle, a smoothing length
     in front of its face (the paddle's mean position is x_paddle)."""
     from .wavemaker import linear_wave
     p, dx = cfg["paddle"], cfg["numerics"]["dx"]
     h = cfg["numerics"]["h_factor"] * dx
-    omega, k, _, _, F = linear_wave(cfg, depth)   # a piston's (absorb is refused for any other); the peak's
+    omega, k, _, _, F = linear_wave(cfg, depth)   # the paddle's transfer; the peak's
     target = None
     if p.get("spectrum"):
         from .irregular import irregular_elevation
@@ -107,17 +113,17 @@ def absorbing(motion, cfg, depth, still_level, x_paddle=0.0):
 
 
 def check_absorb(p):
-    """paddle.absorb: a piston's first-order waves, regular or from a spectrum (the target is their
-    linear wave)."""
+    """paddle.absorb: a piston's or a flap's first-order waves, regular or from a spectrum (the target
+    is their linear wave)."""
     from .config import ConfigError
     if not p.get("absorb"):
         return
-    for key, bad, what in (("type", p["type"] != "piston", "a piston"), ("series", p["series"], "no series"),
+    for key, bad, what in (("series", p["series"], "no series"),
                            ("order", p["order"] != 1, "order 1")):
         if bad:
             raise ConfigError("paddle.absorb", True, f"false with paddle.{key} = {p[key]!r}",
                               f"active absorption here is for {what}: its target is the linear wave of a "
-                              "piston's first-order stroke")
+                              "paddle's first-order stroke")
 
 
 def with_control(motion, control=None):

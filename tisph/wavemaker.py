@@ -1,5 +1,5 @@
 """Paddle motions for wave makers: piston or flap (hinged at the bottom), a ramped sine or a
-(t, displacement) CSV series; paddle.absorb wraps a piston's in active absorption (tisph/awas.py).
+(t, displacement) CSV series; paddle.absorb wraps either in active absorption (tisph/awas.py).
 
 A motion is a callable m(t) -> (displacement, rate): metres and m/s for a piston, radians and
 rad/s for a flap (the solver rotates the paddle about its hinge). For a flap the stroke S is the
@@ -76,7 +76,11 @@ class Motion:
         return X, V
 
     def __call__(self, t):
-        X, V = self.surface(t)
+        return self.at_level(*self.surface(t))
+
+    def at_level(self, X, V):
+        """The solver's motion for a displacement X and rate V at the still-water level: a
+        piston's own, a flap's angle about its hinge and its rate."""
         if self.kind == "flap":
             L = self.lever
             return math.atan2(X, L), V * L / (L * L + X * X)
@@ -257,7 +261,7 @@ PADDLE_DEFAULTS = {
     "ramp_periods": 2.0,    # periods over which the stroke ramps up (no start-up transient)
     "series": "",           # CSV of t, displacement (m or rad): a measured paddle signal instead of a sine
     "order": 1,             # 1: a sine; 2: with Madsen's second-order stroke (a piston's regular waves)
-    "absorb": False,        # active absorption: the piston corrects its motion from the surface it sees (tisph/awas.py)
+    "absorb": False,        # active absorption: the paddle corrects its motion from the surface it sees (tisph/awas.py)
     "duration": 0.0,        # s: the paddle ramps down (over ramp_periods) to stand still at this time; 0: it runs to the end
 }
 PADDLE_RANGES = {"paddle.stroke": (0.0, None, False, True), "paddle.wave_height": (0.0, None, True, True),
