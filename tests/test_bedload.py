@@ -519,6 +519,32 @@ def test_a_tunnel_run_too_short_for_its_period_says_the_end_time_it_needs():
     assert any("run.end_time = 60 s gives 200" in str(x.message) for x in w)
 
 
+def test_a_tunnel_bed_faster_than_the_default_s_says_the_morfac_that_keeps_it_as_slow():
+    """The bed load's turnover (wave periods to move one predicted ripple's sand) is the flux of the
+    formula averaged over a period: at the default tunnel 6.8 periods at morfac 10, which is the
+    limit's reference, so the default is at its limit and not warned; at mobility 145 (d0 = 0.4 m,
+    T = 1.5 s) the bed turns over 2.4 times as fast and the run says morfac 4.2."""
+    import warnings
+    from tisph.runner import resolve
+    from tisph.scenes import tunnel
+    from tisph.sediment.transport import ripple_turnover_periods, shear_waves, transport_scale
+    cfg = resolve(tunnel, None, {})
+    assert tunnel.turnover_periods(cfg) == pytest.approx(6.83, abs=0.01)
+    assert tunnel.MORFAC_TURNOVER == pytest.approx(tunnel.turnover_periods(cfg))
+    assert tunnel.morfac_limit(cfg) == pytest.approx(10.0)
+    # the turnover from its definition: the ripple's sand at the packing over the period-mean flux
+    d0, T, D = 0.3, 2.0, 0.0003
+    theta = np.array([float(shear_waves(np.pi * d0 / T * np.sin(w), 0.5 * d0, D)) for w in (np.arange(4000) + 0.5) * np.pi / 4000])
+    q = np.mean(bedload_mpm(theta / ((2650 - 1000) * 9.81 * D), shields_critical(D, 2.65))) * transport_scale(D, 2.65)
+    assert ripple_turnover_periods(d0, T, D, 2.65, 0.186, 0.03162) == pytest.approx(0.6 * 0.5 * 0.186 * 0.03162 / (q * T), rel=2e-3)
+    for ov, warned in (({}, None), ({"geometry.orbital_diameter": 0.4, "geometry.period": 1.5}, "morfac = 4.2 keeps")):
+        with warnings.catch_warnings(record=True) as w:
+            warnings.simplefilter("always")
+            tunnel.build(resolve(tunnel, None, ov))
+        msgs = [str(x.message) for x in w if "sediment.morfac" in str(x.message)]
+        assert (warned in msgs[0]) if warned else not msgs, msgs
+
+
 def test_the_near_bed_window_holds_one_period_as_a_deque_would():
     """outer.Window keeps the rows of the last wave period in preallocated arrays: after each of
     500 updates (several regrowths and compactions of its buffer) its rows are those a deque

@@ -203,7 +203,8 @@ def test_validate_quick_runs_every_case(tmp_path):
 
 def test_ripple_sweep_cases_and_dry_run(tmp_path):
     """--ripples: at least 8 cases with ripples over mobility 20-180 and d0 0.15-0.6 m, T 1.5-3.5 s,
-    two above 240, each periodic length holding at least six predicted ripples; the seeded and
+    two above 240, each periodic length holding at least six predicted ripples, each run 200 bed
+    periods, the faster beds at a lower morfac; the seeded and
     resolution runs of the calibration case; --dry-run runs the whole path through the Dask sweep
     and writes the table, the CSV and both figures."""
     from tisph.bench import ripples as rb
@@ -216,9 +217,16 @@ def test_ripple_sweep_cases_and_dry_run(tmp_path):
                for _, kind, ov in cases if kind == "sheet")
     for _, _, ov in cases:
         lam = rb.wiberg_harris(ov["geometry.orbital_diameter"], rb.GRAIN)[0]
-        assert ov["geometry.length"] >= 6 * lam and ov["run.end_time"] == rb.PERIODS * ov["geometry.period"]
+        assert ov["geometry.length"] >= 6 * lam
+        # 200 bed periods, at a morfac that turns the bed over no faster than the default tunnel's
+        assert ov["run.end_time"] * ov["sediment.morfac"] / ov["geometry.period"] == pytest.approx(rb.BED_PERIODS, rel=1e-3)
+        assert ov["sediment.morfac"] <= rb.MORFAC
+    assert [ov["sediment.morfac"] for _, _, ov in cases if ov["geometry.orbital_diameter"] == 0.4] == [5.9, 4.2]
     assert {k for _, k, _ in cases} == {"calibration", "check", "sheet", "seeded", "resolution"}
     assert rb.held_bed_periods(np.array([0.0, 1.0, 2.0, 3.0]), np.array([0.3, 0.2, 0.2, 0.2]), 1.0, 10.0) == 20.0
+    # in the band (d0 = 0.3: 0.15-0.225 m) from t = 1 on, two lengths in it taking turns
+    t, lam = np.arange(6.0), np.array([0.3, 0.2, 0.17, 0.2, 0.17, 0.2])
+    assert rb.held_bed_periods(t, lam, 1.0, 10.0, 0.3) == 40.0 and rb.held_bed_periods(t, lam, 1.0, 10.0) == 0.0
     assert bench.main(["--ripples", "--dry-run", "--out", str(tmp_path)]) == 0
     for f in ("ripples.md", "ripples.csv", "ripples.png", "growth.png"):
         assert (tmp_path / "ripples" / f).stat().st_size > 100

@@ -8,7 +8,9 @@ a check the constants were not chosen on.
 
 Each case's periodic length holds at least 6.5 predicted ripples, its dx gives the predicted
 ripple 18.6 spacings (as in the default tunnel; 5 mm to 2 cm), its water is at least half d0 deep,
-and it runs 20 wave periods (200 periods of bed change at morfac 10). Writes OUT/ripples.md, ripples.csv, ripples.png (length
+its random bed is the tunnel's (RMS 1 % of d0), and it runs 200 periods of bed change (wave periods x
+morfac) at morfac 10, or at the lower morfac that keeps the bed turning over no faster in each wave
+period than in the default tunnel (tunnel.morfac_limit). Writes OUT/ripples.md, ripples.csv, ripples.png (length
 and steepness against d0 with the bands) and growth.png (the length against bed periods).
 """
 import math
@@ -23,10 +25,12 @@ from .common import table
 
 GRAIN = 0.0003                 # d50 (m): the tunnel's default
 S_GRAIN = 2.65                 # quartz
-PERIODS = 20                   # wave periods per case
+PERIODS = 20                   # wave periods per case at morfac 10
+BED_PERIODS = 200              # periods of bed change (wave periods x morfac) per case
 MIN_RIPPLES = 6.5              # predicted ripples in the periodic length
 CALIBRATION = (0.3, 2.0)
 RIPPLE_DX = 18.6               # predicted ripple length over dx in every case (the default tunnel's)
+MORFAC = 10.0                  # the default tunnel's, where the bed turns over no faster than there
 # (d0 m, T s): mobility 20-170 with ripples, and two above 240 (sheet flow)
 SWEEP = [(0.15, 1.5), (0.2, 2.0), (0.3, 3.0), (0.45, 3.5), (0.3, 2.0), (0.6, 3.5), (0.5, 2.5),
          (0.4, 1.75), (0.4, 1.5), (0.5, 1.75), (0.6, 1.6), (0.55, 1.4)]
@@ -61,22 +65,40 @@ def water_depth(d0):
     return round(max(0.15, 0.5 * d0), 3)
 
 
+def case_morfac(d0, T):
+    """The default tunnel's morfac, or less where the bed would turn over faster in each wave period
+    than in the default tunnel (tunnel.morfac_limit), to a tenth."""
+    from ..runner import resolve
+    from ..scenes import tunnel
+    cfg = resolve(tunnel, None, {"geometry.orbital_diameter": d0, "geometry.period": T})
+    return min(MORFAC, math.floor(tunnel.morfac_limit(cfg) * 10) / 10)
+
+
+def seed_rms(d0):
+    """The tunnel's own random bed for d0 (geometry.roughness x d0), given as a number so a
+    case's inputs say it."""
+    from ..scenes import tunnel
+    return round(tunnel.DEFAULTS["geometry"]["roughness"] * d0, 6)
+
+
 def cases(quick=False):
     """[(label, kind, overrides)] of the sweep: kind 'calibration', 'check', 'sheet', 'seeded',
     'resolution'."""
     out = []
     for d0, T in SWEEP:
         kind = ("calibration" if (d0, T) == CALIBRATION else "sheet" if mobility(d0, T) > 240 else "check")
-        dx = resolved_dx(d0)
+        dx, m = resolved_dx(d0), case_morfac(d0, T)
         out.append((f"d0 {d0:g} T {T:g}", kind, {"geometry.orbital_diameter": d0, "geometry.period": T,
                                                   "geometry.length": periodic_length(d0, dx),
                                                   "geometry.water_depth": water_depth(d0),
-                                                  "run.end_time": PERIODS * T, "numerics.dx": dx}))
+                                                  "sediment.seed_rms": seed_rms(d0), "sediment.morfac": m,
+                                                  "run.end_time": round(BED_PERIODS * T / m, 2),
+                                                  "numerics.dx": dx}))
     d0, T = CALIBRATION
     dx = resolved_dx(d0)
     base = {"geometry.orbital_diameter": d0, "geometry.period": T, "geometry.length": periodic_length(d0, dx),
-            "geometry.water_depth": water_depth(d0),
-            "run.end_time": PERIODS * T, "numerics.dx": dx}
+            "geometry.water_depth": water_depth(d0), "sediment.seed_rms": seed_rms(d0),
+            "sediment.morfac": MORFAC, "run.end_time": PERIODS * T, "numerics.dx": dx}
     for f in (0.3, 1.5):
         out.append((f"seeded {f:g} d0", "seeded", dict(base, **{"geometry.seed_ripple_length": f * d0,
                                                                 "geometry.seed_ripple_height": 0.17 * f * d0 * 0.5})))
@@ -96,13 +118,18 @@ def growth(path):
     return np.array(cols["t"]), np.array(cols["ripple_length"])
 
 
-def held_bed_periods(t, lam, T, morfac=10.0):
-    """Bed periods (wave periods x morfac) since the ripple count last changed, to the run's end:
-    how long the final length has held. 0 without a series."""
+def held_bed_periods(t, lam, T, morfac=10.0, d0=None):
+    """Bed periods (wave periods x morfac) to the run's end since the ripple count last changed:
+    how long the final length has held; with d0, for a bed that ends in the band, since its length
+    was last outside the band (a small ripple counted in one sample and not the next moves the
+    count between two lengths in the band). 0 without a series."""
     if len(t) < 2:
         return 0.0
     lam = np.where(np.isfinite(lam), lam, -1.0)
-    changed = np.nonzero(lam[1:] != lam[:-1])[0]
+    if d0 is not None and BAND[0] <= lam[-1] / d0 <= BAND[1]:
+        changed = np.nonzero((lam[:-1] / d0 < BAND[0]) | (lam[:-1] / d0 > BAND[1]))[0]
+    else:
+        changed = np.nonzero(lam[1:] != lam[:-1])[0]
     since = t[changed[-1] + 1] if len(changed) else t[0]
     return float((t[-1] - since) / T * morfac)
 
@@ -135,12 +162,13 @@ def rows_from(out, plan):
         steep = (float(h) / lam) if (h is not None and count > 0 and lam > 0) else \
             float(m.get("bed_change_rms") or 0.0) * 2.83 / ov["geometry.length"]
         rows.append(dict(label=label, kind=kind, d0=d0, T=T, psi=mobility(d0, T), dx=ov["numerics.dx"],
+                         morfac=ov["sediment.morfac"],
                          length=ov["geometry.length"], lam_d0=lam / d0, steepness=steep, count=count,
                          rho_max=num(s.get("max_density_error")), rho_mean=num(s.get("mean_density_error")),
                          near_bed=num(m.get("near_bed_velocity_ratio")),
                          particles=s.get("particles", 0), steps=s.get("steps", 0), wall=num(s.get("wall_time_s")), status=s.get("status"), dir=os.path.join(out, cid)))
         t, lam_t = growth(os.path.join(out, cid, "probes.csv"))
-        rows[-1]["held"] = held_bed_periods(t, lam_t, T, float(m.get("morfac") or 10.0))
+        rows[-1]["held"] = held_bed_periods(t, lam_t, T, ov["sediment.morfac"], d0)
         rows[-1]["in_band"] = in_band(rows[-1])
     return rows
 
@@ -174,10 +202,10 @@ def plot(rows, path_fig, path_growth):
     for k, r in enumerate(shown):
         t, lam = growth(os.path.join(r["dir"], "probes.csv"))
         if len(t):
-            ax.plot(t / r["T"] * 10.0, lam / r["d0"], color=f"C{k % 10}", lw=1.2,
+            ax.plot(t / r["T"] * r["morfac"], lam / r["d0"], color=f"C{k % 10}", lw=1.2,
                     ls="-" if k < 10 else "--", label=f"{r['label']} ({r['kind']})")
     ax.axhspan(*BAND, color="0.9")
-    ax.set_xlabel("bed periods (wave periods x morfac 10)")
+    ax.set_xlabel("bed periods (wave periods x morfac)")
     ax.set_ylabel("mean ripple length / d0")
     ax.set_ylim(0, 2)
     ax.grid(alpha=0.3)
@@ -186,10 +214,11 @@ def plot(rows, path_fig, path_growth):
 
 
 def report(rows, wall):
-    head = ("case", "kind", "d0 m", "T s", "mobility", "dx m", "ripples", "length / d0", "steepness", "in band",
-            "held (bed periods)",
+    head = ("case", "kind", "d0 m", "T s", "mobility", "dx m", "morfac", "ripples", "length / d0", "steepness", "in band",
+            "held in the band (bed periods)",
             "density error max / mean", "near-bed at z_r / U_m", "particles", "steps", "wall s")
-    body = [(r["label"], r["kind"], f"{r['d0']:g}", f"{r['T']:g}", f"{r['psi']:.0f}", f"{r['dx']:g}", r["count"],
+    body = [(r["label"], r["kind"], f"{r['d0']:g}", f"{r['T']:g}", f"{r['psi']:.0f}", f"{r['dx']:g}", f"{r['morfac']:g}",
+             r["count"],
              f"{r['lam_d0']:.2f}", f"{r['steepness']:.3f}", "yes" if r["in_band"] else "**no**", f"{r['held']:.0f}",
              f"{r['rho_max']:.1%} / {r['rho_mean']:.2%}", f"{r['near_bed']:.2f}", r["particles"], r["steps"],
              f"{r['wall']:.0f}") for r in rows]

@@ -33,8 +33,9 @@ from ..case import make_case
 from ..runner import common_params, run_scene, sound_speed
 from ..materials import BINGHAM_SAND, WATER
 from ..probes.gauges import surface_heights
-from ..probes.plots import pyplot, save
+from ..probes.ripple_plots import plot_bed, plot_growth
 from ..sediment import coupling
+from ..sediment.transport import ripple_turnover_periods
 
 NAME = "tunnel"
 # periods of bed change (wave periods x morfac) a run needs: the ripples' growth and 100 held
@@ -53,14 +54,19 @@ DEFAULTS = {
                  # > 0: the bed starts rippled, crest to trough this high (m), at the predicted
                  # length rounded to fit the periodic length: does the bed keep, grow or lose them?
                  "seed_ripple_height": 0.0,
-                 "seed_ripple_length": 0.0},    # m; 0: the predicted length (rounded to fit the periodic length)
+                 "seed_ripple_length": 0.0,     # m; 0: the predicted length (rounded to fit the periodic length)
+                 # the random bed's RMS roughness over d0 where sediment.seed_rms = 0 (3 mm at the
+                 # default d0): where the ripples end depends on it (docs/sediment.md), so it
+                 # follows d0; 0 and seed_rms = 0: a flat bed
+                 "roughness": 0.01},
     "materials": {"water": dict(WATER), "sand": dict(BINGHAM_SAND)},     # the beach's water and sand
     # sediment.model = "bedload": the bed below particle scale (tisph/sediment); grain_density is
     # the grains' own (quartz), not the saturated bed's
-    "sediment": dict(coupling.DEFAULTS, **coupling.WAVE_RIPPLES, morfac=10.0, seed_rms=0.003),
+    "sediment": dict(coupling.DEFAULTS, **coupling.WAVE_RIPPLES, morfac=10.0),   # seed_rms: geometry.roughness
     "output": {"frame_interval": 0.05, "probe_interval": 0.05, "width": 960},
 }
 RANGES = {f"geometry.{k}": (0.0, None, k.startswith("seed_ripple"), True) for k in DEFAULTS["geometry"]}
+RANGES["geometry.roughness"] = (0.0, 0.1, True, True)
 RANGES.update(coupling.RANGES)
 RANGES["sediment.grain_density"] = (1000.0, None, False, True)
 CHOICES = dict(coupling.CHOICES)
@@ -103,6 +109,34 @@ class TunnelDrive:
     def update(self, s):
         u_t, dudt = free_stream(s.time, self.Um, self.omega, self.period)
         self.ctl.update(s, u_t - s.mean_velocity(0, above=self.y_free), dudt)
+
+
+def turnover_periods(cfg):
+    """Wave periods the bed load takes to move one predicted ripple's sand at this morfac
+    (transport.ripple_turnover_periods over morfac)."""
+    g, sed = cfg["geometry"], cfg["sediment"]
+    lam, eta, _ = wiberg_harris(g["orbital_diameter"], g["grain_diameter"])
+    s = sed["grain_density"] / cfg["materials"]["water"]["rho0"]
+    return ripple_turnover_periods(g["orbital_diameter"], g["period"], g["grain_diameter"], s, lam, eta,
+                                   sed["porosity"], sed["formula"]) / sed["morfac"]
+
+
+def morfac_limit(cfg):
+    """The largest morfac at which the bed turns over no faster, in wave periods, than in the
+    default tunnel (MORFAC_TURNOVER): the morphological factor assumes the bed all but still
+    through a wave period (Roelvink 2006). At mobility 145 (d0 = 0.4 m, T = 1.5 s, 2.9 periods a
+    ripple at morfac 10) the ripples coarsened to 1.0 d0 at morfac 10 and held 0.58 d0 at 3."""
+    return cfg["sediment"]["morfac"] * turnover_periods(cfg) / MORFAC_TURNOVER
+
+
+# the default tunnel's bed: one ripple's sand in 6.8 wave periods at morfac 10
+MORFAC_TURNOVER = turnover_periods(DEFAULTS)
+
+
+def seed_rms(cfg):
+    """The random bed's RMS (m): sediment.seed_rms, or geometry.roughness x d0 where it is 0
+    (rounded to a nanometre: the same RMS typed as a number gives the same bed)."""
+    return cfg["sediment"]["seed_rms"] or round(cfg["geometry"]["roughness"] * cfg["geometry"]["orbital_diameter"], 9)
 
 
 def seed_count(geo, lam_wh):
@@ -178,7 +212,7 @@ def build(cfg):
         if not bed_rows:
             return
         write_station_rows(os.path.join(out, "bed_profile.csv"), stations, bed_rows)
-        _plot_bed(os.path.join(out, "bed_profile.png"), np.array(bed_rows), stations, geo, dx, lam_wh, eta_wh)
+        plot_bed(os.path.join(out, "bed_profile.png"), np.array(bed_rows), stations, geo, dx, lam_wh, eta_wh)
 
     return make_case(name=NAME, particles=ps, materials=materials, domain=domain, params=params, physics=physics,
                 view=((0.0, -L * dx), (Lx, ytop + 2 * dx)), u_max=u_max,
@@ -217,54 +251,6 @@ def _particles(cfg, c0, a_seed, n_seed):
     return ps
 
 
-def _plot_bed(path, arr, stations, geo, dx, lam_wh, eta_wh, level=None):
-    """The bed change at five times (level: the bed itself above that level, from the start),
-    with the predicted equilibrium ripple for scale."""
-    Lx, Tp = geo["length"], geo["period"]
-    plt = pyplot()
-    fig, ax = plt.subplots(figsize=(8, 3))
-    times = np.linspace(arr[0, 0], arr[-1, 0], 5)
-    for tt in (times if level is not None else times[1:]):
-        r = arr[np.argmin(np.abs(arr[:, 0] - tt))]
-        base = level if level is not None else arr[0, 1:]
-        ax.plot(stations, 1e3 * (r[1:] - base), lw=0.9, label=f"t = {r[0]:.1f} s")
-    # the predicted equilibrium ripple, for scale
-    xr = np.linspace(0.0, min(Lx, 2 * lam_wh), 100)
-    ax.plot(xr, 1e3 * 0.5 * eta_wh * np.sin(2 * np.pi * xr / lam_wh), "k--", lw=0.8,
-            label=f"Wiberg & Harris: {100 * lam_wh:.1f} cm x {100 * eta_wh:.1f} cm")
-    ax.axhspan(-0.5e3 * dx, 0.5e3 * dx, color="0.93")
-    ax.set_xlabel("x (m)")
-    ax.set_ylabel("bed change (mm)" if level is None else "bed level (mm)")
-    ax.set_title(f"oscillating tunnel, d0 = {geo['orbital_diameter']:g} m, T = {Tp:g} s "
-                 f"(grey: +-dx/2)", fontsize=9)
-    ax.legend(fontsize=7, ncol=2)
-    save(fig, path)
-
-
-def _plot_growth(path, c, geo, morfac):
-    """Ripple length / d0 and steepness (the probe columns c) against bed periods (t morfac / T),
-    with the bands of Wiberg & Harris and van der A (0.5-0.75 d0, steepness 0.10-0.20)."""
-    d0, Tp = geo["orbital_diameter"], geo["period"]
-    lm, hr = np.asarray(c["ripple_length"], float), np.asarray(c["ripple_height"], float)
-    per = np.asarray(c["t"], float) * morfac / Tp
-    lam = lm / d0
-    with np.errstate(invalid="ignore", divide="ignore"):
-        st = np.where(lm > 0, hr / lm, np.nan)
-    plt = pyplot()
-    fig, (a1, a2) = plt.subplots(2, 1, figsize=(7, 4.5), sharex=True)
-    a1.plot(per, lam, lw=1.0)
-    a1.axhspan(0.5, 0.75, color="0.9", label="0.5-0.75 d0")
-    a1.set_ylabel("ripple length / d0")
-    a1.legend(fontsize=7, loc="upper left")
-    a2.plot(per, st, lw=1.0)
-    a2.axhspan(0.10, 0.20, color="0.9", label="0.10-0.20")
-    a2.set_ylabel("steepness")
-    a2.set_xlabel(f"bed periods (t x morfac {morfac:g} / T)")
-    a2.legend(fontsize=7, loc="upper left")
-    fig.suptitle(f"ripple growth, d0 = {d0:g} m, T = {Tp:g} s", fontsize=10)
-    save(fig, path)
-
-
 def _build_bedload(cfg):
     """The tunnel over a morphodynamic bed: water only, over BED particles that follow z_b."""
     geo, num, sed = cfg["geometry"], cfg["numerics"], cfg["sediment"]
@@ -279,15 +265,24 @@ def _build_bedload(cfg):
     lam_wh, eta_wh, regime = wiberg_harris(d0, geo["grain_diameter"])
     warn_unresolved(lam_wh, dx, "(Wiberg & Harris for d0)")
     bed_periods = cfg["run"]["end_time"] / geo["period"] * sed["morfac"]
-    if bed_periods < BED_PERIODS:
+    if bed_periods < 0.99 * BED_PERIODS:            # a rounded end time is not short
         import warnings
         warnings.warn(f"run.end_time = {cfg['run']['end_time']:g} s is {bed_periods:.0f} periods of bed change "
                       f"(wave periods x morfac {sed['morfac']:g}): ripples take about 100 to reach their length and "
                       f"a run should show 100 more that it holds; run.end_time = "
                       f"{BED_PERIODS * geo['period'] / sed['morfac']:g} s gives {BED_PERIODS}")
+    limit = morfac_limit(cfg)
+    if sed["morfac"] > limit:
+        import warnings
+        warnings.warn(f"sediment.morfac = {sed['morfac']:g} moves the bed faster in each wave period than in the "
+                      f"default tunnel, where the ripple model was chosen (at d0 = {d0:g} m the bed load moves a "
+                      f"ripple's sand in {limit * MORFAC_TURNOVER / sed['morfac']:.2g} periods at this morfac, against "
+                      f"{MORFAC_TURNOVER:.2g}): ripples may coarsen past their length (docs/sediment.md); "
+                      f"sediment.morfac = {math.floor(limit * 10) / 10:g} keeps it as slow")
     n_seed = seed_count(geo, lam_wh)
     stations = (np.arange(int(round(Lx / dx))) + 0.5) * dx
     z = hs + 0.5 * geo["seed_ripple_height"] * np.sin(2 * np.pi * n_seed * stations / Lx)
+    sed = dict(sed, seed_rms=seed_rms(cfg))
     z = coupling.initial_bed(stations, z, sed, dx)
     ps = _bedload_particles(cfg, stations, z, c0)
     params = common_params(cfg, c0, G, depth=ytop)
@@ -323,7 +318,8 @@ def _build_bedload(cfg):
         out = dict(velocity_amplitude=Um, predicted_ripple_length=lam_wh, predicted_ripple_height=eta_wh,
                    predicted_regime=regime, morfac=sed["morfac"], sediment_model="bedload",
                    theta_cr=bed.bed.theta_cr, sand_volume_error=bed.volume_error(),
-                   mobility_number=Um ** 2 / ((sed["grain_density"] / rw - 1) * G * geo["grain_diameter"]))
+                   mobility_number=Um ** 2 / ((sed["grain_density"] / rw - 1) * G * geo["grain_diameter"]),
+                   bed_turnover_periods=turnover_periods(cfg), morfac_limit=limit)
         out.update(last_finite(c, ("ripple_length", "ripple_height", "bed_change_rms")))
         lam = out["ripple_length"]
         out["ripple_count"] = int(round(Lx / lam)) if np.isfinite(lam) and lam > 0 else 0   # exact: lam = Lx / count
@@ -338,9 +334,9 @@ def _build_bedload(cfg):
     def finalize(out, metrics):
         if rows:
             write_station_rows(os.path.join(out, "bed_profile.csv"), stations, rows)
-            _plot_bed(os.path.join(out, "bed_profile.png"), np.array(rows), stations, geo, dx, lam_wh, eta_wh,
+            plot_bed(os.path.join(out, "bed_profile.png"), np.array(rows), stations, geo, dx, lam_wh, eta_wh,
                       level=hs)
-            _plot_growth(os.path.join(out, "ripple_growth.png"), seen, geo, sed["morfac"])
+            plot_growth(os.path.join(out, "ripple_growth.png"), seen, geo, sed["morfac"])
 
     return make_case(name=NAME, particles=ps, materials=[dict(cfg["materials"]["water"], name="water",
                                                                B=tait_B(rw, c0))],

@@ -83,7 +83,8 @@ CHOICES = {"sediment.model": ("particles", "bedload"), "sediment.formula": ("mpm
 # One set of bed parameters for sand under waves, the tunnel's and the beach's (docs/sediment.md: which are
 # empirical, chosen on what); a scene adds only physical inputs (morfac, seed_rms). The pipeline's differ.
 WAVE_RIPPLES = dict(model="bedload", grain_density=2650.0, shear="waves", reference_height=1.5, outer_height=6.0,
-                    lee_vortex=0.5, separation_length=6.0, separation_slope=10.0, separation_excursion=0.6)
+                    lee_vortex=0.5, separation_length=6.0, separation_slope=10.0, separation_excursion=0.6,
+                    gravity_coefficient=1.7)
 # the water over it: no artificial viscosity (alpha h c0 / 8's Stokes layer is 1.6 dx at the tunnel's c0)
 WAVE_NUMERICS = dict(h_factor=1.3, artificial_viscosity=0.0, laminar_viscosity=True, density_diffusion="fourtakas",
                      delta=0.1)

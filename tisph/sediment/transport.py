@@ -111,3 +111,17 @@ def rouse_profile(z, depth, a, c_a, w_s, ustar, kappa=KAPPA):
     H = np.maximum(np.asarray(depth, float), 1.001 * a)
     ratio = np.clip((H - z) / z * a / (H - a), 0.0, None)
     return c_a * ratio ** (w_s / (kappa * ustar))
+
+
+def ripple_turnover_periods(d0, T, d50, s, ripple_length, ripple_height, porosity=0.4, formula="mpm"):
+    """Wave periods the flat bed's bed load takes to move one ripple's sand (its cross-section,
+    length x height / 2, at the bed's packing), for a near-bed oscillation U_m sin(omega t) of
+    orbital diameter d0 = U_m T / pi: Swart's shear, the threshold of Soulsby & Whitehouse and
+    the bed-load formula, averaged over the period. A morphological factor m makes the bed move
+    m times as far each period, so morfac <= this / MIN_TURNOVER keeps the bed all but still
+    through a wave period, as the factor assumes (Roelvink 2006)."""
+    Um = math.pi * d0 / T
+    fw = float(swart_friction_factor(0.5 * d0, d50))
+    theta = 0.5 * fw * Um * Um / ((s - 1.0) * G * d50) * np.sin((np.arange(400) + 0.5) * np.pi / 400) ** 2   # the half period's midpoints
+    q = float(np.mean(FORMULAE[formula](theta, shields_critical(d50, s)))) * transport_scale(d50, s)
+    return (1.0 - porosity) * 0.5 * ripple_length * ripple_height / (q * T) if q > 0 else float("inf")
