@@ -1,5 +1,5 @@
-"""Active wave absorption at a piston or flap paddle (paddle.absorb): the paddle corrects its motion from the
-surface elevation it sees, so waves coming back from the far end leave through it instead of
+"""Active wave absorption at a piston or flap paddle (paddle.absorb): the paddle corrects its motion
+from the surface elevation it sees, so waves coming back from the far end leave through it instead of
 reflecting and building a seiche (DualSPHysics' AWAS, Altomare et al. 2017; Schaffer & Klopman
 2000).
 
@@ -11,8 +11,9 @@ wave). The paddle adds the velocity of that wave, U_c = -G eta_R, with the gain
 G = omega / F(kh) that turns a wave elevation into the paddle velocity that makes it (F: Biesel's
 H/S, the piston's or the flap's; G = sqrt(g/h) for a piston in shallow water). A flap takes the
 correction as a displacement and velocity at the still-water level, where its stroke is defined,
-and turns them into its angle about the hinge (Motion.at_level), as its own stroke is. eta_R is taken as it was x_g / c ago (c = omega / k): the
-returning wave passes the gauge that long before it reaches the face the theory is written for.
+and turns them into its angle about the hinge (Motion.at_level), as its own stroke is. eta_R is
+taken as it was x_g / c ago (c = omega / k): the returning wave passes the gauge that long before
+it reaches the face the theory is written for.
 Without that delay (19 degrees of phase at T = 0.8 s, dx = 0.02) a closed flume kept twice the
 wave after the returning train had met the paddle (docs/waves.md). Its displacement is integrated,
 and pulled back towards the paddle's mean position over DRIFT_PERIODS periods so that the paddle

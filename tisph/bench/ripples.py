@@ -25,7 +25,6 @@ from .common import table
 
 GRAIN = 0.0003                 # d50 (m): the tunnel's default
 S_GRAIN = 2.65                 # quartz
-PERIODS = 20                   # wave periods per case at morfac 10
 BED_PERIODS = 200              # periods of bed change (wave periods x morfac) per case
 MIN_RIPPLES = 6.5              # predicted ripples in the periodic length
 CALIBRATION = (0.3, 2.0)
@@ -98,7 +97,7 @@ def cases(quick=False):
     dx = resolved_dx(d0)
     base = {"geometry.orbital_diameter": d0, "geometry.period": T, "geometry.length": periodic_length(d0, dx),
             "geometry.water_depth": water_depth(d0), "sediment.seed_rms": seed_rms(d0),
-            "sediment.morfac": MORFAC, "run.end_time": PERIODS * T, "numerics.dx": dx}
+            "sediment.morfac": MORFAC, "run.end_time": round(BED_PERIODS * T / MORFAC, 2), "numerics.dx": dx}
     for f in (0.3, 1.5):
         out.append((f"seeded {f:g} d0", "seeded", dict(base, **{"geometry.seed_ripple_length": f * d0,
                                                                 "geometry.seed_ripple_height": 0.17 * f * d0 * 0.5})))

@@ -125,7 +125,7 @@ def morfac_limit(cfg):
     """The largest morfac at which the bed turns over no faster, in wave periods, than in the
     default tunnel (MORFAC_TURNOVER): the morphological factor assumes the bed all but still
     through a wave period (Roelvink 2006). At mobility 145 (d0 = 0.4 m, T = 1.5 s, 2.9 periods a
-    ripple at morfac 10) the ripples coarsened to 1.0 d0 at morfac 10 and held 0.58 d0 at 3."""
+    ripple at morfac 10) the ripples coarsened to 1.0 d0 at morfac 10 and kept 0.58-0.67 d0 at 3."""
     return cfg["sediment"]["morfac"] * turnover_periods(cfg) / MORFAC_TURNOVER
 
 
@@ -271,12 +271,12 @@ def _build_bedload(cfg):
                       f"(wave periods x morfac {sed['morfac']:g}): ripples take about 100 to reach their length and "
                       f"a run should show 100 more that it holds; run.end_time = "
                       f"{BED_PERIODS * geo['period'] / sed['morfac']:g} s gives {BED_PERIODS}")
-    limit = morfac_limit(cfg)
+    turnover, limit = turnover_periods(cfg), morfac_limit(cfg)
     if sed["morfac"] > limit:
         import warnings
         warnings.warn(f"sediment.morfac = {sed['morfac']:g} moves the bed faster in each wave period than in the "
                       f"default tunnel, where the ripple model was chosen (at d0 = {d0:g} m the bed load moves a "
-                      f"ripple's sand in {limit * MORFAC_TURNOVER / sed['morfac']:.2g} periods at this morfac, against "
+                      f"ripple's sand in {turnover:.2g} periods at this morfac, against "
                       f"{MORFAC_TURNOVER:.2g}): ripples may coarsen past their length (docs/sediment.md); "
                       f"sediment.morfac = {math.floor(limit * 10) / 10:g} keeps it as slow")
     n_seed = seed_count(geo, lam_wh)
@@ -319,7 +319,7 @@ def _build_bedload(cfg):
                    predicted_regime=regime, morfac=sed["morfac"], sediment_model="bedload",
                    theta_cr=bed.bed.theta_cr, sand_volume_error=bed.volume_error(),
                    mobility_number=Um ** 2 / ((sed["grain_density"] / rw - 1) * G * geo["grain_diameter"]),
-                   bed_turnover_periods=turnover_periods(cfg), morfac_limit=limit)
+                   bed_turnover_periods=turnover, morfac_limit=limit)
         out.update(last_finite(c, ("ripple_length", "ripple_height", "bed_change_rms")))
         lam = out["ripple_length"]
         out["ripple_count"] = int(round(Lx / lam)) if np.isfinite(lam) and lam > 0 else 0   # exact: lam = Lx / count
