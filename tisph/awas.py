@@ -66,7 +66,8 @@ class AbsorbingMotion:
         dt = max(t - self.t_last, 0.0)
         self.t_last = t
         self.xc += dt * (self.uc - self.xc / (DRIFT_PERIODS * self.motion.T))
-        return self.motion.at_level(self.face(t), self.motion.surface(t)[1] + self.uc)
+        X, V = self.motion.surface(t)
+        return self.motion.at_level(X + self.xc, V + self.uc)
 
     def face(self, t):
         """The paddle's displacement at the still-water level, correction included."""

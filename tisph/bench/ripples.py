@@ -64,20 +64,15 @@ def water_depth(d0):
     return round(max(0.15, 0.5 * d0), 3)
 
 
-def case_morfac(d0, T):
-    """The default tunnel's morfac, or less where the bed would turn over faster in each wave period
-    than in the default tunnel (tunnel.morfac_limit), to a tenth."""
+def tunnel_bed(d0, T):
+    """(morfac, random bed's RMS) of the tunnel at d0, T: the default tunnel's morfac, or less where
+    the bed would turn over faster in each wave period than in the default tunnel
+    (tunnel.morfac_limit), to a tenth; and its own random bed (tunnel.seed_rms), given as a number
+    so a case's inputs say it."""
     from ..runner import resolve
     from ..scenes import tunnel
     cfg = resolve(tunnel, None, {"geometry.orbital_diameter": d0, "geometry.period": T})
-    return min(MORFAC, math.floor(tunnel.morfac_limit(cfg) * 10) / 10)
-
-
-def seed_rms(d0):
-    """The tunnel's own random bed for d0 (geometry.roughness x d0), given as a number so a
-    case's inputs say it."""
-    from ..scenes import tunnel
-    return round(tunnel.DEFAULTS["geometry"]["roughness"] * d0, 6)
+    return min(MORFAC, math.floor(tunnel.morfac_limit(cfg) * 10) / 10), tunnel.seed_rms(cfg)
 
 
 def cases(quick=False):
@@ -86,17 +81,17 @@ def cases(quick=False):
     out = []
     for d0, T in SWEEP:
         kind = ("calibration" if (d0, T) == CALIBRATION else "sheet" if mobility(d0, T) > 240 else "check")
-        dx, m = resolved_dx(d0), case_morfac(d0, T)
+        dx, (m, rms) = resolved_dx(d0), tunnel_bed(d0, T)
         out.append((f"d0 {d0:g} T {T:g}", kind, {"geometry.orbital_diameter": d0, "geometry.period": T,
                                                   "geometry.length": periodic_length(d0, dx),
                                                   "geometry.water_depth": water_depth(d0),
-                                                  "sediment.seed_rms": seed_rms(d0), "sediment.morfac": m,
+                                                  "sediment.seed_rms": rms, "sediment.morfac": m,
                                                   "run.end_time": round(BED_PERIODS * T / m, 2),
                                                   "numerics.dx": dx}))
     d0, T = CALIBRATION
-    dx = resolved_dx(d0)
+    dx, (_, rms) = resolved_dx(d0), tunnel_bed(d0, T)
     base = {"geometry.orbital_diameter": d0, "geometry.period": T, "geometry.length": periodic_length(d0, dx),
-            "geometry.water_depth": water_depth(d0), "sediment.seed_rms": seed_rms(d0),
+            "geometry.water_depth": water_depth(d0), "sediment.seed_rms": rms,
             "sediment.morfac": MORFAC, "run.end_time": round(BED_PERIODS * T / MORFAC, 2), "numerics.dx": dx}
     for f in (0.3, 1.5):
         out.append((f"seeded {f:g} d0", "seeded", dict(base, **{"geometry.seed_ripple_length": f * d0,

@@ -18,6 +18,7 @@ starts the bed rippled at the predicted length, to ask whether the bed keeps the
 import math
 import os
 import sys
+import warnings
 
 import numpy as np
 
@@ -266,14 +267,12 @@ def _build_bedload(cfg):
     warn_unresolved(lam_wh, dx, "(Wiberg & Harris for d0)")
     bed_periods = cfg["run"]["end_time"] / geo["period"] * sed["morfac"]
     if bed_periods < 0.99 * BED_PERIODS:            # a rounded end time is not short
-        import warnings
         warnings.warn(f"run.end_time = {cfg['run']['end_time']:g} s is {bed_periods:.0f} periods of bed change "
                       f"(wave periods x morfac {sed['morfac']:g}): ripples take about 100 to reach their length and "
                       f"a run should show 100 more that it holds; run.end_time = "
                       f"{BED_PERIODS * geo['period'] / sed['morfac']:g} s gives {BED_PERIODS}")
     turnover, limit = turnover_periods(cfg), morfac_limit(cfg)
     if sed["morfac"] > limit:
-        import warnings
         warnings.warn(f"sediment.morfac = {sed['morfac']:g} moves the bed faster in each wave period than in the "
                       f"default tunnel, where the ripple model was chosen (at d0 = {d0:g} m the bed load moves a "
                       f"ripple's sand in {turnover:.2g} periods at this morfac, against "
