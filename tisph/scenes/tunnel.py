@@ -135,9 +135,8 @@ MORFAC_TURNOVER = turnover_periods(DEFAULTS)
 
 
 def seed_rms(cfg):
-    """The random bed's RMS (m): sediment.seed_rms, or geometry.roughness x d0 where it is 0
-    (rounded to a nanometre: the same RMS typed as a number gives the same bed)."""
-    return cfg["sediment"]["seed_rms"] or round(cfg["geometry"]["roughness"] * cfg["geometry"]["orbital_diameter"], 9)
+    """The random bed's RMS (m): coupling.random_bed_rms for the tunnel's d0."""
+    return coupling.random_bed_rms(cfg["sediment"], cfg["geometry"]["roughness"], cfg["geometry"]["orbital_diameter"])
 
 
 def seed_count(geo, lam_wh):

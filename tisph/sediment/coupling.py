@@ -108,6 +108,13 @@ def refuse_unused_sediment_keys(cfg, scene_defaults):
                      for k, v in sed.items() if k != "model" and k in base and v != base[k]])
 
 
+def random_bed_rms(sed, roughness, d0):
+    """The random bed's RMS (m): sediment.seed_rms, or roughness x d0 where it is 0 (rounded to a
+    nanometre: the same RMS typed as a number gives the same bed). Where a random bed's ripples end
+    depends on its roughness over d0 (docs/sediment.md), so the tunnel and the beach scale it."""
+    return sed["seed_rms"] or round(roughness * d0, 9)
+
+
 def initial_bed(stations, z, sed, dx):
     """The initial bed: z plus a random perturbation of RMS seed_rms, smoothed over 2 dx (a white
     perturbation at one station would be a 1-dx spike) and rescaled to that RMS."""

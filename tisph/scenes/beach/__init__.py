@@ -11,8 +11,8 @@ water (paddle.stroke <= depth). So: still water 0.3 m deep over
 0.1 m of sand, flat to x = 1.5 m and then 1:20 to above the waterline at 7.5 m, 8 m long; T =
 2.5 s (kh = 0.45), stroke 0.26 m, Biesel H = 0.12 m, 0.3 mm quartz sand, dx 0.015, morfac 30 (16 s of
 flow move the bed as 480 s would: 190 wave periods). The lee vortex (sediment.lee_vortex,
-separation_*) is what grows ripples from the 5 mm random perturbation the bed starts with; the
-docs/sediment.md says what it does and what is measured.
+separation_*) is what grows ripples from the random bed it starts with (RMS 1 % of the toe's
+linear-wave d0, 2.5 mm: geometry.roughness); docs/sediment.md says what it does and what is measured.
 
 The paper's case (paper 000 section 5, Table 5, Figs. 17-28), scenes/beach_bingham_tau200.toml
 and beach_bingham_tau1000.toml: the sand as Bingham particles, 1950 kg/m3, mu_B = 0.1 Pa s,
@@ -75,7 +75,10 @@ DEFAULTS = {
                  "grain_diameter": 0.0003,
                  # wave gauges (m from the paddle's mean position): probes.csv eta_x..., and the
                  # wave height at each in summary.json (wave_height_at_gauges)
-                 "gauges_x": [1.0, 3.0, 4.5, 5.5, 6.5]},
+                 "gauges_x": [1.0, 3.0, 4.5, 5.5, 6.5],
+                 # the bed-load bed's random RMS over the linear-wave d0 at the toe where
+                 # sediment.seed_rms = 0 (2.5 mm at the default), as the tunnel's (docs/sediment.md)
+                 "roughness": 0.01},
     "paddle": dict(PADDLE_DEFAULTS, stroke=0.26, period=2.5, ramp_periods=1.0),
     "materials": {"water": dict(WATER), "sand": dict(BINGHAM_SAND)},
     # sediment.model = "bedload": the bed below particle scale (tisph/sediment, scenes/beach.toml);
@@ -83,11 +86,12 @@ DEFAULTS = {
     # the tunnel's bed parameters, the outer scaling included: the beach's near-wall layer is as thick
     # (at 1.5 dx the velocity amplitude is half of that 6 dx up) and the flow above it carries the
     # waves' flux at 0.89-1.02 of (H / 2) sqrt(g h) up the slope (docs/sediment.md)
-    "sediment": dict(coupling.DEFAULTS, **coupling.WAVE_RIPPLES, morfac=30.0, seed_rms=0.005),
+    "sediment": dict(coupling.DEFAULTS, **coupling.WAVE_RIPPLES, morfac=30.0),
     "output": {"frame_interval": 0.04, "probe_interval": 0.04, "width": 1280},
 }
 RANGES = {f"geometry.{k}": (0.0, None, False, True) for k in DEFAULTS["geometry"] if k != "gauges_x"}
 RANGES["geometry.slope"] = (1.0, None, True, True)
+RANGES["geometry.roughness"] = (0.0, 0.1, True, True)
 RANGES.update(PADDLE_RANGES)
 RANGES.update(coupling.RANGES)
 RANGES["sediment.grain_density"] = (1000.0, None, False, True)

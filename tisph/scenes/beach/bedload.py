@@ -45,12 +45,14 @@ def build_bedload(cfg, name, stills):
     rw = cfg["materials"]["water"]["rho0"]
     omega, k, wavelength, cg, hs_ratio = linear_wave(cfg, d)
     H_biesel = hs_ratio * p["stroke"]
-    warn_unresolved(0.62 * orbital_diameter(H_biesel, k, d), dx, "at the toe (Wiberg & Harris for the linear-wave d0)")
+    d0_toe = orbital_diameter(H_biesel, k, d)
+    warn_unresolved(0.62 * d0_toe, dx, "at the toe (Wiberg & Harris for the linear-wave d0)")
     warn_waves(cfg, H_biesel, k, d, linear_metric=False)
     c0, u_max = sound_speed(cfg, math.sqrt(G * (d + H_biesel)))
     L, h = num["wall_layers"], num["h_factor"] * dx
     T = L * dx
     stations = RIGID + (np.arange(int(round((Lf - RIGID) / dx))) + 0.5) * dx
+    sed = dict(sed, seed_rms=coupling.random_bed_rms(sed, geo["roughness"], d0_toe))
     z = coupling.initial_bed(stations, bed_profile(geo, stations), sed, dx)
 
     def density(y):
