@@ -204,9 +204,9 @@ def test_validate_quick_runs_every_case(tmp_path):
 def test_ripple_sweep_cases_and_dry_run(tmp_path):
     """--ripples: at least 8 cases with ripples over mobility 20-180 and d0 0.15-0.6 m, T 1.5-3.5 s,
     two above 240, each periodic length holding at least six predicted ripples, each run 200 bed
-    periods, the faster beds at a lower morfac; the seeded and
-    resolution runs of the calibration case; --dry-run runs the whole path through the Dask sweep
-    and writes the table, the CSV and both figures."""
+    periods (a seeded bed 300), the faster beds at a lower morfac; the seeded runs of the
+    calibration case, and its resolution pair at twice the length; --dry-run runs the whole path
+    through the Dask sweep and writes the table, the CSV and both figures."""
     from tisph.bench import ripples as rb
     cases = rb.cases()
     rip = [ov for _, kind, ov in cases if kind in ("check", "calibration")]
@@ -215,14 +215,19 @@ def test_ripple_sweep_cases_and_dry_run(tmp_path):
     assert sum(kind == "sheet" for _, kind, _ in cases) == 2
     assert all(rb.mobility(ov["geometry.orbital_diameter"], ov["geometry.period"]) > 240
                for _, kind, ov in cases if kind == "sheet")
-    for _, _, ov in cases:
+    for _, kind, ov in cases:
         lam = rb.wiberg_harris(ov["geometry.orbital_diameter"], rb.GRAIN)[0]
         assert ov["geometry.length"] >= 6 * lam
         # 200 bed periods, at a morfac that turns the bed over no faster than the default tunnel's
-        assert ov["run.end_time"] * ov["sediment.morfac"] / ov["geometry.period"] == pytest.approx(rb.BED_PERIODS, rel=1e-3)
+        periods = rb.SEEDED_BED_PERIODS if kind == "seeded" else rb.BED_PERIODS
+        assert ov["run.end_time"] * ov["sediment.morfac"] / ov["geometry.period"] == pytest.approx(periods, rel=1e-3)
         assert ov["sediment.morfac"] <= rb.MORFAC
     assert [ov["sediment.morfac"] for _, _, ov in cases if ov["geometry.orbital_diameter"] == 0.4] == [5.9, 4.2]
     assert {k for _, k, _ in cases} == {"calibration", "check", "sheet", "seeded", "resolution"}
+    pair = [ov for _, kind, ov in cases if kind == "resolution"]
+    assert len(pair) == 2 and pair[0]["geometry.length"] >= 12 * rb.wiberg_harris(0.3, rb.GRAIN)[0]
+    assert pair[1]["numerics.dx"] == pytest.approx(pair[0]["numerics.dx"] / 1.5, rel=1e-4)
+    assert {k: v for k, v in pair[0].items() if k != "numerics.dx"} == {k: v for k, v in pair[1].items() if k != "numerics.dx"}
     assert rb.held_bed_periods(np.array([0.0, 1.0, 2.0, 3.0]), np.array([0.3, 0.2, 0.2, 0.2]), 1.0, 10.0) == 20.0
     # in the band (d0 = 0.3: 0.15-0.225 m) from t = 1 on, two lengths in it taking turns
     t, lam = np.arange(6.0), np.array([0.3, 0.2, 0.17, 0.2, 0.17, 0.2])

@@ -33,6 +33,8 @@ MUTATIONS = {
         m.Bed, "step", lambda self, tau, dt, deposit=None: np.zeros_like(self.z)), "the bed-load bed never moves"),
     "lee_vortex": ("tisph.sediment.lee", "lee_vortex_shear", lambda m: setattr(
         m, "lee_vortex_shear", lambda tau, *a, **k: tau), "the ripples' lee vortex"),
+    "vortex_throw": ("tisph.sediment.lee", "vortex_throw", lambda m: setattr(
+        m, "vortex_throw", lambda zones, q, *a, **k: np.zeros(len(q))), "the lee vortex's throw over the crest"),
     "shepard": ("tisph.physics.shepard", "Shepard", lambda m: setattr(
         m.Shepard, "after_step", lambda self, S: None), "the Shepard filter never runs"),
     "bed_load": ("tisph.sediment.transport", "bedload_mpm", "zero_py", "Meyer-Peter & Mueller's bed load"),

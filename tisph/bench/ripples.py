@@ -26,6 +26,7 @@ from .common import table
 GRAIN = 0.0003                 # d50 (m): the tunnel's default
 S_GRAIN = 2.65                 # quartz
 BED_PERIODS = 200              # periods of bed change (wave periods x morfac) per case
+SEEDED_BED_PERIODS = 300       # a seeded bed must change its length first, then hold it
 MIN_RIPPLES = 6.5              # predicted ripples in the periodic length
 CALIBRATION = (0.3, 2.0)
 RIPPLE_DX = 18.6               # predicted ripple length over dx in every case (the default tunnel's)
@@ -95,8 +96,13 @@ def cases(quick=False):
             "sediment.morfac": MORFAC, "run.end_time": round(BED_PERIODS * T / MORFAC, 2), "numerics.dx": dx}
     for f in (0.3, 1.5):
         out.append((f"seeded {f:g} d0", "seeded", dict(base, **{"geometry.seed_ripple_length": f * d0,
-                                                                "geometry.seed_ripple_height": 0.17 * f * d0 * 0.5})))
-    out.append(("dx / 1.5", "resolution", dict(base, **{"numerics.dx": round(dx / 1.5, 6)})))
+                                                                "geometry.seed_ripple_height": 0.17 * f * d0 * 0.5,
+                                                                "run.end_time": round(SEEDED_BED_PERIODS * T / MORFAC, 2)})))
+    # dx against dx / 1.5 in twice the length (13 predicted ripples, so one ripple is 8 % of the
+    # count), both on the gather pass so the two differ only in dx
+    twice = dict(base, **{"geometry.length": 2 * base["geometry.length"], "run.pair_once": "off"})
+    out.append(("twice the length, dx", "resolution", twice))
+    out.append(("twice the length, dx / 1.5", "resolution", dict(twice, **{"numerics.dx": round(dx / 1.5, 6)})))
     if quick:   # exercise every path in seconds
         out = [(lab, kind, dict(ov, **{"run.end_time": 0.2, "geometry.length": 0.3, "numerics.dx": 0.015}))
                for lab, kind, ov in out[:1] + out[-1:]]
@@ -173,7 +179,7 @@ def plot(rows, path_fig, path_growth):
     fig, (a1, a2) = plt.subplots(1, 2, figsize=(10, 4))
     marks = {"calibration": ("*", "C3", "calibration case"), "check": ("o", "C0", "checks"),
              "sheet": ("x", "C2", "sheet flow (mobility > 240)"), "seeded": ("s", "C1", "seeded 0.3 / 1.5 d0"),
-             "resolution": ("^", "C4", "dx / 1.5")}
+             "resolution": ("^", "C4", "twice the length, dx and dx / 1.5")}
     for kind, (m, c, lab) in marks.items():
         rr = [r for r in rows if r["kind"] == kind]
         if not rr:
@@ -221,12 +227,15 @@ def report(rows, wall):
     n_len = sum(BAND[0] <= r["lam_d0"] <= BAND[1] for r in rip)
     n_st = sum(STEEP_BAND[0] <= r["steepness"] <= STEEP_BAND[1] for r in rip)
     cost = sum(r["wall"] for r in rows if np.isfinite(r["wall"]))
+    pair = [r for r in rows if r["kind"] == "resolution"]
+    res = (f"At twice the length, dx / 1.5 against dx: {pair[1]['count']} against {pair[0]['count']} ripples, "
+           f"lengths {abs(pair[1]['lam_d0'] / pair[0]['lam_d0'] - 1):.0%} apart." if len(pair) == 2 else "")
     return "\n".join(["# Ripples against the orbital diameter", "",
                       f"{len(rows)} tunnel cases, {ok} in the band (length 0.5-0.75 d0 and steepness 0.10-0.20; "
                       f"sheet flow: steepness under {SHEET_STEEPNESS}). Of the {len(rip)} with ripples, {n_len} have "
                       f"their length in the band and {n_st} their steepness. The cases' wall times add up to "
                       f"{cost:.0f} s ({wall:.0f} s of wall time for this call, on the sweep's workers).", "",
-                      table(head, body), "", "![length and steepness against d0](ripples.png)", "",
+                      table(head, body), "", res, "", "![length and steepness against d0](ripples.png)", "",
                       "![growth](growth.png)", ""])
 
 
@@ -238,7 +247,7 @@ def main(a):
     plan_cases = cases(quick=a.quick or a.dry_run)
     keys = sorted({k for _, _, ov in plan_cases for k in ov})
     from ..scenes import tunnel
-    defaults = {"geometry.seed_ripple_length": 0.0, "geometry.seed_ripple_height": 0.0}
+    defaults = {"geometry.seed_ripple_length": 0.0, "geometry.seed_ripple_height": 0.0, "run.pair_once": "auto"}
     sets = [(k, [ov.get(k, defaults.get(k)) for _, _, ov in plan_cases]) for k in keys]
     argv = ["tunnel", "--zip", "--out", out, "--resume"] + sum(
         [["--set", f"{k}=" + ",".join(repr(v) for v in vals)] for k, vals in sets], [])

@@ -81,7 +81,9 @@ CASES = [
     Case("Oscillating tunnel ripples (Wiberg & Harris)", "scenes.tunnel", "ripple_length_over_prediction",
          "ripple length over the prediction, less 1", "Wiberg & Harris (1994) orbital ripples: 0.5-0.75 d0",
          (0.015, 0.01), 0.02, quick_overrides={"run.end_time": 2.0}, figure="ripple_growth.png", probes=("ripple_length", "ripple_height"),
-         reference_value=1.0, also=("ripple_length_over_d0", "ripple_steepness", "max_density_error")),
+         reference_value=1.0, also=("ripple_length_over_d0", "ripple_steepness", "max_density_error"),
+         note="The same tunnel over 12 orbital diameters and periods, seeded short and long, and at two dx: "
+              "`python -m tisph.bench --ripples` ([sediment.md](sediment.md))."),
     # the default beach's dx (8-9 dx a predicted ripple), then the resolved case's (17)
     Case("Beach ripples (Wiberg & Harris)", "scenes.beach", "ripple_length_over_prediction",
          "ripple length over the prediction, less 1", "Wiberg & Harris (1994) for the measured near-bed motion",

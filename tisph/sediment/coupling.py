@@ -19,7 +19,7 @@ from ..constants import G
 from ..particles import BED
 from ..terms.tke import SQRT_CMU
 from .bed import Bed
-from .lee import lee_vortex_shear
+from .lee import lee_vortex_shear, lee_zones, vortex_throw
 from .outer import Window, outer_heights, outer_scale
 from .transport import reference_concentration, settling_velocity, shear_log_law, shear_waves, shields_number
 
@@ -59,6 +59,9 @@ DEFAULTS = {
     "separation_length": 6.0,      # the lee zone's length in crest heights (flow reattaches about 6 step heights on)
     "separation_slope": 10.0,      # degrees: a lee steeper than this separates
     "separation_excursion": 0.0,   # the lee zone at most this many orbital amplitudes A = d0/2 long (0: no cap)
+    # the sand a separated lee's vortex throws back over its crest as the flow turns, times the crest's bed load (lee.vortex_throw; 0: off)
+    "vortex_throw": 0.0,
+    "throw_distance": 1.0,         # where that sand lands: orbital amplitudes upstream of the crest
     # suspended load: the water carries sand the bed gives up (van Rijn's pick-up) and lets it
     # settle back (tisph/physics/suspension.py); the pipeline only
     "suspended": False,
@@ -76,6 +79,7 @@ RANGES = {"sediment.porosity": (0.0, 0.9, True, True), "sediment.repose_angle": 
           "sediment.lee_vortex": (0.0, 1.0, True, True),
           "sediment.separation_length": (0.0, 50.0, True, True), "sediment.separation_slope": (0.0, 60.0, True, True),
           "sediment.separation_excursion": (0.0, 10.0, True, True), "sediment.seed_rms": (0.0, None, True, True),
+          "sediment.vortex_throw": (0.0, 10.0, True, True), "sediment.throw_distance": (0.0, 10.0, True, True),
           "sediment.settling_velocity": (0.0, None, True, True),
           "sediment.seed": (0, None, True, True)}
 CHOICES = {"sediment.model": ("particles", "bedload"), "sediment.formula": ("mpm", "nielsen"),
@@ -84,7 +88,7 @@ CHOICES = {"sediment.model": ("particles", "bedload"), "sediment.formula": ("mpm
 # empirical, chosen on what); a scene adds only physical inputs (morfac, seed_rms). The pipeline's differ.
 WAVE_RIPPLES = dict(model="bedload", grain_density=2650.0, shear="waves", reference_height=1.5, outer_height=6.0,
                     lee_vortex=0.5, separation_length=6.0, separation_slope=10.0, separation_excursion=0.6,
-                    gravity_coefficient=1.7)
+                    gravity_coefficient=1.8, vortex_throw=1.0, throw_distance=1.0)
 # the water over it: no artificial viscosity (alpha h c0 / 8's Stokes layer is 1.6 dx at the tunnel's c0)
 WAVE_NUMERICS = dict(h_factor=1.3, artificial_viscosity=0.0, laminar_viscosity=True, density_diffusion="fourtakas",
                      delta=0.1)
@@ -212,6 +216,7 @@ class BedCoupler:
         self.u_eff = np.zeros(len(stations))
         self.k = np.zeros(len(stations))     # the filtered k at z_r (shear = "wall_function")
         self.tau = np.zeros(len(stations))
+        self.zones = []                      # the separated lees of the last shear (lee.lee_zones)
         self.t = 0.0
 
     def near_bed_flow(self, s):
@@ -247,9 +252,11 @@ class BedCoupler:
             if kind == "wall_function":
                 tau_k = self.to_far_field(self.rho_w * SQRT_CMU * self.k)
                 tau = np.sign(u) * np.sqrt(np.abs(tau) * tau_k)
+        self.zones = []
         if self.sed["lee_vortex"] > 0:
-            tau = lee_vortex_shear(tau, self.bed.z, self.dx, u, self.sed, self.bed.periodic, self.amplitude,
+            self.zones = lee_zones(self.bed.z, self.dx, u, self.sed, self.bed.periodic, self.amplitude,
                                    self.mobility())
+            tau = lee_vortex_shear(tau, self.bed.z, self.dx, u, self.sed, zones=self.zones)
         return tau
 
     def outer_heights(self):
@@ -310,6 +317,9 @@ class BedCoupler:
         deposit = self.exchange(s, dt) if self.sed["suspended"] else None
         if not moving:
             return
+        if self.sed["vortex_throw"] > 0 and self.zones:
+            thrown = vortex_throw(self.zones, self.bed.q, self.dx, self.sed, self.bed.periodic, self.amplitude) * dt
+            deposit = thrown if deposit is None else deposit + thrown
         w = self.bed.step(self.tau, dt, deposit) / dt
         self.check_speed(s, w)
         s.set_bed(self.bed.z - self.z0, w)
