@@ -284,7 +284,7 @@ def _drive_bed(sed, d0=0.3, T=2.0, dx=0.01, length=1.21, periods=20, seed_length
 
 
 def test_ripples_seeded_too_long_split_by_the_vortex_throw():
-    """Three ripples seeded at 1.5 d0 in the default tunnel's 1.21 m (d0 = 0.3 m), with no random
+    """Three ripples seeded at 1.5 d0 in the ripple sweep's 1.21 m at d0 = 0.3 m, with no random
     bed, under the bed model alone (_drive_bed) for 200 bed periods: with the wave parameter set
     (coupling.WAVE_RIPPLES) they split into the band, 0.5-0.75 d0 (six to eight ripples; measured
     six); without the vortex's throw nothing grows in their troughs and the three stay."""

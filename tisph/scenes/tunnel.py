@@ -6,14 +6,17 @@ orbital diameter d0 = 2 U_m / w; a tunnel reproduces it with an oscillating pres
 Here the domain is periodic in x, the water has a free surface, and the pressure gradient is the
 solver's drive dU/dt (sand feels rho_w / rho_s of it, as of any pressure gradient), ramped in over
 the first period as U_m sin^2(pi t / 2T) sin(wt) so no mean current starts. The bed is the
-beach's sand (paper 000 section 5: Bingham, tau_B = 200 Pa, mu_B = 0.1 Pa s, 1950 kg/m3, at rest
-below yield). The measured ripples are compared with the equilibrium predictor of Wiberg &
-Harris (1994) for the imposed d0 and the grain diameter.
+bed-load bed below particle scale (sediment.model = "bedload", tisph/sediment): ripples grow from
+a random bed of 1 % of d0 through the lee vortex and its throw (docs/sediment.md);
+sediment.model = "particles" makes it the beach's Bingham sand (paper 000 section 5,
+scenes/tunnel_bingham.toml). The measured ripples are compared with the equilibrium predictor of
+Wiberg & Harris (1994) for the imposed d0 and the grain diameter.
 
 Defaults: d0 = 0.3 m, T = 2 s (U_m = 0.47 m/s), a 0.15 m water layer over 0.08 m of sand,
 1.2 m long, dx = 1 cm, so the predicted orbital ripple (0.19 m long, 3 cm high) spans 19
-particles; 20 s (10 periods), 2.5 minutes on two cores. geometry.seed_ripple_height > 0
-starts the bed rippled at the predicted length, to ask whether the bed keeps them.
+particles; 40 s (20 periods, 200 periods of bed change at morfac 10), about 2 minutes on two
+cores. geometry.seed_ripple_height > 0 starts the bed rippled (at the predicted length, or
+geometry.seed_ripple_length), to ask whether the bed keeps them, merges or splits them.
 """
 import math
 import os

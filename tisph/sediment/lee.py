@@ -18,7 +18,9 @@ def lee_zones(z, dx, u, sed, periodic=True, amplitude=0.0, mobility=0.0):
     cannot reach farther than the water travels past the crest, so neighbours beyond it no longer
     feed a crest. sheet factor: sheet_flow_factor(mobility) at the crest, as ripples wash out
     above psi = 240 (imposed from the ripple predictor, not computed: the bed load has no
-    suspension); a lee with none does not separate."""
+    suspension); a lee with none does not separate, nor any with lee_vortex = 0."""
+    if sed["lee_vortex"] <= 0:
+        return []
     n = len(z)
     u = np.broadcast_to(np.asarray(u, float), (n,))
     amp = np.broadcast_to(np.asarray(amplitude, float), (n,))
@@ -92,9 +94,10 @@ def vortex_throw(zones, q, dx, sed, periodic=True, amplitude=0.0):
     settles out about an orbital amplitude beyond it (the sand clouds over vortex ripples, van der
     Werf et al. 2007). Where the troughs are longer than twice that distance it lands in the trough
     and builds a new crest there: the doubling of ripples that are too long (Hansen et al. 2001).
-    Each separated crest throws vortex_throw times its own bed load |q| (times the sheet-flow factor), taken evenly from its lee zone and laid down as a Gaussian of standard
-    deviation a quarter of the distance, centred throw_distance orbital amplitudes upstream of the
-    crest (the way the flow turns to). Volume is conserved to round-off."""
+    Each separated crest throws vortex_throw times its own bed load |q| (times the sheet-flow
+    factor), taken evenly from its lee zone and laid down as a Gaussian of standard deviation a
+    quarter of the distance, centred throw_distance orbital amplitudes upstream of the crest (where
+    the turning flow carries it). Volume is conserved to round-off."""
     n = len(q)
     dep = np.zeros(n)
     amp = np.broadcast_to(np.asarray(amplitude, float), (n,))
