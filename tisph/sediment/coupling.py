@@ -317,7 +317,7 @@ class BedCoupler:
         deposit = self.exchange(s, dt) if self.sed["suspended"] else None
         if not moving:
             return
-        if self.sed["vortex_throw"] > 0 and self.zones:
+        if self.sed["vortex_throw"] > 0 and self.zones:     # from the last update's bed load (self.bed.q)
             thrown = vortex_throw(self.zones, self.bed.q, self.dx, self.sed, self.bed.periodic, self.amplitude) * dt
             deposit = thrown if deposit is None else deposit + thrown
         w = self.bed.step(self.tau, dt, deposit) / dt
