@@ -23,6 +23,9 @@ import numpy as np
 # of 0.5 Pa wandering under the oscillation as bumps of 0.33 dx.
 MIN_LENGTH_DX = 3.0
 MIN_HEIGHT_DX = 0.5
+# the band of orbital ripples around Wiberg & Harris (1994): length over d0, and height over length
+ORBITAL_BAND = (0.5, 0.75)
+STEEPNESS_BAND = (0.10, 0.20)
 # a ripple the bed model resolves: its predicted length at least this many spacings. Measured on the
 # default tunnel: 0.58 d0 at 18.6 and at 28 spacings a ripple, 1.0 d0 at 12.4 (docs/sediment.md)
 RESOLVED_DX = 18.0

@@ -20,7 +20,7 @@ import sys
 import numpy as np
 
 from ..io import read_csv, write_csv, write_text
-from ..ripples import wiberg_harris
+from ..ripples import ORBITAL_BAND as BAND, STEEPNESS_BAND as STEEP_BAND, wiberg_harris
 from .common import table
 
 GRAIN = 0.0003                 # d50 (m): the tunnel's default
@@ -34,8 +34,6 @@ MORFAC = 10.0                  # the default tunnel's, where the bed turns over 
 # (d0 m, T s): mobility 20-170 with ripples, and two above 240 (sheet flow)
 SWEEP = [(0.15, 1.5), (0.2, 2.0), (0.3, 3.0), (0.45, 3.5), (0.3, 2.0), (0.6, 3.5), (0.5, 2.5),
          (0.4, 1.75), (0.4, 1.5), (0.5, 1.75), (0.6, 1.6), (0.55, 1.4)]
-BAND = (0.5, 0.75)             # Wiberg & Harris's orbital ripples, over d0
-STEEP_BAND = (0.10, 0.20)
 SHEET_STEEPNESS = 0.03         # above mobility 240 a bed this flat has no ripples
 
 

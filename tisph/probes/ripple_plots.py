@@ -2,6 +2,7 @@
 the ripples' length and steepness against bed periods with Wiberg & Harris's bands."""
 import numpy as np
 
+from ..ripples import ORBITAL_BAND, STEEPNESS_BAND
 from .plots import pyplot, save
 
 
@@ -41,11 +42,11 @@ def plot_growth(path, c, geo, morfac):
     plt = pyplot()
     fig, (a1, a2) = plt.subplots(2, 1, figsize=(7, 4.5), sharex=True)
     a1.plot(per, lam, lw=1.0)
-    a1.axhspan(0.5, 0.75, color="0.9", label="0.5-0.75 d0")
+    a1.axhspan(*ORBITAL_BAND, color="0.9", label="%g-%g d0" % ORBITAL_BAND)
     a1.set_ylabel("ripple length / d0")
     a1.legend(fontsize=7, loc="upper left")
     a2.plot(per, st, lw=1.0)
-    a2.axhspan(0.10, 0.20, color="0.9", label="0.10-0.20")
+    a2.axhspan(*STEEPNESS_BAND, color="0.9", label="%.2f-%.2f" % STEEPNESS_BAND)
     a2.set_ylabel("steepness")
     a2.set_xlabel(f"bed periods (t x morfac {morfac:g} / T)")
     a2.legend(fontsize=7, loc="upper left")

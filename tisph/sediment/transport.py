@@ -118,8 +118,9 @@ def ripple_turnover_periods(d0, T, d50, s, ripple_length, ripple_height, porosit
     length x height / 2, at the bed's packing), for a near-bed oscillation U_m sin(omega t) of
     orbital diameter d0 = U_m T / pi: Swart's shear, the threshold of Soulsby & Whitehouse and
     the bed-load formula, averaged over the period. A morphological factor m makes the bed move
-    m times as far each period, so morfac <= this / MIN_TURNOVER keeps the bed all but still
-    through a wave period, as the factor assumes (Roelvink 2006)."""
+    m times as far each period, so a morfac that keeps this over m as long as in a case known to
+    work (the tunnel's MORFAC_TURNOVER) keeps the bed all but still through a wave period, as the
+    factor assumes (Roelvink 2006)."""
     Um = math.pi * d0 / T
     fw = float(swart_friction_factor(0.5 * d0, d50))
     theta = 0.5 * fw * Um * Um / ((s - 1.0) * G * d50) * np.sin((np.arange(400) + 0.5) * np.pi / 400) ** 2   # the half period's midpoints
