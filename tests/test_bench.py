@@ -222,7 +222,13 @@ def test_ripple_sweep_cases_and_dry_run(tmp_path):
         periods = rb.SEEDED_BED_PERIODS if kind == "seeded" else rb.BED_PERIODS
         assert ov["run.end_time"] * ov["sediment.morfac"] / ov["geometry.period"] == pytest.approx(periods, rel=1e-3)
         assert ov["sediment.morfac"] <= rb.MORFAC
-    assert [ov["sediment.morfac"] for _, _, ov in cases if ov["geometry.orbital_diameter"] == 0.4] == [5.9, 4.2]
+    assert [ov["sediment.morfac"] for _, _, ov in cases if ov["geometry.orbital_diameter"] == 0.4] == [5.9, 4.2, 4.2]
+    # seeded at 1.5 d0 at two more orbital diameters, each over sand its seed fits in (sand_depth - 2 dx)
+    long_seeds = [ov for _, kind, ov in cases if kind == "seeded" and ov["geometry.seed_ripple_length"] >
+                  ov["geometry.orbital_diameter"]]
+    assert sorted(ov["geometry.orbital_diameter"] for ov in long_seeds) == [0.3, 0.4, 0.5]
+    assert all(ov["geometry.seed_ripple_height"] <= ov["geometry.sand_depth"] - 2 * ov["numerics.dx"]
+               for ov in long_seeds)
     assert {k for _, k, _ in cases} == {"calibration", "check", "sheet", "seeded", "resolution"}
     pair = [ov for _, kind, ov in cases if kind == "resolution"]
     assert len(pair) == 2 and pair[0]["geometry.length"] >= 12 * rb.wiberg_harris(0.3, rb.GRAIN)[0]

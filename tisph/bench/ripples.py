@@ -3,8 +3,9 @@ numbers, every parameter at its default, through the Dask sweep (tisph.sweep): t
 over d0 and the steepness against Wiberg & Harris (1994)'s orbital ripples (0.62 d0, steepness
 0.17; the band 0.5-0.75 d0, 0.10-0.20), and above mobility 240 no ripples (sheet flow, van der A et
 al. 2013). The default tunnel (d0 = 0.3 m, T = 2 s) is the case the lee-zone constants were chosen
-on; it is run from seeded ripples of 0.3 d0 and 1.5 d0 and at dx / 1.5 too. Every other case is
-a check the constants were not chosen on.
+on; it is run from seeded ripples of 0.3 d0 and 1.5 d0 and at dx / 1.5 too, and two other cases
+are run from ripples seeded at 1.5 d0 (SEEDED_CHECKS). Every other case is a check the constants
+were not chosen on.
 
 Each case's periodic length holds at least 6.5 predicted ripples, its dx gives the predicted
 ripple 18.6 spacings (as in the default tunnel; 5 mm to 2 cm), its water is at least half d0 deep,
@@ -34,6 +35,8 @@ MORFAC = 10.0                  # the default tunnel's, where the bed turns over 
 # (d0 m, T s): mobility 20-170 with ripples, and two above 240 (sheet flow)
 SWEEP = [(0.15, 1.5), (0.2, 2.0), (0.3, 3.0), (0.45, 3.5), (0.3, 2.0), (0.6, 3.5), (0.5, 2.5),
          (0.4, 1.75), (0.4, 1.5), (0.5, 1.75), (0.6, 1.6), (0.55, 1.4)]
+# seeded at 1.5 d0 as well: a smaller period (morfac 4.2) and a larger d0 than the calibration's
+SEEDED_CHECKS = [(0.4, 1.5), (0.5, 2.5)]
 SHEET_STEEPNESS = 0.03         # above mobility 240 a bed this flat has no ripples
 
 
@@ -74,6 +77,15 @@ def tunnel_bed(d0, T):
     return min(MORFAC, math.floor(tunnel.morfac_limit(cfg) * 10) / 10), tunnel.seed_rms(cfg)
 
 
+def seeded(base, f, d0, T, morfac):
+    """A case started from ripples f d0 long and half Wiberg & Harris's steepness high (0.085 f d0),
+    run SEEDED_BED_PERIODS, over sand deep enough for the seed (tunnel: sand_depth - 2 dx)."""
+    height = 0.17 * f * d0 * 0.5
+    sand = max(0.08, math.ceil((height + 2 * base["numerics.dx"]) * 100) / 100)
+    return dict(base, **{"geometry.seed_ripple_length": f * d0, "geometry.seed_ripple_height": height,
+                         "geometry.sand_depth": sand, "run.end_time": round(SEEDED_BED_PERIODS * T / morfac, 2)})
+
+
 def cases(quick=False):
     """[(label, kind, overrides)] of the sweep: kind 'calibration', 'check', 'sheet', 'seeded',
     'resolution'."""
@@ -93,9 +105,11 @@ def cases(quick=False):
             "geometry.water_depth": water_depth(d0), "sediment.seed_rms": rms,
             "sediment.morfac": MORFAC, "run.end_time": round(BED_PERIODS * T / MORFAC, 2), "numerics.dx": dx}
     for f in (0.3, 1.5):
-        out.append((f"seeded {f:g} d0", "seeded", dict(base, **{"geometry.seed_ripple_length": f * d0,
-                                                                "geometry.seed_ripple_height": 0.17 * f * d0 * 0.5,
-                                                                "run.end_time": round(SEEDED_BED_PERIODS * T / MORFAC, 2)})))
+        out.append((f"seeded {f:g} d0", "seeded", seeded(base, f, d0, T, MORFAC)))
+    for d0_, T_ in SEEDED_CHECKS:   # ripples too long split where the throw was not chosen
+        case = next(ov for lab, _, ov in out if lab == f"d0 {d0_:g} T {T_:g}")
+        out.append((f"seeded 1.5 d0 at d0 {d0_:g} T {T_:g}", "seeded",
+                    seeded(case, 1.5, d0_, T_, case["sediment.morfac"])))
     # dx against dx / 1.5 in twice the length (13 predicted ripples, so one ripple is 8 % of the
     # count), both on the gather pass so the two differ only in dx
     twice = dict(base, **{"geometry.length": 2 * base["geometry.length"], "run.pair_once": "off"})
@@ -175,9 +189,10 @@ def plot(rows, path_fig, path_growth):
     from ..probes.plots import pyplot, save
     plt = pyplot()
     fig, (a1, a2) = plt.subplots(1, 2, figsize=(10, 4))
-    marks = {"calibration": ("*", "C3", "calibration case"), "check": ("o", "C0", "checks"),
-             "sheet": ("x", "C2", "sheet flow (mobility > 240)"), "seeded": ("s", "C1", "seeded 0.3 / 1.5 d0"),
-             "resolution": ("^", "C4", "twice the length, dx and dx / 1.5")}
+    marks = {"check": ("o", "C0", "checks"), "sheet": ("x", "C2", "sheet flow (mobility > 240)"),
+             "seeded": ("s", "C1", "seeded at 0.3 / 1.5 d0"),
+             "resolution": ("^", "C4", "twice the length, dx and dx / 1.5"),
+             "calibration": ("*", "C3", "calibration case")}   # drawn last: on top of a check at its d0
     for kind, (m, c, lab) in marks.items():
         rr = [r for r in rows if r["kind"] == kind]
         if not rr:
@@ -191,7 +206,7 @@ def plot(rows, path_fig, path_growth):
         ax.set_xlabel("orbital diameter d0 (m)")
         ax.set_ylabel(name)
         ax.grid(alpha=0.3)
-    a1.legend(fontsize=7)
+    a2.legend(fontsize=7, loc="lower left")   # the empty corner under the band
     a1.set_title("ripple length at the end, every case at the defaults")
     a2.set_title("steepness (height / length)")
     save(fig, path_fig)
@@ -245,7 +260,8 @@ def main(a):
     plan_cases = cases(quick=a.quick or a.dry_run)
     keys = sorted({k for _, _, ov in plan_cases for k in ov})
     from ..scenes import tunnel
-    defaults = {"geometry.seed_ripple_length": 0.0, "geometry.seed_ripple_height": 0.0, "run.pair_once": "auto"}
+    defaults = {"geometry.seed_ripple_length": 0.0, "geometry.seed_ripple_height": 0.0, "run.pair_once": "auto",
+                "geometry.sand_depth": tunnel.DEFAULTS["geometry"]["sand_depth"]}
     sets = [(k, [ov.get(k, defaults.get(k)) for _, _, ov in plan_cases]) for k in keys]
     argv = ["tunnel", "--zip", "--out", out, "--resume"] + sum(
         [["--set", f"{k}=" + ",".join(repr(v) for v in vals)] for k, vals in sets], [])

@@ -82,14 +82,15 @@ CASES = [
          "ripple length over the prediction, less 1", "Wiberg & Harris (1994) orbital ripples: 0.5-0.75 d0",
          (0.015, 0.01), 0.02, quick_overrides={"run.end_time": 2.0}, figure="ripple_growth.png", probes=("ripple_length", "ripple_height"),
          reference_value=1.0, also=("ripple_length_over_d0", "ripple_steepness", "max_density_error"),
-         note="The same tunnel over 12 orbital diameters and periods, seeded short and long, and at two dx: "
+         note="The same tunnel over 12 orbital diameters and periods, seeded short and long, and at two dx "
+              "(18 cases): "
               "`python -m tisph.bench --ripples` ([sediment.md](sediment.md))."),
     # the default beach's dx (8-9 dx a predicted ripple), then the resolved case's (17)
     Case("Beach ripples (Wiberg & Harris)", "scenes.beach", "ripple_length_over_prediction",
          "ripple length over the prediction, less 1", "Wiberg & Harris (1994) for the measured near-bed motion",
          (0.015, 0.0075), 0.03, config="beach_resolved.toml", quick_overrides={"run.end_time": 1.0},
          figure="bed_profile.png", probes=("ripple_length",), reference_value=1.0,
-         also=("ripple_count", "ripple_steepness", "density_error_p999")),
+         also=("ripple_count", "ripple_steepness", "max_density_error", "density_error_p999")),
     Case("Pipeline scour (Mao 1986)", "scenes.pipeline_scour", "mao_depth_max_error_15s",
          "largest S/D error over Mao's first 15 s", "Mao's (1986) measured S/D(t) and profiles, D = 5 cm",
          (0.0025,), 0.00625, config="pipeline_scour_mao.toml",

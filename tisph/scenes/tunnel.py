@@ -38,12 +38,13 @@ from ..runner import common_params, run_scene, sound_speed
 from ..materials import BINGHAM_SAND, WATER
 from ..probes.gauges import surface_heights
 from ..probes.ripple_plots import plot_bed, plot_growth
-from ..sediment import coupling
+from ..sediment import coupling, initial
 from ..sediment.transport import ripple_turnover_periods
 
 NAME = "tunnel"
 # periods of bed change (wave periods x morfac) a run needs: the ripples' growth and 100 held
 BED_PERIODS = 200
+CREST_SPEED = 2.0   # the fastest water over grown ripples / U_m, for c0 (1.95 measured at mobility 145)
 
 
 DEFAULTS = {
@@ -115,14 +116,17 @@ class TunnelDrive:
         self.ctl.update(s, u_t - s.mean_velocity(0, above=self.y_free), dudt)
 
 
+def bed_turnover(d0, T, d50, s, sed):
+    """Wave periods the bed load takes to move one predicted ripple's sand at sed's morfac."""
+    lam, eta, _ = wiberg_harris(d0, d50)
+    return ripple_turnover_periods(d0, T, d50, s, lam, eta, sed["porosity"], sed["formula"]) / sed["morfac"]
+
+
 def turnover_periods(cfg):
-    """Wave periods the bed load takes to move one predicted ripple's sand at this morfac
-    (transport.ripple_turnover_periods over morfac)."""
+    """bed_turnover for the tunnel's d0, T and sand."""
     g, sed = cfg["geometry"], cfg["sediment"]
-    lam, eta, _ = wiberg_harris(g["orbital_diameter"], g["grain_diameter"])
-    s = sed["grain_density"] / cfg["materials"]["water"]["rho0"]
-    return ripple_turnover_periods(g["orbital_diameter"], g["period"], g["grain_diameter"], s, lam, eta,
-                                   sed["porosity"], sed["formula"]) / sed["morfac"]
+    return bed_turnover(g["orbital_diameter"], g["period"], g["grain_diameter"],
+                        sed["grain_density"] / cfg["materials"]["water"]["rho0"], sed)
 
 
 def morfac_limit(cfg):
@@ -133,13 +137,26 @@ def morfac_limit(cfg):
     return cfg["sediment"]["morfac"] * turnover_periods(cfg) / MORFAC_TURNOVER
 
 
+def warn_fast_bed(sed, turnover, where):
+    """Warn where the bed at sed's morfac turns over faster than in the default tunnel, where the
+    ripple model was chosen; returns the largest morfac that keeps it as slow."""
+    limit = sed["morfac"] * turnover / MORFAC_TURNOVER
+    if sed["morfac"] > limit:
+        warnings.warn(f"sediment.morfac = {sed['morfac']:g} moves the bed faster in each wave period than in the "
+                      f"default tunnel, where the ripple model was chosen ({where} the bed load moves a "
+                      f"ripple's sand in {turnover:.2g} periods at this morfac, against "
+                      f"{MORFAC_TURNOVER:.2g}): ripples may coarsen past their length (docs/sediment.md); "
+                      f"sediment.morfac = {math.floor(limit * 10) / 10:g} keeps it as slow")
+    return limit
+
+
 # the default tunnel's bed: one ripple's sand in 6.8 wave periods at morfac 10
 MORFAC_TURNOVER = turnover_periods(DEFAULTS)
 
 
 def seed_rms(cfg):
-    """The random bed's RMS (m): coupling.random_bed_rms for the tunnel's d0."""
-    return coupling.random_bed_rms(cfg["sediment"], cfg["geometry"]["roughness"], cfg["geometry"]["orbital_diameter"])
+    """The random bed's RMS (m): initial.random_bed_rms for the tunnel's d0."""
+    return initial.random_bed_rms(cfg["sediment"], cfg["geometry"]["roughness"], cfg["geometry"]["orbital_diameter"])
 
 
 def seed_count(geo, lam_wh):
@@ -168,7 +185,7 @@ def build(cfg):
     drive = TunnelDrive(geo)
     Um = drive.Um
     mats = cfg["materials"]
-    c0, u_max = sound_speed(cfg, 1.5 * Um, hw + hs, G)
+    c0, u_max = sound_speed(cfg, CREST_SPEED * Um, hw + hs, G)
     L = num["wall_layers"]
     h = num["h_factor"] * dx
     ytop = hs + hw
@@ -262,7 +279,7 @@ def _build_bedload(cfg):
     drive = TunnelDrive(geo)
     Um = drive.Um
     rw = cfg["materials"]["water"]["rho0"]
-    c0, u_max = sound_speed(cfg, 1.5 * Um, hw, G)
+    c0, u_max = sound_speed(cfg, CREST_SPEED * Um, hw, G)
     L, h = num["wall_layers"], num["h_factor"] * dx
     ytop = hs + hw
     lam_wh, eta_wh, regime = wiberg_harris(d0, geo["grain_diameter"])
@@ -273,18 +290,13 @@ def _build_bedload(cfg):
                       f"(wave periods x morfac {sed['morfac']:g}): ripples take about 100 to reach their length and "
                       f"a run should show 100 more that it holds; run.end_time = "
                       f"{BED_PERIODS * geo['period'] / sed['morfac']:g} s gives {BED_PERIODS}")
-    turnover, limit = turnover_periods(cfg), morfac_limit(cfg)
-    if sed["morfac"] > limit:
-        warnings.warn(f"sediment.morfac = {sed['morfac']:g} moves the bed faster in each wave period than in the "
-                      f"default tunnel, where the ripple model was chosen (at d0 = {d0:g} m the bed load moves a "
-                      f"ripple's sand in {turnover:.2g} periods at this morfac, against "
-                      f"{MORFAC_TURNOVER:.2g}): ripples may coarsen past their length (docs/sediment.md); "
-                      f"sediment.morfac = {math.floor(limit * 10) / 10:g} keeps it as slow")
+    turnover = turnover_periods(cfg)
+    limit = warn_fast_bed(sed, turnover, f"at d0 = {d0:g} m")
     n_seed = seed_count(geo, lam_wh)
     stations = (np.arange(int(round(Lx / dx))) + 0.5) * dx
     z = hs + 0.5 * geo["seed_ripple_height"] * np.sin(2 * np.pi * n_seed * stations / Lx)
     sed = dict(sed, seed_rms=seed_rms(cfg))
-    z = coupling.initial_bed(stations, z, sed, dx)
+    z = initial.initial_bed(stations, z, sed, dx, periodic=True)
     ps = _bedload_particles(cfg, stations, z, c0)
     params = common_params(cfg, c0, G, depth=ytop)
     params["bed_stations"] = len(stations)
@@ -363,20 +375,19 @@ def near_bed_ratio(t, u, Um, period):
 
 
 def _bedload_particles(cfg, stations, z, c0):
-    """Water above the bed z (at least dx/2 clear of it) and the bed's BED particle columns."""
+    """Water in columns from dx/2 above the bed z and the bed's BED particle columns."""
     geo, num = cfg["geometry"], cfg["numerics"]
-    dx, Lx, L = num["dx"], geo["length"], num["wall_layers"]
+    dx, L = num["dx"], num["wall_layers"]
     ytop = geo["sand_depth"] + geo["water_depth"]
     rw = cfg["materials"]["water"]["rho0"]
-    lattice = block(0.0, 0.0, Lx, ytop, dx)
-    xw = lattice[coupling.above_bed(lattice, stations, z, dx)[0]]
+    xw = initial.water_columns(stations, z, dx, ytop)
 
     def density(y):
         return density_from_pressure(rw * G * (ytop - np.minimum(y, ytop)), rw, c0)
 
     ps = ParticleSet()
     ps.add(xw, FLUID, 0, density(xw[:, 1]), rw * dx * dx)
-    coupling.add_bed_particles(ps, stations, z, dx, L, rw, density)
+    initial.add_bed_particles(ps, stations, z, dx, L, rw, density)
     return ps
 
 

@@ -16,7 +16,6 @@ Each update (every sediment.update_every steps):
 import numpy as np
 
 from ..constants import G
-from ..particles import BED
 from ..terms.tke import SQRT_CMU
 from .bed import Bed
 from .lee import lee_vortex_shear, lee_zones, vortex_throw
@@ -112,28 +111,6 @@ def refuse_unused_sediment_keys(cfg, scene_defaults):
                      for k, v in sed.items() if k != "model" and k in base and v != base[k]])
 
 
-def random_bed_rms(sed, roughness, d0):
-    """The random bed's RMS (m): sediment.seed_rms, or roughness x d0 where it is 0 (rounded to a
-    nanometre: the same RMS typed as a number gives the same bed). Where a random bed's ripples end
-    depends on its roughness over d0 (docs/sediment.md), so the tunnel and the beach scale it."""
-    return sed["seed_rms"] or round(roughness * d0, 9)
-
-
-def initial_bed(stations, z, sed, dx):
-    """The initial bed: z plus a random perturbation of RMS seed_rms, smoothed over 2 dx (a white
-    perturbation at one station would be a 1-dx spike) and rescaled to that RMS."""
-    z = np.array(z, float)
-    if sed["seed_rms"] > 0:
-        rng = np.random.default_rng(int(sed["seed"]))
-        e = rng.standard_normal(len(stations))
-        k = np.array([0.25, 0.5, 0.25])
-        for _ in range(2):
-            e = k[0] * np.roll(e, 1) + k[1] * e + k[2] * np.roll(e, -1)
-        e -= e.mean()
-        z += sed["seed_rms"] * e / np.sqrt(np.mean(e * e))
-    return z
-
-
 def make_bed(sed, stations, z, d50, rho_s, rho_w=1000.0, periodic=True, morfac=None):
     """The Bed the [sediment] table sed describes (morfac: its own unless given)."""
     return Bed(stations, z, d50, rho_s, rho_w, porosity=sed["porosity"], repose_deg=sed["repose_angle"],
@@ -143,24 +120,6 @@ def make_bed(sed, stations, z, d50, rho_s, rho_w=1000.0, periodic=True, morfac=N
                gravity_coefficient=sed["gravity_coefficient"],
                morfac=sed["morfac"] if morfac is None else morfac, periodic=periodic,
                lee_transit=sed["lee_transit"], settling_delay=sed["settling_delay"])
-
-
-def above_bed(points, stations, z, dx):
-    """(Which points lie at least dx/2 above the bed z, each point's station): the lattice points
-    a scene keeps as water over a bed whose stations lie dx apart from x = dx/2."""
-    col = np.clip((points[:, 0] / dx).astype(int), 0, len(stations) - 1)
-    return points[:, 1] >= z[col] + 0.5 * dx, col
-
-
-def add_bed_particles(ps, stations, zb, dx, layers, rho_w, density):
-    """BED particles: at each station a column `layers` deep under z_b, spaced dx; density(y)
-    gives their rest-state density (hydrostatic). Their wall normal is up and their distance
-    behind the surface (k + 1/2) dx, for a no-slip wall (NoSlip, paper 002 eq. 39)."""
-    for k in range(layers):
-        y = zb - (k + 0.5) * dx
-        pts = np.column_stack([stations, y])
-        ps.add(pts, BED, 0, density(y), rho_w * dx * dx, station=np.arange(len(stations)), normal=(0.0, 1.0),
-               wall_dist=(k + 0.5) * dx)
 
 
 class BedCoupler:

@@ -9,8 +9,9 @@ about the stroke; for ripples of at least 8 dx at dx = 0.015 (0.12 m, d0 about 0
 waves have lost some height) the stroke must be about 0.26 m, which needs at least that much
 water (paddle.stroke <= depth). So: still water 0.3 m deep over
 0.1 m of sand, flat to x = 1.5 m and then 1:20 to above the waterline at 7.5 m, 8 m long; T =
-2.5 s (kh = 0.45), stroke 0.26 m, Biesel H = 0.12 m, 0.3 mm quartz sand, dx 0.015, morfac 30 (16 s of
-flow move the bed as 480 s would: 190 wave periods). The lee vortex (sediment.lee_vortex,
+2.5 s (kh = 0.45), stroke 0.26 m, Biesel H = 0.12 m, 0.3 mm quartz sand, dx 0.015, morfac 22 (22 s of
+flow move the bed as 484 s would: 190 wave periods; the tunnel's rule, no faster a wave period
+than in the default tunnel, at the toe's linear-wave d0). The lee vortex (sediment.lee_vortex,
 separation_*) is what grows ripples from the random bed it starts with (RMS 1 % of the toe's
 linear-wave d0, 2.5 mm: geometry.roughness); docs/sediment.md says what it does and what is measured.
 
@@ -25,7 +26,7 @@ would fall below the acoustic one, and sand below the yield stress is held at re
 
 Outputs besides the usual: bed_profile.csv (the bed along x at every probe), probes.csv with the
 ripple statistics, bed_profile.png, ripple_prediction.csv (the Wiberg & Harris ripple for the
-near-bed orbital motion measured along the beach) and stills at t = 0, 0.7, 2, 4, 8, 16 s (the
+near-bed orbital motion measured along the beach) and stills at t = 0, 0.7, 2, 4, 8, 16, 22 s (the
 Bingham beach adds streamline panels, stills/streamlines_t*.png).
 """
 import math
@@ -59,7 +60,7 @@ RIPPLE_WINDOW = 0.25
 
 
 DEFAULTS = {
-    "run": {"end_time": 16.0},
+    "run": {"end_time": 22.0},
     # the tunnel's numerics (coupling.WAVE_NUMERICS) but for breaking waves: without artificial
     # viscosity the breakers compress the water (largest density error 22.7 %, 99.9th percentile 3.5 %
     # against 8.1 % and 1.1 % with alpha 0.01); the bed's outer scaling takes away the slower near-bed
@@ -86,7 +87,7 @@ DEFAULTS = {
     # the tunnel's bed parameters, the outer scaling included: the beach's near-wall layer is as thick
     # (at 1.5 dx the velocity amplitude is half of that 6 dx up) and the flow above it carries the
     # waves' flux at 0.89-1.02 of (H / 2) sqrt(g h) up the slope (docs/sediment.md)
-    "sediment": dict(coupling.DEFAULTS, **coupling.WAVE_RIPPLES, morfac=30.0),
+    "sediment": dict(coupling.DEFAULTS, **coupling.WAVE_RIPPLES, morfac=22.0),
     "output": {"frame_interval": 0.04, "probe_interval": 0.04, "width": 1280},
 }
 RANGES = {f"geometry.{k}": (0.0, None, False, True) for k in DEFAULTS["geometry"] if k != "gauges_x"}
@@ -96,7 +97,7 @@ RANGES.update(PADDLE_RANGES)
 RANGES.update(coupling.RANGES)
 RANGES["sediment.grain_density"] = (1000.0, None, False, True)
 CHOICES = dict(coupling.CHOICES, **{"paddle.type": ("piston", "flap")})
-STILLS = (0.0, 0.7, 2.0, 4.0, 8.0, 16.0)
+STILLS = (0.0, 0.7, 2.0, 4.0, 8.0, 16.0, 22.0)
 
 
 def check(cfg):

@@ -24,8 +24,9 @@ from ...runner import common_params, sound_speed
 from ...probes.gauges import surface_at
 from ...probes.plots import pyplot, save
 from .shoaling import Shoaling
+from ..tunnel import bed_turnover, warn_fast_bed
 from ...plausible import warn_waves
-from ...sediment import coupling
+from ...sediment import coupling, initial
 from ...wavemaker import Gauges, height_at, linear_wave, paddle
 from ...awas import with_control
 
@@ -47,21 +48,23 @@ def build_bedload(cfg, name, stills):
     H_biesel = hs_ratio * p["stroke"]
     d0_toe = orbital_diameter(H_biesel, k, d)
     warn_unresolved(0.62 * d0_toe, dx, "at the toe (Wiberg & Harris for the linear-wave d0)")
+    T_wave = 2.0 * math.pi / omega
+    warn_fast_bed(sed, bed_turnover(d0_toe, T_wave, geo["grain_diameter"], sed["grain_density"] / rw, sed),
+                  f"at the toe's linear-wave d0 of {d0_toe:.3g} m")
     warn_waves(cfg, H_biesel, k, d, linear_metric=False)
     c0, u_max = sound_speed(cfg, math.sqrt(G * (d + H_biesel)))
     L, h = num["wall_layers"], num["h_factor"] * dx
     T = L * dx
     stations = RIGID + (np.arange(int(round((Lf - RIGID) / dx))) + 0.5) * dx
-    sed = dict(sed, seed_rms=coupling.random_bed_rms(sed, geo["roughness"], d0_toe))
-    z = coupling.initial_bed(stations, bed_profile(geo, stations), sed, dx)
+    sed = dict(sed, seed_rms=initial.random_bed_rms(sed, geo["roughness"], d0_toe))
+    z = initial.initial_bed(stations, bed_profile(geo, stations), sed, dx, periodic=False)
 
     def density(y):
         return density_from_pressure(rw * G * np.maximum(yw - y, 0.0), rw, c0)
 
     ps = ParticleSet()
-    lattice = block(0.0, ts, Lf, yw, dx)
-    zl = np.interp(lattice[:, 0], stations, z, left=ts)
-    xw = lattice[lattice[:, 1] >= zl + 0.5 * dx]
+    cols = (np.arange(int(round(Lf / dx))) + 0.5) * dx
+    xw = initial.water_columns(cols, np.interp(cols, stations, z, left=ts), dx, yw)
     ps.add(xw, FLUID, 0, density(xw[:, 1]), rw * dx * dx)
     pad_pts, motion, extra, reach = paddle(cfg, d, Hw, floor_y=ts)
     x_left = -reach - 2 * T
@@ -69,7 +72,7 @@ def build_bedload(cfg, name, stills):
                        block(Lf, float(z.min()) - 0.1 - T, Lf + T, Hw, dx)])
     ps.add(walls, WALL, 0, density(walls[:, 1]), rw * dx * dx)
     ps.add(pad_pts, MOVING, 0, density(pad_pts[:, 1]), rw * dx * dx)
-    coupling.add_bed_particles(ps, stations, z, dx, L, rw, density)
+    initial.add_bed_particles(ps, stations, z, dx, L, rw, density)
 
     params = common_params(cfg, c0, G, depth=yw)
     params.update(extra)

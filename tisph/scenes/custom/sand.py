@@ -13,7 +13,7 @@ import numpy as np
 from ...config import ConfigError
 from ...io import write_station_rows
 from ...particles import density_from_pressure
-from ...sediment import coupling
+from ...sediment import coupling, initial
 
 SAND_DEFAULTS = {
     "x": [],                 # [x0, x1] m: the stretch of the sand line that is a bed-load bed; []: no sand
@@ -75,13 +75,15 @@ class SandBed:
         self.cfg, self.dx = cfg, cfg["numerics"]["dx"]
         sed = cfg["sediment"]
         self.stations = stations
-        z0 = coupling.initial_bed(stations, z, sed, self.dx)
+        z0 = initial.initial_bed(stations, z, sed, self.dx, periodic=False)
         x0, x1 = cfg["sand"]["x"]
         shape = next(sh for e, sh in lay.shapes if e is line)
         stretch = (lay.pts[:, 0] > x0) & (lay.pts[:, 0] < x1)
         lay.wall &= ~(stretch & shape.band(lay.pts, lay.T))   # the bed particles stand in for them
         zl = np.interp(lay.pts[:, 0], stations, z0)
         lay.water &= ~(stretch & (lay.pts[:, 1] < zl + 0.5 * self.dx))
+        over = stretch & lay.water        # its columns down onto the bed (initial.water_columns)
+        lay.pts[over, 1] -= initial.drop_onto_bed(lay.pts[over, 1], zl[over], self.dx)
         self.level, self.rho_w, self.c0, self.g = level, rho_w, c0, g
         self.coupler = coupling.BedCoupler(sed, stations, z0, self.dx, h, cfg["sand"]["grain_diameter"],
                                            sed["grain_density"], amplitude=None, periodic=False, rho_w=rho_w,
@@ -92,7 +94,7 @@ class SandBed:
         return density_from_pressure(self.rho_w * self.g * np.maximum(self.level - y, 0.0), self.rho_w, self.c0)
 
     def add_particles(self, ps, layers):
-        coupling.add_bed_particles(ps, self.stations, self.coupler.bed.z, self.dx, layers, self.rho_w, self.density)
+        initial.add_bed_particles(ps, self.stations, self.coupler.bed.z, self.dx, layers, self.rho_w, self.density)
 
     def picture(self):
         b = self.coupler

@@ -34,7 +34,7 @@ from ...particles import ParticleSet, block, density_from_pressure, tait_B, FLUI
 from ...case import make_case
 from ...runner import common_params, sound_speed
 from ...probes.plots import pyplot, save
-from ...sediment import coupling
+from ...sediment import coupling, initial
 from ...sediment.transport import rouse_profile, transport_scale
 from ...terms.tke import SQRT_CMU
 from ...validation import mao
@@ -68,7 +68,7 @@ def build_bedload(cfg):
     dx, L, h, rw = g.dx, g.L, g.h, g.rw
     c0, u_max = sound_speed(cfg, 2.5 * g.U)      # the gap jet runs at up to about twice U
     stations = bed_stations(g)
-    z = coupling.initial_bed(stations, initial_bed(g, stations), sed, dx)
+    z = initial.initial_bed(stations, initial_bed(g, stations), sed, dx, periodic=True)
     ps = _particles(g, stations, z, c0)
     params = common_params(cfg, c0, G, depth=g.ytop)
     params["bed_stations"] = len(stations)
@@ -121,13 +121,13 @@ def _particles(g, stations, z, c0):
         return density_from_pressure(rw * G * np.maximum(g.ytop - y, 0.0), rw, c0)
 
     lattice = block(0.0, float(z.min()), g.Lx, g.ytop, dx)
-    above, col = coupling.above_bed(lattice, stations, z, dx)
+    above, col = initial.above_bed(lattice, stations, z, dx)
     keep = above & ~(np.hypot(lattice[:, 0] - g.xc, lattice[:, 1] - g.yc) < g.R + 0.5 * dx)
     xw = lattice[keep]
     vw = np.column_stack([log_law(xw[:, 1] - z[col[keep]], g.ustar, g.z0), np.zeros(len(xw))])
     ps = ParticleSet()
     ps.add(xw, FLUID, 0, density(xw[:, 1]), rw * dx * dx, v=vw)
-    coupling.add_bed_particles(ps, stations, z, dx, g.L, rw, density)
+    initial.add_bed_particles(ps, stations, z, dx, g.L, rw, density)
     add_pipe(ps, g, density)
     return ps
 
@@ -140,7 +140,7 @@ def equilibrium_suspension(g, bed, ps):
     ca = float(bed.pickup_concentration(g.rw * g.ustar ** 2))
     z = bed.bed.z
     fl = ps.kind == FLUID
-    _, col = coupling.above_bed(ps.x, bed.stations, z, g.dx)
+    _, col = initial.above_bed(ps.x, bed.stations, z, g.dx)
     above = ps.x[:, 1] - z[col]
     c = np.zeros(len(ps))
     c[fl] = rouse_profile(above[fl], g.ytop - z[col[fl]], g.dx, ca, bed.w_s, g.ustar)
