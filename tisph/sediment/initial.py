@@ -2,7 +2,7 @@
 (the tunnel, the beach, the pipeline and custom cases build theirs from these)."""
 import numpy as np
 
-from ..particles import BED
+from ..particles import BED, BUILD_BYTES_PER_POINT, check_fits
 from .bed import Bed
 
 
@@ -20,6 +20,9 @@ def initial_bed(stations, z, sed, dx, periodic):
     faces steeper, and the first bed update slid them down at 0.45 m/s into the water above
     (largest density error 4.9 %)."""
     z = np.array(z, float)
+    # a bed too fine to fit (up to 0.5 m of water a column) is refused before its relaxation, a
+    # Python loop, would run for hours
+    check_fits(len(z) * max(1, int(0.5 / dx)), BUILD_BYTES_PER_POINT, dx, "the water over the bed", "points")
     if sed["seed_rms"] > 0:
         rng = np.random.default_rng(int(sed["seed"]))
         e = rng.standard_normal(len(stations))
