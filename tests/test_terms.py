@@ -32,8 +32,8 @@ def patch(seed=3, walls=False):
 
 def solver(ps, kernel, h_factor, **phys):
     h = h_factor * DX
-    params = dict(dx=DX, h=h, c0=C0, alpha=0.1, xsph=0.5, delta=0.1, g=(0.0, -9.81), wall_D=5.0, cfl=0.4,
-                  dt_max=1e-3, density_band=0.5)
+    params = dict(dx=DX, h=h, c0=C0, alpha=0.1, alpha_s=0.5, xsph=0.5, delta=0.1, g=(0.0, -9.81), wall_D=5.0,
+                  cfl=0.4, dt_max=1e-3, density_band=0.5)
     mats = [dict(name="water", rho0=RHO0, viscosity=MU, B=B)]
     ph = dict(kernel=kernel, wall="dynamic", artificial_viscosity=False)
     ph.update(phys)
@@ -106,6 +106,32 @@ def test_artificial_and_laminar_viscosity(kernel, hf):
     close(av["a"] - base["a"], (c[..., None] * gw).sum(1), R["fl"])
     c = m[None, :] * 2 * MU / (rho[:, None] * rho[None, :]) * (r * gw).sum(-1) / (r2 + 0.01 * h * h)
     close(lam["a"] - base["a"], (c[..., None] * vij).sum(1), R["fl"])
+
+
+@pytest.mark.parametrize("kernel,hf", KERNELS)
+def test_surface_artificial_viscosity(kernel, hf):
+    """numerics.artificial_viscosity_surface: a pair with a particle whose position divergence is
+    under 1.5 (the patch's rim, flagged in the pass before) takes alpha_s (0.5), every other pair
+    alpha (0.1)."""
+    from tisph.physics.fluid import ArtificialViscosity
+    ps = patch()
+    _, base = solver(ps, kernel, hf)
+    s, _ = solver(ps, kernel, hf, artificial_viscosity=True, surface_viscosity=True)
+    s.prime()                      # the flags from the first pass now in use
+    st = s.state(("a", "fs"))
+    R = reference(ps, kernel, hf)
+    h, r, r2, gw, vij, m, rho, fl = R["h"], R["r"], R["r2"], R["gw"], R["vij"], R["m"], R["rho"], R["fl"]
+    divr = -((m / rho)[None, :] * (r * gw).sum(-1)).sum(1)
+    rim = divr < ArtificialViscosity.SURFACE_DIV
+    clear = fl & (np.abs(divr - ArtificialViscosity.SURFACE_DIV) > 1e-3)
+    assert np.array_equal(st["fs"][clear] > 0.5, rim[clear])
+    assert rim[fl].sum() >= 9 and (~rim[fl]).sum() >= 9
+    flag = st["fs"] > 0.5
+    alpha = np.where(flag[:, None] | flag[None, :], 0.5, 0.1)
+    vr = (vij * r).sum(-1)
+    mu = np.where(vr < 0, h * vr / (r2 + 0.01 * h * h), 0.0)
+    c = m[None, :] * alpha * C0 * mu * 0.5 * (1 / rho[:, None] + 1 / rho[None, :])
+    close(st["a"] - base["a"], (c[..., None] * gw).sum(1), fl)
 
 
 @pytest.mark.parametrize("kernel,hf", KERNELS)

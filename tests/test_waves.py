@@ -102,6 +102,34 @@ def test_linear_shoaling_is_greens_law_in_shallow_water_and_weggels_index():
     assert 0.95 < weggel_index(1 / 20, 0.13, 2.5) < 1.1
 
 
+def test_shuto_shoaling_is_linear_for_small_waves_and_keeps_its_invariants():
+    """Shuto's (1974) nonlinear shoaling: linear shoaling while the Ursell number g H T^2 / h^2 is
+    under 30, H h^(2/7) constant from 30 to 50, H h^(5/2) (sqrt(U) - 2 sqrt(3)) constant beyond,
+    continuous where the regimes meet; the beach's waves (U = 80 on the flat part) shoal 18 %
+    over linear theory by h = 0.2 m."""
+    from tisph.scenes.beach.shoaling import linear_shoaling, shuto_shoaling
+    om, T2 = 2 * np.pi / 2.5, 2.5 ** 2
+    h = np.linspace(0.5, 0.08, 200)
+    small = shuto_shoaling(1e-3, 0.5, h, om)
+    assert np.allclose(small, linear_shoaling(1e-3, 0.5, h, om)[0], rtol=1e-12)
+    H = shuto_shoaling(0.05, 0.5, h, om)
+    U = 9.81 * H * T2 / h ** 2
+    lin = U < 30
+    assert lin[0] and not lin[-1]
+    assert np.allclose(H[lin], linear_shoaling(0.05, 0.5, h[lin], om)[0], rtol=1e-12)
+    mid = (U > 31) & (U < 49)
+    inv = H[mid] * h[mid] ** (2 / 7)
+    assert mid.sum() > 5 and np.ptp(inv) < 1e-9 * inv.mean()
+    far = U > 51
+    inv = H[far] * h[far] ** 2.5 * (np.sqrt(U[far]) - 2 * np.sqrt(3))
+    assert far.sum() > 50 and np.ptp(inv) < 1e-6 * inv.mean()
+    step = np.diff(H) / H[1:]
+    for k in (int(np.argmax(U >= 30)), int(np.argmax(U >= 50))):    # no jump where the regimes meet
+        assert step[k - 1] < 1.5 * max(step[k - 2], step[k])
+    H, Hl = shuto_shoaling(0.117, 0.3, [0.3, 0.2], om), linear_shoaling(0.117, 0.3, [0.3, 0.2], om)[0]
+    assert H[0] == pytest.approx(0.117) and H[1] / Hl[1] == pytest.approx(1.18, abs=0.01)
+
+
 def test_wave_array_separates_incident_reflected_bound_and_free():
     """Synthetic gauge records: a 10 % reflected wave and a free second harmonic beside the bound
     one are recovered from six gauges a tenth of a wavelength apart (Mansard & Funke 1980)."""

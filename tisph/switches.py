@@ -12,6 +12,7 @@ class Physics:
     laminar_viscosity: bool = False
     xsph: bool = False
     shifting: bool = False      # particle shifting (Lind et al. 2012; physics/fluid.py Shifting)
+    surface_viscosity: bool = False  # a larger alpha at the free surface (physics/fluid.py ArtificialViscosity)
     density_diffusion: str = "none"
     shepard: bool = False
     rheology: bool = False      # some material is Bingham or Cross: effective-viscosity field
@@ -64,6 +65,7 @@ def physics_from_config(cfg: dict, periodic_x=False, noslip=False, materials_use
         laminar_viscosity=bool(n["laminar_viscosity"]) or rheo,
         xsph=n["xsph"] > 0.0,
         shifting=n["shifting"] > 0.0,
+        surface_viscosity=n["artificial_viscosity"] > 0.0 and n["artificial_viscosity_surface"] > n["artificial_viscosity"],
         density_diffusion=n["density_diffusion"],
         shepard=n["shepard_every"] > 0,
         spray=n["spray_limit"] > 0.0,

@@ -16,6 +16,10 @@ KEYED = {p.key: p for p in (
           "more stops the run; 0: any particle leaving the band stops it", key="numerics.spray_limit"),
     Param(0.1, "-", (0.0, 2.0, True, True), "Monaghan alpha; 0 compiles the term out",
           key="numerics.artificial_viscosity"),
+    Param(0.0, "-", (0.0, 2.0, True, True),
+          "above artificial_viscosity: the alpha of a pair with a particle at the free surface (its position "
+          "divergence under 1.5), where droplets and the swash ring; 0: alpha everywhere",
+          key="numerics.artificial_viscosity_surface"),
     Param(0.1, "-", (0.0, 1.0, True, True), "density diffusion coefficient",
           key="numerics.delta"),
     Param(0.0, "-", (0.0, 10.0, True, True),

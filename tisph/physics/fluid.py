@@ -61,34 +61,78 @@ class Pressure(Module):
 
 @ti.data_oriented
 class ArtificialViscosity(Module):
-    """Monaghan's artificial viscosity, paper 000 eq. 9; its signal speed enters the time step."""
+    """Monaghan's artificial viscosity, paper 000 eq. 9; its signal speed enters the time step.
+
+    With numerics.artificial_viscosity_surface above alpha, a pair with a particle at the free
+    surface (its position divergence -sum_j V_j r_ij . grad W_ij, 2 inside a 2D fluid, under 1.5,
+    DualSPHysics' threshold; one step behind) takes that alpha instead. A particle with part of
+    its support empty has no neighbours to carry an oscillation away as sound: a few particles
+    torn off a breaker, or left in the swash, ring as the Tait tension pulls them together and
+    apart (density +-20 % at alpha 0.01, docs/waves.md), where a constant alpha large enough to
+    damp them damps the waves too."""
     name = "artificial_viscosity"
     pair_once = {"mu": "max"}
     on = {"artificial_viscosity": True}
-    params = {"alpha": KEYED["numerics.artificial_viscosity"]}
+    params = {"alpha": KEYED["numerics.artificial_viscosity"],
+              "alpha_s": KEYED["numerics.artificial_viscosity_surface"]}
     acc = {"mu": "real"}
+    SURFACE_DIV = 1.5
+
+    def __init__(self, S=None):
+        self.surface = S is not None and S.physics.surface_viscosity
+        if self.surface:
+            self.acc = dict(self.acc, fsi="real", dvr="real")
+            self.pair_once = dict(self.pair_once, dvr="sum")
+
+    def fields(self, real):
+        return {"fs": real} if self.surface else {}   # 1 at the free surface, one step behind
+
+    @ti.func
+    def init_acc(self, S, i, acc: ti.template()):
+        if ti.static(self.surface):
+            acc.fsi = S.tmp.fs[i]
+
+    @ti.func
+    def alpha_ij(self, S, j, nb, acc):
+        prm = S.prm[None]
+        a = prm.alpha
+        if ti.static(self.surface):
+            fj = 0.0
+            if nb.kj == FLUID:
+                fj = S.tmp.fs[j]
+            if ti.max(acc.fsi, fj) > 0.5:
+                a = prm.alpha_s
+        return a
 
     @ti.func
     def pair(self, S, i, j, r, r2, nb, acc: ti.template()):
         prm = S.prm[None]
         mu = monaghan_mu(S.h, nb.v_ij, r, nb.ie)
-        acc.a += artificial_viscosity(nb.m_j, prm.alpha, prm.c0, mu, acc.inv_rhoi, nb.ir_j, nb.gw)
+        acc.a += artificial_viscosity(nb.m_j, self.alpha_ij(S, j, nb, acc), prm.c0, mu, acc.inv_rhoi, nb.ir_j, nb.gw)
         acc.mu = ti.max(acc.mu, -mu)
+        if ti.static(self.surface):
+            acc.dvr -= nb.vol_j * r.dot(nb.gw)
 
     @ti.func
     def pair2(self, S, i, j, r, r2, nb, acc: ti.template(), sj: ti.template()):
-        """Both fluid particles' terms: mu_ij is symmetric, the force equal and opposite."""
+        """Both fluid particles' terms: mu_ij and alpha_ij are symmetric, the force equal and opposite."""
         prm = S.prm[None]
         mu = monaghan_mu(S.h, nb.v_ij, r, nb.ie)
-        f = prm.alpha * prm.c0 * mu * 0.5 * (acc.inv_rhoi + nb.ir_j) * nb.gw
+        f = self.alpha_ij(S, j, nb, acc) * prm.c0 * mu * 0.5 * (acc.inv_rhoi + nb.ir_j) * nb.gw
         acc.a += nb.m_j * f
         sj.a -= nb.m_i * f
         acc.mu = ti.max(acc.mu, -mu)
         sj.mu = ti.max(sj.mu, -mu)
+        if ti.static(self.surface):
+            rg = r.dot(nb.gw)               # r_ji . grad W_ji is the same
+            acc.dvr -= nb.vol_j * rg
+            sj.dvr -= nb.vol_i * rg
 
     @ti.func
     def finish(self, S, i, mi, acc: ti.template(), pt: ti.template()):
         pt.mumax = ti.max(pt.mumax, acc.mu)
+        if ti.static(self.surface):
+            S.p.fs[i] = 1.0 if acc.dvr < self.SURFACE_DIV else 0.0
 
 
 @ti.data_oriented

@@ -129,18 +129,19 @@ def turnover_periods(cfg):
                         sed["grain_density"] / cfg["materials"]["water"]["rho0"], sed)
 
 
-def morfac_limit(cfg):
+def morfac_limit(cfg, turnover=None):
     """The largest morfac at which the bed turns over no faster, in wave periods, than in the
     default tunnel (MORFAC_TURNOVER): the morphological factor assumes the bed all but still
     through a wave period (Roelvink 2006). At mobility 145 (d0 = 0.4 m, T = 1.5 s, 2.9 periods a
-    ripple at morfac 10) the ripples coarsened to 1.0 d0 at morfac 10 and kept 0.58-0.67 d0 at 3."""
-    return cfg["sediment"]["morfac"] * turnover_periods(cfg) / MORFAC_TURNOVER
+    ripple at morfac 10) the ripples coarsened to 1.0 d0 at morfac 10 and kept 0.58-0.67 d0 at 3.
+    turnover: periods a ripple's sand takes at cfg's morfac (default: the tunnel's own)."""
+    return cfg["sediment"]["morfac"] * (turnover_periods(cfg) if turnover is None else turnover) / MORFAC_TURNOVER
 
 
 def warn_fast_bed(sed, turnover, where):
     """Warn where the bed at sed's morfac turns over faster than in the default tunnel, where the
     ripple model was chosen; returns the largest morfac that keeps it as slow."""
-    limit = sed["morfac"] * turnover / MORFAC_TURNOVER
+    limit = morfac_limit({"sediment": sed}, turnover)
     if sed["morfac"] > limit:
         warnings.warn(f"sediment.morfac = {sed['morfac']:g} moves the bed faster in each wave period than in the "
                       f"default tunnel, where the ripple model was chosen ({where} the bed load moves a "

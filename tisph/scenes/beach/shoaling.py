@@ -36,6 +36,40 @@ def linear_shoaling(H0, h0, h, omega, g=G):
     return np.array(H), np.array(A)
 
 
+def shuto_shoaling(H0, h0, h, omega, g=G):
+    """Nonlinear shoaling (Shuto 1974, Coastal Eng. in Japan 17:1; as Goda 2010, Random Seas and
+    Design of Maritime Structures, sec. 3.5, writes it) with the Ursell number U = g H T^2 / h^2:
+    linear shoaling while U < 30, then H h^(2/7) constant while U < 50, then
+    H h^(5/2) (sqrt(U) - 2 sqrt(3)) constant, each constant taken where the regime starts. h
+    runs shallower from h0 (along a slope); heights at each h."""
+    T2 = (2 * math.pi / omega) ** 2
+    ursell = lambda H, d: g * H * T2 / (d * d)
+    third = lambda H, d: H * d ** 2.5 * (math.sqrt(ursell(H, d)) - 2 * math.sqrt(3.0))
+    out, H_prev, d_prev, regime, const = [], H0, h0, 0, None
+    lin0 = (H0, h0)
+    for d in h:
+        d = float(d)
+        if regime == 0:
+            H = float(linear_shoaling(lin0[0], lin0[1], [d], omega, g)[0][0])
+            if ursell(H, d) >= 30 or ursell(H0, h0) >= 30:
+                regime = 1 if ursell(H_prev, d_prev) < 50 else 2
+                const = H_prev * d_prev ** (2 / 7) if regime == 1 else third(H_prev, d_prev)
+        if regime == 1:
+            H = const * d ** (-2 / 7)
+            if ursell(H, d) >= 50:
+                regime, const = 2, third(H_prev, d_prev)
+        if regime == 2:
+            lo, hi = 1e-9, 10.0 * d          # third() grows with H past U = 12: bisect
+            lo = max(lo, 12.0 * d * d / (g * T2))
+            for _ in range(100):
+                mid = 0.5 * (lo + hi)
+                lo, hi = (mid, hi) if third(mid, d) < const else (lo, mid)
+            H = 0.5 * (lo + hi)
+        out.append(H)
+        H_prev, d_prev = H, d
+    return np.array(out)
+
+
 class Shoaling:
     def __init__(self, geo, depth_at, level, dx, h, columns_from=1.0):
         """geo: the beach's geometry table; depth_at(x): still-water depth; level: still-water
@@ -67,16 +101,20 @@ class Shoaling:
         # the reference: the mean over the flat part (a wave partly reflected by the beach makes
         # the height there vary along x)
         Hth, Ath = linear_shoaling(float(H[flat].mean()), self.depth[0], self.depth, omega)
+        Hnl = shuto_shoaling(float(H[flat].mean()), self.depth[0], self.depth, omega)
         ok = np.isfinite(H)
         ib = int(np.nanargmax(np.where(ok, H, np.nan)))
         err = np.abs(H[:ib + 1] / Hth[:ib + 1] - 1)
+        nerr = np.abs(H[:ib + 1] / Hnl[:ib + 1] - 1)
         A = np.array([amplitude_at(x) for x in self.xs])
         aerr = np.abs(A[:ib + 1] / Ath[:ib + 1] - 1)
         Hb, hb = float(H[ib]), float(self.depth[ib])
-        self.result = dict(x=self.xs, H=H, Hth=Hth, A=A, Ath=Ath, ib=ib)
+        self.result = dict(x=self.xs, H=H, Hth=Hth, Hnl=Hnl, A=A, Ath=Ath, ib=ib)
         return dict(shoaling_x=[float(x) for x in self.xs], shoaling_height=[float(v) for v in H],
                     shoaling_theory=[float(v) for v in Hth],
                     shoaling_error=float(np.nanmax(err)) if ib > 0 else float("nan"),
+                    shoaling_nonlinear=[float(v) for v in Hnl],
+                    shoaling_error_nonlinear=float(np.nanmax(nerr)) if ib > 0 else float("nan"),
                     orbital_amplitude_error=float(np.nanmax(aerr)) if ib > 0 else float("nan"),
                     breaking_x=float(self.xs[ib]), breaking_height=Hb, breaking_depth=hb,
                     breaker_index=Hb / hb, weggel_breaker_index=weggel_index(self.slope_m, Hb, p["period"]))
@@ -89,14 +127,17 @@ class Shoaling:
         fig, (a1, a2) = plt.subplots(2, 1, figsize=(8, 5.2), sharex=True)
         a1.plot(r["x"], 100 * r["H"], "o-", ms=3, lw=0.9, label="measured (trough to crest)")
         a1.plot(r["x"], 100 * r["Hth"], "k--", lw=0.9, label="linear shoaling from the flat part's mean")
+        a1.plot(r["x"], 100 * r["Hnl"], "k-.", lw=0.9, label="nonlinear shoaling (Shuto 1974) from the same")
         a1.axvline(r["x"][r["ib"]], color="0.5", lw=0.8, ls=":", label="breaking (largest H)")
         a1.set_ylabel("wave height (cm)")
+        a1.set_ylim(0, 130 * np.nanmax(r["H"]))     # the theories run on past the break
         a1.legend(fontsize=7)
         a2.plot(r["x"], 100 * r["A"], "o-", ms=3, lw=0.9, label="measured near-bed orbital amplitude")
         a2.plot(r["x"], 100 * r["Ath"], "k--", lw=0.9, label="linear theory, H / (2 sinh kh)")
         a2.axvline(r["x"][r["ib"]], color="0.5", lw=0.8, ls=":")
         a2.set_ylabel("orbital amplitude (cm)")
+        a2.set_ylim(0, 130 * np.nanmax(r["A"]))
         a2.set_xlabel("x from the paddle (m)")
         a2.legend(fontsize=7)
-        fig.suptitle("beach: waves against linear shoaling", fontsize=10)
+        fig.suptitle("beach: waves against linear and nonlinear shoaling", fontsize=10)
         save(fig, path)
