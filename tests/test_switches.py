@@ -103,6 +103,12 @@ def test_physics_follows_config():
     ph = physics_from_config(cfg)
     assert ph.kernel == "wendland" and ph.wall == "repulsive" and ph.shepard
     assert ph.artificial_viscosity and ph.density_diffusion == "fourtakas" and not ph.xsph
+    assert not ph.surface_viscosity
+    # the surface alpha compiles the term in on its own, and only above alpha
+    for alpha, surface, want in ((0.0, 0.1, (True, True)), (0.1, 0.05, (True, False)), (0.0, 0.0, (False, False))):
+        ph = physics_from_config(build_config(dam_break.DEFAULTS, None, {"numerics.artificial_viscosity": alpha,
+                                                                         "numerics.artificial_viscosity_surface": surface}))
+        assert (ph.artificial_viscosity, ph.surface_viscosity) == want
 
 
 def test_shepard_filter_smooths_noise_and_keeps_the_mean():

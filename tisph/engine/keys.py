@@ -18,7 +18,7 @@ KEYED = {p.key: p for p in (
           key="numerics.artificial_viscosity"),
     Param(0.0, "-", (0.0, 2.0, True, True),
           "above artificial_viscosity: the alpha of a pair with a particle at the free surface (its position "
-          "divergence under 1.5), where droplets and the swash ring; 0: alpha everywhere",
+          "divergence under 1.5), where droplets and the swash ring (with artificial_viscosity 0 too); 0: alpha everywhere",
           key="numerics.artificial_viscosity_surface"),
     Param(0.1, "-", (0.0, 1.0, True, True), "density diffusion coefficient",
           key="numerics.delta"),

@@ -46,12 +46,11 @@ def shuto_shoaling(H0, h0, h, omega, g=G):
     ursell = lambda H, d: g * H * T2 / (d * d)
     third = lambda H, d: H * d ** 2.5 * (math.sqrt(ursell(H, d)) - 2 * math.sqrt(3.0))
     out, H_prev, d_prev, regime, const = [], H0, h0, 0, None
-    lin0 = (H0, h0)
     for d in h:
         d = float(d)
         if regime == 0:
-            H = float(linear_shoaling(lin0[0], lin0[1], [d], omega, g)[0][0])
-            if ursell(H, d) >= 30 or ursell(H0, h0) >= 30:
+            H = float(linear_shoaling(H0, h0, [d], omega, g)[0][0])
+            if ursell(H, d) >= 30:
                 regime = 1 if ursell(H_prev, d_prev) < 50 else 2
                 const = H_prev * d_prev ** (2 / 7) if regime == 1 else third(H_prev, d_prev)
         if regime == 1:
@@ -130,13 +129,14 @@ class Shoaling:
         a1.plot(r["x"], 100 * r["Hnl"], "k-.", lw=0.9, label="nonlinear shoaling (Shuto 1974) from the same")
         a1.axvline(r["x"][r["ib"]], color="0.5", lw=0.8, ls=":", label="breaking (largest H)")
         a1.set_ylabel("wave height (cm)")
-        a1.set_ylim(0, 130 * np.nanmax(r["H"]))     # the theories run on past the break
+        top = lambda v: 130 * np.nanmax(v) if np.isfinite(v).any() else None   # the theories run on past the break
+        a1.set_ylim(0, top(r["H"]))
         a1.legend(fontsize=7)
         a2.plot(r["x"], 100 * r["A"], "o-", ms=3, lw=0.9, label="measured near-bed orbital amplitude")
         a2.plot(r["x"], 100 * r["Ath"], "k--", lw=0.9, label="linear theory, H / (2 sinh kh)")
         a2.axvline(r["x"][r["ib"]], color="0.5", lw=0.8, ls=":")
         a2.set_ylabel("orbital amplitude (cm)")
-        a2.set_ylim(0, 130 * np.nanmax(r["A"]))
+        a2.set_ylim(0, top(r["A"]))
         a2.set_xlabel("x from the paddle (m)")
         a2.legend(fontsize=7)
         fig.suptitle("beach: waves against linear and nonlinear shoaling", fontsize=10)
