@@ -17,6 +17,11 @@ from ..terms.viscosity import artificial_viscosity, laminar_viscosity, monaghan_
 from ..terms.xsph import xsph
 
 
+# DualSPHysics' 2D free-surface threshold on the position divergence -sum_j V_j r_ij . grad W_ij
+# (2 inside a fluid): the surface alpha and the shifting both read it
+SURFACE_DIV = 1.5
+
+
 def viscous_step(h, materials):
     """The explicit viscous limit 0.125 h^2 / nu of the most viscous material (1e30: inviscid)."""
     nu_max = max((m.get("viscosity", 0.0) / m["rho0"] for m in materials), default=0.0)
@@ -76,7 +81,7 @@ class ArtificialViscosity(Module):
     params = {"alpha": KEYED["numerics.artificial_viscosity"],
               "alpha_s": KEYED["numerics.artificial_viscosity_surface"]}
     acc = {"mu": "real"}
-    SURFACE_DIV = 1.5
+    SURFACE_DIV = SURFACE_DIV
 
     def __init__(self, S=None):
         self.surface = S is not None and S.physics.surface_viscosity
@@ -282,7 +287,7 @@ class Shifting(Module):
     gradient is not at hand, and the shift is a small fraction of dx a step)."""
     name = "shifting"
     on = {"shifting": True}
-    SURFACE_DIV = 1.5      # DualSPHysics' 2D free-surface threshold on div r
+    SURFACE_DIV = SURFACE_DIV
     params = {"shifting": KEYED["numerics.shifting"]}
     acc = {"gc": "vec2", "divr": "real"}
 
