@@ -608,18 +608,15 @@ def test_a_tunnel_bed_faster_than_the_default_s_says_the_morfac_that_keeps_it_as
     theta = np.array([float(shear_waves(np.pi * d0 / T * np.sin(w), 0.5 * d0, D)) for w in (np.arange(4000) + 0.5) * np.pi / 4000])
     q = np.mean(bedload_mpm(theta / ((2650 - 1000) * 9.81 * D), shields_critical(D, 2.65))) * transport_scale(D, 2.65)
     assert ripple_turnover_periods(d0, T, D, 2.65, 0.186, 0.03162) == pytest.approx(0.6 * 0.5 * 0.186 * 0.03162 / (q * T), rel=2e-3)
-    for ov, warned in (({}, None), ({"geometry.orbital_diameter": 0.4, "geometry.period": 1.5}, "morfac = 4.2 keeps")):
-        with warnings.catch_warnings(record=True) as w:
-            warnings.simplefilter("always")
-            tunnel.build(resolve(tunnel, None, ov))
-        msgs = [str(x.message) for x in w if "sediment.morfac" in str(x.message)]
-        assert (warned in msgs[0]) if warned else not msgs, msgs
-    # the beach at its toe's linear-wave d0 (0.251 m, T = 2.5 s): its default 22 within it, 30 past it
     from tisph.scenes import beach
-    for ov, warned in (({}, None), ({"sediment.morfac": 30.0}, "morfac = 22.2 keeps")):
+    # the beach takes the rule at its toe's linear-wave d0 (0.251 m, T = 2.5 s): its default 22
+    # within it, 30 past it
+    for scene, ov, warned in ((tunnel, {}, None),
+                              (tunnel, {"geometry.orbital_diameter": 0.4, "geometry.period": 1.5}, "morfac = 4.2 keeps"),
+                              (beach, {}, None), (beach, {"sediment.morfac": 30.0}, "morfac = 22.2 keeps")):
         with warnings.catch_warnings(record=True) as w:
             warnings.simplefilter("always")
-            beach.build(resolve(beach, None, ov))
+            scene.build(resolve(scene, None, ov))
         msgs = [str(x.message) for x in w if "sediment.morfac" in str(x.message)]
         assert (warned in msgs[0]) if warned else not msgs, msgs
 

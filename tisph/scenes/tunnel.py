@@ -297,7 +297,7 @@ def _build_bedload(cfg):
     stations = (np.arange(int(round(Lx / dx))) + 0.5) * dx
     z = hs + 0.5 * geo["seed_ripple_height"] * np.sin(2 * np.pi * n_seed * stations / Lx)
     sed = dict(sed, seed_rms=seed_rms(cfg))
-    z = initial.initial_bed(stations, z, sed, dx, periodic=True)
+    z = initial.initial_bed(stations, z, sed, dx, periodic=True, top=ytop)
     ps = _bedload_particles(cfg, stations, z, c0)
     params = common_params(cfg, c0, G, depth=ytop)
     params["bed_stations"] = len(stations)

@@ -13,16 +13,17 @@ def random_bed_rms(sed, roughness, d0):
     return sed["seed_rms"] or round(roughness * d0, 9)
 
 
-def initial_bed(stations, z, sed, dx, periodic):
+def initial_bed(stations, z, sed, dx, periodic, top=None):
     """The initial bed: z plus a random perturbation of RMS seed_rms, smoothed over 2 dx (a white
     perturbation at one station would be a 1-dx spike) and rescaled to that RMS, then relaxed to
     the angle of repose (Bed.avalanche), as sand rests: a 3 mm bed at dx = 6.7 mm had 20 of its 363
     faces steeper, and the first bed update slid them down at 0.45 m/s into the water above
-    (largest density error 4.9 %)."""
+    (largest density error 4.9 %). top: the level of the water the scene lays over it afterwards
+    (water_columns), whose particles must fit before the relaxation, a Python loop that would run
+    for hours on a bed too fine, is started."""
     z = np.array(z, float)
-    # a bed too fine to fit (up to 0.5 m of water a column) is refused before its relaxation, a
-    # Python loop, would run for hours
-    check_fits(len(z) * max(1, int(0.5 / dx)), BUILD_BYTES_PER_POINT, dx, "the water over the bed", "points")
+    count = len(z) if top is None else int(np.sum(np.maximum(np.ceil((top - z) / dx), 0))) + len(z)
+    check_fits(count, BUILD_BYTES_PER_POINT, dx, "the water over the bed", "points")
     if sed["seed_rms"] > 0:
         rng = np.random.default_rng(int(sed["seed"]))
         e = rng.standard_normal(len(stations))

@@ -57,7 +57,7 @@ def build_bedload(cfg, name, stills):
     T = L * dx
     stations = RIGID + (np.arange(int(round((Lf - RIGID) / dx))) + 0.5) * dx
     sed = dict(sed, seed_rms=initial.random_bed_rms(sed, geo["roughness"], d0_toe))
-    z = initial.initial_bed(stations, bed_profile(geo, stations), sed, dx, periodic=False)
+    z = initial.initial_bed(stations, bed_profile(geo, stations), sed, dx, periodic=False, top=yw)
 
     def density(y):
         return density_from_pressure(rw * G * np.maximum(yw - y, 0.0), rw, c0)

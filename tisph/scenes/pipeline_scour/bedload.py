@@ -68,7 +68,7 @@ def build_bedload(cfg):
     dx, L, h, rw = g.dx, g.L, g.h, g.rw
     c0, u_max = sound_speed(cfg, 2.5 * g.U)      # the gap jet runs at up to about twice U
     stations = bed_stations(g)
-    z = initial.initial_bed(stations, initial_bed(g, stations), sed, dx, periodic=True)
+    z = initial.initial_bed(stations, initial_bed(g, stations), sed, dx, periodic=True, top=g.ytop)
     ps = _particles(g, stations, z, c0)
     params = common_params(cfg, c0, G, depth=g.ytop)
     params["bed_stations"] = len(stations)
