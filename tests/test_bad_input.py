@@ -94,7 +94,9 @@ CASES = [
     (flume, [], "[paddle]\nseries = \".\"\n", ["paddle.series", "'.'", "a CSV file", "it is a folder"]),
     # the waves' keys
     (flume, [], "[paddle]\norder = 3\n", ["paddle.order", "3", "<= 2"]),
-    (flume, [], "[paddle]\ntype = \"flap\"\norder = 2\n", ["paddle.order", "1 with a flap or a series", "Madsen"]),
+    (flume, [], "[paddle]\nseries = \"s.csv\"\norder = 2\n", ["paddle.order", "1 with a series"]),
+    (flume, [], "[geometry]\ndepth = 5.0\nwall_height = 6.0\n[paddle]\nperiod = 0.8\nstroke = 0.02\norder = 2\n",
+     ["paddle.order", "k2 h = 126", "at most 100"]),
     (flume, [], "[geometry]\narray_gauges = 2\n", ["geometry.array_gauges", "2", "0 (no array) or 3 to 12"]),
     (flume, [], "[numerics]\nwall = \"adamy\"\n", ["numerics.wall", "adamy", "adami"]),
     (flume, [], "[paddle]\nspectrum = \"jonswop\"\n", ["paddle.spectrum", "jonswop", "'jonswap'"]),

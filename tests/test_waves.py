@@ -8,6 +8,7 @@ import pytest
 
 
 from tisph import irregular, wavemaker as wm
+from tisph.second_order import second_order_stroke
 from tisph.io import read_station_rows
 from tisph.ripples import ripple_stats, orbital_diameter, wiberg_harris
 from tisph.runner import resolve, build_case, Log, simulate
@@ -63,23 +64,50 @@ def test_motion_ramp_and_rate():
     assert om == pytest.approx(num, abs=1e-6)
 
 
-def test_second_order_stroke_is_madsens_and_ramps_as_the_square():
-    """Madsen (1971): X2 = H^2/(32 h) (3 cosh kh / sinh^3 kh - 2/m1); in shallow water m1 -> kh, so
-    X2 -> H^2/(32 h) (3/(kh)^3 - 2/kh), his long-wave result; the 2 omega stroke ramps up as
-    the square of the first-order ramp, and the rate stays the displacement's derivative."""
-    k, h = 0.01, 1.0
-    H = wm.biesel_piston(k * h) * 0.1
-    assert wm.madsen_second_order(0.1, k, h) == pytest.approx(H * H / 32 * (3 / (k * h) ** 3 - 2 / (k * h)), rel=1e-3)
-    m = wm.Motion("piston", stroke=0.1, period=1.0, ramp_periods=2.0, second=0.004)
+def test_second_order_stroke_is_madsens_in_shallow_water_and_ramps_as_the_square():
+    """Madsen (1971): X2 = H^2/(32 h) (3 cosh kh / sinh^3 kh - 2/m1), the first order's progressive
+    mode only and the free mode taken as uniform over the depth; in shallow water (where it is)
+    m1 -> kh, X2 -> H^2/(32 h) (3/(kh)^3 - 2/kh), and the full theory gives the same: the
+    evanescent modes vanish there. At kh = 0.95 (k2 h = 2.8) neither simplification holds. The
+    evanescent series converges; a flap hinged far under the bed moves as a piston. The 2 omega
+    stroke ramps up as the square of the first-order ramp."""
+    def madsen(S, omega, h):
+        kh = wm.wavenumber(omega, h) * h
+        m1 = wm.biesel_piston(kh)
+        return (m1 * S) ** 2 / (32 * h) * (3 * np.cosh(kh) / np.sinh(kh) ** 3 - 2 / m1)
+    h = 1.0
+    omega = 0.01 * np.sqrt(9.81 / h)          # kh = 0.01
+    kh = wm.wavenumber(omega, h) * h
+    H = wm.biesel_piston(kh) * 0.1
+    for modes in (0, 100):
+        bs, bc = second_order_stroke("piston", 0.1, omega, h, modes=modes)
+        assert bs == pytest.approx(H * H / 32 * (3 / kh ** 3 - 2 / kh), rel=1e-3)
+        assert abs(bc) < 1e-3 * bs
+    omega = 2 * np.pi / 1.2                   # the scene flume_second_order.toml: kh = 0.95
+    progressive = second_order_stroke("piston", 0.04, omega, 0.25, modes=0)
+    full = second_order_stroke("piston", 0.04, omega, 0.25)
+    assert progressive[1] == 0.0
+    assert madsen(0.04, omega, 0.25) < 0.8 * progressive[0] < 0.8 * full[0]
+    for T in (0.8, 1.2, 2.5):
+        w = 2 * np.pi / T
+        for kind in ("piston", "flap"):
+            assert np.allclose(second_order_stroke(kind, 0.04, w, 0.25, modes=100),
+                               second_order_stroke(kind, 0.04, w, 0.25, modes=200), rtol=0.01, atol=1e-7)
+        assert np.allclose(second_order_stroke("flap", 0.04, w, 0.25, lever=2.5e3),
+                           second_order_stroke("piston", 0.04, w, 0.25), rtol=1e-3, atol=1e-8)
+        assert not np.allclose(second_order_stroke("flap", 0.04, w, 0.25),
+                               second_order_stroke("piston", 0.04, w, 0.25), rtol=0.2)
+    m = wm.Motion("piston", stroke=0.1, period=1.0, ramp_periods=2.0, second=(0.004, 0.001))
     t = np.arange(0.0, 4.0, 1e-3)
     X = np.array([m(s)[0] for s in t])
     late = t >= 2.0
     c2 = np.exp(-2j * 2 * np.pi * t[late])
-    assert abs((X[late] * c2).mean() * 2) == pytest.approx(0.004, rel=1e-3)
+    assert (X[late] * c2).mean() * 2 == pytest.approx(0.001 - 0.004j, rel=1e-3)   # cos - i sin
     first = wm.Motion("piston", stroke=0.1, period=1.0, ramp_periods=2.0)
     for s in (0.3, 0.9, 1.6):
         r = 0.5 * (1 - np.cos(np.pi * s / 2.0))
-        assert m(s)[0] - first(s)[0] == pytest.approx(r * r * 0.004 * np.sin(4 * np.pi * s), rel=1e-9, abs=1e-15)
+        x2 = 0.004 * np.sin(4 * np.pi * s) + 0.001 * np.cos(4 * np.pi * s)
+        assert m(s)[0] - first(s)[0] == pytest.approx(r * r * x2, rel=1e-9, abs=1e-15)
     for s in (0.3, 1.1, 2.5):
         num = (m(s + 1e-6)[0] - m(s - 1e-6)[0]) / 2e-6
         assert m(s)[1] == pytest.approx(num, rel=1e-5, abs=1e-9)
@@ -610,3 +638,35 @@ def test_renormalised_diffusion_keeps_the_standing_wave_fourtakas_damps(tmp_path
         last[kind] = amp[-1]
     assert last["antuono"] > 0.85 and rate["antuono"] < 0.015, (last, rate)
     assert last["fourtakas"] < last["antuono"] - 0.08, (last, rate)
+
+
+@pytest.mark.parametrize("kind", ["piston", "flap"])
+def test_flume_fits_the_free_second_harmonic_once_it_is_over_the_array(tmp_path, kind):
+    """scenes/flume_second_order.toml's array, fed a synthetic record: the first harmonic and its
+    bound wave arrive at the group velocity, the free second harmonic (0.4 mm) at its own, slower
+    one (0.48 against 1.09 m/s). The fit reads the free wave's size only once it is there; a
+    window from the first harmonic's arrival would catch its front."""
+    from tisph.probes import waves
+    path = os.path.join(os.path.dirname(__file__), "..", "scenes", "flume_second_order.toml")
+    cfg = resolve(flume, path, overrides={"paddle.type": kind})
+    case = build_case(flume, cfg, Log(str(tmp_path / "log"), True))
+    p, d = cfg["paddle"], cfg["geometry"]["depth"]
+    w = 2 * math.pi / p["period"]
+    k, k2 = wm.wavenumber(w, d), wm.wavenumber(2 * w, d)
+    cg, cg2 = wm.group_velocity(w, k, d), wm.group_velocity(2 * w, k2, d)
+    ramp = p["ramp_periods"] * p["period"]
+    t = np.arange(0.0, 20.0, 0.01)
+    a, free = 0.018, 4e-4
+    bound = waves.stokes_bound_ratio(k, d) * a * a
+
+    def eta(x):
+        on, on2 = np.clip((t - x / cg) / ramp, 0, 1), np.clip((t - x / cg2) / ramp, 0, 1)
+        ph = k * x - w * t
+        return on * (a * np.cos(ph) + bound * np.cos(2 * ph)) + on2 * free * np.cos(k2 * x - 2 * w * t + 0.7)
+    cols = case.observers.probe_columns
+    m0 = case.observers.metrics({"t": t[:2], **{col: np.zeros(2) for col in cols}})
+    xs = list(m0["gauges_x"]) + list(m0["array_x"])
+    m = case.observers.metrics({"t": t, **{col: eta(x) for col, x in zip(cols, xs)}})
+    assert m["second_harmonic_window"][0] > max(m0["array_x"]) / cg2
+    assert m["second_harmonic_free"] == pytest.approx(free, rel=0.05)
+    assert m["second_harmonic_bound"] == pytest.approx(bound, rel=0.05)

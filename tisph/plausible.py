@@ -84,7 +84,7 @@ def warn_waves(cfg, H, k, depth, linear_metric=True):
                       "nonlinear (cnoidal), and Biesel's linear height is not what a gauge should read")
 
 
-def warn_window(p, xs, cg, end_time, period, arrival):
+def warn_window(p, xs, cg, end_time, period, arrival, what="the waves"):
     """A warning when the run ends before MIN_PERIODS wave periods have passed a gauge after the
     ramped waves reached it, with the end time that gives them."""
     if not xs:
@@ -93,6 +93,6 @@ def warn_window(p, xs, cg, end_time, period, arrival):
     need = arrival(p, x, cg) + 3.0 * period
     if end_time < need:
         warnings.warn(f"run.end_time = {end_time:g} s leaves {max(0.0, (end_time - arrival(p, x, cg)) / period):.2g} "
-                      f"wave periods at the gauge at x = {x:g} m after the waves reach it: its height needs at "
+                      f"wave periods at the gauge at x = {x:g} m after {what} reach it: its height needs at "
                       f"least 3; run.end_time = {math.ceil(need):g} s gives them")
     return need

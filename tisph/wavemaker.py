@@ -12,21 +12,23 @@ import numpy as np
 from .config import ConfigError
 from .constants import G
 from .awas import absorbing, check_absorb
+from .second_order import second_order_stroke
 from .particles import block
 from .probes.gauges import surface_heights
 
 
 class Motion:
-    def __init__(self, kind, stroke=0.0, period=1.0, ramp_periods=2.0, lever=1.0, series=None, second=0.0,
+    def __init__(self, kind, stroke=0.0, period=1.0, ramp_periods=2.0, lever=1.0, series=None, second=(),
                  duration=0.0):
         """kind: piston | flap; stroke S (m, peak to peak); period T (s); ramp over
         ramp_periods periods (0: none); lever: hinge to still-water level (flap); series:
         (t, X) arrays of surface displacement in metres instead of the sinusoid; second: the
-        amplitude (m) of the second-order stroke at 2 omega (madsen_second_order); duration: the
-        paddle ramps down over the same ramp before this time and stands still after it (0: never)."""
+        (sin, cos) amplitudes (m) of the second-order stroke at 2 omega (second_order_stroke);
+        duration: the paddle ramps down over the same ramp before this time and stands still
+        after it (0: never)."""
         self.kind = kind
         self.duration = float(duration)
-        self.second = float(second)
+        self.second = tuple(float(b) for b in second) if second else ()
         self.S, self.T = float(stroke), float(period)
         self.omega = 2 * math.pi / self.T if self.T > 0 else 0.0
         self.t_ramp = float(ramp_periods) * self.T
@@ -70,9 +72,10 @@ class Motion:
         X = r * a * math.sin(w * t)
         V = dr * a * math.sin(w * t) + r * a * w * math.cos(w * t)
         if self.second:   # second order in the amplitude, so its ramp is r^2
-            b = self.second
-            X += r * r * b * math.sin(2 * w * t)
-            V += 2 * r * dr * b * math.sin(2 * w * t) + r * r * b * 2 * w * math.cos(2 * w * t)
+            bs, bc = self.second
+            x2 = bs * math.sin(2 * w * t) + bc * math.cos(2 * w * t)
+            X += r * r * x2
+            V += 2 * r * dr * x2 + r * r * 2 * w * (bs * math.cos(2 * w * t) - bc * math.sin(2 * w * t))
         return X, V
 
     def __call__(self, t):
@@ -128,17 +131,6 @@ def biesel_flap(kh):
     if kh > 20.0:
         return 2.0 * (1.0 - 1.0 / kh)
     return 4 * math.sinh(kh) / kh * (kh * math.sinh(kh) - math.cosh(kh) + 1) / (math.sinh(2 * kh) + 2 * kh)
-
-
-def madsen_second_order(stroke, k, depth):
-    """Amplitude of the second-order piston stroke at 2 omega that cancels the free second
-    harmonic a first-order piston sheds (Madsen 1971, J. Geophys. Res. 76:8672; as Altomare et al.
-    2017, Coastal Eng. 127:37, eq. 8 write it): X2 = H^2 / (32 h) (3 cosh kh / sinh^3 kh - 2 / m1),
-    m1 = H / S the piston's first-order transfer (biesel_piston), H = m1 S."""
-    kh = k * depth
-    m1 = biesel_piston(kh)
-    H = m1 * stroke
-    return H * H / (32 * depth) * (3 * math.cosh(kh) / math.sinh(kh) ** 3 - 2 / m1)
 
 
 def group_velocity(omega, k, depth):
@@ -260,7 +252,7 @@ PADDLE_DEFAULTS = {
     "period": 0.8,          # s
     "ramp_periods": 2.0,    # periods over which the stroke ramps up (no start-up transient)
     "series": "",           # CSV of t, displacement (m or rad): a measured paddle signal instead of a sine
-    "order": 1,             # 1: a sine; 2: with Madsen's second-order stroke (a piston's regular waves)
+    "order": 1,             # 1: a sine; 2: with the second-order stroke that cancels the free second harmonic
     "absorb": False,        # active absorption: the paddle corrects its motion from the surface it sees (tisph/awas.py)
     "duration": 0.0,        # s: the paddle ramps down (over ramp_periods) to stand still at this time; 0: it runs to the end
 }
@@ -304,13 +296,16 @@ def check_paddle(cfg, depth, length, default_stroke=None):
     if not p["series"] and p["stroke"] < dx:
         raise ConfigError("paddle.stroke", p["stroke"], f"at least dx = {dx:g} m (the paddle must move a particle spacing)")
     if p["series"]:
+        if p["order"] == 2:
+            raise ConfigError("paddle.order", 2, "1 with a series (the second-order stroke is for regular waves)")
         read_series(p["series"])
     else:
-        _, k, _, _, ratio = linear_wave(cfg, depth)
+        omega, k, _, _, ratio = linear_wave(cfg, depth)
         check_regular_waves(cfg, "paddle.wave_height" if H > 0 else "paddle.stroke", ratio * p["stroke"], k, depth)
-    if p["order"] == 2 and (p["type"] != "piston" or p["series"]):
-        raise ConfigError("paddle.order", 2, "1 with a flap or a series (the second-order stroke is Madsen's "
-                          "for a piston's regular waves)")
+        k2h = wavenumber(2 * omega, depth, G) * depth
+        if p["order"] == 2 and k2h > 100:   # cosh k2 (z + h) spans e^100 over the depth: the integrals lose it
+            raise ConfigError("paddle.order", 2, f"1 for this wave: its second harmonic is in deep water (k2 h = "
+                              f"{k2h:.0f}, at most 100), where the second-order stroke is not computed")
 
 
 def paddle(cfg, depth, height, floor_y=0.0):
@@ -323,9 +318,9 @@ def paddle(cfg, depth, height, floor_y=0.0):
     if p.get("spectrum"):
         from .irregular import irregular_series
         series = irregular_series(p, depth, cfg["run"]["end_time"])
-    second = 0.0
+    second = ()
     if p["order"] == 2:
-        second = madsen_second_order(p["stroke"], wavenumber(2 * math.pi / p["period"], depth, G), depth)
+        second = second_order_stroke(p["type"], p["stroke"], 2 * math.pi / p["period"], depth)
     # a series or a spectrum ramps down over ramp_periods of its own (peak) period
     motion = Motion(p["type"], p["stroke"], wave_period(p), p["ramp_periods"], lever=depth, series=series,
                     duration=p.get("duration", 0.0),

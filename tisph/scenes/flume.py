@@ -3,8 +3,8 @@ absorbing zone at the far end takes them out. Wave gauges record the free surfac
 height at one, two and three wavelengths from the paddle is checked against Biesel's linear
 wave-maker theory (tisph.wavemaker): piston H/S = 2 (cosh 2kh - 1)/(sinh 2kh + 2kh). An array of
 gauges in front of the absorbing zone separates the incident and reflected waves (the absorber's
-reflection coefficient) and the second harmonic's bound and free parts (paddle.order = 2 sends
-Madsen's second-order stroke, which cancels the free one).
+reflection coefficient) and the second harmonic's bound and free parts (paddle.order = 2 adds
+the second-order stroke that cancels the free one, for a piston or a flap).
 
 Default (scenes/flume_piston.toml is the same case, spelled out): depth 0.25 m, period 0.8 s
 (kh = 1.68, wavelength 0.93 m), piston stroke 4 cm, so Biesel gives H = 6.1 cm (H/L = 0.065:
@@ -105,13 +105,17 @@ def build(cfg):
         damping = (Lf - geo["damping_length"], Lf, geo["damping_rate"])
     xg = gauge_positions(geo, wavelength)
     xa = array_positions(geo, wavelength)
+    k2 = wm.wavenumber(2 * omega, d, G)
+    cg2 = wm.group_velocity(2 * omega, k2, d)
     if not p["spectrum"] and not p["series"]:
         warn_waves(cfg, H_biesel, k, d)
         warn_window(p, xg, cg, cfg["run"]["end_time"], p["period"], wm.arrival_time)
+        if p["order"] == 2 and xa:   # the free second harmonic is fitted once it is over the array
+            warn_window(p, xa[-1:], cg2, cfg["run"]["end_time"], p["period"], wm.arrival_time,
+                        "the free second harmonic (at its group velocity) would")
     cols = tuple(f"eta_{i}" for i in range(len(xg)))
     acols = tuple(f"array_{i}" for i in range(len(xa)))
     gauges = wm.Gauges(xg + xa, dx, h, d, cols + acols)
-    k2 = wm.wavenumber(2 * omega, d, G)
 
     seen, seen_spectra = {}, {}
 
@@ -166,8 +170,11 @@ def build(cfg):
                 ai, ar, kr = waves.reflection(xa, [a[0] for a in amps], k)
                 out.update(reflection_coefficient=kr, reflection_window=[max(t0, t_back), t_end],
                            incident_height=2 * ai, reflected_height=2 * ar)
+            # the free second harmonic travels at its own, slower group velocity: fit once it is there
+            t0 = wm.arrival_time(p, xa[-1], cg2)
             amps = [waves.harmonics(c["t"], c[col], omega, t0, t_end, 2) for col in acols]
             if all(a is not None for a in amps):
+                out["second_harmonic_window"] = [t0, t_end]
                 b, f = waves.free_second_harmonic(xa, [a[1] for a in amps], k, k2)
                 ai = np.mean([abs(a[0]) for a in amps])
                 out.update(second_harmonic_bound=b, second_harmonic_free=f,
