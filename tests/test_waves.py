@@ -670,3 +670,24 @@ def test_flume_fits_the_free_second_harmonic_once_it_is_over_the_array(tmp_path,
     assert m["second_harmonic_window"][0] > max(m0["array_x"]) / cg2
     assert m["second_harmonic_free"] == pytest.approx(free, rel=0.05)
     assert m["second_harmonic_bound"] == pytest.approx(bound, rel=0.05)
+
+
+@pytest.mark.parametrize("kind", ["piston", "flap"])
+def test_first_order_modes_sum_to_the_paddles_velocity(kind):
+    """Linear wave-maker theory (Havelock 1929), the first order the second-order stroke is built
+    on: on x = 0 the progressive mode and the evanescent ones sum to the paddle's own velocity
+    profile (uniform for a piston, linear for a flap), more closely with more modes; each K_n
+    solves omega^2 = g K tanh K h."""
+    from tisph.second_order import first_order, shape
+    h, w, S = 0.25, 2 * np.pi / 1.2, 0.04
+    z = np.linspace(-0.9 * h, -0.1 * h, 9)
+    c0, c1 = shape(kind, h)
+    want = 0.5 * S * w * (c0 + c1 * (z + h))
+    errs = []
+    for modes in (10, 200):
+        K, A = first_order(kind, S, w, h, modes=modes)
+        u = (1j * K[:, None] * A[:, None] * np.cosh(np.outer(K, z + h))).sum(0)
+        assert np.abs(u.imag).max() < 1e-9 * np.abs(want).max()
+        errs.append(np.abs(u.real - want).max() / np.abs(want).max())
+        assert np.allclose(w * w, 9.81 * K * np.tanh(K * h), rtol=1e-9)
+    assert errs[1] < 1e-4 and errs[0] > 10 * errs[1], errs

@@ -47,21 +47,35 @@ def _int_cosh2(p, q, h):
     return 0.5 * (sinhc(p + q) + sinhc(p - q))
 
 
+def shape(kind, depth, lever=None):
+    """(c0, c1): the paddle's displacement profile f = c0 + c1 s over s = z + h (1 at the level)."""
+    l = depth if lever is None else lever
+    return (1.0, 0.0) if kind == "piston" else ((l - depth) / l, 1.0 / l)
+
+
+def first_order(kind, stroke, omega, depth, lever=None, modes=100):
+    """(K, A): linear wave-maker theory's modes, phi1 = Re sum A_n cosh K_n (z + h) exp(i (K_n x -
+    omega t)), K_0 = k and K_n = i kappa_n, for the paddle X1 = S/2 f(z) sin(omega t): A_n from
+    its velocity S omega / 2 f projected on cosh K_n (z + h) (the modes are orthogonal)."""
+    from .wavemaker import wavenumber     # wavemaker imports this module
+    h, w = depth, omega
+    K = _roots(w, h, modes, wavenumber(w, h))
+    c0, c1 = shape(kind, h, lever)
+    sh, ch = np.sinh(K * h), np.cosh(K * h)
+    fproj = c0 * sh / K + c1 * (h * sh / K - (ch - 1) / (K * K))
+    return K, 0.5 * stroke * w * fproj / (1j * K * (0.5 * h + np.sinh(2 * K * h) / (4 * K)))
+
+
 def second_order_stroke(kind, stroke, omega, depth, lever=None, modes=100):
     """(b_sin, b_cos): the second-order stroke b_sin sin(2 omega t) + b_cos cos(2 omega t) (m, at
     the still-water level) for a first-order stroke S sin(omega t) / 2; modes: evanescent modes
     kept at first order (0: Madsen's progressive-only forcing, projected on the free mode)."""
     from .wavemaker import wavenumber
     h, w = depth, omega
-    k, k2 = wavenumber(w, h), wavenumber(2 * w, h)
-    K = _roots(w, h, modes, k)
-    l = h if lever is None else lever
-    # f(s) = c0 + c1 s over s = z + h: the paddle's shape
-    c0, c1 = (1.0, 0.0) if kind == "piston" else ((l - h) / l, 1.0 / l)
-    # first order: A_n from the paddle's velocity S omega / 2 f projected on cosh K_n s
+    k2 = wavenumber(2 * w, h)
+    K, A = first_order(kind, stroke, w, h, lever, modes)
+    c0, c1 = shape(kind, h, lever)
     sh, ch = np.sinh(K * h), np.cosh(K * h)
-    fproj = c0 * sh / K + c1 * (h * sh / K - (ch - 1) / (K * K))
-    A = 0.5 * stroke * w * fproj / (1j * K * (0.5 * h + np.sinh(2 * K * h) / (4 * K)))
     # the first-order potential and its derivatives at z = 0 (time factor exp(-i omega t))
     p, px, pz = A * ch, 1j * K * A * ch, K * A * sh
     pzz = K * K * p
