@@ -23,6 +23,7 @@ import math
 import numpy as np
 
 from .constants import G
+from .wavemaker import wavenumber
 
 
 def _roots(omega, depth, n, k):
@@ -57,7 +58,6 @@ def first_order(kind, stroke, omega, depth, lever=None, modes=100):
     """(K, A): linear wave-maker theory's modes, phi1 = Re sum A_n cosh K_n (z + h) exp(i (K_n x -
     omega t)), K_0 = k and K_n = i kappa_n, for the paddle X1 = S/2 f(z) sin(omega t): A_n from
     its velocity S omega / 2 f projected on cosh K_n (z + h) (the modes are orthogonal)."""
-    from .wavemaker import wavenumber     # wavemaker imports this module
     h, w = depth, omega
     K = _roots(w, h, modes, wavenumber(w, h))
     c0, c1 = shape(kind, h, lever)
@@ -70,7 +70,6 @@ def second_order_stroke(kind, stroke, omega, depth, lever=None, modes=100):
     """(b_sin, b_cos): the second-order stroke b_sin sin(2 omega t) + b_cos cos(2 omega t) (m, at
     the still-water level) for a first-order stroke S sin(omega t) / 2; modes: evanescent modes
     kept at first order (0: Madsen's progressive-only forcing, projected on the free mode)."""
-    from .wavemaker import wavenumber
     h, w = depth, omega
     k2 = wavenumber(2 * w, h)
     K, A = first_order(kind, stroke, w, h, lever, modes)

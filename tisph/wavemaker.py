@@ -12,7 +12,6 @@ import numpy as np
 from .config import ConfigError
 from .constants import G
 from .awas import absorbing, check_absorb
-from .second_order import second_order_stroke
 from .particles import block
 from .probes.gauges import surface_heights
 
@@ -302,8 +301,8 @@ def check_paddle(cfg, depth, length, default_stroke=None):
     else:
         omega, k, _, _, ratio = linear_wave(cfg, depth)
         check_regular_waves(cfg, "paddle.wave_height" if H > 0 else "paddle.stroke", ratio * p["stroke"], k, depth)
-        k2h = wavenumber(2 * omega, depth, G) * depth
-        if p["order"] == 2 and k2h > 100:   # cosh k2 (z + h) spans e^100 over the depth: the integrals lose it
+        k2h = wavenumber(2 * omega, depth, G) * depth if p["order"] == 2 else 0.0
+        if k2h > 100:   # cosh k2 (z + h) spans e^100 over the depth: the integrals lose it
             raise ConfigError("paddle.order", 2, f"1 for this wave: its second harmonic is in deep water (k2 h = "
                               f"{k2h:.0f}, at most 100), where the second-order stroke is not computed")
 
@@ -320,6 +319,7 @@ def paddle(cfg, depth, height, floor_y=0.0):
         series = irregular_series(p, depth, cfg["run"]["end_time"])
     second = ()
     if p["order"] == 2:
+        from .second_order import second_order_stroke   # it reads wavenumber from here
         second = second_order_stroke(p["type"], p["stroke"], 2 * math.pi / p["period"], depth)
     # a series or a spectrum ramps down over ramp_periods of its own (peak) period
     motion = Motion(p["type"], p["stroke"], wave_period(p), p["ramp_periods"], lever=depth, series=series,
