@@ -301,7 +301,7 @@ def test_velocity_at_is_the_shepard_sph_interpolation():
     """The near-bed velocity probe (all points at once) against the sum written out point by
     point: Shepard-normalised SPH of the velocity; NaN where no water is within the support."""
     from tisph.kernels import CubicSpline2D as K
-    from tisph.probes.gauges import velocity_at
+    from tisph.measure.field import velocity_at
     from tisph.particles import FLUID
     rng = np.random.default_rng(3)
     dx, h = 0.01, 0.013
@@ -351,7 +351,7 @@ def test_solver_samples_the_velocity_as_the_host_probe_does_with_periodic_images
     """Solver.sample_velocity (on the device, the engine's cells) against velocity_at on a state
     read with the particles copied one period left and right; mean_velocity against NumPy."""
     from tisph.particles import FLUID
-    from tisph.probes.gauges import velocity_at
+    from tisph.measure.field import velocity_at
     s, L, h = _sampling_solver()
     st = s.state(("x", "v", "kind", "mat", "m", "rho"))
     got = s.sample_velocity(SAMPLE_POINTS)
@@ -371,7 +371,7 @@ def test_solver_samples_the_k_equations_k_as_it_samples_the_velocity():
     """Solver.sample_tke (the wall-function shear's k) is the same Shepard interpolation of the
     fluid's kt as sample_velocity's of v, periodic images included; the wall's kt does not count."""
     from tisph.particles import FLUID
-    from tisph.probes.gauges import velocity_at
+    from tisph.measure.field import velocity_at
     s, L, h = _sampling_solver(sps=True, laminar_viscosity=True, turbulence="k_equation")
     kind = s.p.kind.to_numpy()
     kt = np.random.default_rng(7).random(s.n) * 0.01
@@ -447,7 +447,7 @@ def test_wall_function_shear_is_the_log_law_where_k_is_in_equilibrium_and_grows_
     tests/test_bad_input.py)."""
     from tisph.constants import KAPPA
     from tisph.sediment.coupling import DEFAULTS, BedCoupler
-    from tisph.terms.tke import SQRT_CMU
+    from tisph.constants import SQRT_CMU
     dx, z0 = 0.0025, 0.003
     x = (np.arange(40) + 0.5) * dx
     far = x < 0.05
@@ -502,7 +502,7 @@ def test_wall_function_follows_the_mean_flow_in_a_sheltered_lee():
     far field's, so a reversed lee pushes back; jets either way exceed it."""
     from tisph.constants import KAPPA
     from tisph.sediment.coupling import DEFAULTS, BedCoupler
-    from tisph.terms.tke import SQRT_CMU
+    from tisph.constants import SQRT_CMU
     dx, z0 = 0.0025, 0.003
     x = (np.arange(40) + 0.5) * dx
     far = x < 0.05
@@ -601,7 +601,8 @@ def test_a_tunnel_bed_faster_than_the_default_s_says_the_morfac_that_keeps_it_as
     from tisph.sediment.transport import ripple_turnover_periods, shear_waves, transport_scale
     cfg = resolve(tunnel, None, {})
     assert tunnel.turnover_periods(cfg) == pytest.approx(6.83, abs=0.01)
-    assert tunnel.MORFAC_TURNOVER == pytest.approx(tunnel.turnover_periods(cfg))
+    from tisph.sediment.morfac import reference_turnover
+    assert reference_turnover() == pytest.approx(tunnel.turnover_periods(cfg))
     assert tunnel.morfac_limit(cfg) == pytest.approx(10.0)
     # the turnover from its definition: the ripple's sand at the packing over the period-mean flux
     d0, T, D = 0.3, 2.0, 0.0003

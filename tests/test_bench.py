@@ -7,14 +7,14 @@ import os
 import numpy as np
 import pytest
 
-from tisph.bench import ladder as bench
+from tisph.bench import cli, ladder as bench
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 
 @pytest.mark.slow
 def test_bench_dry_run(tmp_path):
-    assert bench.main(["--dry-run", "--out", str(tmp_path)]) == 0
+    assert cli.main(["--dry-run", "--out", str(tmp_path)]) == 0
     with open(tmp_path / "bench.csv") as f:
         rows = list(csv.DictReader(f))
     assert list(rows[0]) == ["case", "dx", "particles", "steps", "sim_time", "wall_time_s", "compile_time_s",
@@ -45,7 +45,7 @@ def test_speed_bench_refuses_an_unknown_revision_by_name(tmp_path):
     import pytest
     from tisph.bench import ladder as bench
     with pytest.raises(SystemExit) as e:
-        bench.main(["--speed", "--against", "no-such-rev-xyz", "--out", str(tmp_path)])
+        cli.main(["--speed", "--against", "no-such-rev-xyz", "--out", str(tmp_path)])
     assert "no-such-rev-xyz" in str(e.value)
 
 
@@ -92,7 +92,7 @@ def test_shedding_bench_dry_run(tmp_path):
     assert 'turbulence = "k_equation"\n' in src
     cfg = tmp_path / "mao_omega.toml"
     cfg.write_text(src.replace('turbulence = "k_equation"\n', 'turbulence = "k_equation"\nlength_scale = "omega"\n', 1))
-    assert bench.main(["--shedding", "--dry-run", "--out", str(tmp_path), "--config", str(cfg)]) == 0
+    assert cli.main(["--shedding", "--dry-run", "--out", str(tmp_path), "--config", str(cfg)]) == 0
     md = (tmp_path / "shedding.md").read_text()
     assert "| 2 | 0.006 |" in md and "mao_omega.toml" in md
     assert "length_scale = \"omega\"" in (tmp_path / "runs" / "shedding_gap2" / "run.log").read_text()
@@ -100,9 +100,9 @@ def test_shedding_bench_dry_run(tmp_path):
     assert len(rows) == 2 and rows[0].startswith("gap_over_D")
     assert not (tmp_path / "runs" / "shedding_gap2" / "snapshots").exists()
     with pytest.raises(SystemExit):
-        bench.main(["--gaps", "1.0"])
+        cli.main(["--gaps", "1.0"])
     with pytest.raises(SystemExit):
-        bench.main(["--config", str(cfg)])
+        cli.main(["--config", str(cfg)])
 
 
 @pytest.mark.slow
@@ -112,7 +112,7 @@ def test_mao_held_bench_dry_run(tmp_path):
     beside Mao's, and the figure is written."""
     from tisph.io import read_station_rows
     from tisph.validation import mao
-    assert bench.main(["--mao-held", "--dry-run", "--out", str(tmp_path)]) == 0
+    assert cli.main(["--mao-held", "--dry-run", "--out", str(tmp_path)]) == 0
     run = tmp_path / "runs" / "mao_held_18s"
     summary = json.loads((run / "summary.json").read_text())
     assert summary["metrics"]["mao_time_offset"] == 18.0          # his clock starts at his bed's time
@@ -131,9 +131,9 @@ def test_mao_held_bench_dry_run(tmp_path):
     assert rows[0].startswith("t_mao,x_over_D") and len(rows) == 1 + 17
     assert (tmp_path / "mao_held.png").stat().st_size > 10000
     with pytest.raises(SystemExit):
-        bench.main(["--times", "18"])
+        cli.main(["--times", "18"])
     with pytest.raises(SystemExit):
-        bench.main(["--mao-held", "--times", "12"])
+        cli.main(["--mao-held", "--times", "12"])
 
 
 def test_mao_held_rate_is_exner_of_the_bed_model():
@@ -170,7 +170,7 @@ def _validate(tmp_path, *only):
     readme.write_text("# x\n<!-- validation:start -->\nold\n<!-- validation:end -->\nafter\n")
     args = ["--validate", "--quick", "--docs", str(tmp_path / "docs"), "--readme", str(readme),
             "--out", str(tmp_path / "runs")]
-    assert bench.main(args + (["--only", *only] if only else [])) == 0
+    assert cli.main(args + (["--only", *only] if only else [])) == 0
     return (tmp_path / "docs" / "validation.md").read_text(), readme.read_text()
 
 
@@ -238,15 +238,15 @@ def test_ripple_sweep_cases_and_dry_run(tmp_path):
     # in the band (d0 = 0.3: 0.15-0.225 m) from t = 1 on, two lengths in it taking turns
     t, lam = np.arange(6.0), np.array([0.3, 0.2, 0.17, 0.2, 0.17, 0.2])
     assert rb.held_bed_periods(t, lam, 1.0, 10.0, 0.3) == 40.0 and rb.held_bed_periods(t, lam, 1.0, 10.0) == 0.0
-    assert bench.main(["--ripples", "--dry-run", "--out", str(tmp_path)]) == 0
+    assert cli.main(["--ripples", "--dry-run", "--out", str(tmp_path)]) == 0
     for f in ("ripples.md", "ripples.csv", "ripples.png", "growth.png"):
         assert (tmp_path / "ripples" / f).stat().st_size > 100
 
 
 def test_peers_are_a_comma_separated_list_of_known_codes(capsys):
-    assert bench._peers("pysph,dualsphysics") == ("pysph", "dualsphysics")
+    assert cli._peers("pysph,dualsphysics") == ("pysph", "dualsphysics")
     with pytest.raises(SystemExit) as e:
-        bench.main(["--speed", "--peer", "pysph,dualsph"])
+        cli.main(["--speed", "--peer", "pysph,dualsph"])
     assert e.value.code == 2
     assert "'pysph,dualsph': peers are pysph, dualsphysics" in capsys.readouterr().err
 
@@ -311,7 +311,7 @@ def test_waves_bench_builds_dualsphysics_flume_and_reads_its_gauges(tmp_path):
     t = np.arange(0.0, 9.6, 0.01)
     recs = []
     for x in f["gauges"]:
-        t0 = waves.wm.arrival_time(f["paddle"], x, f["cg"]) - f["period"]
+        t0 = waves.arrival_time(f["paddle"], x, f["cg"]) - f["period"]
         eta = np.where(t > t0, 0.45 * f["height"] * np.sin(2 * math.pi * (t - t0) / f["period"]), 0.0)
         recs.append((t, 0.27 + eta))
     H, err = waves.heights(f, recs)
@@ -324,6 +324,6 @@ def test_waves_bench_builds_dualsphysics_flume_and_reads_its_gauges(tmp_path):
 
 
 def test_waves_bench_refuses_a_dx_the_flume_refuses(capsys):
-    assert bench.main(["--waves", "--dx", "0.04"]) == 2
+    assert cli.main(["--waves", "--dx", "0.04"]) == 2
     err = capsys.readouterr().err
     assert "numerics.dx = 0.04" in err and "8 particles across the depth" in err

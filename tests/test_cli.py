@@ -98,7 +98,7 @@ def test_rendered_run_writes_frames_and_movie(tmp_path):
 
 def test_frame_shows_water_where_the_column_stands():
     from tisph.config import build_config
-    from tisph.render import Renderer, colormap
+    from tisph.viz.render import Renderer, colormap
     cfg = build_config(dam_break.DEFAULTS, None, {"numerics.dx": 0.05})
     case = dam_break.build(cfg)
     ps = case.particles
@@ -126,7 +126,7 @@ def test_every_output_field_draws_a_frame(field):
     """output.field: each field colours the fluid; the colour bar of a coloured field spans its
     range, a flat (material) frame has none."""
     from tisph.config import build_config
-    from tisph.render import Renderer
+    from tisph.viz.render import Renderer
     cfg = build_config(dam_break.DEFAULTS, None, {"numerics.dx": 0.05})
     case = dam_break.build(cfg)
     ps = case.particles
@@ -226,3 +226,21 @@ def test_every_key_has_one_description_of_its_own(name):
         assert "pixel" not in seen["geometry.width"]
     if "paddle.seed" in seen and "sediment.seed" in seen:
         assert seen["paddle.seed"] != seen["sediment.seed"]
+
+
+def test_reading_checking_and_describing_every_scene_imports_no_taichi():
+    """The scenes, their checks and --describe are plain Python: a bad case file is refused, and
+    every key described, before Taichi is imported (it is the engine's alone)."""
+    code = ("import sys\n"
+            "from tisph import scenes\n"
+            "from tisph.describe import describe\n"
+            "from tisph.runner import resolve\n"
+            "for name in scenes.names():\n"
+            "    m = scenes.load(name)\n"
+            "    describe(m)\n"
+            "    if name != 'custom':\n"
+            "        resolve(m, None, {})\n"
+            "print('taichi' in sys.modules)\n")
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT, timeout=300)
+    assert r.returncode == 0, r.stderr
+    assert r.stdout.strip().splitlines()[-1] == "False"

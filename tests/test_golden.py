@@ -44,3 +44,10 @@ def test_golden_state(case_id):
         what = "final state" if got["state"] != want["state"] else "probes.csv"
         pytest.fail(f"{case_id}: {what} differs from the recorded one. The case protects the modules "
                     f"{', '.join(want['modules'])}. What moved:\n  " + "\n  ".join(moved(want, got)))
+
+
+def test_every_registered_scene_has_a_golden_case():
+    """The registry is the one list of scenes: each has its default or a case file protected here."""
+    from tisph import scenes
+    covered = {module for _, module, _, _ in CASES}
+    assert set(scenes.REGISTRY.values()) <= covered, set(scenes.REGISTRY.values()) - covered

@@ -89,7 +89,7 @@ def _grab(display, w, h):
 SHOW = """
 import sys, time
 import numpy as np
-from tisph.live import LiveWindow, display_problem
+from tisph.viz.live import LiveWindow, display_problem
 assert display_problem() is None, display_problem()
 img = np.zeros((120, 200, 3), np.uint8)
 img[:60] = (255, 0, 0)

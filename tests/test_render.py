@@ -3,7 +3,7 @@ import numpy as np
 import pytest
 
 from tisph.config import build_config
-from tisph.render import Renderer, make_renderer, nice_ticks
+from tisph.viz.render import Renderer, make_renderer, nice_ticks
 from tisph.sweep import scene_module
 
 

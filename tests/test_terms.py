@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from tisph.config import Physics
-from tisph.kernels import get_kernel
+from tisph.engine.kernels import get_kernel
 from tisph.particles import FLUID, WALL, ParticleSet
 from tisph.engine.solver import Solver
 

@@ -4,8 +4,8 @@ import os
 import imageio.v2 as imageio
 import numpy as np
 
-from tisph import view
-from tisph.render import Renderer
+from tisph.viz import view
+from tisph.viz.render import Renderer
 from tisph.runner import simulate
 from tisph.scenes import dam_break
 
@@ -56,7 +56,7 @@ def test_view_finds_a_bed_load_bed_from_its_particles():
 def test_view_range_is_in_the_bars_unit_and_names_its_picture(tmp_path):
     """--range for pressure is in kPa, as the bar says; pictures with another range or view get
     their own names instead of overwriting; the default pressure range is the water's."""
-    from tisph.render import Renderer
+    from tisph.viz.render import Renderer
     out = tmp_path / "db"
     simulate(dam_break, {"numerics.dx": 0.06, "run.end_time": 0.02, "output.render": False, "output.quiet": True,
                          "output.snapshot_every": 0.02}, out=str(out))

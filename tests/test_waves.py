@@ -7,8 +7,10 @@ import numpy as np
 import pytest
 
 
-from tisph import irregular, wavemaker as wm
-from tisph.second_order import second_order_stroke
+from tisph.measure.records import crossing_period_and_level
+from tisph.waves import irregular, theory as wm
+from tisph.waves.motion import Motion
+from tisph.waves.second_order import second_order_stroke
 from tisph.io import read_station_rows
 from tisph.ripples import ripple_stats, orbital_diameter, wiberg_harris
 from tisph.runner import resolve, build_case, Log, simulate
@@ -47,7 +49,7 @@ def test_biesel_limits():
 
 
 def test_motion_ramp_and_rate():
-    m = wm.Motion("piston", stroke=0.1, period=1.0, ramp_periods=2.0)
+    m = Motion("piston", stroke=0.1, period=1.0, ramp_periods=2.0)
     assert m(0.0) == (0.0, 0.0)
     # after the ramp: the full sinusoid, amplitude S/2
     t = np.linspace(2.0, 4.0, 801)
@@ -57,7 +59,7 @@ def test_motion_ramp_and_rate():
     for s in (0.3, 1.1, 2.5):
         num = (m(s + 1e-6)[0] - m(s - 1e-6)[0]) / 2e-6
         assert m(s)[1] == pytest.approx(num, rel=1e-5, abs=1e-9)
-    f = wm.Motion("flap", stroke=0.1, period=1.0, ramp_periods=0.0, lever=0.5)
+    f = Motion("flap", stroke=0.1, period=1.0, ramp_periods=0.0, lever=0.5)
     th, om = f(0.25)
     assert th == pytest.approx(math.atan(0.05 / 0.5))
     num = (f(0.25 + 1e-6)[0] - f(0.25 - 1e-6)[0]) / 2e-6
@@ -97,13 +99,13 @@ def test_second_order_stroke_is_madsens_in_shallow_water_and_ramps_as_the_square
                            second_order_stroke("piston", 0.04, w, 0.25), rtol=1e-3, atol=1e-8)
         assert not np.allclose(second_order_stroke("flap", 0.04, w, 0.25),
                                second_order_stroke("piston", 0.04, w, 0.25), rtol=0.2)
-    m = wm.Motion("piston", stroke=0.1, period=1.0, ramp_periods=2.0, second=(0.004, 0.001))
+    m = Motion("piston", stroke=0.1, period=1.0, ramp_periods=2.0, second=(0.004, 0.001))
     t = np.arange(0.0, 4.0, 1e-3)
     X = np.array([m(s)[0] for s in t])
     late = t >= 2.0
     c2 = np.exp(-2j * 2 * np.pi * t[late])
     assert (X[late] * c2).mean() * 2 == pytest.approx(0.001 - 0.004j, rel=1e-3)   # cos - i sin
-    first = wm.Motion("piston", stroke=0.1, period=1.0, ramp_periods=2.0)
+    first = Motion("piston", stroke=0.1, period=1.0, ramp_periods=2.0)
     for s in (0.3, 0.9, 1.6):
         r = 0.5 * (1 - np.cos(np.pi * s / 2.0))
         x2 = 0.004 * np.sin(4 * np.pi * s) + 0.001 * np.cos(4 * np.pi * s)
@@ -161,7 +163,7 @@ def test_shuto_shoaling_is_linear_for_small_waves_and_keeps_its_invariants():
 def test_wave_array_separates_incident_reflected_bound_and_free():
     """Synthetic gauge records: a 10 % reflected wave and a free second harmonic beside the bound
     one are recovered from six gauges a tenth of a wavelength apart (Mansard & Funke 1980)."""
-    from tisph.probes import waves
+    from tisph.measure import harmonics
     d, T = 0.25, 0.8
     om = 2 * np.pi / T
     k, k2 = wm.wavenumber(om, d), wm.wavenumber(2 * om, d)
@@ -172,16 +174,16 @@ def test_wave_array_separates_incident_reflected_bound_and_free():
     for x in xs:
         eta = (0.03 * np.cos(om * t - k * x) + 0.003 * np.cos(om * t + k * x + 0.7)
                + 0.004 * np.cos(2 * om * t - 2 * k * x) + 0.0015 * np.cos(2 * om * t - k2 * x + 1.1))
-        a = waves.harmonics(t, eta, om, 1.0, 8.0, 2)
+        a = harmonics.harmonics(t, eta, om, 1.0, 8.0, 2)
         amps1.append(a[0])
         amps2.append(a[1])
-    ai, ar, kr = waves.reflection(xs, amps1, k)
+    ai, ar, kr = harmonics.reflection(xs, amps1, k)
     assert ai == pytest.approx(0.03, rel=1e-6) and kr == pytest.approx(0.1, rel=1e-5)
-    b, f = waves.free_second_harmonic(xs, amps2, k, k2)
+    b, f = harmonics.free_second_harmonic(xs, amps2, k, k2)
     assert b == pytest.approx(0.004, rel=1e-5) and f == pytest.approx(0.0015, rel=1e-5)
     # Stokes' bound harmonic of this wave: a^2 k cosh kh (2 + cosh 2kh) / (4 sinh^3 kh)
     kh = k * d
-    assert waves.stokes_bound_ratio(k, d) * 0.03 ** 2 == pytest.approx(
+    assert harmonics.stokes_bound_ratio(k, d) * 0.03 ** 2 == pytest.approx(
         0.03 ** 2 * k * np.cosh(kh) * (2 + np.cosh(2 * kh)) / (4 * np.sinh(kh) ** 3))
 
 
@@ -190,16 +192,16 @@ def test_irregular_paddle_signal_makes_the_target_spectrum():
     Biesel transfer, has the target spectrum: Hm0 and Tp from its Welch spectrum within 4 % and
     3 % over 440 peak periods; and the spectral analysis reads a synthetic sea it did not make
     (other phases, transfer 1) as well."""
-    from tisph.probes import waves
+    from tisph.measure import harmonics
     p = dict(type="piston", spectrum="jonswap", hs=0.04, tp=0.9, gamma=3.3, seed=1, band=[0.5, 2.0], ramp_periods=2.0)
     d = 0.25
     t, x = irregular.irregular_series(p, d, 400.0)
-    f, S, n = waves.welch(t, x, 10.0, 400.0, 16 * 0.9)
+    f, S, n = harmonics.welch(t, x, 10.0, 400.0, 16 * 0.9)
     assert n > 40
     fp = 1 / 0.9
     m = (f > 0.3 * fp) & (f < 2.2 * fp)
     tr = np.array([wm.biesel_piston(wm.wavenumber(2 * np.pi * v, d) * d) for v in f[m]])
-    hm0, tp = waves.spectral_height_and_peak(f[m], S[m] * tr ** 2, 0.5 * fp, 2.0 * fp)
+    hm0, tp = harmonics.spectral_height_and_peak(f[m], S[m] * tr ** 2, 0.5 * fp, 2.0 * fp)
     assert hm0 == pytest.approx(0.04, rel=0.04) and tp == pytest.approx(0.9, rel=0.03)
     k = 400
     fr = 0.5 * fp + (np.arange(k) + 0.5) * 1.5 * fp / k
@@ -207,8 +209,8 @@ def test_irregular_paddle_signal_makes_the_target_spectrum():
     ph = np.random.default_rng(7).uniform(0, 2 * np.pi, k)
     tt = np.arange(0.0, 400.0, 0.01)
     eta = (a[:, None] * np.sin(2 * np.pi * fr[:, None] * tt[None, :] + ph[:, None])).sum(0)
-    f, S, n = waves.welch(tt, eta, 0.0, 400.0, 16 * 0.9)
-    hm0, tp = waves.spectral_height_and_peak(f, S, 0.5 * fp, 2.0 * fp)
+    f, S, n = harmonics.welch(tt, eta, 0.0, 400.0, 16 * 0.9)
+    hm0, tp = harmonics.spectral_height_and_peak(f, S, 0.5 * fp, 2.0 * fp)
     assert hm0 == pytest.approx(0.04, rel=0.04) and tp == pytest.approx(0.9, rel=0.03)
     # the same seed makes the same sea; another seed another
     assert np.array_equal(irregular.irregular_series(p, d, 50.0)[1], irregular.irregular_series(p, d, 50.0)[1])
@@ -276,7 +278,7 @@ def test_wave_gauge_reads_the_still_level():
     x = block(0.0, 0.0, 1.0, 0.25, dx)
     st = dict(x=x, kind=np.full(len(x), FLUID), m=np.full(len(x), 1000 * dx * dx), rho=np.full(len(x), 1000.0),
               mat=np.zeros(len(x), int))
-    from tisph.probes.gauges import surface_at
+    from tisph.measure.field import surface_at
     assert surface_at(st, 0.5, dx, h) == pytest.approx(0.25, abs=0.5 * dx)
 
 
@@ -489,6 +491,25 @@ def test_fixed_bed_beach_holds_its_sand_and_its_waves_reach_the_toe(tmp_path):
     assert m["wave_height_at_toe"] == pytest.approx(m["biesel_wave_height"], rel=0.1), m
 
 
+def test_the_paddle_check_reads_the_config_and_the_resolved_stroke_is_said_in_run_log(tmp_path):
+    """check_paddle reports and does not write: the stroke a wave height asks for is written by
+    resolve_paddle, a resolved value, and run.log says where it came from."""
+    import copy
+    from tisph.config import build_config
+    from tisph.waves.paddle import check_paddle, stroke_for
+    cfg = build_config(flume.DEFAULTS, None, {"paddle.wave_height": 0.05}, flume.RANGES, flume.CHOICES)
+    before = copy.deepcopy(cfg)
+    check_paddle(cfg, 0.25, 4.5, default_stroke=0.04)
+    assert cfg == before
+    S = stroke_for(cfg, 0.25, default_stroke=0.04)
+    assert S * wm.linear_wave(cfg, 0.25)[4] == pytest.approx(0.05)
+    simulate(flume, {"paddle.wave_height": 0.05, "numerics.dx": 0.025, "geometry.length": 2.0,
+                     "geometry.damping_length": 0.5, "geometry.gauges_x": [0.5], "run.max_steps": 1, "output.render": False,
+                     "output.quiet": True, "output.snapshot_every": 0.0}, out=str(tmp_path / "f"))
+    log = (tmp_path / "f" / "run.log").read_text()
+    assert f"paddle.stroke = {S:.6g} m: resolved from paddle.wave_height = 0.05 m" in log
+
+
 def test_waves_asked_for_by_height_get_biesels_stroke():
     """paddle.wave_height sets the stroke through Biesel's first-order transfer of the paddle type
     at the case's kh; a stroke beside it, a height whose stroke passes the depth, or a height
@@ -516,15 +537,15 @@ def test_gauge_period_and_mean_level_over_whole_waves():
     """Each gauge's zero up-crossing period and its mean level (set-up) over whole waves."""
     t = np.linspace(0.0, 20.0, 4001)
     eta = 0.002 + 0.03 * np.sin(2 * np.pi * t / 1.2)
-    T, level = wm.crossing_period_and_level(t, eta, 5.0, 20.0)
+    T, level = crossing_period_and_level(t, eta, 5.0, 20.0)
     assert T == pytest.approx(1.2, rel=1e-3) and level == pytest.approx(0.002, abs=2e-4)
-    assert np.isnan(wm.crossing_period_and_level(t, np.zeros_like(t), 5.0, 20.0)[0])
+    assert np.isnan(crossing_period_and_level(t, np.zeros_like(t), 5.0, 20.0)[0])
 
 
 def test_gauge_period_ignores_a_shoaling_waves_secondary_crests():
     t = np.linspace(0.0, 20.0, 4001)
     eta = 0.03 * np.sin(2 * np.pi * t / 1.2) + 0.012 * np.sin(2 * np.pi * 3 * t / 1.2 + 0.5)
-    assert wm.crossing_period_and_level(t, eta, 5.0, 20.0)[0] == pytest.approx(1.2, rel=1e-2)
+    assert crossing_period_and_level(t, eta, 5.0, 20.0)[0] == pytest.approx(1.2, rel=1e-2)
 
 
 def _closed_flume(tmp_path, absorb, end_time, length=2.0, gauges=(0.9,), **more):
@@ -593,7 +614,7 @@ def test_absorbing_paddle_makes_an_irregular_sea(tmp_path):
 
 
 def test_paddle_duration_ramps_down_and_stops():
-    m = wm.Motion("piston", 0.04, 0.8, 2.0, duration=4.0)
+    m = Motion("piston", 0.04, 0.8, 2.0, duration=4.0)
     ts = np.linspace(0.0, 5.0, 5001)
     X = np.array([m(t)[0] for t in ts])
     V = np.array([m(t)[1] for t in ts])
@@ -646,7 +667,7 @@ def test_flume_fits_the_free_second_harmonic_once_it_is_over_the_array(tmp_path,
     bound wave arrive at the group velocity, the free second harmonic (0.4 mm) at its own, slower
     one (0.48 against 1.09 m/s). The fit reads the free wave's size only once it is there; a
     window from the first harmonic's arrival would catch its front."""
-    from tisph.probes import waves
+    from tisph.measure import harmonics
     path = os.path.join(os.path.dirname(__file__), "..", "scenes", "flume_second_order.toml")
     cfg = resolve(flume, path, overrides={"paddle.type": kind})
     case = build_case(flume, cfg, Log(str(tmp_path / "log"), True))
@@ -657,7 +678,7 @@ def test_flume_fits_the_free_second_harmonic_once_it_is_over_the_array(tmp_path,
     ramp = p["ramp_periods"] * p["period"]
     t = np.arange(0.0, 20.0, 0.01)
     a, free = 0.018, 4e-4
-    bound = waves.stokes_bound_ratio(k, d) * a * a
+    bound = harmonics.stokes_bound_ratio(k, d) * a * a
 
     def eta(x):
         on, on2 = np.clip((t - x / cg) / ramp, 0, 1), np.clip((t - x / cg2) / ramp, 0, 1)
@@ -678,7 +699,7 @@ def test_first_order_modes_sum_to_the_paddles_velocity(kind):
     on: on x = 0 the progressive mode and the evanescent ones sum to the paddle's own velocity
     profile (uniform for a piston, linear for a flap), more closely with more modes; each K_n
     solves omega^2 = g K tanh K h."""
-    from tisph.second_order import first_order, shape
+    from tisph.waves.second_order import first_order, shape
     h, w, S = 0.25, 2 * np.pi / 1.2, 0.04
     z = np.linspace(-0.9 * h, -0.1 * h, 9)
     c0, c1 = shape(kind, h)

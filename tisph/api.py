@@ -11,21 +11,19 @@ A case is a scene and the settings a case file would hold; tisph.run takes the s
 stops it with a checkpoint that tisph.run(case, restart=...) continues from).
 """
 import copy
-import importlib
 import json
 import os
 
 import numpy as np
 
+from . import scenes
 from .config import ConfigError, read_toml, set_path
 
-SCENES = ("dam_break", "hatch", "erodible_bed", "tank", "flume", "beach", "tunnel", "pipeline_scour", "custom")
+SCENES = scenes.names()
 
 
 def _scene(name):
-    if name not in SCENES:
-        raise ConfigError("scene", name, "one of " + ", ".join(SCENES))
-    return importlib.import_module(f"tisph.scenes.{name}")
+    return scenes.load(name)
 
 
 def _entry(shape):

@@ -6,11 +6,11 @@ import importlib
 import inspect
 import io
 import os
-import pkgutil
 import sys
 import tokenize
 
 from . import config
+from .scenes import modules as scene_modules
 from .config import CHOICES, MATERIAL_CHOICES, MATERIAL_RANGES, RANGES, describe_range
 
 
@@ -87,11 +87,12 @@ def rows(scene):
     cfg = config.build_config(scene.DEFAULTS, None, {}, getattr(scene, "RANGES", None), getattr(scene, "CHOICES", None))
     ranges = dict(RANGES, **getattr(scene, "RANGES", {}))
     choices = dict(CHOICES, **getattr(scene, "CHOICES", {}))
-    from . import irregular, materials, wavemaker
+    from . import materials
+    from .waves import irregular, paddle
     from .sediment import coupling
     docs = {}
     extra = tuple((importlib.import_module(n), t) for n, t in getattr(scene, "DESCRIBED", ()))
-    for m, table in ((materials, ""), (wavemaker, "paddle"), (irregular, "paddle"), (coupling, "sediment"),
+    for m, table in ((materials, ""), (paddle, "paddle"), (irregular, "paddle"), (coupling, "sediment"),
                      (config, "")) + extra + (
             (scene, ""),):   # the scene's own words win
         docs.update(comments(m, table))
@@ -151,10 +152,10 @@ def as_toml(scene):
     means beside it: scenes/defaults/NAME.toml (python -m tisph.describe --write scenes/defaults)."""
     cfg = config.build_config(scene.DEFAULTS, None, {}, getattr(scene, "RANGES", None), getattr(scene, "CHOICES", None))
     notes = {key: f"{allowed}" + (f"; {meaning}" if meaning else "") for key, _, allowed, meaning in rows(scene)}
-    head = [f"# Every key of `python -m tisph.scenes.{scene.NAME}` at its default, with what is allowed and",
+    head = [f"# Every key of `python -m {scene.__name__}` at its default, with what is allowed and",
             "# what it means: generated from the code by `python -m tisph.describe --write scenes/defaults`",
             "# (tests/test_cli.py checks it is current). Copy the keys you change into a case file;",
-            f"#   python -m tisph.scenes.{scene.NAME} --config scenes/defaults/{scene.NAME}.toml",
+            f"#   python -m {scene.__name__} --config scenes/defaults/{scene.NAME}.toml",
             "# runs the defaults." if not getattr(scene, "ELEMENTS", None) else
             "# needs its own domain.box, [[solid]] and [[water]] (scenes/breakwater.toml is a whole case).", ""]
     tail, last = [], None
@@ -167,10 +168,8 @@ def as_toml(scene):
 
 
 def scenes():
-    """Every runnable scene module (tisph/scenes/NAME.py, not the _helpers)."""
-    from . import scenes as pkg
-    return [importlib.import_module(f"tisph.scenes.{m.name}") for m in pkgutil.iter_modules(pkg.__path__)
-            if not m.name.startswith("_")]
+    """Every registered scene module (tisph.scenes.REGISTRY)."""
+    return scene_modules()
 
 
 def main(argv=None):

@@ -3,11 +3,13 @@
 W(r, h) = sigma / h^2 * shape(q) and grad W = sigma / h^4 * fshape(q) * r_vec, q = r / h, where
 fshape(q) = (dW/dr) / r in those units. Writing the gradient as a factor times r_vec keeps it
 finite at r -> 0 and saves a square root's division in the pair loop.
+
+Here each kernel's constants and its NumPy form (gauges, set-up, tests); the engine's Taichi
+functions (tisph/engine/kernels.py) extend these classes, so reading a case needs no Taichi.
 """
 import math
 
 import numpy as np
-import taichi as ti
 
 
 class CubicSpline2D:
@@ -15,26 +17,6 @@ class CubicSpline2D:
     name = "cubic"
     support = 2.0
     sigma = 10.0 / (7.0 * math.pi)
-
-    @staticmethod
-    @ti.func
-    def shape(q):
-        w = 0.0
-        if q < 1.0:
-            w = 1.0 - 1.5 * q * q + 0.75 * q * q * q
-        elif q < 2.0:
-            w = 0.25 * (2.0 - q) ** 3
-        return w
-
-    @staticmethod
-    @ti.func
-    def fshape(q):
-        f = 0.0
-        if q < 1.0:
-            f = -3.0 + 2.25 * q
-        elif q < 2.0:
-            f = -0.75 * (2.0 - q) ** 2 / q
-        return f
 
     @staticmethod
     def shape_np(q):
@@ -55,24 +37,6 @@ class WendlandC2_2D:
     sigma = 7.0 / (4.0 * math.pi)
 
     @staticmethod
-    @ti.func
-    def shape(q):
-        w = 0.0
-        if q < 2.0:
-            t = 1.0 - 0.5 * q
-            w = t * t * t * t * (2.0 * q + 1.0)
-        return w
-
-    @staticmethod
-    @ti.func
-    def fshape(q):
-        f = 0.0
-        if q < 2.0:
-            t = 1.0 - 0.5 * q
-            f = -5.0 * t * t * t
-        return f
-
-    @staticmethod
     def shape_np(q):
         q = np.asarray(q, dtype=float)
         t = np.clip(1 - 0.5 * q, 0, None)
@@ -83,10 +47,3 @@ class WendlandC2_2D:
         q = np.asarray(q, dtype=float)
         t = np.clip(1 - 0.5 * q, 0, None)
         return -5 * t**3
-
-
-KERNELS = {"cubic": CubicSpline2D, "wendland": WendlandC2_2D}
-
-
-def get_kernel(name):
-    return KERNELS[name]

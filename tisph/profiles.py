@@ -3,7 +3,7 @@ import numpy as np
 
 from .io import write_csv
 from .particles import FLUID
-from .probes.plots import pyplot, save
+from .measure.plots import pyplot, save
 
 
 def depth_profile(state, x0, x1, width):
@@ -62,7 +62,7 @@ def streamlines_png(path, st, xlim, ylim, dx, title, figsize, density=1.6, circl
     """Streamlines of the water velocity (material 0), binned on a grid of 2 dx, over the
     sediment drawn as sand-coloured dots; circle = (x, y, r) draws an obstacle (a pipe)."""
     plt = pyplot()
-    from .render import SAND
+    from .viz.render import SAND
     fl = st["kind"] == FLUID
     x, v, mat = st["x"][fl], st["v"][fl], st["mat"][fl]
     w = mat == 0

@@ -16,7 +16,6 @@ OUT/sweep.md and OUT/sweep.png (each metric against the swept values).
 """
 import argparse
 import hashlib
-import importlib
 import itertools
 import json
 import math
@@ -24,6 +23,7 @@ import os
 import sys
 import time
 
+from . import scenes
 from .config import ConfigError, tomllib
 from .io import OutputError, ensure_dir, write_csv, write_json, write_text
 
@@ -31,18 +31,11 @@ CASE_FILE = "sweep_case.json"   # what a case folder was run with: --resume comp
 
 
 def scene_module(name):
-    """tisph.scenes.NAME (or tisph.validation.NAME), or a ConfigError naming the choices."""
-    for pkg in ("tisph.scenes", "tisph.validation"):
-        try:
-            mod = importlib.import_module(f"{pkg}.{name}")
-        except ModuleNotFoundError:
-            continue
-        if hasattr(mod, "build") and hasattr(mod, "DEFAULTS"):
-            return mod
-    import pkgutil
-    import tisph.scenes
-    names = sorted(m.name for m in pkgutil.iter_modules(tisph.scenes.__path__))
-    raise ConfigError("SCENE", name, "one of " + ", ".join(names + ["poiseuille"]))
+    """The registered scene NAME (tisph.scenes.REGISTRY), or a ConfigError naming the choices."""
+    try:
+        return scenes.load(name)
+    except ConfigError as e:
+        raise ConfigError("SCENE", name, e.allowed) from None
 
 
 def parse_value(text):
@@ -235,7 +228,7 @@ def write_tables(out, cases, results, scene_name, wall):
 
 def plot(path, rows, cols, keys, metric_names):
     """Each numeric metric against the first swept key, one line per value of the others."""
-    from .probes.plots import pyplot, save
+    from .measure.plots import pyplot, save
     num = [m for m in metric_names
            if all(isinstance(r[cols.index(m)], (int, float)) or r[cols.index(m)] == "" for r in rows)
            and any(isinstance(r[cols.index(m)], (int, float)) for r in rows)][:12]

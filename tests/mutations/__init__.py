@@ -38,7 +38,7 @@ MUTATIONS = {
     "shepard": ("tisph.physics.shepard", "Shepard", lambda m: setattr(
         m.Shepard, "after_step", lambda self, S: None), "the Shepard filter never runs"),
     "bed_load": ("tisph.sediment.transport", "bedload_mpm", "zero_py", "Meyer-Peter & Mueller's bed load"),
-    "wavemaker": ("tisph.wavemaker", "biesel_piston", "zero_py", "Biesel's piston transfer function"),
+    "wavemaker": ("tisph.waves.theory", "biesel_piston", "zero_py", "Biesel's piston transfer function"),
 }
 
 

@@ -1,5 +1,6 @@
-"""Benchmarks and validation runs: python -m tisph.bench (ladder.py's main dispatches).
+"""Benchmarks and validation runs: python -m tisph.bench (cli.py reads the options and dispatches).
 
+cli.py        the options, and which benchmark runs
 ladder.py     run time against error at a ladder of resolutions, scaling, the kernel profile
 validate.py   --validate: every validation case, written as docs/validation.md
 speed.py      --speed: particle-steps/s, optionally against another revision, back to back

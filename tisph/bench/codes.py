@@ -12,16 +12,11 @@ same way (peer.py, dualsphysics.py).
 import os
 
 from . import dualsphysics, peer
+from .common import cache_dir
 from ..validation import martin_moyce
 
 RUNS = ((0.03, 0.7), (0.015, 0.3))
 PEERS = ("pysph", "dualsphysics")
-
-
-def cache_dir():
-    """Where the peers are built or installed, once: $XDG_CACHE_HOME/tisph/peers."""
-    base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
-    return os.path.join(base, "tisph", "peers")
 
 
 def run_tisph(out, dx, tf):

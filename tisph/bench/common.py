@@ -11,6 +11,12 @@ def this_tree_env():
     return dict(os.environ, PYTHONPATH=ROOT + os.pathsep + os.environ.get("PYTHONPATH", ""))
 
 
+def cache_dir():
+    """Where the peers are built or installed, once: $XDG_CACHE_HOME/tisph/peers."""
+    base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+    return os.path.join(base, "tisph", "peers")
+
+
 def table(header, rows):
     """A Markdown table."""
     md = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]

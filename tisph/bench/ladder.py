@@ -14,7 +14,6 @@ scaling table, the specialisation ratio, a kernel profile and, with --peer, the 
 comparison) and OUT/bench.png (run time against error, log-log).
 Timings are for this machine and this run; compare them as ratios within one run.
 """
-import argparse
 import dataclasses
 import math
 import os
@@ -26,7 +25,7 @@ import numpy as np
 
 from ..io import ensure_dir, write_csv, write_text
 from .common import ROOT, run_case, table, this_tree_env
-from ..probes.plots import pyplot, save
+from ..measure.plots import pyplot, save
 
 
 
@@ -243,109 +242,8 @@ def _engine_sections(a, log):
     return md
 
 
-def _peers(text):
-    from .codes import PEERS
-    names = tuple(n.strip() for n in text.split(",") if n.strip())
-    bad = [n for n in names if n not in PEERS]
-    if bad or not names:
-        raise argparse.ArgumentTypeError(f"{text!r}: peers are {', '.join(PEERS)} (comma-separated)")
-    return names
-
-
-def main(argv=None):
-    p = argparse.ArgumentParser(prog="python -m tisph.bench", description=__doc__,
-                                formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("--quick", action="store_true", help="coarse ladders and short runs (about 5 minutes)")
-    p.add_argument("--peer", type=_peers, default=(), metavar="pysph,dualsphysics",
-                   help="also run these codes' dam break beside ours (with --speed: all three at dp 0.03 and 0.015, "
-                        "back to back)")
-    p.add_argument("--peer-venv", help="PySPH's virtual environment (default ~/.cache/tisph/peers/pysph-venv; made "
-                                       "if absent)")
-    p.add_argument("--dualsphysics", metavar="CLONE",
-                   help="a git clone of DualSPHysics to build its v5.0 CPU solver from, once, into "
-                        "~/.cache/tisph/peers (needed until it is built)")
-    p.add_argument("--arch", choices=["cpu", "gpu"], default="cpu",
-                   help="with --speed: gpu runs the tank ladder on CUDA, Vulkan or Metal, on the CPU with a warning "
-                        "where none is present")
-    p.add_argument("--out", default=os.path.join("renders", "bench"))
-    p.add_argument("--scheduler", metavar="ADDRESS",
-                   help="run the ladders on this Dask scheduler (tcp://host:8786), the path tisph.sweep takes; "
-                        "timings then share the cluster's cores")
-    p.add_argument("--only", nargs="*", help="run only the cases whose name contains one of these words")
-    p.add_argument("--no-scaling", action="store_true", help="skip the scaling, specialisation and profile parts")
-    p.add_argument("--speed", action="store_true",
-                   help="engine speed only (tisph/bench/speed.py): particle-steps/s from 3.4e3 to 6.5e5 particles, compile")
-    p.add_argument("--against", metavar="REV", help="with --speed: the same runs on this git revision, back to back")
-    p.add_argument("--repeats", type=int, default=3, help="with --speed: runs (pairs) per case (default 3)")
-    p.add_argument("--threads", type=int, help="with --speed: Taichi's CPU threads in every run (default all cores; "
-                                               "1 measured 4 %% run-to-run spread here against 10 %% on two)")
-    p.add_argument("--shedding", action="store_true",
-                   help="vortex shedding behind a pipe above a fixed bed against the gap (tisph/bench/shedding.py)")
-    p.add_argument("--mao-held", action="store_true",
-                   help="the pipeline case over Mao's measured beds held still: does the flow erode them where his "
-                        "did? (tisph/bench/mao_held.py)")
-    p.add_argument("--gaps", type=float, nargs="*", help="with --shedding: gaps in pipe diameters (default 0.5 1 2)")
-    p.add_argument("--times", type=float, nargs="*", choices=[11.0, 18.0, 25.0],
-                   help="with --mao-held: Mao's profiles to hold (default 11 18 25)")
-    p.add_argument("--dx", type=float, help="with --shedding or --mao-held: particle spacing (default the case "
-                                            "file's, D/20); with --waves: one dx in place of the ladder")
-    p.add_argument("--end-time", type=float, help="with --shedding, --mao-held or --waves: seconds of flow (default 4; "
-                                                  "2.5 held; 9.6 waves)")
-    p.add_argument("--config", help="with --shedding or --mao-held: the pipeline case file whose current and "
-                                    "numerics it runs (default scenes/pipeline_scour_mao.toml)")
-    p.add_argument("--ripples", action="store_true",
-                   help="the tunnel's ripples against the orbital diameter, 15 cases through the Dask sweep "
-                        "(tisph/bench/ripples.py; about an hour on two cores)")
-    p.add_argument("--waves", action="store_true",
-                   help="the default flume against Biesel, tisph at H/dx = 3, 5, 8, 12 and DualSPHysics beside it, "
-                        "back to back (tisph/bench/waves.py; about an hour on two cores)")
-    p.add_argument("--standing", action="store_true",
-                   help="a standing wave in a closed tank: the height the flume's numerics take per period, with "
-                        "each density diffusion (tisph/bench/standing.py; --dx, --end-time in periods)")
-    p.add_argument("--peer-finest", type=float, default=0.0125,
-                   help="with --waves: the finest dp DualSPHysics runs at (default 0.0125, H/dx = 5; at 0.0075 its two "
-                        "runs take about two hours)")
-    p.add_argument("--validate", action="store_true",
-                   help="run every validation case and write docs/validation.md, its figures and the README's "
-                        "table (tisph/bench/validate.py; with --quick: coarse, short versions)")
-    p.add_argument("--docs", help="with --validate: the folder of validation.md (default the tree's docs/)")
-    p.add_argument("--readme", help="with --validate: the README whose table to fill (default the tree's; '' none)")
-    p.add_argument("--dry-run", action="store_true",
-                   help="exercise every code path in seconds: one tiny case, tiny scaling, no profile (for tests)")
-    a = p.parse_args(argv)
-    if a.ripples:
-        from . import ripples
-        return ripples.main(a)
-    if a.waves:
-        from . import waves
-        return waves.main(a)
-    if a.standing:
-        from . import standing
-        return standing.main(a)
-    if a.validate:
-        from . import validate
-        return validate.main(a)
-    if a.docs is not None or a.readme is not None:
-        p.error("--docs and --readme need --validate")
-    if a.speed:
-        from . import speed
-        return speed.main(a)
-    if a.against:
-        p.error("--against needs --speed")
-    if a.shedding:
-        from . import shedding
-        if a.dry_run:
-            a.gaps, a.dx, a.end_time = a.gaps or [2.0], a.dx or 0.006, a.end_time or 0.8
-        return shedding.main(a)
-    if a.mao_held:
-        from . import mao_held
-        if a.dry_run:
-            a.times, a.dx, a.end_time = a.times or [18.0], a.dx or 0.006, a.end_time or 0.3
-        return mao_held.main(a)
-    for name in ("gaps", "times", "dx", "end_time", "config"):
-        if getattr(a, name) is not None:
-            p.error(f"--{name.replace('_', '-')} needs --shedding, --mao-held (or --waves, --standing for --dx, "
-                    "--end-time)")
+def run(a):
+    """The ladder, scaling and profile parts of `python -m tisph.bench` (options parsed by cli.py)."""
     from .. import runtime
     runtime.init("cpu", "f32")
     ensure_dir(a.out)
@@ -394,7 +292,3 @@ def main(argv=None):
     write_text(os.path.join(a.out, "bench.md"), "\n".join(md) + "\n")
     print("\n".join(md))
     return 0
-
-
-if __name__ == "__main__":
-    sys.exit(main())

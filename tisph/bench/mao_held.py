@@ -94,7 +94,7 @@ def region_means(r):
 
 
 def plot(rows, path):
-    from ..probes.plots import pyplot, save
+    from ..measure.plots import pyplot, save
     plt = pyplot()
     # the bed panel's height is about what its equal aspect over 10 D by 2.3 D leaves it
     fig, axes = plt.subplots(3, len(rows), figsize=(4.2 * len(rows), 5.6), sharex=True, squeeze=False,

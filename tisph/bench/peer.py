@@ -20,7 +20,7 @@ import time
 
 import numpy as np
 
-from .common import this_tree_env
+from .common import cache_dir, this_tree_env
 from ..io import ensure_dir, write_text
 from ..validation import martin_moyce
 
@@ -123,7 +123,6 @@ def run_pysph(py, out, dx=DX, tf=TF):
 
 
 def compare(out, log, venv=None, dxs=DXS):
-    from .codes import cache_dir
     root = venv or os.path.join(cache_dir(), "pysph-venv")
     try:
         py = ensure_pysph(root, log)

@@ -186,7 +186,7 @@ def rows_from(out, plan):
 
 
 def plot(rows, path_fig, path_growth):
-    from ..probes.plots import pyplot, save
+    from ..measure.plots import pyplot, save
     plt = pyplot()
     fig, (a1, a2) = plt.subplots(1, 2, figsize=(10, 4))
     marks = {"check": ("o", "C0", "checks"), "sheet": ("x", "C2", "sheet flow (mobility > 240)"),

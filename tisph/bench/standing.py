@@ -34,8 +34,8 @@ def mode():
     the flume's wave (solved once: the case, the analysis and the report all ask)."""
     from ..runner import resolve
     from ..scenes import flume
-    from .. import wavemaker as wm
-    omega, k, wavelength, cg, ratio = wm.linear_wave(resolve(flume), DEPTH)
+    from ..waves.theory import linear_wave
+    omega, k, wavelength, cg, ratio = linear_wave(resolve(flume), DEPTH)
     return k, omega, 2 * math.pi / omega, wavelength, cg
 
 

@@ -10,7 +10,7 @@ coefh 1.2, symplectic, CFL 0.2, artificial viscosity 0.01, Fourtakas diffusion 0
 sqrt(g h), dynamic boundary particles: examples/others/GaugeSystem/WallRegAwas2.xml), and with
 ours where a setting can match (h = 2.5 dp, laminar viscosity, c0 = 10 sqrt(g h)). Its paddle is
 its own first-order piston (JWavePaddles) given Biesel's height; its gauges are its own SWL
-gauges (JGaugeSystem) at our gauges' x; both records go through one analysis (tisph.wavemaker).
+gauges (JGaugeSystem) at our gauges' x; both records go through one analysis (tisph.measure.records).
 """
 import csv
 import dataclasses
@@ -22,13 +22,14 @@ import time
 import numpy as np
 
 from . import dualsphysics
-from .codes import cache_dir
+from .common import cache_dir
 from .common import run_case, table
 from .ladder import CASES
 from ..constants import G
-from .. import wavemaker as wm
+from ..measure.records import arrival_time, wave_height
+from ..waves.theory import linear_wave
 from ..io import ensure_dir, write_csv, write_text
-from ..probes.plots import pyplot, save
+from ..measure.plots import pyplot, save
 
 # the flume as the bench ladder runs it (H / dx = 3, 5, 8, 12, to the end of the window at three
 # wavelengths), one case for both benches
@@ -49,7 +50,7 @@ def flume_setup(dx):
     cfg = resolve(flume, overrides={"numerics.dx": dx})
     geo, p = cfg["geometry"], cfg["paddle"]
     d = geo["depth"]
-    omega, k, wavelength, cg, ratio = wm.linear_wave(cfg, d)
+    omega, k, wavelength, cg, ratio = linear_wave(cfg, d)
     return dict(depth=d, length=geo["length"], wall_height=geo["wall_height"], damping=geo["damping_length"],
                 period=p["period"], ramp=p["ramp_periods"], height=ratio * p["stroke"],
                 gauges=flume.gauge_positions(geo, wavelength), wavelength=wavelength, cg=cg, paddle=p,
@@ -178,7 +179,7 @@ def heights(f, records):
     group velocity, plus a period) to the end. Each record is zeroed at its first reading."""
     H, err = [], []
     for x, (t, z) in zip(f["gauges"], records):
-        h, _ = wm.wave_height(t, z - z[0], wm.arrival_time(f["paddle"], x, f["cg"]), float(t[-1]), f["period"])
+        h, _ = wave_height(t, z - z[0], arrival_time(f["paddle"], x, f["cg"]), float(t[-1]), f["period"])
         H.append(h)
         err.append(abs(h - f["height"]) / f["height"])
     return H, err

@@ -6,7 +6,7 @@ import numpy as np
 import taichi as ti
 
 from ..io import OPTIONAL
-from ..kernels import CubicSpline2D
+from .kernels import CubicSpline2D
 from ..particles import FLUID, SPRAY
 from .health import BAD_NONE
 from .state import ParticleFields, np_dtype, type_bytes
@@ -124,7 +124,7 @@ class SolverAPI:
         """SPH velocity of fluid material `mat` at each point (n, 2), Shepard-normalised with the
         cubic spline of support 2h: sum V_j u_j W / sum V_j W; NaN where no such particle is
         within 2h. The engine's cells and the current state, no copy of it to the host
-        (probes/gauges.velocity_at does the same from a state read: 30x slower at 2.8e4
+        (measure/field.velocity_at does the same from a state read: 30x slower at 2.8e4
         particles); in a periodic case the images across the seam count too. tke: also the k
         equation's k at each point, interpolated alike in the same pass; returns (u, k)."""
         if tke and "kt" not in self.members:

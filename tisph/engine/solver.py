@@ -29,7 +29,7 @@ import numpy as np
 import taichi as ti
 
 from ..config import Physics
-from ..kernels import get_kernel
+from .kernels import get_kernel
 from ..particles import FLUID, MOVING, OUT, OUTFLOW
 from ..terms.pressure import tait
 from . import state as st_mod

@@ -9,6 +9,7 @@ from ..sediment.coupling import refuse_unused_sediment_keys
 from ..io import OutputError, ensure_dir
 from ..plausible import check_materials
 from ..particles import FLUID
+from ..waves.paddle import paddle_notes
 from .loop import Run
 from .setup import Log, build_case
 
@@ -103,7 +104,7 @@ def check_live(cfg):
     if not cfg["output"]["render"]:
         raise ConfigError("output.live", True, "false with --no-render (output.render = false)",
                           "--live shows the frames as they are rendered")
-    from ..live import display_problem
+    from ..viz.live import display_problem
     why = display_problem()
     if why:
         raise ConfigError("output.live", True, "false on a machine without a display", why)
@@ -124,6 +125,8 @@ def simulate(scene, overrides=None, out=None, config=None, restart=None, force=F
     log = Log(os.path.join(out, "run.log"), cfg["output"]["quiet"] or not echo)
     try:
         log("# resolved config\n" + dump_toml(cfg), file_only=True)
+        for note in paddle_notes(cfg):
+            log(note, file_only=True)
         arch = runtime.init(cfg["run"]["arch"], cfg["run"]["precision"])
         log(f"# {runtime.describe()}, requested {cfg['run']['arch']}", file_only=True)
         if cfg["run"]["arch"] == "gpu" and arch in ("x64", "arm64"):

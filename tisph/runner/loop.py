@@ -112,10 +112,10 @@ class Run(Outputs):
         if not self.render:
             return
         if self.cfg["output"]["live"]:
-            from ..live import LiveWindow
+            from ..viz.live import LiveWindow
             self.live = LiveWindow(f"tisph: {self.name}")
         from ..io import ensure_dir
-        from ..render import MovieWriter, make_renderer
+        from ..viz.render import MovieWriter, make_renderer
         outc, pic = self.cfg["output"], self.case.picture
         ensure_dir(os.path.join(self.out, "frames"))
         speed = outc["speed_scale"] if outc["speed_scale"] > 0 else (pic.speed_scale or pic.u_max)

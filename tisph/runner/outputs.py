@@ -59,7 +59,7 @@ def restore_observers(persist, blob):
 class Outputs:
     # -------------------------------------------------------------- outputs
     def _still(self, state, t):
-        from ..render import write_png
+        from ..viz.render import write_png
         from ..io import ensure_dir
         ensure_dir(os.path.join(self.out, "stills"))
         write_png(os.path.join(self.out, "stills", f"t{t:.3f}.png"), self.renderer.frame(state, state["t"]))
@@ -99,8 +99,8 @@ class Outputs:
         return ("t",) + tuple(self.case.observers.probe_columns)
 
     def frame(self):
-        from ..render import write_png
-        from ..render import STATE
+        from ..viz.render import write_png
+        from ..viz.render import STATE
         s = self.solver
         img = self.renderer.frame(s.state(STATE + s.optional_members), s.time)
         write_png(os.path.join(self.out, "frames", f"{self.frame_no:05d}.png"), img)

@@ -24,11 +24,11 @@ from ..constants import G
 from ..config import ConfigError, physics_from_config
 from ..io import write_csv
 from ..particles import ParticleSet, block, density_from_pressure, tait_B, FLUID, WALL
-from ..render import SAND
+from ..viz.render import SAND
 from ..case import make_case
 from ..runner import common_params, run_scene, sound_speed
-from ..probes.gauges import surface_heights
-from ..probes.plots import pyplot, save
+from ..measure.field import surface_heights
+from ..measure.plots import pyplot, save
 
 NAME = "erodible_bed"
 

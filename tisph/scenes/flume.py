@@ -1,7 +1,7 @@
 """Wave flume: a piston or flap paddle at the left makes regular waves over a flat bed; an
 absorbing zone at the far end takes them out. Wave gauges record the free surface, and the wave
 height at one, two and three wavelengths from the paddle is checked against Biesel's linear
-wave-maker theory (tisph.wavemaker): piston H/S = 2 (cosh 2kh - 1)/(sinh 2kh + 2kh). An array of
+wave-maker theory (tisph.waves): piston H/S = 2 (cosh 2kh - 1)/(sinh 2kh + 2kh). An array of
 gauges in front of the absorbing zone separates the incident and reflected waves (the absorber's
 reflection coefficient) and the second harmonic's bound and free parts (paddle.order = 2 adds
 the second-order stroke that cancels the free one, for a piston or a flap).
@@ -30,14 +30,17 @@ from ..config import ConfigError, physics_from_config
 from ..particles import ParticleSet, block, hydrostatic_density, tait_B, wall_density, FLUID, WALL, MOVING
 from ..case import make_case
 from ..runner import common_params, run_scene, sound_speed
-from .. import wavemaker as wm
-from ..awas import with_control
 from ..constants import G
 from ..plausible import warn_waves, warn_window
-from ..irregular import IRREGULAR_CHOICES, IRREGULAR_DEFAULTS, IRREGULAR_RANGES, spectrum
-from ..wavemaker import PADDLE_DEFAULTS, PADDLE_RANGES, check_paddle, linear_wave, paddle
-from ..probes.plots import pyplot, save
-from ..probes import waves
+from ..measure import records
+from ..measure.gauges import Gauges
+from ..waves import theory
+from ..waves.absorb import with_control
+from ..waves.irregular import IRREGULAR_CHOICES, IRREGULAR_DEFAULTS, IRREGULAR_RANGES, spectrum
+from ..waves.paddle import PADDLE_DEFAULTS, PADDLE_RANGES, check_paddle, paddle, resolve_paddle
+from ..waves.theory import linear_wave
+from ..measure.plots import pyplot, save
+from ..measure import harmonics
 
 NAME = "flume"
 
@@ -83,6 +86,7 @@ def check(cfg):
         raise ConfigError("geometry.array_gauges", g["array_gauges"], "0 (no array) or 3 to 12 (two waves "
                           "are fitted at each frequency)")
     check_paddle(cfg, g["depth"], g["length"], default_stroke=DEFAULTS["paddle"]["stroke"])
+    resolve_paddle(cfg, g["depth"], default_stroke=DEFAULTS["paddle"]["stroke"])
 
 
 def build(cfg):
@@ -105,17 +109,17 @@ def build(cfg):
         damping = (Lf - geo["damping_length"], Lf, geo["damping_rate"])
     xg = gauge_positions(geo, wavelength)
     xa = array_positions(geo, wavelength)
-    k2 = wm.wavenumber(2 * omega, d, G)
-    cg2 = wm.group_velocity(2 * omega, k2, d)
+    k2 = theory.wavenumber(2 * omega, d, G)
+    cg2 = theory.group_velocity(2 * omega, k2, d)
     if not p["spectrum"] and not p["series"]:
         warn_waves(cfg, H_biesel, k, d)
-        warn_window(p, xg, cg, cfg["run"]["end_time"], p["period"], wm.arrival_time)
+        warn_window(p, xg, cg, cfg["run"]["end_time"], p["period"], records.arrival_time)
         if p["order"] == 2 and xa:   # the free second harmonic is fitted once it is over the array
-            warn_window(p, xa[-1:], cg2, cfg["run"]["end_time"], p["period"], wm.arrival_time,
+            warn_window(p, xa[-1:], cg2, cfg["run"]["end_time"], p["period"], records.arrival_time,
                         "the free second harmonic (at its group velocity) would")
     cols = tuple(f"eta_{i}" for i in range(len(xg)))
     acols = tuple(f"array_{i}" for i in range(len(xa)))
-    gauges = wm.Gauges(xg + xa, dx, h, d, cols + acols)
+    gauges = Gauges(xg + xa, dx, h, d, cols + acols)
 
     seen, seen_spectra = {}, {}
 
@@ -133,18 +137,18 @@ def build(cfg):
         t_end = float(c["t"][-1])
         H, H1, err, err1, Tz, mean_level = [], [], [], [], [], []
         for x, col in zip(xg, cols):
-            t0 = wm.arrival_time(p, x, cg)
+            t0 = records.arrival_time(p, x, cg)
             t1 = t_end
             if geo["damping_length"] < 0.5 * wavelength:
                 # no absorbing zone worth the name: stop before the end wall's reflection is back
                 t1 = min(t1, (2 * Lf - x) / cg)
             if p["duration"] > 0:   # and before the paddle's ramp down has arrived
                 t1 = min(t1, p["duration"] - p["ramp_periods"] * p["period"] + x / cg)
-            h_pp, n = wm.wave_height(c["t"], c[col], t0, t1, p["period"])
-            per, level = wm.crossing_period_and_level(c["t"], c[col], t0, t1)
+            h_pp, n = records.wave_height(c["t"], c[col], t0, t1, p["period"])
+            per, level = records.crossing_period_and_level(c["t"], c[col], t0, t1)
             Tz.append(per)
             mean_level.append(level)
-            a = waves.harmonics(c["t"], c[col], omega, t0, t1, 1)
+            a = harmonics.harmonics(c["t"], c[col], omega, t0, t1, 1)
             H.append(h_pp if n else float("nan"))
             H1.append(2 * abs(a[0]) if a is not None else float("nan"))
             err.append(abs(H[-1] - H_biesel) / H_biesel)
@@ -163,22 +167,22 @@ def build(cfg):
         if xa:
             # the array: incident and reflected first harmonics once the wave reflected from the
             # far end is back over it, and the second harmonic's bound and free parts
-            t0 = wm.arrival_time(p, xa[-1], cg)
+            t0 = records.arrival_time(p, xa[-1], cg)
             t_back = p["ramp_periods"] * p["period"] + (2 * Lf - xa[0]) / cg + p["period"]
-            amps = [waves.harmonics(c["t"], c[col], omega, max(t0, t_back), t_end, 2) for col in acols]
+            amps = [harmonics.harmonics(c["t"], c[col], omega, max(t0, t_back), t_end, 2) for col in acols]
             if all(a is not None for a in amps):
-                ai, ar, kr = waves.reflection(xa, [a[0] for a in amps], k)
+                ai, ar, kr = harmonics.reflection(xa, [a[0] for a in amps], k)
                 out.update(reflection_coefficient=kr, reflection_window=[max(t0, t_back), t_end],
                            incident_height=2 * ai, reflected_height=2 * ar)
             # the free second harmonic travels at its own, slower group velocity: fit once it is there
-            t0 = wm.arrival_time(p, xa[-1], cg2)
-            amps = [waves.harmonics(c["t"], c[col], omega, t0, t_end, 2) for col in acols]
+            t0 = records.arrival_time(p, xa[-1], cg2)
+            amps = [harmonics.harmonics(c["t"], c[col], omega, t0, t_end, 2) for col in acols]
             if all(a is not None for a in amps):
                 out["second_harmonic_window"] = [t0, t_end]
-                b, f = waves.free_second_harmonic(xa, [a[1] for a in amps], k, k2)
+                b, f = harmonics.free_second_harmonic(xa, [a[1] for a in amps], k, k2)
                 ai = np.mean([abs(a[0]) for a in amps])
                 out.update(second_harmonic_bound=b, second_harmonic_free=f,
-                           second_harmonic_bound_stokes=waves.stokes_bound_ratio(k, d) * ai * ai)
+                           second_harmonic_bound_stokes=harmonics.stokes_bound_ratio(k, d) * ai * ai)
         return out
 
     def finalize(out, metrics):
@@ -193,7 +197,7 @@ def build(cfg):
                 ax.axhline(0.5 * H_biesel, color="k", ls="--", lw=0.6)
                 ax.axhline(-0.5 * H_biesel, color="k", ls="--", lw=0.6)
             ax.set_ylabel(f"eta (m) at {xg[i]:.2f} m")
-            ax.axvspan(wm.arrival_time(p, xg[i], cg), data["t"][-1], color="0.9",
+            ax.axvspan(records.arrival_time(p, xg[i], cg), data["t"][-1], color="0.9",
                        label="measured from here: the fully ramped waves have arrived" if i == 0 else None)
             if i == 0:
                 ax.legend(fontsize=7, loc="lower right")
@@ -244,14 +248,14 @@ def irregular_metrics(c, p, xg, cols, cg, keep):
     lo, hi = (b * fp for b in p["band"])
     out = dict(hm0_at_gauges=[], tp_at_gauges=[], waves_measured=[])
     for x, col in zip(xg, cols):
-        t0 = wm.arrival_time(p, x, cg)
-        f, S, n = waves.welch(c["t"], c[col], t0, t_end, 16 * p["tp"])
+        t0 = records.arrival_time(p, x, cg)
+        f, S, n = harmonics.welch(c["t"], c[col], t0, t_end, 16 * p["tp"])
         if n == 0:
             out["hm0_at_gauges"].append(float("nan"))
             out["tp_at_gauges"].append(float("nan"))
             out["waves_measured"].append(0)
             continue
-        hm0, tp = waves.spectral_height_and_peak(f, S, lo, hi)
+        hm0, tp = harmonics.spectral_height_and_peak(f, S, lo, hi)
         out["hm0_at_gauges"].append(hm0)
         out["tp_at_gauges"].append(tp)
         out["waves_measured"].append(int((t_end - t0) / p["tp"]))

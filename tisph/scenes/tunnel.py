@@ -29,17 +29,18 @@ from ..constants import G
 from ..config import ConfigError, physics_from_config
 from ..io import write_station_rows
 from ..particles import ParticleSet, block, density_from_pressure, layered_pressure, tait_B, FLUID, WALL
-from ..render import SAND
+from ..viz.render import SAND
 from ..ripples import (MIN_HEIGHT_DX, MIN_LENGTH_DX, last_finite, periodic_ripples as ripples_counted,
                        ripple_band, ripple_stats, unresolved, warn_unresolved, wiberg_harris)
-from ..probes.control import PIDrive
+from ..measure.control import PIDrive
 from ..case import make_case
 from ..runner import common_params, run_scene, sound_speed
 from ..materials import BINGHAM_SAND, WATER
-from ..probes.gauges import surface_heights
-from ..probes.ripple_plots import plot_bed, plot_growth
+from ..measure.field import surface_heights
+from ..measure.ripple_plots import plot_bed, plot_growth
 from ..sediment import coupling, initial
-from ..sediment.transport import ripple_turnover_periods
+from ..sediment import morfac
+from ..sediment.morfac import CALIBRATION, bed_turnover, warn_fast_bed
 
 NAME = "tunnel"
 # periods of bed change (wave periods x morfac) a run needs: the ripples' growth and 100 held
@@ -53,9 +54,9 @@ DEFAULTS = {
     "geometry": {"length": 1.2,                 # periodic length (m)
                  "water_depth": 0.15,           # water above the bed (m)
                  "sand_depth": 0.08,            # sand layer on the rigid floor (m)
-                 "orbital_diameter": 0.3,       # d0 = 2 U_m / omega (m)
-                 "period": 2.0,                 # T (s)
-                 "grain_diameter": 0.0003,      # for the Wiberg & Harris prediction (m)
+                 "orbital_diameter": CALIBRATION["orbital_diameter"],   # d0 = 2 U_m / omega (m)
+                 "period": CALIBRATION["period"],   # T (s)
+                 "grain_diameter": CALIBRATION["grain_diameter"],   # for the Wiberg & Harris prediction (m)
                  # > 0: the bed starts rippled, crest to trough this high (m), at the predicted
                  # length rounded to fit the periodic length: does the bed keep, grow or lose them?
                  "seed_ripple_height": 0.0,
@@ -67,7 +68,7 @@ DEFAULTS = {
     "materials": {"water": dict(WATER), "sand": dict(BINGHAM_SAND)},     # the beach's water and sand
     # sediment.model = "bedload": the bed below particle scale (tisph/sediment); grain_density is
     # the grains' own (quartz), not the saturated bed's
-    "sediment": dict(coupling.DEFAULTS, **coupling.WAVE_RIPPLES, morfac=10.0),   # seed_rms: geometry.roughness
+    "sediment": dict(coupling.DEFAULTS, **coupling.WAVE_RIPPLES, morfac=CALIBRATION["morfac"]),   # seed_rms: geometry.roughness
     "output": {"frame_interval": 0.05, "probe_interval": 0.05, "width": 960},
 }
 RANGES = {f"geometry.{k}": (0.0, None, k.startswith("seed_ripple"), True) for k in DEFAULTS["geometry"]}
@@ -116,12 +117,6 @@ class TunnelDrive:
         self.ctl.update(s, u_t - s.mean_velocity(0, above=self.y_free), dudt)
 
 
-def bed_turnover(d0, T, d50, s, sed):
-    """Wave periods the bed load takes to move one predicted ripple's sand at sed's morfac."""
-    lam, eta, _ = wiberg_harris(d0, d50)
-    return ripple_turnover_periods(d0, T, d50, s, lam, eta, sed["porosity"], sed["formula"]) / sed["morfac"]
-
-
 def turnover_periods(cfg):
     """bed_turnover for the tunnel's d0, T and sand."""
     g, sed = cfg["geometry"], cfg["sediment"]
@@ -129,30 +124,10 @@ def turnover_periods(cfg):
                         sed["grain_density"] / cfg["materials"]["water"]["rho0"], sed)
 
 
-def morfac_limit(cfg, turnover=None):
-    """The largest morfac at which the bed turns over no faster, in wave periods, than in the
-    default tunnel (MORFAC_TURNOVER): the morphological factor assumes the bed all but still
-    through a wave period (Roelvink 2006). At mobility 145 (d0 = 0.4 m, T = 1.5 s, 2.9 periods a
-    ripple at morfac 10) the ripples coarsened to 1.0 d0 at morfac 10 and kept 0.58-0.67 d0 at 3.
-    turnover: periods a ripple's sand takes at cfg's morfac (default: the tunnel's own)."""
-    return cfg["sediment"]["morfac"] * (turnover_periods(cfg) if turnover is None else turnover) / MORFAC_TURNOVER
-
-
-def warn_fast_bed(sed, turnover, where):
-    """Warn where the bed at sed's morfac turns over faster than in the default tunnel, where the
-    ripple model was chosen; returns the largest morfac that keeps it as slow."""
-    limit = morfac_limit({"sediment": sed}, turnover)
-    if sed["morfac"] > limit:
-        warnings.warn(f"sediment.morfac = {sed['morfac']:g} moves the bed faster in each wave period than in the "
-                      f"default tunnel, where the ripple model was chosen ({where} the bed load moves a "
-                      f"ripple's sand in {turnover:.2g} periods at this morfac, against "
-                      f"{MORFAC_TURNOVER:.2g}): ripples may coarsen past their length (docs/sediment.md); "
-                      f"sediment.morfac = {math.floor(limit * 10) / 10:g} keeps it as slow")
-    return limit
-
-
-# the default tunnel's bed: one ripple's sand in 6.8 wave periods at morfac 10
-MORFAC_TURNOVER = turnover_periods(DEFAULTS)
+def morfac_limit(cfg):
+    """The largest morfac at which this tunnel's bed turns over no faster than the calibration
+    tunnel's (tisph/sediment/morfac.py)."""
+    return morfac.morfac_limit(cfg["sediment"], turnover_periods(cfg))
 
 
 def seed_rms(cfg):

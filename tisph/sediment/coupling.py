@@ -15,8 +15,7 @@ Each update (every sediment.update_every steps):
 """
 import numpy as np
 
-from ..constants import G
-from ..terms.tke import SQRT_CMU
+from ..constants import G, SQRT_CMU
 from .bed import Bed
 from .lee import lee_vortex_shear, lee_zones, vortex_throw
 from .outer import Window, outer_heights, outer_scale

@@ -119,7 +119,7 @@ def ripple_turnover_periods(d0, T, d50, s, ripple_length, ripple_height, porosit
     orbital diameter d0 = U_m T / pi: Swart's shear, the threshold of Soulsby & Whitehouse and
     the bed-load formula, averaged over the period. A morphological factor m makes the bed move
     m times as far each period, so a morfac that keeps this over m as long as in a case known to
-    work (the tunnel's MORFAC_TURNOVER) keeps the bed all but still through a wave period, as the
+    work (sediment/morfac.py's calibration tunnel) keeps the bed all but still through a wave period, as the
     factor assumes (Roelvink 2006)."""
     Um = math.pi * d0 / T
     fw = float(swart_friction_factor(0.5 * d0, d50))

@@ -35,9 +35,8 @@ pipeline; here omega with the limiter is what let Mao's pipe shed over a fixed b
 """
 import taichi as ti
 
+from ..constants import SQRT_CMU
 from .sps import eddy_stress, strain2  # noqa: F401  (strain2: |S|^2, shared with the SPS)
-
-SQRT_CMU = 0.3       # C_mu^(1/2), C_mu = 0.09: k = u*^2 / sqrt(C_mu) in a wall layer in equilibrium
 CMU14 = 0.5477226    # C_mu^(1/4)
 CMU34 = 0.1643168    # C_mu^(3/4)
 SIGMA_K = 1.0

@@ -39,18 +39,20 @@ from ...constants import G
 from ...config import ConfigError, physics_from_config
 from ...io import write_csv, write_station_rows
 from ...particles import ParticleSet, block, density_from_pressure, layered_pressure, tait_B, FLUID, WALL, MOVING
-from ...render import SAND
+from ...viz.render import SAND
 from ...profiles import streamlines_png
 from ...ripples import MIN_HEIGHT_DX, MIN_LENGTH_DX, last_finite, orbital_diameter, ripple_stats, wiberg_harris
 from ...case import make_case
 from ...runner import common_params, run_scene, sound_speed
-from ... import wavemaker as wm
 from ...materials import BINGHAM_SAND, WATER
-from ...probes.gauges import surface_at, surface_heights
-from ...wavemaker import PADDLE_DEFAULTS, PADDLE_RANGES, check_paddle, linear_wave, paddle
-from ...probes.plots import pyplot, save
+from ...measure.field import surface_at, surface_heights
+from ...measure.gauges import Gauges
+from ...measure.records import arrival_time, height_at
+from ...waves.paddle import PADDLE_DEFAULTS, PADDLE_RANGES, check_paddle, paddle, resolve_paddle
+from ...waves.theory import linear_wave
+from ...measure.plots import pyplot, save
 from ...sediment import coupling
-from ...awas import with_control
+from ...waves.absorb import with_control
 from .bedload import build_bedload
 
 NAME = "beach"
@@ -124,7 +126,9 @@ def check(cfg):
         raise ConfigError("geometry.toe_x", g["toe_x"], "at least 1 m (room for the waves to form)")
     # the bed-load bed's paddle stands on the bed, the Bingham bed's on the floor under the sand
     bedload = cfg["sediment"]["model"] == "bedload"
-    check_paddle(cfg, g["depth"] + (0.0 if bedload else g["sand_thickness"]), g["length"], default_stroke=DEFAULTS["paddle"]["stroke"])
+    depth = g["depth"] + (0.0 if bedload else g["sand_thickness"])
+    check_paddle(cfg, depth, g["length"], default_stroke=DEFAULTS["paddle"]["stroke"])
+    resolve_paddle(cfg, depth, default_stroke=DEFAULTS["paddle"]["stroke"])
 
 
 def build(cfg):
@@ -242,7 +246,7 @@ class BedRecord:
         shore = self.toe + self.d * geo["slope"]
         self.active = (self.stations >= max(0.5, self.toe - 0.5 * self.wavelength)) & (self.stations <= shore + 0.2)
         self.rows, self.bed0, self.u_near, self.pred_rows = [], None, [], None
-        self.gauges = wm.Gauges(geo["gauges_x"], self.dx, h, self.yw, dry_from=shore)
+        self.gauges = Gauges(geo["gauges_x"], self.dx, h, self.yw, dry_from=shore)
 
     def probe(self, st):
         dx, h, stations, active = self.dx, self.h, self.stations, self.active
@@ -263,8 +267,8 @@ class BedRecord:
                    active_zone=[float(stations[active][0]), float(stations[active][-1])])
         out.update(last_finite(c, ("ripple_length", "ripple_height", "bed_change_rms")))
         # wave height at the toe after the ramp (incident plus what the beach reflects)
-        t0 = wm.arrival_time(p, self.toe, self.cg)
-        H, n = wm.height_at(c, "eta_toe", self.toe, p, self.cg)
+        t0 = arrival_time(p, self.toe, self.cg)
+        H, n = height_at(c, "eta_toe", self.toe, p, self.cg)
         out["wave_height_at_toe"] = H
         out["periods_measured_at_toe"] = n
         out.update(self.gauges.metrics(c, p, self.cg))

@@ -21,14 +21,17 @@ from ...ripples import (MIN_LENGTH_DX, last_finite, orbital_diameter, ripple_sta
                         wiberg_harris)
 from ...case import make_case
 from ...runner import common_params, sound_speed
-from ...probes.gauges import surface_at
-from ...probes.plots import pyplot, save
+from ...measure.field import surface_at
+from ...measure.plots import pyplot, save
 from .shoaling import Shoaling
-from ..tunnel import bed_turnover, warn_fast_bed
+from ...sediment.morfac import bed_turnover, warn_fast_bed
 from ...plausible import warn_waves
 from ...sediment import coupling, initial
-from ...wavemaker import Gauges, height_at, linear_wave, paddle
-from ...awas import with_control
+from ...measure.gauges import Gauges
+from ...measure.records import height_at
+from ...waves.absorb import with_control
+from ...waves.paddle import paddle
+from ...waves.theory import linear_wave
 
 RIGID = 0.5           # m of rigid floor in front of the paddle
 RIPPLE_WINDOW = 0.6   # m: bedforms longer than this (the profile's bar and shoreline) are not ripples

@@ -13,7 +13,9 @@ import math
 import numpy as np
 
 from ...constants import G
-from ...wavemaker import Gauges, arrival_time, group_velocity, wave_height, wavenumber
+from ...measure.gauges import Gauges
+from ...measure.records import arrival_time, wave_height
+from ...waves.theory import group_velocity, wavenumber
 
 STEP = 0.25         # m between the gauges of the line
 

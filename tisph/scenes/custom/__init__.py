@@ -20,10 +20,12 @@ from ...case import make_case
 from ...config import ConfigError, physics_from_config, raise_collected
 from ...particles import ParticleSet, hydrostatic_density, tait_B, wall_density, FLUID, WALL, MOVING
 from ...runner import common_params, run_scene, sound_speed
-from ...irregular import IRREGULAR_CHOICES, IRREGULAR_DEFAULTS, IRREGULAR_RANGES
-from ...wavemaker import PADDLE_DEFAULTS, PADDLE_RANGES
-from ... import wavemaker as wm
-from ...awas import with_control
+from ...measure.records import wave_period
+from ...waves import paddle as wp
+from ...waves.absorb import with_control
+from ...waves.irregular import IRREGULAR_CHOICES, IRREGULAR_DEFAULTS, IRREGULAR_RANGES
+from ...waves.paddle import PADDLE_DEFAULTS, PADDLE_RANGES
+from ...waves.theory import linear_wave
 from .elements import ELEMENTS, entries, numbers  # noqa: F401  (ELEMENTS: --describe reads the entries' keys)
 from .gauges import CaseGauges
 from .layout import Layout, who
@@ -136,10 +138,9 @@ def paddle_site(cfg, lay, box):
     floor, level = col
     depth = level - floor
     length = float(lay.pts[lay.water, 0].max()) - p["x"]
-    pc = dict(cfg, paddle=dict(p))
-    wm.check_paddle(pc, depth, length, default_stroke=0.04)
-    cfg["paddle"]["stroke"] = pc["paddle"]["stroke"]
-    parts = wm.paddle(pc, depth, p["top"] or box[3], floor)   # built once: the travel here, the particles in build
+    wp.check_paddle(cfg, depth, length, default_stroke=0.04)
+    wp.resolve_paddle(cfg, depth, default_stroke=0.04)
+    parts = wp.paddle(cfg, depth, p["top"] or box[3], floor)   # built once: the travel here, the particles in build
     reach = parts[3]
     back = p["x"] - lay.T - reach
     top = p["top"] or box[3]
@@ -182,7 +183,7 @@ def build(cfg):
         if p["absorb"]:
             paddle_parts[1].x_abs += p["x"]      # the absorbing gauge stands in front of this paddle
         physics_kw["paddle"] = p["type"]
-        period = wm.wave_period(p)
+        period = wave_period(p)
         if sand_site:
             sand = SandBed(cfg, *sand_site, lay, level, 2 * math.pi / period, h, rho0, c0, g)
             physics_kw.update(moving_bed=True, materials_used=["water"])
@@ -245,7 +246,7 @@ def build(cfg):
     if paddle_parts and not p["series"]:
         # colour top: twice the linear surface orbital speed at the paddle, as the flume's
         depth = level - floor
-        omega, k, _, _, F = wm.linear_wave(cfg, depth)
+        omega, k, _, _, F = linear_wave(cfg, depth)
         H = p["hs"] if p["spectrum"] else F * p["stroke"]
         parts["speed_scale"] = H * omega / math.tanh(k * depth)
     margin = lay.T + dx

@@ -14,9 +14,10 @@ import math
 import numpy as np
 
 from ...particles import FLUID, SPRAY
-from ...probes.gauges import shepard_at, surface_heights
+from ...measure.field import shepard_at, surface_heights
 from ...validation import eurotop
-from ... import wavemaker as wm
+from ...measure.records import wave_height
+from ...waves.theory import wavenumber
 
 
 # a point reads the water only where the water fraction sum V W is at least this (DualSPHysics'
@@ -96,7 +97,7 @@ class CaseGauges:
                 out[f"{lab}_eta_max"] = float(np.nanmax(e[w]))
                 out[f"{lab}_eta_min"] = float(np.nanmin(e[w]))
                 if period:
-                    H, n = wm.wave_height(t, e, q["from_time"], float(t[-1]), period)
+                    H, n = wave_height(t, e, q["from_time"], float(t[-1]), period)
                     heights[lab] = H if n else float("nan")
                     out[f"{lab}_wave_height"] = heights[lab]
                     out[f"{lab}_waves"] = int(n)
@@ -139,15 +140,15 @@ class CaseGauges:
         labs = q["toe_gauges"]
         if len(labs) == 1:
             return heights.get(labs[0], float("nan"))
-        from ...probes import waves
+        from ...measure import harmonics
         omega = 2 * math.pi / period
         g = {p["label"]: p for p in self.surface}
-        k = wm.wavenumber(omega, float(np.mean([self.depth[lab] for lab in labs])), self.g)
+        k = wavenumber(omega, float(np.mean([self.depth[lab] for lab in labs])), self.g)
         t0 = max(g[lab]["from_time"] for lab in labs)
-        amps = [waves.harmonics(c["t"], c[f"eta_{lab}"], omega, t0, float(c["t"][-1]), 1) for lab in labs]
+        amps = [harmonics.harmonics(c["t"], c[f"eta_{lab}"], omega, t0, float(c["t"][-1]), 1) for lab in labs]
         if any(a is None for a in amps):
             return float("nan")
-        ai, ar, kr = waves.reflection([g[lab]["x"] for lab in labs], [a[0] for a in amps], k)
+        ai, ar, kr = harmonics.reflection([g[lab]["x"] for lab in labs], [a[0] for a in amps], k)
         out[f"{q['label']}_reflection_coefficient"] = kr
         return 2 * ai
 
@@ -161,7 +162,7 @@ class CaseGauges:
         panels = [p for p in self.PANELS if any(q["type"] == p[0] for q in self.gauges)]
         if not panels or c is None or len(c["t"]) < 2:
             return
-        from ...probes.plots import pyplot, save
+        from ...measure.plots import pyplot, save
         plt = pyplot()
         fig, axes = plt.subplots(len(panels), 1, figsize=(7.5, 1.7 * len(panels) + 0.6), sharex=True, squeeze=False)
         for ax, (kind, col, label, scale) in zip(axes[:, 0], panels):

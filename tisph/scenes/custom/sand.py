@@ -120,7 +120,7 @@ class SandBed:
         if not self.rows:
             return
         write_station_rows(os.path.join(out, "bed_profile.csv"), self.stations, self.rows)
-        from ...probes.plots import pyplot, save
+        from ...measure.plots import pyplot, save
         plt = pyplot()
         b = self.coupler
         fig, (a1, a2) = plt.subplots(2, 1, figsize=(9, 5), sharex=True)

@@ -33,7 +33,7 @@ import numpy as np
 from ...constants import G
 from ...config import TURBULENCE_DEFAULTS, ConfigError, physics_from_config
 from ...particles import ParticleSet, block, density_from_pressure, layered_pressure, tait_B, FLUID, WALL
-from ...render import SAND
+from ...viz.render import SAND
 from ...case import make_case
 from ...runner import common_params, run_scene, sound_speed
 from ...sediment import coupling

@@ -33,10 +33,10 @@ from ...io import write_csv, write_station_rows
 from ...particles import ParticleSet, block, density_from_pressure, tait_B, FLUID
 from ...case import make_case
 from ...runner import common_params, sound_speed
-from ...probes.plots import pyplot, save
+from ...measure.plots import pyplot, save
 from ...sediment import coupling, initial
 from ...sediment.transport import rouse_profile, transport_scale
-from ...terms.tke import SQRT_CMU
+from ...constants import SQRT_CMU
 from ...validation import mao
 from .record import ScourRecord, streamlines_event, water_velocity
 from .common import NAME, add_pipe, geometry, initial_bed, log_law, profile_time

@@ -8,9 +8,9 @@ import numpy as np
 from ...constants import G, KAPPA
 from ...io import write_csv, write_station_rows
 from ...particles import FLUID
-from ...probes.control import PIDrive
-from ...probes.gauges import surface_heights
-from ...probes.plots import pyplot, save
+from ...measure.control import PIDrive
+from ...measure.field import surface_heights
+from ...measure.plots import pyplot, save
 from ...profiles import streamlines_png
 from ...sediment.transport import transport_scale
 

@@ -20,7 +20,7 @@ and pulled back towards the paddle's mean position over DRIFT_PERIODS periods so
 does not wander.
 
 With a spectrum (paddle.spectrum) the target is the components' linear waves summed at the gauge
-(tisph.irregular.irregular_elevation), and the gain and the delay are the peak period's: one
+(tisph.waves.irregular.irregular_elevation), and the gain and the delay are the peak period's: one
 number for the band, as DualSPHysics' long-wave gain is (for the flume's 0.9 s sea over 0.25 m,
 omega / F is 5.3 1/s at the peak, 6.0 at half its frequency and 7.0 at twice it).
 """
@@ -28,7 +28,10 @@ import math
 
 import numpy as np
 
-from .probes.gauges import surface_at
+from ..config import ConfigError
+from ..measure.field import surface_at
+from .irregular import irregular_elevation
+from .theory import linear_wave
 
 DRIFT_PERIODS = 5.0     # the correction's displacement relaxes to zero over this many wave periods
 
@@ -103,13 +106,11 @@ class AbsorbingMotion:
 def absorbing(motion, cfg, depth, still_level, x_paddle=0.0):
     """Wrap a paddle's Motion for paddle.absorb: the gauge moves with the paddle, a smoothing length
     in front of its face (the paddle's mean position is x_paddle)."""
-    from .wavemaker import linear_wave
     p, dx = cfg["paddle"], cfg["numerics"]["dx"]
     h = cfg["numerics"]["h_factor"] * dx
     omega, k, _, _, F = linear_wave(cfg, depth)   # the paddle's transfer; the peak's
     target = None
     if p.get("spectrum"):
-        from .irregular import irregular_elevation
         target = irregular_elevation(p, depth, cfg["run"]["end_time"], h)
     return AbsorbingMotion(motion, F * p["stroke"], k, depth, omega / F, h, x_paddle, still_level, dx, h, target)
 
@@ -117,7 +118,6 @@ def absorbing(motion, cfg, depth, still_level, x_paddle=0.0):
 def check_absorb(p):
     """paddle.absorb: a piston's or a flap's first-order waves, regular or from a spectrum (the target
     is their linear wave)."""
-    from .config import ConfigError
     if not p.get("absorb"):
         return
     for key, bad, what in (("series", p["series"], "no series"),

@@ -6,8 +6,8 @@ import warnings
 
 import numpy as np
 
-from .io import OPTIONAL, atomic_path, OutputError
-from .particles import BED, FLUID
+from ..io import OPTIONAL, atomic_path, OutputError
+from ..particles import BED, FLUID
 from .colours import (BACKGROUND, BOUNDARY, MODES, SAND, WATER, colormap, diverging,  # noqa: F401 (re-exported)
                       vorticity)
 

@@ -22,8 +22,8 @@ import math
 
 import numpy as np
 
-from .constants import G
-from .wavemaker import wavenumber
+from ..constants import G
+from .theory import wavenumber
 
 
 def _roots(omega, depth, n, k):

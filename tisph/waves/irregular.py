@@ -5,9 +5,9 @@ import math
 
 import numpy as np
 
-from .config import ConfigError
-from .constants import G
-from .wavemaker import biesel_flap, biesel_piston, wavenumber
+from ..config import ConfigError
+from ..constants import G
+from .theory import biesel_flap, biesel_piston, wavenumber
 
 
 IRREGULAR_DEFAULTS = {

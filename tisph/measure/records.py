@@ -1,0 +1,67 @@
+"""What a gauge's record says of the waves: the mean height over whole periods, the zero
+up-crossing period and the mean level, and the window a regular wave is read in (from the
+fully ramped waves' arrival at the group velocity to the end of the run)."""
+import numpy as np
+
+
+def wave_height(t, eta, t0, t1, period):
+    """Mean trough-to-crest height over whole periods in [t0, t1]: max - min in each period window."""
+    t, eta = np.asarray(t, float), np.asarray(eta, float)
+    hs = []
+    a = t0
+    while a + period <= t1 + 1e-9:
+        m = (t >= a) & (t < a + period) & np.isfinite(eta)
+        if m.sum() >= 4:
+            hs.append(float(eta[m].max() - eta[m].min()))
+        a += period
+    return (float(np.mean(hs)) if hs else float("nan")), len(hs)
+
+
+def crossing_period_and_level(t, eta, t0, t1):
+    """(mean zero up-crossing period about the window's mean, that mean level) of eta over
+    [t0, t1]: what a gauge's record says of the waves' period and of the set-up or set-down.
+    A crossing counts once the record has dipped a tenth of its range below the mean since the
+    last one.
+    NaN where the window holds under two up-crossings."""
+    t, eta = np.asarray(t, float), np.asarray(eta, float)
+    m = (t >= t0) & (t <= t1) & np.isfinite(eta)
+    if m.sum() < 4:
+        return float("nan"), float("nan")
+    tt, e = t[m], eta[m]
+    level = float(e.mean())
+    d = e - level
+    # a crossing counts once the record has been below -b since the last one: a shoaling wave's
+    # secondary crests (its harmonics) near the mean are not waves of their own
+    b = 0.1 * float(d.max() - d.min())
+    up, low = [], False
+    for i in range(len(d) - 1):
+        low = low or d[i] < -b
+        if low and d[i] < 0 <= d[i + 1]:
+            up.append(i)
+            low = False
+    up = np.array(up, int)
+    if len(up) < 2:
+        return float("nan"), level
+    tc = tt[up] - d[up] * (tt[up + 1] - tt[up]) / (d[up + 1] - d[up])
+    if len(tc) < 2:
+        return float("nan"), level
+    whole = (tt >= tc[0]) & (tt < tc[-1])          # the level over whole waves only
+    return float(np.mean(np.diff(tc))), float(e[whole].mean())
+
+
+def wave_period(p):
+    """The paddle table's period: the peak period with a spectrum."""
+    return p["tp"] if p.get("spectrum") else p["period"]
+
+
+def arrival_time(p, x, cg):
+    """When the fully ramped waves of paddle table p have reached x at group velocity cg, plus
+    one period (the peak period with a spectrum): the start of a wave-height window there."""
+    T = wave_period(p)
+    return p["ramp_periods"] * T + x / cg + T
+
+
+def height_at(c, column, x, p, cg):
+    """(mean wave height, periods) of probe column c[column] at x, from the ramped waves' arrival
+    to the end of the run."""
+    return wave_height(c["t"], c[column], arrival_time(p, x, cg), float(c["t"][-1]), p["period"])

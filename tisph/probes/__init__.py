@@ -1,1 +1,0 @@
-"""Probes and controls that scenes share: the PI drive of a periodic current, plot saving."""
