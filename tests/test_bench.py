@@ -43,7 +43,7 @@ def test_speed_bench_refuses_an_unknown_revision_by_name(tmp_path):
     """--speed --against REV checks REV out into a worktree first: a name git does not know is
     refused before anything runs, naming it."""
     import pytest
-    from tisph.bench import ladder as bench
+
     with pytest.raises(SystemExit) as e:
         cli.main(["--speed", "--against", "no-such-rev-xyz", "--out", str(tmp_path)])
     assert "no-such-rev-xyz" in str(e.value)

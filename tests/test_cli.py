@@ -232,7 +232,7 @@ def test_reading_checking_and_describing_every_scene_imports_no_taichi():
     """The scenes, their checks and --describe are plain Python: a bad case file is refused, and
     every key described, before Taichi is imported (it is the engine's alone)."""
     code = ("import sys\n"
-            "from tisph import scenes\n"
+            "from tisph import registry as scenes\n"
             "from tisph.describe import describe\n"
             "from tisph.runner import resolve\n"
             "for name in scenes.names():\n"

@@ -48,6 +48,6 @@ def test_golden_state(case_id):
 
 def test_every_registered_scene_has_a_golden_case():
     """The registry is the one list of scenes: each has its default or a case file protected here."""
-    from tisph import scenes
+    from tisph import registry as scenes
     covered = {module for _, module, _, _ in CASES}
     assert set(scenes.REGISTRY.values()) <= covered, set(scenes.REGISTRY.values()) - covered

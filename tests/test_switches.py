@@ -1,12 +1,12 @@
 """Every module is compiled in only when its switch is on: generated from the module registry,
-so a new module is covered by declaring its `on` switches (tisph/engine/module.py). The solvers
+so a new module is covered by declaring its `on` switches (tisph/hooks/module.py). The solvers
 with a module on are built but not compiled: the golden cases and each module's own tests
 compile and run them."""
 import numpy as np
 import pytest
 
 from tisph.config import Physics, build_config, physics_from_config
-from tisph.engine.module import HOOKS
+from tisph.hooks.module import HOOKS
 from tisph.engine.registry import MODULES
 from tisph.particles import FLUID, MOVING, WALL, ParticleSet
 from tisph.scenes import dam_break

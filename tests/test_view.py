@@ -4,7 +4,7 @@ import os
 import imageio.v2 as imageio
 import numpy as np
 
-from tisph.viz import view
+from tisph import view
 from tisph.viz.render import Renderer
 from tisph.runner import simulate
 from tisph.scenes import dam_break

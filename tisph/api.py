@@ -16,7 +16,7 @@ import os
 
 import numpy as np
 
-from . import scenes
+from . import registry as scenes
 from .config import ConfigError, read_toml, set_path
 
 SCENES = scenes.names()

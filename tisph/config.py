@@ -129,9 +129,9 @@ RANGES = {
 
 
 def _module_keys():
-    """Config keys whose default and range the engine's modules declare (tisph/engine/keys.py,
+    """Config keys whose default and range the engine's modules declare (tisph/hooks/keys.py,
     without Taichi): written once there, read here."""
-    from .engine.keys import KEYED
+    from .hooks.keys import KEYED
     return KEYED.values()
 
 

@@ -10,7 +10,7 @@ import sys
 import tokenize
 
 from . import config
-from .scenes import modules as scene_modules
+from .registry import modules as scene_modules
 from .config import CHOICES, MATERIAL_CHOICES, MATERIAL_RANGES, RANGES, describe_range
 
 
@@ -168,7 +168,7 @@ def as_toml(scene):
 
 
 def scenes():
-    """Every registered scene module (tisph.scenes.REGISTRY)."""
+    """Every registered scene module (tisph.registry.REGISTRY)."""
     return scene_modules()
 
 

@@ -23,7 +23,7 @@ import os
 import sys
 import time
 
-from . import scenes
+from . import registry as scenes
 from .config import ConfigError, tomllib
 from .io import OutputError, ensure_dir, write_csv, write_json, write_text
 
@@ -31,7 +31,7 @@ CASE_FILE = "sweep_case.json"   # what a case folder was run with: --resume comp
 
 
 def scene_module(name):
-    """The registered scene NAME (tisph.scenes.REGISTRY), or a ConfigError naming the choices."""
+    """The registered scene NAME (tisph.registry.REGISTRY), or a ConfigError naming the choices."""
     try:
         return scenes.load(name)
     except ConfigError as e:

@@ -3,7 +3,7 @@ wall_layers deep under the bed surface z_b(x), follow the bed as tisph/sediment 
 import numpy as np
 import taichi as ti
 
-from ..engine.module import Module
+from ..hooks.module import Module
 from ..particles import BED
 
 

@@ -1,7 +1,7 @@
 """The wave-maker paddle: MOVING particles follow a prescribed motion (piston or flap)."""
 import taichi as ti
 
-from ..engine.module import Module, Param
+from ..hooks.module import Module, Param
 
 
 @ti.data_oriented

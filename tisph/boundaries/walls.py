@@ -1,7 +1,7 @@
 """Wall treatments as modules."""
 import taichi as ti
 
-from ..engine.module import Module, Param
+from ..hooks.module import Module, Param
 from ..particles import FLUID
 from ..terms.continuity import continuity
 from ..terms.repulsive import lennard_jones

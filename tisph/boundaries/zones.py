@@ -5,9 +5,9 @@ import math
 import taichi as ti
 
 from ..constants import KAPPA
-from ..engine.health import BAD_SPILL, BAD_SPRAY, BAD_WALL, report
-from ..engine.keys import KEYED
-from ..engine.module import MatParam, Module, Param
+from ..hooks.health import BAD_SPILL, BAD_SPRAY, BAD_WALL, report
+from ..hooks.keys import KEYED
+from ..hooks.module import MatParam, Module, Param
 from ..particles import FLUID, SPRAY
 
 

@@ -8,7 +8,7 @@ import taichi as ti
 from ..io import OPTIONAL
 from .kernels import CubicSpline2D
 from ..particles import FLUID, SPRAY
-from .health import BAD_NONE
+from ..hooks.health import BAD_NONE
 from .state import ParticleFields, np_dtype, type_bytes
 
 

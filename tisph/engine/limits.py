@@ -2,7 +2,7 @@
 modules' limits (DEM contacts) and the user's cap."""
 import taichi as ti
 
-from .health import BAD_DT
+from ..hooks.health import BAD_DT
 
 
 @ti.func

@@ -34,10 +34,10 @@ from ..particles import FLUID, MOVING, OUT, OUTFLOW
 from ..terms.pressure import tait
 from . import state as st_mod
 from .grid import Grid
-from .health import BAD_DENSITY, BAD_LEAK, BAD_NONE, fluid_code, report
+from ..hooks.health import BAD_DENSITY, BAD_LEAK, BAD_NONE, fluid_code, report
 from .limits import next_dt
 from .access import SolverAPI
-from .module import HOOKS
+from ..hooks.module import HOOKS
 from . import pairs
 from .pairs import PairOnce
 from .registry import enabled_modules

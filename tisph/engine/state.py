@@ -4,8 +4,8 @@ import numpy as np
 import taichi as ti
 
 from ..runtime import arch_name
-from .keys import KEYED
-from .module import MatParam, Param
+from ..hooks.keys import KEYED
+from ..hooks.module import MatParam, Param
 
 
 def types(real):

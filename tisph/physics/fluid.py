@@ -5,8 +5,8 @@ Each pair hook adds neighbour j's contribution to fluid particle i; `nb` is how 
 """
 import taichi as ti
 
-from ..engine.keys import KEYED
-from ..engine.module import Module, Param
+from ..hooks.keys import KEYED
+from ..hooks.module import Module, Param
 from ..particles import FLUID
 from ..terms.continuity import continuity
 from ..terms.diffusion import (density_diffusion, hydrostatic_density_difference, renormalisation_sums,
@@ -40,10 +40,10 @@ class Continuity(Module):
 
     @ti.func
     def pair2(self, S, i, j, r, r2, nb, acc: ti.template(), sj: ti.template()):
-        """Both fluid particles' terms (engine/pairs.py): v_ji . grad W_ji = v_ij . grad W_ij."""
-        vg = nb.v_ij.dot(nb.gw)
-        acc.drho += acc.rhoi * nb.vol_j * vg
-        sj.drho += nb.rho_j * nb.vol_i * vg
+        """Both fluid particles' terms (engine/pairs.py), each from the one term function with the
+        roles swapped: v_ji . grad W_ji = v_ij . grad W_ij, bit for bit."""
+        acc.drho += continuity(acc.rhoi, nb.vol_j, nb.v_ij, nb.gw)
+        sj.drho += continuity(nb.rho_j, nb.vol_i, nb.v_ij, nb.gw)
 
 
 @ti.data_oriented
@@ -58,10 +58,9 @@ class Pressure(Module):
 
     @ti.func
     def pair2(self, S, i, j, r, r2, nb, acc: ti.template(), sj: ti.template()):
-        """Both fluid particles' terms: one (p_i + p_j) / (rho_i rho_j), equal and opposite."""
-        f = (acc.pi + nb.p_j) * (acc.inv_rhoi * nb.ir_j) * nb.gw
-        acc.a -= nb.m_j * f
-        sj.a += nb.m_i * f
+        """Both fluid particles' terms from the one term function: j's with grad W_ji = -grad W_ij."""
+        acc.a += pressure_accel(nb.m_j, acc.pi, nb.p_j, acc.inv_rhoi, nb.ir_j, nb.gw)
+        sj.a += pressure_accel(nb.m_i, nb.p_j, acc.pi, nb.ir_j, acc.inv_rhoi, -nb.gw)
 
 
 @ti.data_oriented
@@ -123,9 +122,9 @@ class ArtificialViscosity(Module):
         """Both fluid particles' terms: mu_ij and alpha_ij are symmetric, the force equal and opposite."""
         prm = S.prm[None]
         mu = monaghan_mu(S.h, nb.v_ij, r, nb.ie)
-        f = self.alpha_ij(S, j, nb, acc) * prm.c0 * mu * 0.5 * (acc.inv_rhoi + nb.ir_j) * nb.gw
-        acc.a += nb.m_j * f
-        sj.a -= nb.m_i * f
+        alpha = self.alpha_ij(S, j, nb, acc)
+        acc.a += artificial_viscosity(nb.m_j, alpha, prm.c0, mu, acc.inv_rhoi, nb.ir_j, nb.gw)
+        sj.a += artificial_viscosity(nb.m_i, alpha, prm.c0, mu, nb.ir_j, acc.inv_rhoi, -nb.gw)
         acc.mu = ti.max(acc.mu, -mu)
         sj.mu = ti.max(sj.mu, -mu)
         if ti.static(self.surface):
@@ -165,9 +164,9 @@ class LaminarViscosity(Module):
     def pair2(self, S, i, j, r, r2, nb, acc: ti.template(), sj: ti.template()):
         """Both fluid particles' terms: the harmonic mean and r . grad W are symmetric."""
         mu_j = S.mat_mu[ti.cast(S.tmp.mat[j], ti.i32)]
-        f = harmonic_pair(acc.mui, mu_j) * (acc.inv_rhoi * nb.ir_j) * r.dot(nb.gw) * nb.ie * nb.v_visc
-        acc.a += nb.m_j * f
-        sj.a -= nb.m_i * f
+        mu = harmonic_pair(acc.mui, mu_j)
+        acc.a += laminar_viscosity(nb.m_j, mu, acc.inv_rhoi, nb.ir_j, nb.v_visc, r, nb.ie, nb.gw)
+        sj.a += laminar_viscosity(nb.m_i, mu, nb.ir_j, acc.inv_rhoi, -nb.v_visc, -r, nb.ie, -nb.gw)
 
 
 @ti.data_oriented
@@ -260,16 +259,16 @@ class DensityDiffusion(Module):
 
     @ti.func
     def pair2(self, S, i, j, r, r2, nb, acc: ti.template(), sj: ti.template()):
-        """Both fluid particles' terms: within one material rho0 / c0^2 is shared, so j's
-        hydrostatic difference is -i's and its term is -V_i / V_j times i's."""
+        """Both fluid particles' terms from the one term function: within one material rho0 / c0^2
+        is shared, so j's hydrostatic difference is -i's."""
         prm = S.prm[None]
         if S.tmp.mat[j] == acc.mat:
             hyd = 0.0
             if ti.static(S.physics.density_diffusion == "fourtakas"):
                 hyd = hydrostatic_density_difference(acc.rho0_c02, prm.g, r)
-            f = 2.0 * prm.delta * S.h * prm.c0 * ((acc.rhoi - nb.rho_j) + hyd) * r.dot(nb.gw) * nb.ie
-            acc.drho += nb.vol_j * f
-            sj.drho -= nb.vol_i * f
+            acc.drho += density_diffusion(prm.delta, S.h, prm.c0, nb.vol_j, acc.rhoi, nb.rho_j, hyd, r, nb.ie, nb.gw)
+            sj.drho += density_diffusion(prm.delta, S.h, prm.c0, nb.vol_i, nb.rho_j, acc.rhoi, -hyd, -r, nb.ie,
+                                         -nb.gw)
 
 
 @ti.data_oriented

@@ -2,7 +2,7 @@
 sediment particles. The turbulence closures are in physics/turbulence.py."""
 import taichi as ti
 
-from ..engine.module import MatParam, Module, Param
+from ..hooks.module import MatParam, Module, Param
 from ..particles import FLUID
 from ..terms.dem import contact_force, critical_step
 from ..terms.drag import drag_accel

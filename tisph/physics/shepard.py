@@ -1,7 +1,7 @@
 """Shepard density filter, paper 002 eqs. 13-15, every numerics.shepard_every steps."""
 import taichi as ti
 
-from ..engine.module import Module
+from ..hooks.module import Module
 from ..particles import FLUID
 
 

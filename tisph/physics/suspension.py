@@ -22,7 +22,7 @@ import numpy as np
 import taichi as ti
 
 from ..constants import KAPPA
-from ..engine.module import Module, Param
+from ..hooks.module import Module, Param
 from ..particles import FLUID
 
 LAYER = 2.0    # particle spacings above the bed that exchange sand with it

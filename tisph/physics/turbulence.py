@@ -3,8 +3,8 @@
 (Wilcox 2006)."""
 import taichi as ti
 
-from ..engine.keys import KEYED
-from ..engine.module import Module
+from ..hooks.keys import KEYED
+from ..hooks.module import Module
 from ..particles import FLUID
 from ..terms.sps import sps_accel, sps_stress
 from ..terms.tke import (CMU14, K_FLOOR, SIGMA_K, SIGMA_W, eddy_viscosity, length_of_omega, omega_update, strain2,

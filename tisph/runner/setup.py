@@ -6,12 +6,9 @@ import warnings
 
 import numpy as np
 
+from ..hooks.errors import SimulationError, unstable  # noqa: F401  (the runner's: re-exported)
 from ..io import OutputError, write_text
 from ..particles import KIND_NAMES
-
-
-class SimulationError(RuntimeError):
-    """The run went unstable; the message says where, what and a likely cause."""
 
 
 def sound_speed(cfg, u_max, depth=0.0, g=9.81):
@@ -123,7 +120,7 @@ def check_size(case, cfg):
 
 
 def describe_instability(solver, code, pid):
-    from ..engine.health import BAD_TEXT
+    from ..hooks.health import BAD_TEXT
     what, cause = BAD_TEXT.get(code, ("unknown", ""))
     s = solver.state(("x", "v", "rho", "kind", "mat"))   # ordered by particle id
     if 0 <= pid < solver.n:
@@ -134,11 +131,6 @@ def describe_instability(solver, code, pid):
     else:
         where = f"time step dt = {solver.dt:.3g} s"
     return unstable(solver, what, where, cause)
-
-
-def unstable(solver, what, where, cause):
-    """The SimulationError message of every instability: when, what went wrong, where, a likely cause."""
-    return f"unstable at step {solver.steps}, t = {solver.time:.6g} s: {what}; {where}. Likely cause: {cause}."
 
 
 # Keys a restart may change: when and how to stop, and what to write.

@@ -16,6 +16,7 @@ Each update (every sediment.update_every steps):
 import numpy as np
 
 from ..constants import G, SQRT_CMU
+from ..hooks.errors import SimulationError, unstable
 from .bed import Bed
 from .lee import lee_vortex_shear, lee_zones, vortex_throw
 from .outer import Window, outer_heights, outer_scale
@@ -291,7 +292,6 @@ class BedCoupler:
         i = int(np.argmax(np.abs(w)))
         if abs(w[i]) <= BED_MACH * s.c0:
             return
-        from ..runner.setup import SimulationError, unstable
         k = int(np.argmax(np.abs(self.tau)))
         raise SimulationError(unstable(
             s, f"the bed moved faster than {BED_MACH:g} c0",

@@ -1,2 +1,2 @@
-"""Pictures: the off-screen renderer (render.py) and its colours (colours.py), the live window
-(live.py), and the viewer that renders a run again from its snapshots (view.py)."""
+"""Pictures: the off-screen renderer (render.py) and its colours (colours.py), and the live window
+(live.py); tisph/view.py renders a run again from its snapshots with them."""
