@@ -102,7 +102,7 @@ def test_pipeline_with_suspended_load_keeps_its_sand(tmp_path):
 def test_concentration_panel_and_snapshot_field():
     """Frames colour water by its suspended sand (output.field = "concentration"); snapshots carry
     it as "concentration" and tisph.view reads it back."""
-    from tisph.viz import view
+    from tisph import view
     from tisph.io import SNAPSHOT_FIELDS
     from tisph.viz.render import Renderer
     g = (np.arange(40) + 0.5) * 0.025
