@@ -157,3 +157,39 @@ def test_surveyed_beach_bed_moves_and_keeps_its_sand(tmp_path):
     assert m["bed_change_rms"] > 1e-5 and m["bed_deposition_max"] > 0 and m["bed_erosion_max"] > 0
     rows = (tmp_path / "surveyed_beach" / "bed_profile.csv").read_text().splitlines()
     assert len(rows) > 10 and (tmp_path / "surveyed_beach" / "bed_profile.png").exists()
+
+
+def test_a_new_gauge_type_is_one_class(tmp_path, monkeypatch):
+    """A gauge type is one Gauge subclass in GAUGE_TYPES (tisph/measure/gauges.py): the case file
+    names it, its keys are checked, and its column and metric reach probes.csv and summary.json."""
+    from tisph.measure import gauges
+    from tisph.particles import FLUID
+
+    class DepthGauge(gauges.Gauge):
+        """The water above the floor at x: the highest fluid particle within half a spacing of x."""
+        type = "depth"
+        needs = {"x": "a number (m): a depth gauge's position"}
+        prefixes = ("d",)
+        panel = ("d", "depth (m)", 1.0)
+
+        def __init__(self, label, x, from_time=0.0):
+            super().__init__(label, from_time)
+            self.x = float(x)
+
+        def read(self, st, site):
+            x = st["x"][st["kind"] == FLUID]
+            near = x[np.abs(x[:, 0] - self.x) < 0.5 * site.dx]
+            return [float(near[:, 1].max()) if len(near) else 0.0]
+
+        def metrics(self, c, t, w, period):
+            return {f"{self.label}_mean": float(np.mean(np.asarray(c[f"d_{self.label}"])[w]))}
+
+    monkeypatch.setitem(gauges.GAUGE_TYPES, "depth", DepthGauge)
+    case = TANK + WATER + '[[gauge]]\ntype = "depth"\nlabel = "mid"\nx = 1.0\n'
+    assert run_cli(tmp_path, case, "--max-steps", "3") == 0
+    cols = read_csv(tmp_path / "out" / "probes.csv")[1]
+    assert 0.45 < cols["d_mid"][0] < 0.5
+    import json
+    m = json.load(open(tmp_path / "out" / "summary.json"))["metrics"]
+    assert m["mid_mean"] == pytest.approx(np.mean(cols["d_mid"]))
+    assert run_cli(tmp_path, TANK + WATER + '[[gauge]]\ntype = "depth"\n', "--max-steps", "3") == 2   # no x

@@ -9,7 +9,7 @@ from tisph.config import ConfigError
 from tisph.runner import resolve
 from tisph.runner.setup import build_case
 from tisph.scenes import beach, flume, tunnel
-from tisph.measure.gauges import Gauges
+from tisph.measure.gauges import WaveGauges
 from tisph.waves import theory as wm
 
 
@@ -78,7 +78,7 @@ def test_a_wave_under_three_spacings_and_a_nonlinear_wave_are_warned_about():
 def test_gauges_on_dry_land_are_warned_about_and_report_no_height():
     ov = {"geometry.slope": 15.0, "geometry.depth": 0.25, "paddle.stroke": 0.2}
     case = warned(beach, ov, "x = 5.5, 6.5 m stand on dry land", "5.25")
-    g = Gauges([1.0, 6.0], 0.02, 0.026, 0.3, dry_from=5.25)
+    g = WaveGauges([1.0, 6.0], 0.02, 0.026, 0.3, dry_from=5.25)
     import numpy as np
     t = np.linspace(0, 20, 2001)
     c = {"t": t, "eta_x1.00": 0.05 * np.sin(2 * np.pi * t / 2.5), "eta_x6.00": np.zeros_like(t)}

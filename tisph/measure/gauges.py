@@ -1,15 +1,305 @@
-"""Wave gauges: the free surface at fixed x each probe, and the heights, periods and mean levels
-their records give."""
+"""Gauges: one class a type, each saying the probes.csv columns it writes, what it reads from the
+particles each probe, and the metrics its record gives. A case's gauges are a GaugeSet; the
+built-in scenes' wave gauges (WaveGauges) are surface gauges with the wave windows' metrics.
+
+surface    eta_<label>: the free surface at x (the wave gauge of the flume), zeroed at t = 0
+velocity   u_<label>, w_<label>: the water's velocity at (x, z), Shepard-interpolated
+pressure   p_<label>: the water's pressure at (x, z), Shepard-interpolated (Pa)
+force      F_<label>: the pressure integrated along a wall face, points a spacing apart (N per m)
+discharge  V_<label>: the water beyond the vertical section at x (m3 per m); its rate is the
+           discharge through the section (the overtopping of a crest, the basin behind it filling)
+front      front_<label>: the leading water along a floor at z (the largest x of the water within two
+           spacings above it, plus half a spacing: the dam break's surge front)
+
+A new type is one subclass here (type, columns, read_all, metrics; panel for gauges.png) and
+its entry in GAUGE_TYPES; the case file's [[gauge]] keys it needs are checked in
+tisph/scenes/custom/elements.py.
+"""
+import math
 import warnings
 
-from .field import surface_heights
-from .records import arrival_time, crossing_period_and_level, height_at
+import numpy as np
+
+from ..particles import FLUID, SPRAY
+from .field import shepard_at, surface_heights
+from .plots import pyplot, save
+from .records import arrival_time, crossing_period_and_level, height_at, wave_height
+
+# a point reads the water only where the water fraction sum V W is at least this (DualSPHysics'
+# MeasureTool's KClimit): elsewhere it is dry (NaN; nothing in a force)
+WET = 0.5
 
 
-class Gauges:
-    """Wave gauges at x (m from the paddle's mean position): the free surface minus the still-water
-    level, zeroed at the first reading (the still water of t = 0), as a laboratory gauge is: the
-    SPH surface of a particle lattice reads about dx/2 under the water's mass level."""
+class Gauge:
+    """The interface. type: the [[gauge]] type; needs: the [[gauge]] keys it must be given, each
+    with what it means; from_spec: one from a checked [[gauge]] table; columns: its probes.csv
+    columns; read_all: one pass for every gauge of the type (read together, as one batch);
+    metrics: summary.json's entries from its record; panel: (column prefix, axis label, scale)."""
+    type = ""
+    needs = {}
+    prefixes = ()
+    panel = None
+
+    @classmethod
+    def from_spec(cls, q, dx, h, side):
+        """A gauge from a case file's checked [[gauge]] table q (side: see ForceGauge)."""
+        return cls(q["label"], *(q[k] for k in cls.needs), from_time=q["from_time"])
+
+    def __init__(self, label, from_time=0.0):
+        self.label, self.from_time = label, float(from_time)
+
+    @property
+    def columns(self):
+        return tuple(f"{p}_{self.label}" for p in self.prefixes)
+
+    @classmethod
+    def read_all(cls, gauges, st, site):
+        """[values of each gauge] from the particle state st (site: dx, h)."""
+        return [g.read(st, site) for g in gauges]
+
+    def read(self, st, site):
+        raise NotImplementedError
+
+    def metrics(self, c, t, w, period):
+        """summary.json's entries over the window w (t >= from_time) of the record c."""
+        return {}
+
+
+class Site:
+    """What every gauge reads by: the spacing dx, the smoothing length h."""
+
+    def __init__(self, dx, h):
+        self.dx, self.h = dx, h
+
+
+class SurfaceGauge(Gauge):
+    """The free surface at x, less the still-water level `level`, zeroed at the first reading (the
+    SPH surface of a lattice reads about dx/2 under the water's mass level, as a laboratory gauge
+    is zeroed in still water). floor and mat: where the surface search starts and which
+    material counts as water (None: every fluid)."""
+    type = "surface"
+    needs = {"x": "a number (m): a surface gauge's position"}
+    prefixes = ("eta",)
+    panel = ("eta", "surface (m)", 1.0)
+
+    def __init__(self, label, x, from_time=0.0, floor=-1e9, mat=None, level=0.0, column=None):
+        super().__init__(label, from_time)
+        self.x, self.floor, self.mat, self.level = float(x), floor, mat, level
+        self.column = column
+        self.zero = None
+
+    @property
+    def columns(self):
+        return (self.column,) if self.column else super().columns
+
+    @classmethod
+    def read_all(cls, gauges, st, site):
+        out, k = [], 0
+        while k < len(gauges):   # one surface search for each run of gauges alike in floor and material
+            g0 = gauges[k]
+            run = gauges[k:k + next((i for i, g in enumerate(gauges[k:]) if (g.floor, g.mat) != (g0.floor, g0.mat)),
+                                    len(gauges) - k)]
+            zs = surface_heights(st, [g.x for g in run], site.dx, site.h, floor=g0.floor, mat=g0.mat)
+            for g, z in zip(run, zs):
+                eta = float(z) - g.level
+                if g.zero is None:
+                    g.zero = eta
+                out.append([eta - g.zero])
+            k += len(run)
+        return out
+
+    def metrics(self, c, t, w, period):
+        e = np.asarray(c[self.columns[0]])
+        out = {f"{self.label}_eta_max": float(np.nanmax(e[w])), f"{self.label}_eta_min": float(np.nanmin(e[w]))}
+        if period:
+            H, n = wave_height(t, e, self.from_time, float(t[-1]), period)
+            out[f"{self.label}_wave_height"] = H if n else float("nan")
+            out[f"{self.label}_waves"] = int(n)
+        return out
+
+
+class _PointGauge(Gauge):
+    """A Shepard-interpolated field of the water at (x, z); NaN where the point is dry."""
+    field = ""
+
+    def __init__(self, label, x, z, from_time=0.0):
+        super().__init__(label, from_time)
+        self.x, self.z = float(x), float(z)
+
+    @classmethod
+    def read_all(cls, gauges, st, site):
+        vals = shepard_at(st, [[g.x, g.z] for g in gauges], site.h, cls.field, None, WET)
+        return [g.values(v) for g, v in zip(gauges, vals)]
+
+
+class VelocityGauge(_PointGauge):
+    type = "velocity"
+    needs = {"x": "a number (m): a velocity gauge's position", "z": "a number (m): a velocity gauge's height"}
+    prefixes = ("u", "w")
+    panel = ("u", "u (m/s)", 1.0)
+    field = "v"
+
+    @staticmethod
+    def values(v):
+        return [float(v[0]), float(v[1])]
+
+    def metrics(self, c, t, w, period):
+        sp = np.hypot(c[f"u_{self.label}"], c[f"w_{self.label}"])[w]
+        return {f"{self.label}_speed_max": float(np.nanmax(sp)) if np.isfinite(sp).any() else None}
+
+
+def _peaks(label, col, t, w):
+    """The largest value, when, and the mean over the window, where the record has any."""
+    col = np.asarray(col)[w]
+    if not np.isfinite(col).any():
+        return {}
+    k = int(np.nanargmax(col))
+    return {f"{label}_max": float(col[k]), f"{label}_time_of_max": float(t[w][k]), f"{label}_mean": float(np.nanmean(col))}
+
+
+class PressureGauge(_PointGauge):
+    type = "pressure"
+    needs = {"x": "a number (m): a pressure gauge's position", "z": "a number (m): a pressure gauge's height"}
+    prefixes = ("p",)
+    panel = ("p", "pressure (kPa)", 1e-3)
+    field = "p"
+
+    @staticmethod
+    def values(p):
+        return [float(p)]
+
+    def metrics(self, c, t, w, period):
+        return _peaks(self.label, c[f"p_{self.label}"], t, w)
+
+
+class ForceGauge(Gauge):
+    """The pressure integrated along a wall face: points a spacing apart, read half a smoothing
+    length into the water (towards `side`, unit vectors), where the kernel is not cut by the wall."""
+    type = "force"
+    needs = {"line": "two points [[x0, z0], [x1, z1]] along the wall face"}
+    prefixes = ("F",)
+    panel = ("F", "force (N/m)", 1.0)
+
+    @classmethod
+    def from_spec(cls, q, dx, h, side):
+        return cls(q["label"], q["line"], dx, h, side, q["from_time"])
+
+    def __init__(self, label, line, dx, h, side, from_time=0.0):
+        super().__init__(label, from_time)
+        (x0, z0), (x1, z1) = line
+        n = max(int(math.ceil(math.hypot(x1 - x0, z1 - z0) / dx)), 1)
+        s = (np.arange(n) + 0.5) / n
+        pts = np.column_stack([x0 + s * (x1 - x0), z0 + s * (z1 - z0)])
+        self.points = pts + 0.5 * h * side(pts)
+        self.ds = math.hypot(x1 - x0, z1 - z0) / n
+
+    def read(self, st, site):
+        p = shepard_at(st, self.points, site.h, "p", None, WET)
+        return [float(np.nansum(p) * self.ds)]
+
+    def metrics(self, c, t, w, period):
+        return _peaks(self.label, c[f"F_{self.label}"], t, w)
+
+
+class DischargeGauge(Gauge):
+    """The water beyond the vertical section at x; spray removed beyond x went over too, counted
+    where it was parked."""
+    type = "discharge"
+    needs = {"x": "a number (m): a discharge gauge's position"}
+    prefixes = ("V",)
+    panel = ("V", "beyond x (m3/m)", 1.0)
+
+    def __init__(self, label, x, from_time=0.0):
+        super().__init__(label, from_time)
+        self.x = float(x)
+
+    def read(self, st, site):
+        beyond = ((st["kind"] == SPRAY) | (st["kind"] == FLUID)) & (st["x"][:, 0] > self.x)
+        return [float((st["m"][beyond] / st["rho"][beyond]).sum())]
+
+    def metrics(self, c, t, w, period):
+        V, tw = np.asarray(c[f"V_{self.label}"])[w], t[w]
+        return {f"{self.label}_volume_end": float(V[-1]),
+                f"{self.label}_mean_discharge": float((V[-1] - V[0]) / (tw[-1] - tw[0]))}
+
+
+class FrontGauge(Gauge):
+    """The leading water along the floor at z: the largest x of the water within two spacings
+    above it, plus half a spacing."""
+    type = "front"
+    needs = {"z": "a number (m): the floor level a front gauge follows the water along"}
+    prefixes = ("front",)
+    panel = ("front", "front x (m)", 1.0)
+
+    def __init__(self, label, z, from_time=0.0):
+        super().__init__(label, from_time)
+        self.z = float(z)
+
+    def read(self, st, site):
+        x = st["x"][st["kind"] == FLUID]
+        band = x[(x[:, 1] > self.z) & (x[:, 1] < self.z + 2 * site.dx)]
+        return [float(band[:, 0].max()) + 0.5 * site.dx if len(band) else float("nan")]
+
+    def metrics(self, c, t, w, period):
+        return {f"{self.label}_end": float(np.asarray(c[f"front_{self.label}"])[-1])}
+
+
+GAUGE_TYPES = {cls.type: cls for cls in (SurfaceGauge, VelocityGauge, PressureGauge, ForceGauge, DischargeGauge,
+                                         FrontGauge)}
+
+
+class GaugeSet:
+    """A case's gauges: their columns in order, one read a probe (each type in one batch), their
+    metrics, and gauges.png (a panel a type)."""
+
+    def __init__(self, gauges, dx, h):
+        self.gauges, self.site = list(gauges), Site(dx, h)
+        self.columns = tuple(c for g in self.gauges for c in g.columns)
+        self.seen = None
+
+    def read(self, st):
+        vals = {}
+        for cls in GAUGE_TYPES.values():
+            mine = [g for g in self.gauges if isinstance(g, cls)]
+            if mine:
+                for g, v in zip(mine, cls.read_all(mine, st, self.site)):
+                    vals[id(g)] = v
+        return tuple(x for g in self.gauges for x in vals[id(g)])
+
+    def metrics(self, c, period):
+        """Each gauge's metrics over t >= its from_time (none where under two readings)."""
+        self.seen = c
+        t = np.asarray(c["t"])
+        out = {}
+        for g in self.gauges:
+            w = t >= g.from_time
+            if w.sum() >= 2:
+                out.update(g.metrics(c, t, w, period))
+        return out
+
+    def plot(self, path):
+        """gauges.png: every gauge's record, one panel per type of gauge."""
+        c = self.seen
+        panels = [cls for cls in GAUGE_TYPES.values() if any(isinstance(g, cls) for g in self.gauges)]
+        if not panels or c is None or len(c["t"]) < 2:
+            return
+        plt = pyplot()
+        fig, axes = plt.subplots(len(panels), 1, figsize=(7.5, 1.7 * len(panels) + 0.6), sharex=True, squeeze=False)
+        for ax, cls in zip(axes[:, 0], panels):
+            col, label, scale = cls.panel
+            for g in self.gauges:
+                if isinstance(g, cls):
+                    ax.plot(c["t"], scale * np.asarray(c[f"{col}_{g.label}"]), lw=0.8, label=g.label)
+            ax.set_ylabel(label, fontsize=8)
+            ax.legend(fontsize=7, ncol=4, loc="upper left")
+        axes[-1, 0].set_xlabel("t (s)")
+        save(fig, path)
+
+
+class WaveGauges(GaugeSet):
+    """The built-in scenes' wave gauges at x (m from the paddle's mean position): surface gauges
+    of the water (material 0) from the floor up, less the still-water level, and the wave
+    heights, periods and mean levels once the ramped waves have reached each."""
 
     def __init__(self, xs, dx, h, level, columns=None, dry_from=float("inf")):
         """dry_from: where the bed stands above the still water (a beach's shoreline): a gauge
@@ -20,15 +310,14 @@ class Gauges:
             warnings.warn(f"gauges at x = {', '.join(f'{x:g}' for x in self.dry)} m stand on dry land (the "
                           f"still-water shoreline is at x = {dry_from:.3g} m): their wave heights are reported "
                           "as null")
-        self.dx, self.h, self.level = dx, h, level
-        self.columns = tuple(columns or (f"eta_x{x:.2f}" for x in self.xs))
-        self.zero = []
+        cols = tuple(columns or (f"eta_x{x:.2f}" for x in self.xs))
+        super().__init__([SurfaceGauge(col, x, floor=0.0, mat=0, level=level, column=col)
+                          for x, col in zip(self.xs, cols)], dx, h)
 
-    def read(self, st):
-        eta = [float(z) - self.level for z in surface_heights(st, self.xs, self.dx, self.h)]
-        if not self.zero:
-            self.zero = list(eta)
-        return tuple(e - z for e, z in zip(eta, self.zero))
+    @property
+    def zero(self):
+        """Each gauge's first reading (the lattice's offset under the still-water level)."""
+        return [g.zero for g in self.gauges if g.zero is not None]
 
     def metrics(self, c, p, cg):
         """gauges_x and the mean wave height at each over whole periods once the ramped waves
@@ -44,3 +333,9 @@ class Gauges:
             out["wave_period_at_gauges"].append(T)
             out["mean_level_at_gauges"].append(level)
         return out
+
+
+def case_gauges(specs, dx, h, side):
+    """The gauges of a case file's [[gauge]] tables (checked by tisph/scenes/custom/elements.py);
+    side(points): unit vectors from wall points towards the water, for force gauges."""
+    return [GAUGE_TYPES[q["type"]].from_spec(q, dx, h, side) for q in specs]

@@ -33,7 +33,7 @@ from ..runner import common_params, run_scene, sound_speed
 from ..constants import G
 from ..plausible import warn_waves, warn_window
 from ..measure import records
-from ..measure.gauges import Gauges
+from ..measure.gauges import WaveGauges
 from ..waves import theory
 from ..waves.absorb import with_control
 from ..waves.irregular import IRREGULAR_CHOICES, IRREGULAR_DEFAULTS, IRREGULAR_RANGES, spectrum
@@ -119,7 +119,7 @@ def build(cfg):
                         "the free second harmonic (at its group velocity) would")
     cols = tuple(f"eta_{i}" for i in range(len(xg)))
     acols = tuple(f"array_{i}" for i in range(len(xa)))
-    gauges = Gauges(xg + xa, dx, h, d, cols + acols)
+    gauges = WaveGauges(xg + xa, dx, h, d, cols + acols)
 
     seen, seen_spectra = {}, {}
 

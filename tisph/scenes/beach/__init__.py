@@ -46,7 +46,7 @@ from ...case import make_case
 from ...runner import common_params, run_scene, sound_speed
 from ...materials import BINGHAM_SAND, WATER
 from ...measure.field import surface_at, surface_heights
-from ...measure.gauges import Gauges
+from ...measure.gauges import WaveGauges
 from ...measure.records import arrival_time, height_at
 from ...waves.paddle import PADDLE_DEFAULTS, PADDLE_RANGES, check_paddle, paddle, resolve_paddle
 from ...waves.theory import linear_wave
@@ -246,7 +246,7 @@ class BedRecord:
         shore = self.toe + self.d * geo["slope"]
         self.active = (self.stations >= max(0.5, self.toe - 0.5 * self.wavelength)) & (self.stations <= shore + 0.2)
         self.rows, self.bed0, self.u_near, self.pred_rows = [], None, [], None
-        self.gauges = Gauges(geo["gauges_x"], self.dx, h, self.yw, dry_from=shore)
+        self.gauges = WaveGauges(geo["gauges_x"], self.dx, h, self.yw, dry_from=shore)
 
     def probe(self, st):
         dx, h, stations, active = self.dx, self.h, self.stations, self.active

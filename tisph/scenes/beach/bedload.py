@@ -27,7 +27,7 @@ from .shoaling import Shoaling
 from ...sediment.morfac import bed_turnover, warn_fast_bed
 from ...plausible import warn_waves
 from ...sediment import coupling, initial
-from ...measure.gauges import Gauges
+from ...measure.gauges import WaveGauges
 from ...measure.records import height_at
 from ...waves.absorb import with_control
 from ...waves.paddle import paddle
@@ -123,7 +123,7 @@ class BeachBed:
         self.toe, self.grain = geo["toe_x"], geo["grain_diameter"]
         self.rows, self.zone = [], None
         self.lengths = (float("nan"), float("nan"))   # the last probe's measured and predicted means
-        self.gauges = Gauges(geo["gauges_x"], self.dx, cfg["numerics"]["h_factor"] * self.dx, self.yw,
+        self.gauges = WaveGauges(geo["gauges_x"], self.dx, cfg["numerics"]["h_factor"] * self.dx, self.yw,
                              dry_from=geo["toe_x"] + geo["depth"] * geo["slope"])
         self.shoal = Shoaling(geo, lambda x: self.yw - float(bed_profile(geo, x)), self.yw, self.dx,
                               cfg["numerics"]["h_factor"] * self.dx)

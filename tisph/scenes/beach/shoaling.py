@@ -13,7 +13,7 @@ import math
 import numpy as np
 
 from ...constants import G
-from ...measure.gauges import Gauges
+from ...measure.gauges import WaveGauges
 from ...measure.records import arrival_time, wave_height
 from ...waves.theory import group_velocity, wavenumber
 
@@ -80,7 +80,7 @@ class Shoaling:
         self.xs = list(np.arange(columns_from, last + 1e-9, STEP))
         self.flat = [x <= geo["toe_x"] for x in self.xs]
         self.depth = np.array([depth_at(x) for x in self.xs])
-        self.gauges = Gauges(self.xs, dx, h, level, tuple(f"x{x:.2f}" for x in self.xs))
+        self.gauges = WaveGauges(self.xs, dx, h, level, tuple(f"x{x:.2f}" for x in self.xs))
         self.slope_m = 1.0 / geo["slope"]
         self.rows = []
 

@@ -6,6 +6,7 @@ import math
 import os
 
 from ...config import ConfigError
+from ...measure.gauges import GAUGE_TYPES
 
 NUM = "a number"
 
@@ -41,7 +42,6 @@ ELEMENTS = {
         "toe_gauges": [],
     },
 }
-GAUGE_TYPES = ("surface", "velocity", "pressure", "force", "discharge", "front")
 SHAPES = ("line", "polygon", "box", "circle", "csv")
 
 
@@ -150,18 +150,13 @@ def _gauge(g, base_dir):
     if g["type"] not in GAUGE_TYPES:
         raise ConfigError(f"{n}.type", g["type"], "one of " + ", ".join(repr(t) for t in GAUGE_TYPES))
     t = g["type"]
-    if t == "force":
-        g["line"] = points(f"{n}.line", g["line"], False)
-        if len(g["line"]) != 2:
-            raise ConfigError(f"{n}.line", g["line"], "two points [[x0, z0], [x1, z1]] along the wall face")
-    elif t == "front":
-        if g["z"] is None:
-            raise ConfigError(f"{n}.z", None, "a number (m): the floor level a front gauge follows the water along")
-    else:
-        if g["x"] is None:
-            raise ConfigError(f"{n}.x", None, f"a number (m): a {t} gauge's position")
-        if t in ("velocity", "pressure") and g["z"] is None:
-            raise ConfigError(f"{n}.z", None, f"a number (m): a {t} gauge's height")
+    for key, what in GAUGE_TYPES[t].needs.items():   # what each type must be given (tisph/measure/gauges.py)
+        if key == "line":
+            g["line"] = points(f"{n}.line", g["line"], False)
+            if len(g["line"]) != 2:
+                raise ConfigError(f"{n}.line", g["line"], what)
+        elif g[key] is None:
+            raise ConfigError(f"{n}.{key}", None, what)
     if g["cot_slope"] < 0:
         raise ConfigError(f"{n}.cot_slope", g["cot_slope"], "a number >= 0")
     if g["cot_slope"] > 0 and (t != "discharge" or g["crest"] is None or not g["toe_gauges"]):
