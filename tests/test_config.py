@@ -81,7 +81,7 @@ def test_summary_says_why_laminar_viscosity_is_on_when_the_config_says_off():
 def test_every_keyed_module_parameter_reaches_the_solver():
     """A module's Param with a config key is passed to the solver from that key (a key the scenes
     did not pass ran at its default: numerics.stress_limiter, found by a bench that changed nothing)."""
-    from tisph.config import _module_keys
+    from tisph.hooks.keys import KEYED
     from tisph.engine.state import PARAM_ALIASES
     from tisph.runner import resolve
     from tisph.runner.setup import common_params
@@ -89,10 +89,10 @@ def test_every_keyed_module_parameter_reaches_the_solver():
     cfg = resolve(pipeline_scour, None, {"numerics.turbulence": "k_equation", "numerics.stress_limiter": 0.5,
                                          "numerics.mixing_length": 0.003, "numerics.delta": 0.05})
     prm = common_params(cfg, 10.0)
-    keys = {p.key for p in _module_keys()}
+    keys = set(KEYED)
     assert {"numerics.stress_limiter", "numerics.mixing_length", "numerics.cfl"} <= keys
     names = {PARAM_ALIASES.get(k, k) for k in prm}
-    for p in _module_keys():
+    for p in KEYED.values():
         sec, name = p.key.split(".")
         assert any(prm.get(n) == cfg[sec][name] for n in names), p.key
     assert prm["stress_limiter"] == 0.5 and prm["mixing_length"] == 0.003 and prm["delta"] == 0.05

@@ -18,149 +18,20 @@ if sys.version_info >= (3, 11):
 else:  # pragma: no cover - exercised on 3.9/3.10 only
     import tomli as tomllib
 
+from . import schema
+from .errors import ConfigError, ConfigErrors, raise_collected  # noqa: F401  (re-exported: every check raises them)
+from .shared_keys import MATERIAL, SHARED, TURBULENCE
 from .switches import Physics, physics_from_config  # noqa: F401  (re-exported: scenes import them here)
 
 
-class ConfigError(ValueError):
-    """Bad input: names the field, the value, and what is allowed."""
-
-    def __init__(self, field, value, allowed, hint=""):
-        self.field, self.value, self.allowed = field, value, allowed
-        msg = f"config error: {field} = {value!r} is not allowed; expected {allowed}"
-        if hint:
-            msg += f" ({hint})"
-        super().__init__(msg)
-
-
-class ConfigErrors(ConfigError):
-    """Several bad inputs at once, one line each; field, value and allowed are the first's."""
-
-    def __init__(self, errors):
-        self.errors = list(errors)
-        first = self.errors[0]
-        self.field, self.value, self.allowed = first.field, first.value, first.allowed
-        ValueError.__init__(self, "\n".join(str(e) for e in self.errors))
-
-
-def raise_collected(errors):
-    """Raise what was collected: one error as itself, several together."""
-    if len(errors) == 1:
-        raise errors[0]
-    if errors:
-        raise ConfigErrors(errors)
-
-
-# Keys every scene shares. Scenes add [geometry] and [materials.*] and may change these values.
-SHARED_DEFAULTS = {
-    "run": {
-        "end_time": 1.0,      # simulated seconds
-        "max_steps": 0,       # 0: no limit
-        "arch": "cpu",        # cpu | gpu | auto
-        "precision": "f32",   # f32 | f64
-        "pair_once": "auto",  # each pair once on the CPU: auto (where the run is long enough to repay its compile) | on | off
-    },
-    "numerics": {
-        "dx": 0.03,                  # initial particle spacing (m)
-        "h_factor": 1.3,             # smoothing length h = h_factor * dx
-        "kernel": "cubic",           # cubic (paper 000 eq. 5) | wendland (paper 002 eq. 6)
-        "wall": "dynamic",           # dynamic (DBC) | repulsive (paper 000 eq. 6) | adami (pressure from the water, Adami et al. 2012)
-        "wall_layers": 3,            # layers of dynamic boundary particles
-        "wall_strength": 0.0,        # repulsive D (m^2/s^2); 0: auto = 5 g H (Monaghan 1994)
-        "c0": 0.0,                   # sound speed (m/s); 0: auto = c0_factor * u_max
-        "c0_factor": 10.0,           # c0 = this x max(expected speed, sqrt(g depth)) when c0 = 0
-        "u_max": 0.0,                # expected peak flow speed (m/s); 0: the scene's estimate
-        "laminar_viscosity": False,  # paper 002 eq. 10 with the materials' viscosity
-        "density_diffusion": "none", # none | molteni | fourtakas | antuono (renormalised gradients: waves)
-        "turbulence": "smagorinsky", # smagorinsky (paper 002 eq. 10) | k_equation (transported k, tisph/terms/tke.py); where SPS is on
-        "length_scale": "prescribed",  # the k equation's length: prescribed (the scene's wall distance) | omega (transported, bounded by it)
-        "shepard_every": 0,          # Shepard density filter every N steps (paper 002 eq. 14); 0 off
-    },
-    "output": {
-        "dir": "",                   # "" -> renders/<scene>
-        "render": True,              # PNG frames and the MP4 (false: neither)
-        "fps": 25,                   # movie playback frames per second
-        "frame_interval": 0.02,      # simulated seconds between frames
-        "probe_interval": 0.005,     # simulated seconds between probe samples
-        "width": 640,                # frame width in pixels (height follows the domain)
-        "quiet": False,              # no progress bar or progress lines
-        "speed_scale": 0.0,          # colour bar top (m/s); 0: the scene's expected peak speed
-        "view": [],                  # [x0, x1, y0, y1] (m) the frames show; []: the scene's
-        "field": "",                 # speed | pressure | density | material | vorticity; "": the scene's panels
-        "range": [],                 # [lo, hi] of the colour bar in its unit (kPa for pressure); []: automatic
-        "zoom": [],                  # [x0, x1, y0, y1] (m): a window at true scale under the frame, by vorticity; []: the scene's
-        "min_height": 160,           # px: a lower panel gets more room above the view (air)
-        "snapshot_every": -1.0,      # simulated s between HDF5 snapshots; -1: about 50 per run, on frame times; 0: off
-        "checkpoint_every": 0.0,     # simulated s between checkpoints; 0: only on SIGINT/SIGTERM
-        "live": False,               # show each frame in a window as it is rendered (--live; needs a display)
-    },
-}
-
-CHOICES = {
-    "run.arch": ("cpu", "gpu", "auto"), "run.precision": ("f32", "f64"), "run.pair_once": ("auto", "on", "off"),
-    "numerics.kernel": ("cubic", "wendland"),
-    "numerics.wall": ("dynamic", "repulsive", "adami"),
-    "numerics.density_diffusion": ("none", "molteni", "fourtakas", "antuono"),
-    "numerics.turbulence": ("smagorinsky", "k_equation"),
-    "numerics.length_scale": ("prescribed", "omega"),
-    "output.field": ("", "speed", "pressure", "density", "material", "vorticity", "concentration"),
-}
-
-# (low, high, low_inclusive, high_inclusive); None is unbounded.
-RANGES = {
-    "run.end_time": (0.0, None, False, True),
-    "run.max_steps": (0, None, True, True),
-    "numerics.dx": (0.0, None, False, True),
-    "numerics.h_factor": (1.0, 3.0, True, True),
-    "numerics.wall_layers": (1, 6, True, True),
-    "numerics.wall_strength": (0.0, None, True, True),
-    "numerics.c0": (0.0, None, True, True),
-    "numerics.c0_factor": (1.0, None, True, True),
-    "numerics.u_max": (0.0, None, True, True),
-    "numerics.shepard_every": (0, None, True, True),
-    "output.fps": (1, 240, True, True),
-    "output.frame_interval": (0.0, None, False, True),
-    "output.probe_interval": (0.0, None, False, True),
-    "output.width": (64, 4096, True, True),
-    "output.min_height": (0, 4096, True, True),
-    "output.speed_scale": (0.0, None, True, True),
-    "output.snapshot_every": (-1.0, None, True, True),
-    "output.checkpoint_every": (0.0, None, True, True),
-}
-
-
-def _module_keys():
-    """Config keys whose default and range the engine's modules declare (tisph/hooks/keys.py,
-    without Taichi): written once there, read here."""
-    from .hooks.keys import KEYED
-    return KEYED.values()
-
-
-for _p in _module_keys():
-    _sec, _name = _p.key.split(".")
-    SHARED_DEFAULTS[_sec][_name] = _p.default
-    RANGES[_p.key] = tuple(_p.range)
-
-# The turbulence closure's keys: only a scene with SPS turbulence (the pipeline) has them, in its
-# DEFAULTS as dict(TURBULENCE_DEFAULTS, ...); elsewhere they are refused by name.
-TURBULENCE_KEYS = ("turbulence", "length_scale", "mixing_length", "stress_limiter")
-TURBULENCE_DEFAULTS = {k: SHARED_DEFAULTS["numerics"].pop(k) for k in TURBULENCE_KEYS}
-
-# Rules that apply to every material, whatever its name.
-MATERIAL_RANGES = {
-    "rho0": (0.0, None, False, True),
-    "viscosity": (0.0, None, True, True),
-    "yield_stress": (0.0, None, True, True),
-    "regularisation": (0.0, None, False, True),
-    "mu_max": (0.0, None, True, True),
-    "mu0": (0.0, None, True, True),
-    "K": (0.0, None, True, True),
-    "m1": (0.0, None, False, True),
-}
-MATERIAL_CHOICES = {
-    "rheology": ("newtonian", "bingham", "cross"),
-    # unyielded Bingham material: "creep" at stress / mu_max, or "rest" (rigid plug on a fixed bed)
-    "unyielded": ("creep", "rest"),
-}
+# The keys every scene shares, the turbulence closure's and every material's, as Keys
+# (tisph/shared_keys.py); a scene's SCHEMA lays its own on them. These are read from there.
+SHARED_DEFAULTS = schema.values(SHARED)
+TURBULENCE_DEFAULTS = schema.values(TURBULENCE)
+RANGES = dict(schema.ranges(SHARED), **schema.ranges(TURBULENCE, "numerics"))
+CHOICES = dict(schema.choices(SHARED), **schema.choices(TURBULENCE, "numerics"))
+MATERIAL_RANGES = schema.ranges(MATERIAL)
+MATERIAL_CHOICES = schema.choices(MATERIAL)
 
 
 def describe_range(lo, hi, lo_inc, hi_inc):
@@ -227,7 +98,7 @@ def merge(base: dict, override: dict, prefix: str = "", errors=None) -> dict:
             if key not in base:
                 close = difflib.get_close_matches(key, list(base.keys()), n=1, cutoff=0.5)
                 hint = f"did you mean '{prefix}{close[0]}'?" if close else ""
-                if prefix == "numerics." and key in TURBULENCE_KEYS:
+                if prefix == "numerics." and key in TURBULENCE:
                     hint = "a turbulence key: this scene has no SPS turbulence (the pipeline has)"
                 raise ConfigError(path, value, "one of: " + ", ".join(sorted(f"{prefix}{k}" for k in base)),
                                   hint or "unknown key")

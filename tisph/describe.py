@@ -1,85 +1,21 @@
 """`python -m tisph.scenes.NAME --describe`: every config key of a scene with its default, what is
-allowed and what it means, generated from the code (the defaults, the range and choice tables,
-the engine modules' Params, and the comment written beside each default), so it cannot go stale.
+allowed and what it means, read from the scene's SCHEMA and the shared keys (tisph/schema.py's
+Key: default, unit, range or choices, words), so it cannot go stale.
 """
-import importlib
-import inspect
-import io
 import os
 import sys
-import tokenize
 
-from . import config
-from .registry import modules as scene_modules
+from . import config, schema
 from .config import CHOICES, MATERIAL_CHOICES, MATERIAL_RANGES, RANGES, describe_range
+from .registry import modules as scene_modules
+from .shared_keys import MATERIAL, SHARED, TURBULENCE
 
 
-
-def comments(module, table=""):
-    """{dotted key: the comment written beside its default} from a module's source: a comment on
-    the key's own line, or else the comment lines right above it. A key inside a nested table
-    ("geometry": {...}, "sediment": dict(...)) is named with it, and `table` prefixes every key
-    (the table the module's defaults fill: "sediment" for coupling), so geometry.width and
-    output.width, or sediment.seed and paddle.seed, keep their own words."""
-    out = {}
-    try:
-        src = inspect.getsource(module)
-    except (OSError, TypeError):
-        return out
-    toks = list(tokenize.generate_tokens(io.StringIO(src).readline))
-    notes, keys, code_lines = {}, {}, set()
-    stack, pending = [], None          # open brackets, each with the table it opens (or None)
-    for k, tok in enumerate(toks):
-        if tok.type == tokenize.COMMENT and (tok.start[1] > 0 or tok.line[:tok.start[1]].strip()):
-            # indented or after code: a key's note (a comment at column 0 heads a section)
-            notes[tok.start[0]] = tok.string.lstrip("#").strip()
-        elif tok.type not in (tokenize.NL, tokenize.NEWLINE, tokenize.INDENT, tokenize.DEDENT):
-            code_lines.add(tok.start[0])
-            nxt = toks[k + 1] if k + 1 < len(toks) else None
-            if tok.type == tokenize.OP and tok.string in "{([":
-                stack.append(pending)
-                pending = None
-            elif tok.type == tokenize.OP and tok.string in "})]":
-                if stack:
-                    stack.pop()
-            elif tok.type == tokenize.STRING and nxt is not None and nxt.string == ":":
-                name = tok.string.strip("\"'")
-                path = ".".join([t for t in [table] + stack if t] + [name])
-                keys[tok.start[0]] = path           # the last key on a line owns its comment
-                after = toks[k + 2] if k + 2 < len(toks) else None
-                pending = name if after is not None and after.string in ("{", "dict") else None
-                continue
-            if not (tok.type == tokenize.NAME and tok.string == "dict"):
-                pending = pending if tok.type == tokenize.OP and tok.string == ":" else None if tok.string not in "{(" else pending
-    for line, key in keys.items():
-        text = notes.get(line)
-        if text is None:                       # a block of comment lines right above
-            above, n = [], line - 1
-            while n in notes and n not in code_lines:
-                above.insert(0, notes[n])
-                n -= 1
-            text = " ".join(above) or None
-        if text:
-            out.setdefault(key, text)
+def words(scene):
+    """{dotted key: what it means} of every key the scene declares or shares."""
+    out = dict(schema.docs(SHARED), **schema.docs(TURBULENCE, "numerics"))
+    out.update(schema.docs(getattr(scene, "SCHEMA", {})))   # the scene's own words win
     return out
-
-
-def lookup(docs, key):
-    """The description of a dotted key: its own, else that of its longest dotted tail
-    (materials.water.rho0 -> rho0 from the materials module)."""
-    parts = key.split(".")
-    for i in range(len(parts)):
-        text = docs.get(".".join(parts[i:]))
-        if text:
-            return text
-    return ""
-
-
-def _module_docs():
-    docs = {}
-    for p in config._module_keys():
-        docs[p.key] = f"{p.doc} ({p.unit})" if p.unit not in ("", "-") else p.doc
-    return docs
 
 
 def rows(scene):
@@ -87,45 +23,35 @@ def rows(scene):
     cfg = config.build_config(scene.DEFAULTS, None, {}, getattr(scene, "RANGES", None), getattr(scene, "CHOICES", None))
     ranges = dict(RANGES, **getattr(scene, "RANGES", {}))
     choices = dict(CHOICES, **getattr(scene, "CHOICES", {}))
-    from . import materials
-    from .waves import irregular, paddle
-    from .sediment import coupling
-    docs = {}
-    extra = tuple((importlib.import_module(n), t) for n, t in getattr(scene, "DESCRIBED", ()))
-    for m, table in ((materials, ""), (paddle, "paddle"), (irregular, "paddle"), (coupling, "sediment"),
-                     (config, "")) + extra + (
-            (scene, ""),):   # the scene's own words win
-        docs.update(comments(m, table))
-    mod_docs = _module_docs()
+    docs = words(scene)
     out = []
     for key, v in config.flatten(cfg).items():
         if key in getattr(scene, "ELEMENTS", {}):
             continue                             # a list of tables: element_rows has its keys
         leaf = key.split(".")[-1]
+        material = key.startswith("materials.") and leaf in MATERIAL
         if key in choices:
             allowed = "one of " + ", ".join(repr(c) for c in choices[key])
         elif key in ranges:
             allowed = describe_range(*ranges[key])
-        elif key.startswith("materials.") and leaf in MATERIAL_CHOICES:
+        elif material and leaf in MATERIAL_CHOICES:
             allowed = "one of " + ", ".join(repr(c) for c in MATERIAL_CHOICES[leaf])
-        elif key.startswith("materials.") and leaf in MATERIAL_RANGES:
+        elif material and leaf in MATERIAL_RANGES:
             allowed = describe_range(*MATERIAL_RANGES[leaf])
         else:
             allowed = config._type_name(v)
+        meaning = docs.get(key) or (schema.words(MATERIAL[leaf]) if material else "")
         out.append((key, repr(v) if isinstance(v, str) else str(v).lower() if isinstance(v, bool) else str(v),
-                    allowed, mod_docs.get(key) or lookup(docs, key)))
+                    allowed, meaning))
     return out
 
 
 def element_rows(scene):
     """(list, key, default, meaning) of the keys of each entry of a scene's lists of tables
     ([[solid]], [[water]], [[gauge]] of a custom case)."""
-    elements = getattr(scene, "ELEMENTS", {})
-    if not elements:
-        return []
-    docs = comments(sys.modules[scene.ELEMENTS_MODULE])
-    return [(table, k, "(not given)" if v is None else repr(v) if isinstance(v, str) else str(v),
-             docs.get(f"{table}.{k}", "")) for table, spec in elements.items() for k, v in spec.items()]
+    return [(table, k, "(not given)" if v.default is None else repr(v.default) if isinstance(v.default, str)
+             else str(v.default), schema.words(v))
+            for table, spec in getattr(scene, "ELEMENTS", {}).items() for k, v in spec.items()]
 
 
 def describe(scene):

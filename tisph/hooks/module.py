@@ -39,20 +39,20 @@ Hooks (define only those the module uses; `S` is the solver):
 """
 import dataclasses
 
+from ..schema import Key
+
 HOOKS = ("drift", "move", "boundary_motion", "boundary_kick", "remove", "position_check", "prepare", "init_acc",
          "view", "pair", "pair2", "body_force", "relax", "finish", "boundary_pass", "dt_limit", "after_step")
 
 
 @dataclasses.dataclass(frozen=True)
-class Param:
-    """A runtime parameter: the one default, its unit and allowed range (lo, hi, lo_inclusive,
-    hi_inclusive; None = open). A default may be 'dx' (the particle spacing) or a function
-    (S, values) -> value. `key`: the config key that sets it; config.py takes that key's default
-    and range from here, so they are written once."""
-    default: object
+class Param(Key):
+    """A runtime parameter: a config Key (tisph/schema.py: the one default, its unit and allowed
+    range) the solver holds in a Taichi struct. A default may be 'dx' (the particle spacing) or a
+    function (S, values) -> value. `key`: the config key that sets it; config.py takes that
+    key's default, range and words from here, so they are written once."""
     unit: str = "-"
     range: tuple = (None, None, True, True)
-    doc: str = ""
     vector: bool = False
     key: str = ""
 

@@ -1,5 +1,4 @@
 """Entry points: run a scene from the command line (run_scene) or from Python (simulate)."""
-import math
 import os
 import sys
 
@@ -9,6 +8,7 @@ from ..sediment.coupling import refuse_unused_sediment_keys
 from ..io import OutputError, ensure_dir
 from ..plausible import check_materials
 from ..particles import FLUID
+from ..shared_keys import check_rules
 from ..waves.paddle import paddle_notes
 from .loop import Run
 from .setup import Log, build_case
@@ -18,36 +18,7 @@ def run_case(case, cfg, out, log, scene_name, restart=None, force=False):
     from .. import runtime
     if case.particles.count(FLUID) == 0:
         raise ConfigError("geometry", "no fluid particles", "a case with at least one fluid particle")
-    num = cfg["numerics"]
-    # dynamic wall particles must fill the kernel's support (2 h) behind the wall, or a fluid particle
-    # there sums a truncated kernel (the kernel's rule, not a measured fix: Mao's case at 1.6 dx gave the
-    # same profiles with 3 and 4 layers); repulsive walls (paper 000 eq. 6) are one line of particles
-    need = math.ceil(2.0 * num["h_factor"] - 1e-9)
-    if case.physics.wall in ("dynamic", "adami") and num["wall_layers"] < need:
-        raise ConfigError("numerics.wall_layers", num["wall_layers"], f"at least {need} with numerics.h_factor = "
-                          f"{num['h_factor']}", f"dynamic wall particles must fill the kernel's support 2 h = "
-                          f"{2.0 * num['h_factor']:g} dx")
-    lm = num.get("mixing_length", 0.0)
-    if lm > 0 and not case.physics.sps:
-        raise ConfigError("numerics.mixing_length", lm, "0 in a case without SPS turbulence (the mixing length "
-                          "sets the SPS's eddy viscosity; the pipeline turns SPS on with geometry.sps = true)")
-    turb = num.get("turbulence", "smagorinsky")
-    if turb == "k_equation":
-        if not case.physics.sps:
-            raise ConfigError("numerics.turbulence", turb, "smagorinsky in a case without SPS turbulence (the "
-                              "k equation gives the SPS's eddy viscosity; the pipeline turns SPS on with geometry.sps = true)")
-        if getattr(case.particles, "turbulence_length", None) is None and lm <= 0:
-            raise ConfigError("numerics.mixing_length", lm, "> 0 with numerics.turbulence = \"k_equation\" in this "
-                              "scene: it sets no wall distance, so the k equation's length l is this constant")
-    # the k equation's own options, off without it
-    for key, off, what in (("length_scale", "prescribed", "omega is the k equation's length"),
-                           ("stress_limiter", 0.0, "the limiter caps the k equation's eddy viscosity")):
-        if num.get(key, off) != off and case.physics.turbulence != "k_equation":
-            raise ConfigError(f"numerics.{key}", num[key], f"{off!r} without the k equation ({what}; it needs "
-                              "numerics.turbulence = \"k_equation\" and SPS turbulence on)")
-    if cfg["output"]["field"] == "concentration" and not case.physics.suspension:
-        raise ConfigError("output.field", "concentration", "a field this case has: concentration needs suspended "
-                          "sand (sediment.suspended = true, the pipeline over the bed-load bed)")
+    check_rules(cfg, case.physics, case.particles)
     r = Run(case, cfg, out, log, scene_name, restart, force)
     r.arch = runtime.current_arch()
     try:

@@ -17,6 +17,7 @@ import numpy as np
 
 from ..constants import G
 from ..config import ConfigError, physics_from_config
+from ..schema import NON_NEGATIVE, POSITIVE, choices, K, ranges, values
 from ..particles import ParticleSet, block, hydrostatic_density, tait_B, wall_density, FLUID, WALL, OUTFLOW
 from ..profiles import depth_profile, plot_profiles, write_profile
 from ..case import make_case
@@ -26,29 +27,27 @@ from ..validation import martin_moyce, shallow_water
 NAME = "dam_break"
 
 
-DEFAULTS = {
-    "run": {"end_time": 0.7902},  # T = t sqrt(2 g / a) = 3.5 for a = 1 m
+SCHEMA = {
+    "run": {"end_time": K(0.7902, "T = t sqrt(2 g / a) = 3.5 for a = 1 m", "s")},
     "numerics": {"dx": 0.03, "h_factor": 1.3, "artificial_viscosity": 0.1,
                  "density_diffusion": "fourtakas", "delta": 0.1},
     "geometry": {
-        "tank_width": 4.0,          # the tank's inside length (m)
-        "tank_height": 4.0,         # the tank's walls' height (m)
-        "column_width": 1.0,        # a (the reservoir length in the channel cases)
-        "column_height": 2.0,       # n^2 a with n^2 = 2 (h0 in the channel cases)
-        "downstream_depth": 0.0,    # still water beyond the dam (wet bed); alpha = this / h0
-        "right_end": "wall",        # wall | outflow (water leaving the end is removed)
-        "reference": "martin_moyce",  # martin_moyce | shallow_water (Ritter, Stoker)
-        "profile_times": [],        # T = t sqrt(g / h0) at which h(x) is saved and compared
+        "tank_width": K(4.0, "the tank's inside length", "m", range=POSITIVE),
+        "tank_height": K(4.0, "the tank's walls' height", "m", range=POSITIVE),
+        "column_width": K(1.0, "a (the reservoir length in the channel cases)", range=POSITIVE),
+        "column_height": K(2.0, "n^2 a with n^2 = 2 (h0 in the channel cases)", range=POSITIVE),
+        "downstream_depth": K(0.0, "still water beyond the dam (wet bed); alpha = this / h0", range=NON_NEGATIVE),
+        "right_end": K("wall", "wall | outflow (water leaving the end is removed)", choices=("wall", "outflow")),
+        "reference": K("martin_moyce", "martin_moyce | shallow_water (Ritter, Stoker)", choices=("martin_moyce", "shallow_water")),
+        "profile_times": K([], "T = t sqrt(g / h0) at which h(x) is saved and compared"),
     },
     "materials": {"water": {"rho0": 1000.0, "viscosity": 1.0e-3}},
     "output": {"frame_interval": 0.02, "probe_interval": 0.005},
 }
 
-RANGES = {f"geometry.{k}": (0.0, None, k == "downstream_depth", True)
-          for k in ("tank_width", "tank_height", "column_width", "column_height", "downstream_depth")}
-CHOICES = {"geometry.right_end": ("wall", "outflow"),
-           "geometry.reference": ("martin_moyce", "shallow_water")}
-
+DEFAULTS = values(SCHEMA)
+RANGES = ranges(SCHEMA)
+CHOICES = choices(SCHEMA)
 
 def check(cfg):
     g, dx = cfg["geometry"], cfg["numerics"]["dx"]

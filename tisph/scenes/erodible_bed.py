@@ -22,6 +22,7 @@ import numpy as np
 
 from ..constants import G
 from ..config import ConfigError, physics_from_config
+from ..schema import POSITIVE, choices, K, ranges, values
 from ..io import write_csv
 from ..particles import ParticleSet, block, density_from_pressure, tait_B, FLUID, WALL
 from ..viz.render import SAND
@@ -34,16 +35,18 @@ NAME = "erodible_bed"
 
 PROFILE_TIMES = (0.25, 0.5, 0.75)
 
-DEFAULTS = {
+SCHEMA = {
     "run": {"end_time": 0.75},
     "numerics": {"dx": 0.01, "h_factor": 1.3, "artificial_viscosity": 0.1,
                  "density_diffusion": "fourtakas", "delta": 0.1,
                  "xsph": 0.07},   # Table 3's XSPH factor (its "m" is a unit typo)
-    "geometry": {"flume_length": 2.5,     # the channel (m)
-                 "sediment_depth": 0.1,   # the Bingham bed over its floor (m)
-                 "water_width": 1.0,      # the water column behind the gate (m)
-                 "water_height": 0.1,     # the water column's height above the bed (m)
-                 "wall_height": 0.5},     # the walls' height (m)
+    "geometry": {
+        "flume_length": K(2.5, "the channel", "m", range=POSITIVE),
+        "sediment_depth": K(0.1, "the Bingham bed over its floor", "m", range=POSITIVE),
+        "water_width": K(1.0, "the water column behind the gate", "m", range=POSITIVE),
+        "water_height": K(0.1, "the water column's height above the bed", "m", range=POSITIVE),
+        "wall_height": K(0.5, "the walls' height", "m", range=POSITIVE),
+    },
     "materials": {
         "water": {"rho0": 1000.0, "viscosity": 1.0e-3},
         "sediment": {"rho0": 1940.0, "viscosity": 0.04, "rheology": "bingham", "yield_stress": 0.447,
@@ -51,8 +54,9 @@ DEFAULTS = {
     },
     "output": {"frame_interval": 0.01, "probe_interval": 0.01, "width": 1280},
 }
-RANGES = {f"geometry.{k}": (0.0, None, False, True) for k in DEFAULTS["geometry"]}
-
+DEFAULTS = values(SCHEMA)
+RANGES = ranges(SCHEMA)
+CHOICES = choices(SCHEMA)
 
 def check(cfg):
     g, dx = cfg["geometry"], cfg["numerics"]["dx"]

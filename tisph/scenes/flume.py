@@ -27,6 +27,7 @@ import sys
 import numpy as np
 
 from ..config import ConfigError, physics_from_config
+from ..schema import NON_NEGATIVE, POSITIVE, choices, K, ranges, values
 from ..particles import ParticleSet, block, hydrostatic_density, tait_B, wall_density, FLUID, WALL, MOVING
 from ..case import make_case
 from ..runner import common_params, run_scene, sound_speed
@@ -36,8 +37,8 @@ from ..measure import records
 from ..measure.gauges import WaveGauges
 from ..waves import theory
 from ..waves.absorb import with_control
-from ..waves.irregular import IRREGULAR_CHOICES, IRREGULAR_DEFAULTS, IRREGULAR_RANGES, spectrum
-from ..waves.paddle import PADDLE_DEFAULTS, PADDLE_RANGES, check_paddle, paddle, resolve_paddle
+from ..waves.irregular import IRREGULAR, spectrum
+from ..waves.paddle import PADDLE, check_paddle, paddle, resolve_paddle
 from ..waves.theory import linear_wave
 from ..measure.plots import pyplot, save
 from ..measure import harmonics
@@ -45,30 +46,29 @@ from ..measure import harmonics
 NAME = "flume"
 
 
-DEFAULTS = {
-    # long enough for the wave reflected from the far end to be back over the array (reflection)
-    "run": {"end_time": 16.0},
+SCHEMA = {
+    "run": {"end_time": K(16.0, "long enough for the wave reflected from the far end to be back over the "
+                            "array (reflection)", "s")},
     "numerics": {"dx": 0.0125, "h_factor": 2.5, "kernel": "wendland", "wall": "adami", "wall_layers": 5,
                  "artificial_viscosity": 0.0, "laminar_viscosity": True, "density_diffusion": "antuono",
                  "delta": 0.1},
-    "geometry": {"length": 4.5,                   # paddle (x = 0) to the end wall (m)
-                 "depth": 0.25,                  # still water (m)
-                 "wall_height": 0.45,            # the walls' height (m)
-                 "damping_length": 1.2,          # absorbing zone at the far end (m); 0: none
-                 "damping_rate": 10.0,           # the absorbing zone's strongest velocity relaxation rate (1/s)
-                 "gauges_x": [],                 # gauge positions (m from the paddle's mean position)
-                 "gauges_wavelengths": [1.0, 2.0, 3.0],   # gauge positions in wavelengths from the paddle, when gauges_x is empty
-                 "array_gauges": 6},             # gauges of the reflection and second-harmonic array
-    "paddle": dict(PADDLE_DEFAULTS, **IRREGULAR_DEFAULTS),
+    "geometry": {
+        "length": K(4.5, "paddle (x = 0) to the end wall", "m", range=POSITIVE),
+        "depth": K(0.25, "still water", "m", range=POSITIVE),
+        "wall_height": K(0.45, "the walls' height", "m", range=POSITIVE),
+        "damping_length": K(1.2, "absorbing zone at the far end (m); 0: none", range=NON_NEGATIVE),
+        "damping_rate": K(10.0, "the absorbing zone's strongest velocity relaxation rate", "1/s", range=NON_NEGATIVE),
+        "gauges_x": K([], "gauge positions (m from the paddle's mean position)"),
+        "gauges_wavelengths": K([1.0, 2.0, 3.0], "gauge positions in wavelengths from the paddle, when gauges_x is empty"),
+        "array_gauges": K(6, "gauges of the reflection and second-harmonic array", range=(0, 12, True, True)),
+    },
+    "paddle": dict(PADDLE, **IRREGULAR),
     "materials": {"water": {"rho0": 1000.0, "viscosity": 1.0e-3}},
     "output": {"frame_interval": 0.04, "probe_interval": 0.01},
 }
-RANGES = {f"geometry.{k}": (0.0, None, k.startswith("damping"), True)
-          for k in ("length", "depth", "wall_height", "damping_length", "damping_rate")}
-RANGES["geometry.array_gauges"] = (0, 12, True, True)
-RANGES.update(PADDLE_RANGES)
-RANGES.update(IRREGULAR_RANGES)
-CHOICES = {"paddle.type": ("piston", "flap"), **IRREGULAR_CHOICES}
+DEFAULTS = values(SCHEMA)
+RANGES = ranges(SCHEMA)
+CHOICES = choices(SCHEMA)
 
 
 def check(cfg):

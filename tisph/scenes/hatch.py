@@ -17,6 +17,7 @@ import numpy as np
 
 from ..constants import G
 from ..config import ConfigError, physics_from_config
+from ..schema import NON_NEGATIVE, POSITIVE, choices, K, ranges, values
 from ..particles import ParticleSet, block, hydrostatic_density, tait_B, wall_density, FLUID, WALL
 from ..profiles import surface_profile, write_profile, plot_profiles
 from ..case import make_case
@@ -25,27 +26,27 @@ from ..runner import common_params, run_scene, sound_speed
 NAME = "hatch"
 
 
-DEFAULTS = {
+SCHEMA = {
     "run": {"end_time": 0.3},
     # Paper Table 1: 900 water particles at 0.005 m (30 x 30); h = 1.5 dx as in its Table 2.
     "numerics": {"dx": 0.005, "h_factor": 1.5, "artificial_viscosity": 0.02,
                  "density_diffusion": "fourtakas", "delta": 0.1},
     "geometry": {
-        "reservoir_length": 0.15,  # the reservoir behind the gate (m)
-        "water_depth": 0.15,       # the water in it at the start (m)
-        "wall_height": 0.2,        # the walls' height (m)
-        "opening_bottom": 0.0,     # hatch: at the floor; orifice: 0.045
-        "opening_height": 0.035,   # hatch: 0.035; orifice: 0.055
-        "downstream_length": 0.15, # floor beyond the gate, then the outflow boundary
-        "cd_window": [0.05, 0.25], # quasi-steady stage for the discharge coefficient (s)
-        "still_times": [0.0, 0.04, 0.1, 0.14],  # the paper's Fig. 3 times
+        "reservoir_length": K(0.15, "the reservoir behind the gate", "m", range=POSITIVE),
+        "water_depth": K(0.15, "the water in it at the start", "m", range=POSITIVE),
+        "wall_height": K(0.2, "the walls' height", "m", range=POSITIVE),
+        "opening_bottom": K(0.0, "hatch: at the floor; orifice: 0.045", range=NON_NEGATIVE),
+        "opening_height": K(0.035, "hatch: 0.035; orifice: 0.055", range=POSITIVE),
+        "downstream_length": K(0.15, "floor beyond the gate, then the outflow boundary", range=POSITIVE),
+        "cd_window": K([0.05, 0.25], "quasi-steady stage for the discharge coefficient", "s"),
+        "still_times": K([0.0, 0.04, 0.1, 0.14], "the paper's Fig. 3 times"),
     },
     "materials": {"water": {"rho0": 1000.0, "viscosity": 1.0e-3}},
     "output": {"frame_interval": 0.005, "probe_interval": 0.0025, "width": 560},
 }
-RANGES = {f"geometry.{k}": (0.0, None, k == "opening_bottom", True)
-          for k in DEFAULTS["geometry"] if not isinstance(DEFAULTS["geometry"][k], list)}
-
+DEFAULTS = values(SCHEMA)
+RANGES = ranges(SCHEMA)
+CHOICES = choices(SCHEMA)
 
 def check(cfg):
     g, dx = cfg["geometry"], cfg["numerics"]["dx"]

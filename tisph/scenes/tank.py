@@ -13,6 +13,7 @@ import numpy as np
 
 from ..constants import G
 from ..config import ConfigError, physics_from_config
+from ..schema import NON_NEGATIVE, POSITIVE, choices, K, ranges, values
 from ..particles import (ParticleSet, block, box_walls, density_from_pressure, layered_pressure, surface_above, tait_B,
                          FLUID, WALL)
 from ..case import make_case
@@ -21,14 +22,16 @@ from ..runner import common_params, run_scene, sound_speed
 NAME = "tank"
 
 
-DEFAULTS = {
+SCHEMA = {
     "run": {"end_time": 2.0},
     "numerics": {"dx": 0.02, "h_factor": 1.3, "artificial_viscosity": 0.1,
                  "density_diffusion": "fourtakas", "delta": 0.1},
-    "geometry": {"width": 0.5,            # the tank's inside width (m)
-                 "depth": 0.5,            # still water (m)
-                 "tank_height": 0.7,      # the walls' height (m)
-                 "sediment_depth": 0.0},   # > 0: a sediment layer at the bottom, water above it
+    "geometry": {
+        "width": K(0.5, "the tank's inside width", "m", range=POSITIVE),
+        "depth": K(0.5, "still water", "m", range=POSITIVE),
+        "tank_height": K(0.7, "the walls' height", "m", range=POSITIVE),
+        "sediment_depth": K(0.0, "> 0: a sediment layer at the bottom, water above it", range=NON_NEGATIVE),
+    },
     "materials": {
         "water": {"rho0": 1000.0, "viscosity": 1.0e-3},
         # saturated sand as a Bingham fluid (paper 000 section 5: 1950 kg/m3, mu_B = 0.1 Pa s)
@@ -37,12 +40,9 @@ DEFAULTS = {
     },
     "output": {"frame_interval": 0.1, "probe_interval": 0.01, "render": False},
 }
-RANGES = {f"geometry.{k}": (0.0, None, k == "sediment_depth", True) for k in DEFAULTS["geometry"]}
-RANGES.update({"materials.sediment.yield_stress": (0.0, None, True, True),
-               "materials.sediment.regularisation": (0.0, None, False, True),
-               "materials.sediment.mu_max": (0.0, None, True, True)})
-CHOICES = {"materials.sediment.rheology": ("newtonian", "bingham", "cross")}
-
+DEFAULTS = values(SCHEMA)
+RANGES = ranges(SCHEMA)
+CHOICES = choices(SCHEMA)
 
 def check(cfg):
     g, dx = cfg["geometry"], cfg["numerics"]["dx"]

@@ -27,6 +27,7 @@ import numpy as np
 
 from ..constants import G
 from ..config import ConfigError, physics_from_config
+from ..schema import NON_NEGATIVE, POSITIVE, choices, K, ranges, values, with_defaults
 from ..io import write_station_rows
 from ..particles import ParticleSet, block, density_from_pressure, layered_pressure, tait_B, FLUID, WALL
 from ..viz.render import SAND
@@ -48,34 +49,28 @@ BED_PERIODS = 200
 CREST_SPEED = 2.0   # the fastest water over grown ripples / U_m, for c0 (1.95 measured at mobility 145)
 
 
-DEFAULTS = {
+SCHEMA = {
     "run": {"end_time": 40.0},
     "numerics": dict(coupling.WAVE_NUMERICS, dx=0.01),
-    "geometry": {"length": 1.2,                 # periodic length (m)
-                 "water_depth": 0.15,           # water above the bed (m)
-                 "sand_depth": 0.08,            # sand layer on the rigid floor (m)
-                 "orbital_diameter": CALIBRATION["orbital_diameter"],   # d0 = 2 U_m / omega (m)
-                 "period": CALIBRATION["period"],   # T (s)
-                 "grain_diameter": CALIBRATION["grain_diameter"],   # for the Wiberg & Harris prediction (m)
-                 # > 0: the bed starts rippled, crest to trough this high (m), at the predicted
-                 # length rounded to fit the periodic length: does the bed keep, grow or lose them?
-                 "seed_ripple_height": 0.0,
-                 "seed_ripple_length": 0.0,     # m; 0: the predicted length (rounded to fit the periodic length)
-                 # the random bed's RMS roughness over d0 where sediment.seed_rms = 0 (3 mm at the
-                 # default d0): where the ripples end depends on it (docs/sediment.md), so it
-                 # follows d0; 0 and seed_rms = 0: a flat bed
-                 "roughness": 0.01},
+    "geometry": {
+        "length": K(1.2, "periodic length", "m", range=POSITIVE),
+        "water_depth": K(0.15, "water above the bed", "m", range=POSITIVE),
+        "sand_depth": K(0.08, "sand layer on the rigid floor", "m", range=POSITIVE),
+        "orbital_diameter": K(CALIBRATION["orbital_diameter"], "d0 = 2 U_m / omega", "m", range=POSITIVE),
+        "period": K(CALIBRATION["period"], "T", "s", range=POSITIVE),
+        "grain_diameter": K(CALIBRATION["grain_diameter"], "for the Wiberg & Harris prediction", "m", range=POSITIVE),
+        "seed_ripple_height": K(0.0, "> 0: the bed starts rippled, crest to trough this high (m), at the predicted length rounded to fit the periodic length: does the bed keep, grow or lose them?", range=NON_NEGATIVE),
+        "seed_ripple_length": K(0.0, "m; 0: the predicted length (rounded to fit the periodic length)", range=NON_NEGATIVE),
+        "roughness": K(0.01, "the random bed's RMS roughness over d0 where sediment.seed_rms = 0 (3 mm at the default d0): where the ripples end depends on it (docs/sediment.md), so it follows d0; 0 and seed_rms = 0: a flat bed", range=(0.0, 0.1, True, True)),
+    },
     "materials": {"water": dict(WATER), "sand": dict(BINGHAM_SAND)},     # the beach's water and sand
-    # sediment.model = "bedload": the bed below particle scale (tisph/sediment); grain_density is
-    # the grains' own (quartz), not the saturated bed's
-    "sediment": dict(coupling.DEFAULTS, **coupling.WAVE_RIPPLES, morfac=CALIBRATION["morfac"]),   # seed_rms: geometry.roughness
+    # the bed below particle scale (tisph/sediment), the wave-ripple set; seed_rms: geometry.roughness
+    "sediment": with_defaults(coupling.SEDIMENT, **coupling.WAVE_RIPPLES, morfac=CALIBRATION["morfac"]),
     "output": {"frame_interval": 0.05, "probe_interval": 0.05, "width": 960},
 }
-RANGES = {f"geometry.{k}": (0.0, None, k.startswith("seed_ripple"), True) for k in DEFAULTS["geometry"]}
-RANGES["geometry.roughness"] = (0.0, 0.1, True, True)
-RANGES.update(coupling.RANGES)
-RANGES["sediment.grain_density"] = (1000.0, None, False, True)
-CHOICES = dict(coupling.CHOICES)
+DEFAULTS = values(SCHEMA)
+RANGES = ranges(SCHEMA)
+CHOICES = choices(SCHEMA)
 
 
 def check(cfg):

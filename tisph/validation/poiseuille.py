@@ -12,6 +12,7 @@ import sys
 import numpy as np
 
 from ..config import ConfigError, physics_from_config
+from ..schema import POSITIVE, choices, K, ranges, values
 from ..particles import ParticleSet, block, tait_B, FLUID, WALL
 from ..case import make_case
 from ..runner import common_params, run_scene, sound_speed
@@ -35,28 +36,26 @@ def fit_plug(y, u, G, b, mu_p):
     return float(cands[int(np.argmin(err))])
 
 
-DEFAULTS = {
-    # 5 s is five times the slowest viscous decay time 4 b^2 / (pi^2 nu) = 1 s: steady to 0.7 %
-    "run": {"end_time": 5.0},
+SCHEMA = {
+    "run": {"end_time": K(5.0, "five times the slowest viscous decay time 4 b^2 / (pi^2 nu) = 1 s: steady to "
+                            "0.7 %", "s")},
     "numerics": {"dx": 0.005, "h_factor": 1.3, "artificial_viscosity": 0.0, "laminar_viscosity": True,
                  "density_diffusion": "molteni", "delta": 0.1, "kernel": "wendland"},
     "geometry": {
-        "half_width": 0.05,        # b
-        "length": 0.04,            # periodic length
-        "pressure_gradient": 1000.0,  # G (Pa/m)
+        "half_width": K(0.05, "b, the channel's half width", "m", POSITIVE),
+        "length": K(0.04, "periodic length", "m", POSITIVE),
+        "pressure_gradient": K(1000.0, "G, the driving pressure gradient", "Pa/m", POSITIVE),
     },
-    # mu_max bounds the plug's viscosity (25 x mu_p) so the viscous time step stays at the CFL
-    # step; in the plug the stress is below tau_y, so the shear rate there is <= tau_y / mu_max.
-    "materials": {"fluid": {"rho0": 1000.0, "viscosity": 1.0, "rheology": "bingham", "yield_stress": 10.0,
-                            "regularisation": 100.0, "mu_max": 25.0}},
+    "materials": {"fluid": {
+        "rho0": 1000.0, "viscosity": 1.0, "rheology": "bingham", "yield_stress": 10.0, "regularisation": 100.0,
+        # in the plug the stress is below tau_y, so the shear rate there is <= tau_y / mu_max
+        "mu_max": K(25.0, "bounds the plug's viscosity (25 x mu_p) so the viscous time step stays at the CFL "
+                      "step (Pa s; > 0 here)", range=POSITIVE)}},
     "output": {"frame_interval": 0.25, "probe_interval": 0.05, "render": False, "snapshot_every": 0.0},
 }
-RANGES = {"geometry.half_width": (0.0, None, False, True), "geometry.length": (0.0, None, False, True),
-          "geometry.pressure_gradient": (0.0, None, False, True),
-          "materials.fluid.yield_stress": (0.0, None, True, True),
-          "materials.fluid.regularisation": (0.0, None, False, True),
-          "materials.fluid.mu_max": (0.0, None, False, True)}
-CHOICES = {"materials.fluid.rheology": ("newtonian", "bingham", "cross")}
+DEFAULTS = values(SCHEMA)
+RANGES = ranges(SCHEMA)
+CHOICES = choices(SCHEMA)
 
 
 def check(cfg):

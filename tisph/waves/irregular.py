@@ -7,20 +7,21 @@ import numpy as np
 
 from ..config import ConfigError
 from ..constants import G
+from ..schema import choices, K, ranges, values
 from .theory import biesel_flap, biesel_piston, wavenumber
 
 
-IRREGULAR_DEFAULTS = {
-    "spectrum": "",         # "": regular waves (stroke, period) | jonswap | pm (Pierson-Moskowitz)
-    "hs": 0.0,              # m: the spectrum's target significant height Hm0 = 4 sqrt(m0)
-    "tp": 0.0,              # s: its peak period
-    "gamma": 3.3,           # JONSWAP peak enhancement (pm: 1)
-    "seed": 1,              # the random phases' seed
-    "band": [0.5, 2.0],     # the frequencies sent and measured, as multiples of the peak frequency
+IRREGULAR = {
+    "spectrum": K("", '"": regular waves (stroke, period) | jonswap | pm (Pierson-Moskowitz)', choices=('', 'jonswap', 'pm')),
+    "hs": K(0.0, "the spectrum's target significant height Hm0 = 4 sqrt(m0)", 'm', range=(0.0, None, True, True)),
+    "tp": K(0.0, "the spectrum's peak period", 's', range=(0.0, None, True, True)),
+    "gamma": K(3.3, 'JONSWAP peak enhancement (pm: 1)', range=(1.0, 20.0, True, True)),
+    "seed": K(1, "the random phases' seed", range=(0, None, True, True)),
+    "band": K([0.5, 2.0], 'the frequencies sent and measured, as multiples of the peak frequency'),
 }
-IRREGULAR_RANGES = {"paddle.hs": (0.0, None, True, True), "paddle.tp": (0.0, None, True, True),
-                    "paddle.gamma": (1.0, 20.0, True, True), "paddle.seed": (0, None, True, True)}
-IRREGULAR_CHOICES = {"paddle.spectrum": ("", "jonswap", "pm")}
+IRREGULAR_DEFAULTS = values(IRREGULAR)
+IRREGULAR_RANGES = ranges(IRREGULAR, "paddle")
+IRREGULAR_CHOICES = choices(IRREGULAR, "paddle")
 
 
 def spectrum(f, hs, tp, gamma):

@@ -10,27 +10,27 @@ from ..constants import G
 from ..measure.records import wave_period
 from ..particles import block
 from ..plausible import check_regular_waves, unit_guess
+from ..schema import choices, K, ranges, values
 from .absorb import absorbing, check_absorb
 from .irregular import check_irregular, irregular_series
 from .motion import Motion, read_series
 from .second_order import second_order_stroke
 from .theory import linear_wave, wavenumber
 
-PADDLE_DEFAULTS = {
-    "type": "piston",       # piston (translates) | flap (hinged at the floor)
-    "stroke": 0.04,         # m: the full stroke (peak to peak, not the amplitude): piston travel, or the flap's at the still-water level
-    "wave_height": 0.0,     # m: the wave height wanted; > 0: the stroke from Biesel's first-order transfer (give one of the two)
-    "period": 0.8,          # s
-    "ramp_periods": 2.0,    # periods over which the stroke ramps up (no start-up transient)
-    "series": "",           # CSV of t, displacement (m or rad): a measured paddle signal instead of a sine
-    "order": 1,             # 1: a sine; 2: with the second-order stroke that cancels the free second harmonic
-    "absorb": False,        # active absorption: the paddle corrects its motion from the surface it sees (tisph/waves/absorb.py)
-    "duration": 0.0,        # s: the paddle ramps down (over ramp_periods) to stand still at this time; 0: it runs to the end
+PADDLE = {
+    "type": K("piston", 'piston (translates) | flap (hinged at the floor)', choices=("piston", "flap")),
+    "stroke": K(0.04, "the full stroke (peak to peak, not the amplitude): piston travel, or the flap's at the still-water level", 'm', range=(0.0, None, False, True)),
+    "wave_height": K(0.0, "the wave height wanted; > 0: the stroke from Biesel's first-order transfer (give one of the two)", 'm', range=(0.0, None, True, True)),
+    "period": K(0.8, "the wave period", "s", range=(0.0, None, False, True)),
+    "ramp_periods": K(2.0, 'periods over which the stroke ramps up (no start-up transient)', range=(0.0, None, True, True)),
+    "series": K("", 'CSV of t, displacement (m or rad): a measured paddle signal instead of a sine'),
+    "order": K(1, '1: a sine; 2: with the second-order stroke that cancels the free second harmonic', range=(1, 2, True, True)),
+    "absorb": K(False, 'active absorption: the paddle corrects its motion from the surface it sees (tisph/waves/absorb.py)'),
+    "duration": K(0.0, 'the paddle ramps down (over ramp_periods) to stand still at this time; 0: it runs to the end', 's', range=(0.0, None, True, True)),
 }
-PADDLE_RANGES = {"paddle.stroke": (0.0, None, False, True), "paddle.wave_height": (0.0, None, True, True),
-                 "paddle.period": (0.0, None, False, True),
-                 "paddle.ramp_periods": (0.0, None, True, True), "paddle.order": (1, 2, True, True),
-                 "paddle.duration": (0.0, None, True, True)}
+PADDLE_DEFAULTS = values(PADDLE)
+PADDLE_RANGES = ranges(PADDLE, "paddle")
+PADDLE_CHOICES = choices(PADDLE, "paddle")
 
 
 def stroke_for(cfg, depth, default_stroke=None):

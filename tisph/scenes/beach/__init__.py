@@ -37,6 +37,7 @@ import numpy as np
 
 from ...constants import G
 from ...config import ConfigError, physics_from_config
+from ...schema import POSITIVE, choices, K, ranges, values, with_defaults
 from ...io import write_csv, write_station_rows
 from ...particles import ParticleSet, block, density_from_pressure, layered_pressure, tait_B, FLUID, WALL, MOVING
 from ...viz.render import SAND
@@ -48,7 +49,7 @@ from ...materials import BINGHAM_SAND, WATER
 from ...measure.field import surface_at, surface_heights
 from ...measure.gauges import WaveGauges
 from ...measure.records import arrival_time, height_at
-from ...waves.paddle import PADDLE_DEFAULTS, PADDLE_RANGES, check_paddle, paddle, resolve_paddle
+from ...waves.paddle import PADDLE, check_paddle, paddle, resolve_paddle
 from ...waves.theory import linear_wave
 from ...measure.plots import pyplot, save
 from ...sediment import coupling
@@ -61,7 +62,7 @@ NAME = "beach"
 RIPPLE_WINDOW = 0.25
 
 
-DEFAULTS = {
+SCHEMA = {
     "run": {"end_time": 22.0},
     # the tunnel's numerics (coupling.WAVE_NUMERICS) but for breaking waves: without artificial
     # viscosity the breakers compress the water (99.9th percentile of the density error 3.5 %, 1.1 %
@@ -72,37 +73,30 @@ DEFAULTS = {
     # docs/waves.md). The Bingham beaches set their own alpha.
     "numerics": dict(coupling.WAVE_NUMERICS, dx=0.015, artificial_viscosity=0.01, artificial_viscosity_surface=0.1,
                      laminar_viscosity=False),
-    "geometry": {"length": 8.0,            # paddle (x = 0) to the end wall (m)
-                 "depth": 0.3,             # still water over the flat sand (m)
-                 "sand_thickness": 0.1,    # the sand's level above the floor (m): the flat bed, and under the ramp
-                 "toe_x": 1.5,             # where the beach starts to rise (m)
-                 "slope": 20.0,            # 1 : slope (horizontal run per unit rise)
-                 "wall_height": 0.6,       # the side walls' height above the floor (m)
-                 # d50: the bed load's grain, and the Wiberg & Harris ripple prediction; a medium sand
-                 "grain_diameter": 0.0003,
-                 # wave gauges (m from the paddle's mean position): probes.csv eta_x..., and the
-                 # wave height at each in summary.json (wave_height_at_gauges)
-                 "gauges_x": [1.0, 3.0, 4.5, 5.5, 6.5],
-                 # the bed-load bed's random RMS over the linear-wave d0 at the toe where
-                 # sediment.seed_rms = 0 (2.5 mm at the default), as the tunnel's (docs/sediment.md)
-                 "roughness": 0.01},
-    "paddle": dict(PADDLE_DEFAULTS, stroke=0.26, period=2.5, ramp_periods=1.0),
+    "geometry": {
+        "length": K(8.0, "paddle (x = 0) to the end wall", "m", range=POSITIVE),
+        "depth": K(0.3, "still water over the flat sand", "m", range=POSITIVE),
+        "sand_thickness": K(0.1, "the sand's level above the floor (m): the flat bed, and under the ramp", range=POSITIVE),
+        "toe_x": K(1.5, "where the beach starts to rise", "m", range=POSITIVE),
+        "slope": K(20.0, "1 : slope (horizontal run per unit rise)", range=(1.0, None, True, True)),
+        "wall_height": K(0.6, "the side walls' height above the floor", "m", range=POSITIVE),
+        "grain_diameter": K(0.0003, "d50: the bed load's grain, and the Wiberg & Harris ripple prediction; a medium sand", "m", range=POSITIVE),
+        "gauges_x": K([1.0, 3.0, 4.5, 5.5, 6.5], "wave gauges (m from the paddle's mean position): probes.csv eta_x..., and the wave height at each in summary.json (wave_height_at_gauges)"),
+        "roughness": K(0.01, "the bed-load bed's random RMS over the linear-wave d0 at the toe where sediment.seed_rms = 0 (2.5 mm at the default), as the tunnel's (docs/sediment.md)", range=(0.0, 0.1, True, True)),
+    },
+    "paddle": with_defaults(PADDLE, stroke=0.26, period=2.5, ramp_periods=1.0),
     "materials": {"water": dict(WATER), "sand": dict(BINGHAM_SAND)},
     # sediment.model = "bedload": the bed below particle scale (tisph/sediment, scenes/beach.toml);
     # "particles": the paper's Bingham sand (scenes/beach_bingham_tau200.toml)
     # the tunnel's bed parameters, the outer scaling included: the beach's near-wall layer is as thick
     # (at 1.5 dx the velocity amplitude is half of that 6 dx up) and the flow above it carries the
     # waves' flux at 0.89-1.02 of (H / 2) sqrt(g h) up the slope (docs/sediment.md)
-    "sediment": dict(coupling.DEFAULTS, **coupling.WAVE_RIPPLES, morfac=22.0),
+    "sediment": with_defaults(coupling.SEDIMENT, **coupling.WAVE_RIPPLES, morfac=22.0),
     "output": {"frame_interval": 0.04, "probe_interval": 0.04, "width": 1280},
 }
-RANGES = {f"geometry.{k}": (0.0, None, False, True) for k in DEFAULTS["geometry"] if k != "gauges_x"}
-RANGES["geometry.slope"] = (1.0, None, True, True)
-RANGES["geometry.roughness"] = (0.0, 0.1, True, True)
-RANGES.update(PADDLE_RANGES)
-RANGES.update(coupling.RANGES)
-RANGES["sediment.grain_density"] = (1000.0, None, False, True)
-CHOICES = dict(coupling.CHOICES, **{"paddle.type": ("piston", "flap")})
+DEFAULTS = values(SCHEMA)
+RANGES = ranges(SCHEMA)
+CHOICES = choices(SCHEMA)
 STILLS = (0.0, 0.7, 2.0, 4.0, 8.0, 16.0, 22.0)
 
 

@@ -20,48 +20,48 @@ from ...case import make_case
 from ...config import ConfigError, physics_from_config, raise_collected
 from ...particles import ParticleSet, hydrostatic_density, tait_B, wall_density, FLUID, WALL, MOVING
 from ...runner import common_params, run_scene, sound_speed
+from ...schema import POSITIVE, choices, K, ranges, values, with_defaults
 from ...measure.records import wave_period
 from ...waves import paddle as wp
 from ...waves.absorb import with_control
-from ...waves.irregular import IRREGULAR_CHOICES, IRREGULAR_DEFAULTS, IRREGULAR_RANGES
-from ...waves.paddle import PADDLE_DEFAULTS, PADDLE_RANGES
+from ...waves.irregular import IRREGULAR
+from ...waves.paddle import PADDLE
 from ...waves.theory import linear_wave
 from .elements import ELEMENTS, entries, numbers  # noqa: F401  (ELEMENTS: --describe reads the entries' keys)
 from .gauges import CaseGauges
 from .layout import Layout, who
-from .sand import SAND_DEFAULTS, SEDIMENT_DEFAULTS, SandBed, check as check_sand
-from ...sediment import coupling
+from .sand import SAND, SEDIMENT, SandBed, check as check_sand
 
 NAME = "custom"
-ELEMENTS_MODULE = "tisph.scenes.custom.elements"   # where --describe reads the entries' keys
-DESCRIBED = (("tisph.scenes.custom.sand", "sand"),)  # and the [sand] table's
 
-DEFAULTS = {
+SCHEMA = {
     "run": {"end_time": 1.0},
     "numerics": {"dx": 0.02, "h_factor": 1.3, "artificial_viscosity": 0.1, "density_diffusion": "fourtakas",
                  "delta": 0.1},
-    "domain": {"box": [],             # [x0, x1, z0, z1] m: the region particles may occupy (a particle leaving it is lost)
-               "gravity": 9.81,       # m/s2, acting in -z
-               "outflow": [],         # [[x0, x1, z0, z1], ...] m: open boxes; water entering one leaves the run
-               "base_dir": ""},       # where a solid's CSV is looked for; "": the case file's folder
-    "paddle": dict(PADDLE_DEFAULTS, **IRREGULAR_DEFAULTS, **{
-        "type": "none",               # none | piston | flap: the wave maker
-        "x": 0.0,                     # m: the paddle's water-side face at rest; the water behind it is removed
-        "top": 0.0}),                 # m: the top of the paddle plate; 0: the top of domain.box
-    "absorber": {"start": 0.0,        # m: where the damping zone begins (its strength ramps up from here)
-                 "end": 0.0,          # m: where it is strongest (beyond, too); start = end: no absorber
-                 "rate": 10.0},       # 1/s: the strongest velocity relaxation rate
+    "domain": {
+        "box": K([], "[x0, x1, z0, z1] m: the region particles may occupy (a particle leaving it is lost)"),
+        "gravity": K(9.81, "acting in -z", "m/s2", POSITIVE),
+        "outflow": K([], "[[x0, x1, z0, z1], ...] m: open boxes; water entering one leaves the run"),
+        "base_dir": K("", "where a solid's CSV is looked for; \"\": the case file's folder"),
+    },
+    "paddle": dict(PADDLE, **IRREGULAR,
+                   type=K("none", "none | piston | flap: the wave maker", choices=("none", "piston", "flap")),
+                   x=K(0.0, "the paddle's water-side face at rest; the water behind it is removed", "m"),
+                   top=K(0.0, "the top of the paddle plate; 0: the top of domain.box", "m")),
+    "absorber": {
+        "start": K(0.0, "where the damping zone begins (its strength ramps up from here)", "m"),
+        "end": K(0.0, "where it is strongest (beyond, too); start = end: no absorber", "m"),
+        "rate": K(10.0, "the strongest velocity relaxation rate", "1/s", POSITIVE),
+    },
     "solid": [], "water": [], "gauge": [],
-    "sand": SAND_DEFAULTS,
-    # the bed-load bed's keys: the beach's set (coupling.WAVE_RIPPLES read unscaled, docs/sediment.md)
-    "sediment": SEDIMENT_DEFAULTS,
+    "sand": SAND,
+    "sediment": with_defaults(SEDIMENT, model=K("bedload", SEDIMENT["model"].doc, choices=("bedload",))),
     "materials": {"water": {"rho0": 1000.0, "viscosity": 1.0e-3}},
     "output": {"frame_interval": 0.04, "probe_interval": 0.01},
 }
-RANGES = dict(PADDLE_RANGES, **IRREGULAR_RANGES, **coupling.RANGES)
-RANGES.update({"domain.gravity": (0.0, None, False, True), "absorber.rate": (0.0, None, False, True)})
-CHOICES = {"paddle.type": ("none", "piston", "flap"), **IRREGULAR_CHOICES, **coupling.CHOICES,
-           "sediment.model": ("bedload",)}
+DEFAULTS = values(SCHEMA)
+RANGES = ranges(SCHEMA)
+CHOICES = choices(SCHEMA)
 BOX = "[x0, x1, z0, z1] in m with x0 < x1 and z0 < z1"
 
 

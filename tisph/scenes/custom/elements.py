@@ -7,39 +7,37 @@ import os
 
 from ...config import ConfigError
 from ...measure.gauges import GAUGE_TYPES
+from ...schema import K, values
 
 NUM = "a number"
 
 # The keys of each list's entries; None: not given (a number where one is needed).
 ELEMENTS = {
     "solid": {
-        "label": "",        # its name in messages and in the picture
-        "line": [],         # [[x, z], ...] m: an open polyline; the solid is on its right walking along it (the water on its left)
-        "polygon": [],      # [[x, z], ...] m: a closed polygon; the solid is inside (a breakwater, a seawall)
-        "box": [],          # [x0, x1, z0, z1] m: a rectangle; the solid is inside
-        "circle": [],       # [xc, zc, r] m: a circle; the solid is inside (a pipe)
-        "csv": "",          # a CSV of x, z rows (a surveyed profile, relative to the case file): a line from left to right, solid below it
+        "label": K("", 'its name in messages and in the picture'),
+        "line": K([], '[[x, z], ...] m: an open polyline; the solid is on its right walking along it (the water on its left)'),
+        "polygon": K([], '[[x, z], ...] m: a closed polygon; the solid is inside (a breakwater, a seawall)'),
+        "box": K([], '[x0, x1, z0, z1] m: a rectangle; the solid is inside'),
+        "circle": K([], '[xc, zc, r] m: a circle; the solid is inside (a pipe)'),
+        "csv": K("", 'a CSV of x, z rows (a surveyed profile, relative to the case file): a line from left to right, solid below it'),
     },
     "water": {
-        "label": "",        # its name in messages
-        "level": None,      # m: fill below this level wherever no solid is (give level or polygon)
-        "x": [],            # [x0, x1] m: the stretch the level fills; []: the whole domain
-        "polygon": [],      # [[x, z], ...] m: fill this closed region instead (it may not overlap a solid)
-        "velocity": [0.0, 0.0],  # [u, w] m/s at the start; the pressure starts hydrostatic from the region's surface
+        "label": K("", 'its name in messages'),
+        "level": K(None, 'fill below this level wherever no solid is (give level or polygon)', 'm'),
+        "x": K([], '[x0, x1] m: the stretch the level fills; []: the whole domain'),
+        "polygon": K([], '[[x, z], ...] m: fill this closed region instead (it may not overlap a solid)'),
+        "velocity": K([0.0, 0.0], "[u, w] m/s at the start; the pressure starts hydrostatic from the region's surface"),
     },
     "gauge": {
-        "label": "",        # its name in probes.csv and summary.json; "": type and number (surface1)
-        "type": "surface",  # surface (free-surface height at x) | velocity (at x, z) | pressure (at x, z) | force (along line) | discharge (through the vertical section at x) | front (the leading water along the floor at z)
-        "x": None,          # m
-        "z": None,          # m: the point of a velocity or pressure gauge (put it half a smoothing length into the water from a wall)
-        "line": [],         # [[x0, z0], [x1, z1]] m: a force gauge's wall face; the pressure is integrated along it (force per metre)
-        "from_time": 0.0,   # s: the gauge's statistics start here (wave height, mean discharge)
-        "crest": None,      # m: a discharge gauge's crest level: EurOtop's mean overtopping beside the measured one
-        "cot_slope": 0.0,   # the structure's seaward slope (cot alpha) for EurOtop; 0: no EurOtop
-        # the surface gauges in front of the structure whose incident wave height EurOtop reads: one (its
-        # wave height, incident and reflected together) or three or more on a flat stretch, a tenth of a
-        # wavelength or so apart (the incident first harmonic, separated from the reflected one)
-        "toe_gauges": [],
+        "label": K("", 'its name in probes.csv and summary.json; "": type and number (surface1)'),
+        "type": K("surface", 'surface (free-surface height at x) | velocity (at x, z) | pressure (at x, z) | force (along line) | discharge (through the vertical section at x) | front (the leading water along the floor at z)'),
+        "x": K(None, "a surface, velocity, pressure or discharge gauge's position", "m"),
+        "z": K(None, 'the point of a velocity or pressure gauge (put it half a smoothing length into the water from a wall)', 'm'),
+        "line": K([], "[[x0, z0], [x1, z1]] m: a force gauge's wall face; the pressure is integrated along it (force per metre)"),
+        "from_time": K(0.0, "the gauge's statistics start here (wave height, mean discharge)", 's'),
+        "crest": K(None, "a discharge gauge's crest level: EurOtop's mean overtopping beside the measured one", 'm'),
+        "cot_slope": K(0.0, "the structure's seaward slope (cot alpha) for EurOtop; 0: no EurOtop"),
+        "toe_gauges": K([], 'the surface gauges in front of the structure whose incident wave height EurOtop reads: one (its wave height, incident and reflected together) or three or more on a flat stretch, a tenth of a wavelength or so apart (the incident first harmonic, separated from the reflected one)'),
     },
 }
 SHAPES = ("line", "polygon", "box", "circle", "csv")
@@ -70,7 +68,7 @@ def numbers(key, v, n, what, increasing=()):
 
 def entries(cfg, table, base_dir, errors):
     """The entries of list `table`, each with every key (defaults filled in), checked."""
-    spec = ELEMENTS[table]
+    spec = values(ELEMENTS[table])
     raw = cfg.get(table, [])
     if not isinstance(raw, list) or not all(isinstance(e, dict) for e in raw):
         errors.append(ConfigError(table, raw, f"[[{table}]] tables"))

@@ -13,13 +13,15 @@ import numpy as np
 from ...config import ConfigError
 from ...io import write_station_rows
 from ...particles import density_from_pressure
+from ...schema import K, values, with_defaults
 from ...sediment import coupling, initial
 
-SAND_DEFAULTS = {
-    "x": [],                 # [x0, x1] m: the stretch of the sand line that is a bed-load bed; []: no sand
-    "solid": "",             # the label of the [[solid]] line (or csv) whose surface is the bed's initial level
-    "grain_diameter": 0.0003,  # m: d50, the bed load's grain
+SAND = {
+    "x": K([], '[x0, x1] m: the stretch of the sand line that is a bed-load bed; []: no sand'),
+    "solid": K("", "the label of the [[solid]] line (or csv) whose surface is the bed's initial level"),
+    "grain_diameter": K(0.0003, "d50, the bed load's grain", 'm'),
 }
+SAND_DEFAULTS = values(SAND)
 
 
 def check(cfg, solids, box, errors):
@@ -137,4 +139,6 @@ class SandBed:
         save(fig, os.path.join(out, "bed_profile.png"))
 
 
-SEDIMENT_DEFAULTS = dict(coupling.DEFAULTS, **dict(coupling.WAVE_RIPPLES, outer_height=0.0))
+# the bed-load bed's keys: the beach's set (coupling.WAVE_RIPPLES read unscaled, docs/sediment.md)
+SEDIMENT = with_defaults(coupling.SEDIMENT, **dict(coupling.WAVE_RIPPLES, outer_height=0.0))
+SEDIMENT_DEFAULTS = values(SEDIMENT)

@@ -31,7 +31,9 @@ import sys
 import numpy as np
 
 from ...constants import G
-from ...config import TURBULENCE_DEFAULTS, ConfigError, physics_from_config
+from ...config import ConfigError, physics_from_config
+from ...schema import NON_NEGATIVE, POSITIVE, choices, K, ranges, values, with_defaults
+from ...shared_keys import TURBULENCE
 from ...particles import ParticleSet, block, density_from_pressure, layered_pressure, tait_B, FLUID, WALL
 from ...viz.render import SAND
 from ...case import make_case
@@ -44,71 +46,57 @@ from .record import ScourRecord, streamlines_event
 
 
 
-DEFAULTS = {
-    # 40 s of flow with morfac 10: the bed moves as in 6.7 min (the paper's Fig. 10 ends at 6.5 min);
-    # 138,462 steps, 14 minutes on one thread of a shared machine
-    "run": {"end_time": 40.0},
+SCHEMA = {
+    "run": {"end_time": K(40.0, "40 s of flow with morfac 10: the bed moves as in 6.7 min (the paper's Fig. 10 "
+                            "ends at 6.5 min)", "s")},
     # Wendland kernel (paper 002 eq. 6), laminar viscosity + SPS (eq. 10), Shepard every 200 steps
     # is an option (shepard_every = 200); density diffusion is the default
     # c0 = 18 m/s: Table 3's c_0m
-    "numerics": dict(TURBULENCE_DEFAULTS, dx=0.01, h_factor=1.3, kernel="wendland", artificial_viscosity=0.0,
+    "numerics": dict(TURBULENCE, dx=0.01, h_factor=1.3, kernel="wendland", artificial_viscosity=0.0,
                      laminar_viscosity=True, density_diffusion="fourtakas", delta=0.1, c0=18.0),
     "geometry": {
-        "pipe_diameter": 0.1,       # D (m)
-        "water_depth": 0.35,        # above the undisturbed bed (m)
-        "sand_depth": 0.15,         # 0: the pipe lies on a rigid bed (flow-only validation)
-        "length": 1.0,              # periodic length, 10 D
-        # Mao's pipe lies on the bed; the paper opens a small gap and a sinusoidal dip under it "for
-        # numerical requirements". At dx = D/10 a gap of one spacing holds a single row of water
-        # that the no-slip pipe and the bed hold still (measured: 0.01-0.04 m/s under the pipe),
-        # so no jet forms; 3 spacings let the gap jet through (0.3-0.45 m/s).
-        "gap": 0.03,                # initial gap under the pipe (m)
-        "perturbation": 0.01,       # depth of the sinusoidal bed dip under the pipe (m)
-        "mean_velocity": 0.4,       # held by the body-force feedback (m/s)
-        # Shields number of the current (Mao's 0.065): sets u* = sqrt(theta (s-1) g d50), and the
-        # log law's z0 follows from the mean velocity (1.5e-6 m: a hydraulically smooth bed).
-        # 0: z0 = 2.5 d50 / 30 (Nikuradse) instead, and u* from the mean velocity.
-        "shields": 0.065,
-        "grain_diameter": 0.00036,  # d50 (m)
-        "porosity": 0.4,            # the sand particles' porosity (the two-phase model's drag)
-        "drag_coefficient": 0.4,    # Table 3
-        "sps": True,                # SPS turbulence (paper 002 eq. 10)
-        # The periodic seam recirculates the pipe's wake; at dx = D/10 the SPS closure mixes far
-        # too little to rebuild the near-bed flow in 10 D, and the water under the pipe's level
-        # stalls within seconds (measured: near-bed velocity 0.19 -> 0 m/s by t = 5 s). A zone
-        # this long (m) at x = 0 relaxes the water to the log law, as the paper's inlet does.
-        "inflow_length": 0.2,
-        "inflow_rate": 20.0,        # the inflow zone's relaxation rate (1/s); a particle crosses it in ~0.5 s
-        "profile_offsets": [-2.0, 0.0, 2.0],   # velocity profiles at x = x_pipe + offset * D
-        "reference": "none",        # mao: compare with Mao's S/D(t) and profiles (bedload; D = 5 cm)
-        # none: the flat bed with its dip | mao_11s, mao_18s, mao_25s: the bed starts as Mao's
-        # measured profile at that time (scaled to the pipe's D; in place of the dip), and his clock
-        # starts there; held still (sediment.morph_start beyond the run), it asks whether the flow
-        # erodes his bed where his did (python -m tisph.bench --mao-held)
-        "initial_profile": "none",
+        "pipe_diameter": K(0.1, "D", "m", range=POSITIVE),
+        "water_depth": K(0.35, "above the undisturbed bed", "m", range=POSITIVE),
+        "sand_depth": K(0.15, "0: the pipe lies on a rigid bed (flow-only validation)", range=NON_NEGATIVE),
+        "length": K(1.0, "periodic length, 10 D", range=POSITIVE),
+        "gap": K(0.03, "initial gap under the pipe", "m", range=NON_NEGATIVE),
+        "perturbation": K(0.01, "depth of the sinusoidal bed dip under the pipe", "m", range=NON_NEGATIVE),
+        "mean_velocity": K(0.4, "held by the body-force feedback", "m/s", range=POSITIVE),
+        "shields": K(0.065, "Shields number of the current (Mao's 0.065): sets u* = sqrt(theta (s-1) g d50), and the log law's z0 follows from the mean velocity (1.5e-6 m: a hydraulically smooth bed). 0: z0 = 2.5 d50 / 30 (Nikuradse) instead, and u* from the mean velocity.", range=NON_NEGATIVE),
+        "grain_diameter": K(0.00036, "d50", "m", range=POSITIVE),
+        "porosity": K(0.4, "the sand particles' porosity (the two-phase model's drag)", range=(0.0, 1.0, True, False)),
+        "drag_coefficient": K(0.4, "Table 3", range=NON_NEGATIVE),
+        "sps": K(True, "SPS turbulence (paper 002 eq. 10)"),
+        "inflow_length": K(0.2, "The periodic seam recirculates the pipe's wake; at dx = D/10 the SPS closure mixes far too little to rebuild the near-bed flow in 10 D, and the water under the pipe's level stalls within seconds (measured: near-bed velocity 0.19 -> 0 m/s by t = 5 s). A zone this long (m) at x = 0 relaxes the water to the log law, as the paper's inlet does.", range=NON_NEGATIVE),
+        "inflow_rate": K(20.0, "the inflow zone's relaxation rate (1/s); a particle crosses it in ~0.5 s", range=NON_NEGATIVE),
+        "profile_offsets": K([-2.0, 0.0, 2.0], "velocity profiles at x = x_pipe + offset * D"),
+        "reference": K("none", "mao: compare with Mao's S/D(t) and profiles (bedload; D = 5 cm)", choices=("none", "mao")),
+        "initial_profile": K("none", "none: the flat bed with its dip | mao_11s, mao_18s, mao_25s: the bed starts as Mao's measured profile at that time (scaled to the pipe's D; in place of the dip), and his clock starts there; held still (sediment.morph_start beyond the run), it asks whether the flow erodes his bed where his did (python -m tisph.bench --mao-held)", choices=("none", "mao_11s", "mao_18s", "mao_25s")),
     },
     # DEM contacts between sand particles, paper 002 Table 3 (its eta_s unit "N/m" is N s/m)
-    "dem": {"enabled": True,        # DEM contacts between sand particles (the two-phase model)
-            "kn": 1.0e6,            # normal spring stiffness (N/m)
-            "ks": 1.0e5,            # tangential spring stiffness (N/m)
-            "eta_n": 20.0,          # normal damping (N s/m)
-            "eta_s": 40.0,          # tangential damping (N s/m)
-            "friction": 0.57,       # Coulomb friction coefficient
-            # in particle spacings; see the module docstring for why 0.7 and not 1
-            "contact_diameter": 0.7},
+    "dem": {
+        "enabled": K(True, "DEM contacts between sand particles (the two-phase model)"),
+        "kn": K(1000000.0, "normal spring stiffness (N/m)", range=POSITIVE),
+        "ks": K(100000.0, "tangential spring stiffness (N/m)", range=POSITIVE),
+        "eta_n": K(20.0, "normal damping (N s/m)", range=NON_NEGATIVE),
+        "eta_s": K(40.0, "tangential damping (N s/m)", range=NON_NEGATIVE),
+        "friction": K(0.57, "Coulomb friction coefficient", range=POSITIVE),
+        "contact_diameter": K(0.7, "in particle spacings; see the module docstring for why 0.7 and not 1", range=(0.0, 1.5, False, True)),
+    },
     # sediment.model = "bedload": the bed below particle scale (tisph/sediment); its shear by the
     # log law through the near-bed velocity 3 dx above the bed (1.5 dx sits in the wall's no-slip
     # layer) with the current's own z0, scaled to rho u*^2 in the far field (BedCoupler says why);
     # the gap jet's sand settles out 3 D on: deposition_length 3 D (scenes/pipeline_scour_mao.toml);
     # the slope enters once, through the threshold (gravity_coefficient 0: in Mao's case the
     # downslope term on top held the hole at 0.33 D, measured; scenes/pipeline_scour_mao.toml)
-    "sediment": dict(coupling.DEFAULTS, model="bedload", grain_density=2650.0, shear="log_far_field",
+    "sediment": with_defaults(coupling.SEDIMENT, model="bedload", grain_density=2650.0, shear="log_far_field",
                      reference_height=3.0, filter_time=0.1, update_every=10, deposition_length=0.3,
                      morph_start=0.5, morfac=10.0, gravity_coefficient=0.0),
     "materials": {
         "water": {"rho0": 1000.0, "viscosity": 1.0e-3},
-        # Cross: mu_inf = 0.07 Pa s, tau_B = 25 Pa read as mu0 = 1000 mu_inf, K = mu0 / tau_B
-        "sand": {"rho0": 1950.0, "viscosity": 0.07, "rheology": "cross",
+        "sand": {"rho0": 1950.0, "viscosity": 0.07,
+                 "rheology": K("cross", "Cross (paper 002 eqs. 29-30): mu_inf = 0.07 Pa s, tau_B = 25 Pa read as "
+                                 "mu0 = 1000 mu_inf, K = mu0 / tau_B"),
                  "mu0": 70.0,       # Cross: the viscosity at rest (Pa s)
                  "K": 2.8,          # Cross: the time constant (s) of mu = mu_inf + (mu0 - mu_inf) / (1 + (K gamma)^m1)
                  "m1": 1.0,         # Cross: the exponent m1
@@ -116,18 +104,9 @@ DEFAULTS = {
     },
     "output": {"frame_interval": 0.05, "probe_interval": 0.05, "width": 960},
 }
-RANGES = {f"geometry.{k}": (0.0, None, k in ("sand_depth", "gap", "perturbation", "drag_coefficient",
-                                                              "inflow_length", "inflow_rate", "shields"), True)
-          for k in ("pipe_diameter", "water_depth", "sand_depth", "length", "gap", "perturbation",
-                    "mean_velocity", "grain_diameter", "drag_coefficient", "inflow_length", "inflow_rate",
-                    "shields")}
-RANGES["geometry.porosity"] = (0.0, 1.0, True, False)
-RANGES.update({f"dem.{k}": (0.0, None, k.startswith("eta"), True) for k in ("kn", "ks", "eta_n", "eta_s", "friction")})
-RANGES["dem.contact_diameter"] = (0.0, 1.5, False, True)
-RANGES.update(coupling.RANGES)
-RANGES["sediment.grain_density"] = (1000.0, None, False, True)
-CHOICES = dict(coupling.CHOICES, **{"geometry.reference": ("none", "mao"),
-                                    "geometry.initial_profile": ("none", "mao_11s", "mao_18s", "mao_25s")})
+DEFAULTS = values(SCHEMA)
+RANGES = ranges(SCHEMA)
+CHOICES = choices(SCHEMA)
 
 
 def check(cfg):
