@@ -10,9 +10,13 @@ A case is a scene and the settings a case file would hold; tisph.run takes the s
 `python -m tisph.scenes.NAME` (every key checked, ConfigError on bad input; Ctrl-C or SIGTERM
 stops it with a checkpoint that tisph.run(case, restart=...) continues from).
 """
+from __future__ import annotations
+
 import copy
 import json
 import os
+
+from typing import Any, Iterable, Sequence
 
 import numpy as np
 
@@ -43,14 +47,14 @@ def _entry(shape):
 class Case:
     """A scene and its settings (the tables of a case file, as nested dicts)."""
 
-    def __init__(self, scene="custom", settings=None, base_dir="."):
+    def __init__(self, scene: str = "custom", settings: dict | None = None, base_dir: str = ".") -> None:
         self.scene = scene
         self.module = _scene(scene)
         self.settings = copy.deepcopy(settings or {})
         self.base_dir = os.path.abspath(base_dir)
 
     @classmethod
-    def from_toml(cls, path, scene=None):
+    def from_toml(cls, path: str | os.PathLike, scene: str | None = None) -> Case:
         """A case file; the scene is `custom` when the file has a [domain] table, else name it."""
         settings = read_toml(path)
         scene = scene or ("custom" if "domain" in settings else None)
@@ -60,7 +64,8 @@ class Case:
         return cls(scene, settings, os.path.dirname(os.path.abspath(path)))
 
     @classmethod
-    def custom(cls, box, solids, water, gauges=(), **tables):
+    def custom(cls, box: Sequence[float], solids: Iterable, water: Iterable[dict], gauges: Iterable[dict] = (),
+               **tables: dict) -> Case:
         """A custom case from Python: box [x0, x1, z0, z1]; solids: tisph.geometry shapes (or
         dicts of [[solid]] keys); water and gauges: dicts of [[water]] and [[gauge]] keys; tables:
         any other table, e.g. numerics={"dx": 0.02}, paddle={...}, run={"end_time": 2.0}."""
@@ -71,12 +76,12 @@ class Case:
         s["gauge"] = [dict(v) for v in gauges]
         return cls("custom", s)
 
-    def set(self, key, value):
+    def set(self, key: str, value: Any) -> Case:
         """Set a dotted key (run.end_time, numerics.dx): checked when the case is resolved."""
         set_path(self.settings, key, value)
         return self
 
-    def config(self, **overrides):
+    def config(self, **overrides: Any) -> dict:
         """The resolved, checked config (ConfigError naming every bad key)."""
         from .runner.entry import resolve
         settings = copy.deepcopy(self.settings)
@@ -84,7 +89,7 @@ class Case:
             settings.setdefault("domain", {}).setdefault("base_dir", self.base_dir)
         return resolve(self.module, settings, overrides)
 
-    def describe(self):
+    def describe(self) -> str:
         """Every key of the case's scene with its default, what is allowed and what it means."""
         from .describe import describe
         return describe(self.module)
@@ -93,7 +98,7 @@ class Case:
 class Result:
     """What a run wrote into its folder: summary, probes, snapshots."""
 
-    def __init__(self, out):
+    def __init__(self, out: str | os.PathLike) -> None:
         self.out = out
         with open(os.path.join(out, "summary.json")) as f:
             self.summary = json.load(f)
@@ -101,7 +106,7 @@ class Result:
         self.metrics = self.summary.get("metrics", {})
 
     @property
-    def probes(self):
+    def probes(self) -> dict[str, np.ndarray]:
         """probes.csv as {column: NumPy array}."""
         from .io import read_csv
         path = os.path.join(self.out, "probes.csv")
@@ -115,12 +120,12 @@ class Result:
         return pandas.DataFrame(self.probes)
 
     @property
-    def snapshots(self):
+    def snapshots(self) -> list[str]:
         """The snapshot files in time order."""
         from .io import snapshot_files
         return snapshot_files(self.out)
 
-    def snapshot(self, k=-1):
+    def snapshot(self, k: int = -1) -> dict[str, Any]:
         """Snapshot k's particles as {name: array} (position (N, 2), velocity, pressure, kind, ...) and
         its time as ["time"]."""
         from .io import load
@@ -129,7 +134,7 @@ class Result:
         return arrays
 
     @property
-    def checkpoint(self):
+    def checkpoint(self) -> str | None:
         """The checkpoint an interrupted run left (None if there is none)."""
         path = os.path.join(self.out, "checkpoint.h5")
         return path if os.path.exists(path) else None
@@ -140,7 +145,8 @@ class Result:
                 f"{s.get('wall_time_s', 0):.3g} s)")
 
 
-def run(case, out=None, render=False, progress=True, restart=None, force=False, **overrides):
+def run(case: Case | str, out: str | os.PathLike | None = None, render: bool = False, progress: bool = True,
+        restart: str | None = None, force: bool = False, **overrides: Any) -> Result:
     """Run a case (a Case, a case file's path or a built-in scene's name) and return its Result.
     overrides: dotted keys, e.g. run(case, **{"numerics.dx": 0.04})."""
     from .runner.entry import output_dir, simulate

@@ -12,7 +12,10 @@ A scene module keeps this contract (docs/engine.md, "Adding a scene"):
 Importing a scene module imports no Taichi: reading, checking and describing a case do not compile.
 The modules are named, not imported, here: this file sits below everything it lists.
 """
+from __future__ import annotations
+
 import importlib
+from types import ModuleType
 
 from .config import ConfigError
 
@@ -31,18 +34,18 @@ REGISTRY = {
 }
 
 
-def names():
+def names() -> tuple[str, ...]:
     """Every registered scene's name."""
     return tuple(REGISTRY)
 
 
-def load(name):
+def load(name: str) -> ModuleType:
     """The scene module registered as `name`, or a ConfigError naming the choices."""
     if name not in REGISTRY:
         raise ConfigError("scene", name, "one of " + ", ".join(REGISTRY))
     return importlib.import_module(REGISTRY[name])
 
 
-def modules():
+def modules() -> list[ModuleType]:
     """Every registered scene's module, in the registry's order."""
     return [load(n) for n in REGISTRY]

@@ -11,6 +11,7 @@ be one more dependency for 40 lines.
 from __future__ import annotations
 
 import dataclasses
+from typing import Iterable, Iterator
 
 POSITIVE = (0.0, None, False, True)      # > 0
 NON_NEGATIVE = (0.0, None, True, True)   # >= 0
@@ -27,12 +28,13 @@ class Key:
     choices: tuple | None = None
 
 
-def K(default, doc="", unit="", range=None, choices=None):
+def K(default: object, doc: str = "", unit: str = "", range: tuple | None = None,
+      choices: Iterable | None = None) -> Key:
     """A Key, written words first: K(0.5, "the tank's inside width", "m", POSITIVE)."""
     return Key(default, unit, range, doc, tuple(choices) if choices is not None else None)
 
 
-def walk(tree, prefix=""):
+def walk(tree: dict, prefix: str = "") -> Iterator[tuple[str, object]]:
     """(dotted key, leaf) of every leaf of a schema tree, in order."""
     for name, v in tree.items():
         path = f"{prefix}.{name}" if prefix else name
@@ -42,32 +44,32 @@ def walk(tree, prefix=""):
             yield path, v
 
 
-def values(tree):
+def values(tree: dict) -> dict:
     """The tree's defaults as plain nested dicts (a Key by its default)."""
     return {k: values(v) if isinstance(v, dict) else (v.default if isinstance(v, Key) else v) for k, v in tree.items()}
 
 
-def ranges(tree, prefix=""):
+def ranges(tree: dict, prefix: str = "") -> dict[str, tuple]:
     """{dotted key: range} of the tree's Keys that have one."""
     return {p: tuple(v.range) for p, v in walk(tree, prefix) if isinstance(v, Key) and v.range is not None}
 
 
-def choices(tree, prefix=""):
+def choices(tree: dict, prefix: str = "") -> dict[str, tuple]:
     """{dotted key: choices} of the tree's Keys that have them."""
     return {p: tuple(v.choices) for p, v in walk(tree, prefix) if isinstance(v, Key) and v.choices is not None}
 
 
-def words(k):
+def words(k: Key) -> str:
     """What a Key means, with its unit."""
     return f"{k.doc} ({k.unit})" if k.doc and k.unit not in ("", "-") else k.doc
 
 
-def docs(tree, prefix=""):
+def docs(tree: dict, prefix: str = "") -> dict[str, str]:
     """{dotted key: words} of the tree's Keys that have words."""
     return {p: words(v) for p, v in walk(tree, prefix) if isinstance(v, Key) and v.doc}
 
 
-def merge(base, over):
+def merge(base: dict, over: dict) -> dict:
     """base with over's entries laid on it, table by table (a scene's tree on the shared one)."""
     out = dict(base)
     for k, v in over.items():
@@ -75,7 +77,7 @@ def merge(base, over):
     return out
 
 
-def with_defaults(tree, **defaults):
+def with_defaults(tree: dict, **defaults: object) -> dict:
     """A copy of a table whose named keys take new defaults, keeping their words and rules (a
     scene's own values for a shared table: dict(coupling.SEDIMENT) with its morfac)."""
     unknown = set(defaults) - set(tree)

@@ -15,8 +15,11 @@ A new type is one subclass here (type, columns, read_all, metrics; panel for gau
 its entry in GAUGE_TYPES; the case file's [[gauge]] keys it needs are checked in
 tisph/scenes/custom/elements.py.
 """
+from __future__ import annotations
+
 import math
 import warnings
+from typing import Iterable
 
 import numpy as np
 
@@ -41,26 +44,26 @@ class Gauge:
     panel = None
 
     @classmethod
-    def from_spec(cls, q, dx, h, side):
+    def from_spec(cls, q: dict, dx: float, h: float, side) -> Gauge:
         """A gauge from a case file's checked [[gauge]] table q (side: see ForceGauge)."""
         return cls(q["label"], *(q[k] for k in cls.needs), from_time=q["from_time"])
 
-    def __init__(self, label, from_time=0.0):
+    def __init__(self, label: str, from_time: float = 0.0) -> None:
         self.label, self.from_time = label, float(from_time)
 
     @property
-    def columns(self):
+    def columns(self) -> tuple[str, ...]:
         return tuple(f"{p}_{self.label}" for p in self.prefixes)
 
     @classmethod
-    def read_all(cls, gauges, st, site):
+    def read_all(cls, gauges: list[Gauge], st: dict, site: Site) -> list[list[float]]:
         """[values of each gauge] from the particle state st (site: dx, h)."""
         return [g.read(st, site) for g in gauges]
 
-    def read(self, st, site):
+    def read(self, st: dict, site: Site) -> list[float]:
         raise NotImplementedError
 
-    def metrics(self, c, t, w, period):
+    def metrics(self, c: dict, t: np.ndarray, w: np.ndarray, period: float | None) -> dict:
         """summary.json's entries over the window w (t >= from_time) of the record c."""
         return {}
 
@@ -68,7 +71,7 @@ class Gauge:
 class Site:
     """What every gauge reads by: the spacing dx, the smoothing length h."""
 
-    def __init__(self, dx, h):
+    def __init__(self, dx: float, h: float) -> None:
         self.dx, self.h = dx, h
 
 
@@ -252,12 +255,12 @@ class GaugeSet:
     """A case's gauges: their columns in order, one read a probe (each type in one batch), their
     metrics, and gauges.png (a panel a type)."""
 
-    def __init__(self, gauges, dx, h):
+    def __init__(self, gauges: Iterable[Gauge], dx: float, h: float) -> None:
         self.gauges, self.site = list(gauges), Site(dx, h)
         self.columns = tuple(c for g in self.gauges for c in g.columns)
         self.seen = None
 
-    def read(self, st):
+    def read(self, st: dict) -> tuple[float, ...]:
         vals = {}
         for cls in GAUGE_TYPES.values():
             mine = [g for g in self.gauges if isinstance(g, cls)]
@@ -266,7 +269,7 @@ class GaugeSet:
                     vals[id(g)] = v
         return tuple(x for g in self.gauges for x in vals[id(g)])
 
-    def metrics(self, c, period):
+    def metrics(self, c: dict, period: float | None) -> dict:
         """Each gauge's metrics over t >= its from_time (none where under two readings)."""
         self.seen = c
         t = np.asarray(c["t"])
@@ -277,7 +280,7 @@ class GaugeSet:
                 out.update(g.metrics(c, t, w, period))
         return out
 
-    def plot(self, path):
+    def plot(self, path: str) -> None:
         """gauges.png: every gauge's record, one panel per type of gauge."""
         c = self.seen
         panels = [cls for cls in GAUGE_TYPES.values() if any(isinstance(g, cls) for g in self.gauges)]
