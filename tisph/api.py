@@ -22,6 +22,13 @@ import numpy as np
 
 from . import registry as scenes
 from .config import ConfigError, read_toml, set_path
+from .geometry import Circle, Polygon, Polyline
+from .runner.entry import output_dir, simulate
+from .runner.entry import resolve
+from .describe import describe
+from .io import read_csv
+from .io import snapshot_files
+from .io import load
 
 SCENES = scenes.names()
 
@@ -32,7 +39,6 @@ def _scene(name):
 
 def _entry(shape):
     """A geometry object (tisph.geometry) or a dict as a [[solid]] entry."""
-    from .geometry import Circle, Polygon, Polyline
     if isinstance(shape, dict):
         return dict(shape)
     if isinstance(shape, Circle):
@@ -83,7 +89,6 @@ class Case:
 
     def config(self, **overrides: Any) -> dict:
         """The resolved, checked config (ConfigError naming every bad key)."""
-        from .runner.entry import resolve
         settings = copy.deepcopy(self.settings)
         if self.scene == "custom":
             settings.setdefault("domain", {}).setdefault("base_dir", self.base_dir)
@@ -91,7 +96,6 @@ class Case:
 
     def describe(self) -> str:
         """Every key of the case's scene with its default, what is allowed and what it means."""
-        from .describe import describe
         return describe(self.module)
 
 
@@ -108,7 +112,6 @@ class Result:
     @property
     def probes(self) -> dict[str, np.ndarray]:
         """probes.csv as {column: NumPy array}."""
-        from .io import read_csv
         path = os.path.join(self.out, "probes.csv")
         if not os.path.exists(path):
             return {}
@@ -122,13 +125,11 @@ class Result:
     @property
     def snapshots(self) -> list[str]:
         """The snapshot files in time order."""
-        from .io import snapshot_files
         return snapshot_files(self.out)
 
     def snapshot(self, k: int = -1) -> dict[str, Any]:
         """Snapshot k's particles as {name: array} (position (N, 2), velocity, pressure, kind, ...) and
         its time as ["time"]."""
-        from .io import load
         arrays, attrs = load(self.snapshots[k])
         arrays["time"] = float(attrs.get("time", attrs.get("t", np.nan)))
         return arrays
@@ -149,7 +150,6 @@ def run(case: Case | str, out: str | os.PathLike | None = None, render: bool = F
         restart: str | None = None, force: bool = False, **overrides: Any) -> Result:
     """Run a case (a Case, a case file's path or a built-in scene's name) and return its Result.
     overrides: dotted keys, e.g. run(case, **{"numerics.dx": 0.04})."""
-    from .runner.entry import output_dir, simulate
     if isinstance(case, str):
         case = Case.from_toml(case) if os.path.isfile(case) else Case(case)
     ov = dict(overrides)

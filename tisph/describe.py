@@ -9,6 +9,7 @@ from . import config, schema
 from .config import CHOICES, MATERIAL_CHOICES, MATERIAL_RANGES, RANGES, describe_range
 from .registry import modules as scene_modules
 from .shared_keys import MATERIAL, SHARED, TURBULENCE
+from .io import ensure_dir, write_text
 
 
 def words(scene):
@@ -103,7 +104,6 @@ def main(argv=None):
     if len(argv) != 2 or argv[0] != "--write":
         print("usage: python -m tisph.describe --write DIR   (writes DIR/NAME.toml for every scene)", file=sys.stderr)
         return 2
-    from .io import ensure_dir, write_text
     ensure_dir(argv[1])
     for sc in scenes():
         write_text(os.path.join(argv[1], f"{sc.NAME}.toml"), as_toml(sc))

@@ -9,6 +9,7 @@ particles are the lattice points on its solid side within `layers` spacings of i
 import math
 
 import numpy as np
+from .particles import BUILD_BYTES_PER_POINT, check_fits
 
 CHUNK = 4096   # points per block in the point-to-segment distances (memory: CHUNK x segments)
 
@@ -202,7 +203,6 @@ def lattice(x0, x1, z0, z1, dx):
     """The lattice points in [x0, x1] x [z0, z1], cell-centred on the global lattice."""
     i0, i1 = math.ceil(x0 / dx - 0.5 - 1e-9), math.floor(x1 / dx - 0.5 + 1e-9)
     j0, j1 = math.ceil(z0 / dx - 0.5 - 1e-9), math.floor(z1 / dx - 0.5 + 1e-9)
-    from .particles import BUILD_BYTES_PER_POINT, check_fits
     nx, nz = max(i1 - i0 + 1, 0), max(j1 - j0 + 1, 0)
     check_fits(nx * nz, BUILD_BYTES_PER_POINT, dx, "the case's lattice", "points")
     gx, gz = np.meshgrid((np.arange(i0, i1 + 1) + 0.5) * dx, (np.arange(j0, j1 + 1) + 0.5) * dx, indexing="ij")

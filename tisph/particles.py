@@ -4,6 +4,7 @@ from __future__ import annotations
 import os
 
 import numpy as np
+from .config import ConfigError
 
 FLUID, WALL, MOVING, BED = 0, 1, 2, 3   # BED: boundary particles of a morphodynamic bed (they follow z_b)
 # parked: left the domain (a leak), left through an open boundary, or torn off as spray and removed
@@ -78,7 +79,6 @@ def _gb(b):
 
 def check_fits(count, per, dx, what, unit="particles"):
     """Refuse (exit 2, on numerics.dx) a case whose `count` items at `per` bytes each cannot fit."""
-    from .config import ConfigError
     avail = available_memory()
     if avail is not None and count * per > avail:
         raise ConfigError("numerics.dx", dx, "a spacing whose particles fit in this machine's memory",

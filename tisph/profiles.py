@@ -4,6 +4,7 @@ import numpy as np
 from .io import write_csv
 from .particles import FLUID
 from .measure.plots import pyplot, save
+from .viz.render import SAND
 
 
 def depth_profile(state, x0, x1, width):
@@ -62,7 +63,6 @@ def streamlines_png(path, st, xlim, ylim, dx, title, figsize, density=1.6, circl
     """Streamlines of the water velocity (material 0), binned on a grid of 2 dx, over the
     sediment drawn as sand-coloured dots; circle = (x, y, r) draws an obstacle (a pipe)."""
     plt = pyplot()
-    from .viz.render import SAND
     fl = st["kind"] == FLUID
     x, v, mat = st["x"][fl], st["v"][fl], st["mat"][fl]
     w = mat == 0

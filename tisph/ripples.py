@@ -16,6 +16,7 @@ long, suborbital ripples in between.
 import math
 
 import numpy as np
+import warnings
 
 # What counts as a ripple on a particle bed, in particle spacings: at least 3 long, and at least
 # half a spacing high. Lower bumps are rearrangements within the top particle row: a resting
@@ -52,7 +53,6 @@ def warn_unresolved(length, dx, where):
     """A warning (captured into summary.json and printed at the start) when the predicted ripple
     is shorter than RESOLVED_DX spacings."""
     if 0 < length < RESOLVED_DX * dx:
-        import warnings
         warnings.warn(f"the predicted ripple {where} is {length:.3g} m, {length / dx:.1f} dx: the bed model "
                       f"resolves ripples of at least {RESOLVED_DX:g} dx, so its ripple length here is set by the grid "
                       f"as much as by the waves; numerics.dx at most {length / RESOLVED_DX:.3g} m resolves it")

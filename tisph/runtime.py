@@ -4,6 +4,7 @@ import io
 import os
 
 import taichi as ti
+import atexit
 
 _current = None
 _finalizer = False
@@ -103,7 +104,6 @@ def init(arch="cpu", precision="f32", quiet=True):
     with cache_guard(), contextlib.redirect_stdout(banner):  # "[Taichi] Starting on arch=..." -> run.log
         ti.init(arch=a, **kwargs)
     if not _finalizer:
-        import atexit
         atexit.register(_finalize)
         _finalizer = True
     cache_debug_info()

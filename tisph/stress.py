@@ -19,6 +19,7 @@ from .particles import ParticleSet, box_walls, FLUID, WALL, tait_B
 from .case import make_case
 from .runner import common_params, simulate, sound_speed
 from .scenes import dam_break, tank
+from .config import physics_from_config
 
 
 def _variant(base, name, build):
@@ -37,7 +38,6 @@ def _single_particle(cfg):
     ps.add([[0.25, 0.2]], FLUID, 0, rho0, rho0 * dx * dx)
     ps.add(box_walls(0.0, 0.0, 0.5, 0.5, dx, cfg["numerics"]["wall_layers"]), WALL, 0, rho0, rho0 * dx * dx)
     mats = [dict(name="water", rho0=rho0, viscosity=1e-3, B=tait_B(rho0, c0))]
-    from .config import physics_from_config
     return make_case(name="single_particle", particles=ps, materials=mats, domain=((-0.2, -0.2), (0.7, 0.8)),
                 params=common_params(cfg, c0, 9.81, 0.3), physics=physics_from_config(cfg),
                 view=((-0.1, -0.1), (0.6, 0.6)), u_max=u, container=(0.0, 0.0, 0.5, np.inf))

@@ -26,6 +26,9 @@ import time
 from . import registry as scenes
 from .config import ConfigError, tomllib
 from .io import OutputError, ensure_dir, write_csv, write_json, write_text
+from .runner import resolve
+from .runner import simulate
+from .measure.plots import pyplot, save
 
 CASE_FILE = "sweep_case.json"   # what a case folder was run with: --resume compares it
 
@@ -87,7 +90,6 @@ def file_digest(path):
 def plan(scene, config, sets, zipped, out, base=None):
     """The cases, each validated: [(id, swept values, overrides)]; a ConfigError on the first bad
     key or value, before anything runs."""
-    from .runner import resolve
     cases = []
     for k, values in enumerate(combinations(sets, zipped)):
         ov = dict(base or {})
@@ -117,7 +119,6 @@ def run_case(scene_name, config, overrides, arch, threads):
     """One case on a worker: the ordinary scene run. Returns (status, message, summary or None).
     Taichi is initialised once per worker process with `threads` CPU threads."""
     os.environ.setdefault("TISPH_THREADS", str(threads))
-    from .runner import simulate
     scene = scene_module(scene_name)
     ov = dict(overrides)
     ov["run.arch"] = arch
@@ -228,7 +229,6 @@ def write_tables(out, cases, results, scene_name, wall):
 
 def plot(path, rows, cols, keys, metric_names):
     """Each numeric metric against the first swept key, one line per value of the others."""
-    from .measure.plots import pyplot, save
     num = [m for m in metric_names
            if all(isinstance(r[cols.index(m)], (int, float)) or r[cols.index(m)] == "" for r in rows)
            and any(isinstance(r[cols.index(m)], (int, float)) for r in rows)][:12]

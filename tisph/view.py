@@ -23,6 +23,11 @@ from . import registry as scenes
 from .config import ConfigError, flatten, tomllib
 from .io import OPTIONAL, SNAPSHOT_FIELDS, OutputError, ensure_dir, load, load_attrs, snapshot_files
 from .viz.render import FIELDS, STATE, MovieWriter, make_renderer, write_png
+from .runner import resolve
+from .particles import BED
+from .viz.live import display_problem
+from .case import Picture
+from .viz.live import LiveWindow
 
 KEYS = {SNAPSHOT_FIELDS[k][0]: k for k in STATE}   # dataset name -> what a frame reads
 
@@ -43,7 +48,6 @@ def scene_picture(attrs):
     if that fails."""
     cfg_text, name = attrs.get("config", ""), attrs.get("scene", "")
     try:
-        from .runner import resolve
         scene = scenes.load(name)
         cfg = resolve(scene, None, flatten(tomllib.loads(cfg_text)))
         return scene.build(cfg).picture, cfg["numerics"]["dx"]
@@ -56,7 +60,6 @@ def scene_picture(attrs):
 
 def bed_surface_of(st, dx):
     """z_b(x) of a bed below particle scale from its BED particles (top layer + dx/2), or None."""
-    from .particles import BED
     bed = st["kind"] == BED
     if not bed.any():
         return None
@@ -103,7 +106,6 @@ def check_args(args):
     if args.range and not args.range[0] < args.range[1]:
         raise ConfigError("--range", args.range, "LO < HI")
     if args.live:
-        from .viz.live import display_problem
         why = display_problem(instead="look at the PNGs (and --mp4) it writes")
         if why:
             raise ConfigError("--live", True, "absent on a machine without a display", why)
@@ -120,7 +122,6 @@ def view(args):
     attrs = load_attrs(files[0])
     pic, dx = scene_picture(attrs)
     if pic is None or dx is None:            # frame what the first snapshot holds
-        from .case import Picture
         x = state_of(load(files[0])[0])["x"]
         dx = dx or float(np.median(np.abs(np.diff(np.unique(np.round(x[:, 0], 6)))))) or 0.01
         lo, hi = x.min(0) - dx, x.max(0) + dx
@@ -140,7 +141,6 @@ def view(args):
     movie = MovieWriter(os.path.join(dest, f"{tag}.mp4"), args.fps) if args.mp4 else None
     live = None
     if args.live:
-        from .viz.live import LiveWindow
         live = LiveWindow(f"tisph.view: {args.out}")
     written = []
     try:

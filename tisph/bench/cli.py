@@ -6,6 +6,13 @@ import os
 from .codes import PEERS
 from .ladder import __doc__ as LADDER_DOC
 from . import ladder
+from . import ripples
+from . import waves
+from . import standing
+from . import validate
+from . import speed
+from . import shedding
+from . import mao_held
 
 
 def _peers(text):
@@ -78,31 +85,24 @@ def main(argv=None):
                    help="exercise every code path in seconds: one tiny case, tiny scaling, no profile (for tests)")
     a = p.parse_args(argv)
     if a.ripples:
-        from . import ripples
         return ripples.main(a)
     if a.waves:
-        from . import waves
         return waves.main(a)
     if a.standing:
-        from . import standing
         return standing.main(a)
     if a.validate:
-        from . import validate
         return validate.main(a)
     if a.docs is not None or a.readme is not None:
         p.error("--docs and --readme need --validate")
     if a.speed:
-        from . import speed
         return speed.main(a)
     if a.against:
         p.error("--against needs --speed")
     if a.shedding:
-        from . import shedding
         if a.dry_run:
             a.gaps, a.dx, a.end_time = a.gaps or [2.0], a.dx or 0.006, a.end_time or 0.8
         return shedding.main(a)
     if a.mao_held:
-        from . import mao_held
         if a.dry_run:
             a.times, a.dx, a.end_time = a.times or [18.0], a.dx or 0.006, a.end_time or 0.3
         return mao_held.main(a)

@@ -14,6 +14,8 @@ import os
 from . import dualsphysics, peer
 from .common import cache_dir
 from ..validation import martin_moyce
+from ..runner import resolve
+from ..scenes import dam_break
 
 RUNS = ((0.03, 0.7), (0.015, 0.3))
 PEERS = ("pysph", "dualsphysics")
@@ -21,8 +23,6 @@ PEERS = ("pysph", "dualsphysics")
 
 def run_tisph(out, dx, tf):
     s, wall = peer.run_tisph_dam_break(out, dx, tf)
-    from ..runner import resolve
-    from ..scenes import dam_break
     num = resolve(dam_break, overrides={"numerics.dx": dx})["numerics"]
     settings = (f"{num['kernel']}, h = {s['h'] / dx:.2f} dp, velocity Verlet with CFL {num['cfl']:g}, "
                 f"c0 {s['c0']:.1f} m/s, "

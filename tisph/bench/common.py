@@ -2,6 +2,7 @@
 import importlib
 import os
 import time
+from ..runner import simulate
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
@@ -27,7 +28,6 @@ def table(header, rows):
 def run_case(case, dx, quick, out):
     """One run of a benchmark or validation case (scene, config, overrides, quick_overrides) at dx,
     without pictures or snapshots, into out: (summary, wall seconds)."""
-    from ..runner import simulate
     ov = {"output.render": False, "output.quiet": True, "output.snapshot_every": 0.0, "numerics.dx": dx}
     ov.update(case.overrides)
     if quick:

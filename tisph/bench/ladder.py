@@ -26,6 +26,11 @@ import numpy as np
 from ..io import ensure_dir, write_csv, write_text
 from .common import ROOT, run_case, table, this_tree_env
 from ..measure.plots import pyplot, save
+from .speed import measure
+from ..runner import build_case, Log, resolve
+from ..scenes import dam_break
+from . import peer
+from ..sweep import execute
 
 
 
@@ -87,7 +92,6 @@ def scaling(sizes, steps=100):
     each in a fresh process (tisph/bench/speed.py's measurement). The RSS cost of a particle is the
     slope of peak RSS against particle count between consecutive sizes (the Taichi runtime's own
     footprint cancels)."""
-    from .speed import measure
     rows = []
     for n in sizes:
         side = math.sqrt(n) * 0.01
@@ -109,8 +113,6 @@ def scaling(sizes, steps=100):
 def specialisation(quick, steps=None):
     """The dam break as shipped against the same case compiled with the rheology, laminar
     viscosity, XSPH and no-slip terms switched on at zero strength."""
-    from ..runner import build_case, Log, resolve
-    from ..scenes import dam_break
     from ..engine.solver import Solver
     cfg = resolve(dam_break, overrides={"numerics.dx": 0.03, "output.quiet": True})
     case = build_case(dam_break, cfg, Log(os.devnull, True))
@@ -170,7 +172,6 @@ def kernel_profile():
 
 # ---------------------------------------------------------------------------- PySPH
 def peer_pysph(out, log, venv=None):
-    from . import peer
     return peer.compare(out, log, venv)
 
 
@@ -194,7 +195,6 @@ def plot(rows, path):
 def _on_cluster(jobs, a, log):
     """The ladders' runs as Dask tasks on a.scheduler (tisph.sweep's path), rows in job order."""
     from dask.distributed import Client
-    from ..sweep import execute
     client = Client(a.scheduler)
     try:
         res = execute([(f"{i:03d}", run_one, (c, dx, a.out, a.quick)) for i, (c, dx) in enumerate(jobs)],

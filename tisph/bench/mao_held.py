@@ -23,6 +23,11 @@ import numpy as np
 from .common import ROOT, table
 from ..io import read_station_rows
 from .shedding import average_from
+from ..sediment import coupling
+from ..validation import mao
+from .shedding import run_pipeline
+from ..measure.plots import pyplot, save
+from ..io import ensure_dir, write_csv, write_text
 
 BINS = np.arange(-2.0, 6.01, 0.5)      # x / D from the pipe's centre: the CSV's bins' centres, D/2 wide
 REGIONS = (("upstream", -2.0, -0.5), ("hole", -0.5, 1.0), ("lee", 1.0, 3.0), ("dune", 3.0, 6.0))
@@ -31,7 +36,6 @@ REGIONS = (("upstream", -2.0, -0.5), ("hole", -0.5, 1.0), ("lee", 1.0, 3.0), ("d
 def exner_rate(sed, stations, z, taus, d50, rho_s, rho_w):
     """Mean dz_b/dt (m per second of bed time) the case's bed model gives bed z under each shear
     row in turn (its saturation sweeps start from the last row's flux, as in a run)."""
-    from ..sediment import coupling
     bed = coupling.make_bed(sed, stations, z, d50, rho_s, rho_w, periodic=True, morfac=1.0)
     out = np.zeros(len(stations))
     for tau in taus:
@@ -47,7 +51,6 @@ def _mean(a, m):
 def mao_rate(tp, x_rel, D):
     """Mao's dz_b/dt (m/s) after his profile at tp: the next profile less it over the time
     between (NaN after the last); and his series' rate under the pipe there, -dS/dt (m/s)."""
-    from ..validation import mao
     times = sorted(mao.PROFILES)
     k = times.index(tp)
     if k + 1 < len(times):
@@ -61,7 +64,6 @@ def mao_rate(tp, x_rel, D):
 
 def run_time(tp, end_time, out, cfg_file, dx=None):
     """One run over Mao's bed at tp held still; the shear and rates along the bed."""
-    from .shedding import run_pipeline
     ov = {"geometry.initial_profile": f"mao_{tp:g}s", "sediment.morph_start": 10.0 * end_time,
           "run.end_time": end_time, "output.render": False, "output.quiet": True}
     run_dir = os.path.join(out, "runs", f"mao_held_{tp:g}s")
@@ -94,7 +96,6 @@ def region_means(r):
 
 
 def plot(rows, path):
-    from ..measure.plots import pyplot, save
     plt = pyplot()
     # the bed panel's height is about what its equal aspect over 10 D by 2.3 D leaves it
     fig, axes = plt.subplots(3, len(rows), figsize=(4.2 * len(rows), 5.6), sharex=True, squeeze=False,
@@ -141,7 +142,6 @@ def main(a):
 
 def write_report(rows, out, cfg_file, end):
     """OUT/mao_held.csv, .png and .md from the held runs' rows (run_time / analyse)."""
-    from ..io import ensure_dir, write_csv, write_text
     ensure_dir(out)
     csv = []
     for r in rows:

@@ -23,6 +23,13 @@ import numpy as np
 from ..io import read_csv, write_csv, write_text
 from ..ripples import ORBITAL_BAND as BAND, STEEPNESS_BAND as STEEP_BAND, wiberg_harris
 from .common import table
+from ..runner import resolve
+from ..scenes import tunnel
+import json
+from ..measure.plots import pyplot, save
+from .. import sweep
+from ..io import ensure_dir
+import time
 
 GRAIN = 0.0003                 # d50 (m): the tunnel's default
 S_GRAIN = 2.65                 # quartz
@@ -71,8 +78,6 @@ def tunnel_bed(d0, T):
     the bed would turn over faster in each wave period than in the default tunnel
     (tunnel.morfac_limit), to a tenth; and its own random bed (tunnel.seed_rms), given as a number
     so a case's inputs say it."""
-    from ..runner import resolve
-    from ..scenes import tunnel
     cfg = resolve(tunnel, None, {"geometry.orbital_diameter": d0, "geometry.period": T})
     return min(MORFAC, math.floor(tunnel.morfac_limit(cfg) * 10) / 10), tunnel.seed_rms(cfg)
 
@@ -158,7 +163,6 @@ def num(v):
 
 
 def rows_from(out, plan):
-    import json
     rows = []
     for (cid, _, ov), (label, kind, _) in plan:
         try:
@@ -186,7 +190,6 @@ def rows_from(out, plan):
 
 
 def plot(rows, path_fig, path_growth):
-    from ..measure.plots import pyplot, save
     plt = pyplot()
     fig, (a1, a2) = plt.subplots(1, 2, figsize=(10, 4))
     marks = {"check": ("o", "C0", "checks"), "sheet": ("x", "C2", "sheet flow (mobility > 240)"),
@@ -253,13 +256,10 @@ def report(rows, wall):
 
 
 def main(a):
-    from .. import sweep
-    from ..io import ensure_dir
     out = os.path.abspath(os.path.join(a.out, "ripples"))
     ensure_dir(out)
     plan_cases = cases(quick=a.quick or a.dry_run)
     keys = sorted({k for _, _, ov in plan_cases for k in ov})
-    from ..scenes import tunnel
     defaults = {"geometry.seed_ripple_length": 0.0, "geometry.seed_ripple_height": 0.0, "run.pair_once": "auto",
                 "geometry.sand_depth": tunnel.DEFAULTS["geometry"]["sand_depth"]}
     sets = [(k, [ov.get(k, defaults.get(k)) for _, _, ov in plan_cases]) for k in keys]
@@ -267,7 +267,6 @@ def main(a):
         [["--set", f"{k}=" + ",".join(repr(v) for v in vals)] for k, vals in sets], [])
     if a.scheduler:
         argv += ["--scheduler", a.scheduler]
-    import time
     t0 = time.perf_counter()
     code = sweep.main(argv)
     wall = time.perf_counter() - t0

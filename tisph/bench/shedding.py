@@ -21,6 +21,11 @@ import time
 import numpy as np
 
 from .common import ROOT, table
+from ..io import load, snapshot_files
+from ..particles import FLUID
+from ..runner import resolve, simulate
+from ..scenes import pipeline_scour
+from ..io import ensure_dir, write_csv, write_text
 
 POINTS = (1.0, 1.5, 2.0, 3.0)     # x / D behind the pipe's centre, on its axis
 RADIUS = 0.15                     # the averaging disc, in D
@@ -56,8 +61,6 @@ def verdict(std, freq, share, U, D):
 
 def wake_series(run_dir, xc, yc, D, t0=SPIN_UP):
     """(times, v at each of POINTS) from a run's snapshots, fluid particles within RADIUS D."""
-    from ..io import load, snapshot_files
-    from ..particles import FLUID
     ts, vs = [], []
     for f in snapshot_files(run_dir):
         a, attrs = load(f)
@@ -83,8 +86,6 @@ def average_from(end_time):
 def run_pipeline(cfg_file, overrides, dx, run_dir):
     """The pipeline case file with these overrides (and dx, if given) run into run_dir:
     (config, summary, wall seconds, geometry)."""
-    from ..runner import resolve, simulate
-    from ..scenes import pipeline_scour
     ov = dict(overrides, **({"numerics.dx": dx} if dx else {}))
     cfg = resolve(pipeline_scour, cfg_file, ov)
     t0 = time.perf_counter()
@@ -116,9 +117,6 @@ def run_gap(gap, D, dx, end_time, out, cfg_file):
 
 
 def main(a):
-    from ..io import ensure_dir, write_csv, write_text
-    from ..runner import resolve
-    from ..scenes import pipeline_scour
     ensure_dir(a.out)
     cfg_file = a.config or os.path.join(ROOT, "scenes", "pipeline_scour_mao.toml")
     D = resolve(pipeline_scour, cfg_file)["geometry"]["pipe_diameter"]

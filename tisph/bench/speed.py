@@ -22,6 +22,8 @@ import tempfile
 import time
 
 from .common import ROOT
+from ..io import ensure_dir, write_csv, write_text
+from . import codes
 
 # (name, scene, overrides, steps): sizes from 3.4e3 to 6.5e5 particles, and the flume's paddle
 CASES = [
@@ -228,13 +230,11 @@ def report(a, rows, cold, warm):
 
 
 def main(a):
-    from ..io import ensure_dir, write_csv, write_text
     log = lambda m: print(m, file=sys.stderr, flush=True)
     ensure_dir(a.out)
     rows, cold, warm = run(a, log)
     lines = report(a, rows, cold, warm)
     if getattr(a, "peer", ()):
-        from . import codes
         lines += codes.compare(a.out, log, a.peer, getattr(a, "peer_venv", None), getattr(a, "dualsphysics", None))
     write_text(os.path.join(a.out, "speed.md"), "\n".join(lines) + "\n")
     write_csv(os.path.join(a.out, "speed.csv"), tuple(rows[0]), [tuple(r.values()) for r in rows])

@@ -23,6 +23,9 @@ import numpy as np
 from ..constants import G
 from ..io import ensure_dir, write_csv, write_text
 from .common import table
+from ..runner import resolve
+from ..scenes import flume
+from ..waves.theory import linear_wave
 
 DEPTH, AMPLITUDE = 0.25, 0.03
 KINDS = ("fourtakas", "antuono")
@@ -32,9 +35,6 @@ KINDS = ("fourtakas", "antuono")
 def mode():
     """Wave number, angular frequency, period, wavelength and group velocity of the tank's mode:
     the flume's wave (solved once: the case, the analysis and the report all ask)."""
-    from ..runner import resolve
-    from ..scenes import flume
-    from ..waves.theory import linear_wave
     omega, k, wavelength, cg, ratio = linear_wave(resolve(flume), DEPTH)
     return k, omega, 2 * math.pi / omega, wavelength, cg
 
@@ -42,8 +42,6 @@ def mode():
 def case(dx, periods, diffusion):
     import tisph
     from tisph.geometry import Polyline
-    from ..runner import resolve
-    from ..scenes import flume
     k, omega, T, L, cg = mode()
     num = dict(resolve(flume)["numerics"], dx=dx, density_diffusion=diffusion)
     xs = np.linspace(0.0, L, 241)

@@ -18,6 +18,7 @@ import numpy as np
 
 from ..io import ensure_dir, read_csv, write_text
 from .common import ROOT, run_case, table
+from ..measure.plots import pyplot, save
 
 README_START, README_END = "<!-- validation:start -->", "<!-- validation:end -->"
 
@@ -134,7 +135,6 @@ def figure(case, row, dest, width=480):
     if src and os.path.exists(src):
         shutil.copyfile(src, tmp)
     elif case.probes and os.path.exists(os.path.join(row["dir"], "probes.csv")):
-        from ..measure.plots import pyplot, save
         _, cols = read_csv(os.path.join(row["dir"], "probes.csv"))
         plt = pyplot()
         fig, ax = plt.subplots(figsize=(5, 3))
@@ -159,7 +159,6 @@ def figure(case, row, dest, width=480):
 
 def cost_figure(rows, path):
     """Run time against |error|, each case at its resolutions (log-log)."""
-    from ..measure.plots import pyplot, save
     plt = pyplot()
     fig, ax = plt.subplots(figsize=(7, 4.5))
     colours, markers = plt.get_cmap("tab20").colors, "osD^vP*Xh<>p"

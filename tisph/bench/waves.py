@@ -30,6 +30,9 @@ from ..measure.records import arrival_time, wave_height
 from ..waves.theory import linear_wave
 from ..io import ensure_dir, write_csv, write_text
 from ..measure.plots import pyplot, save
+from ..runner import resolve
+from ..scenes import flume
+from ..config import ConfigError
 
 # the flume as the bench ladder runs it (H / dx = 3, 5, 8, 12, to the end of the window at three
 # wavelengths), one case for both benches
@@ -45,8 +48,6 @@ MATCHED = dict(label="DualSPHysics, our settings", coefh=2.5 / math.sqrt(2.0), v
 
 def flume_setup(dx):
     """The default flume's depth, length, wall height, absorber, paddle and gauges at dx."""
-    from ..runner import resolve
-    from ..scenes import flume
     cfg = resolve(flume, overrides={"numerics.dx": dx})
     geo, p = cfg["geometry"], cfg["paddle"]
     d = geo["depth"]
@@ -249,7 +250,6 @@ def main(a):
     log = lambda m: print(m, flush=True)
     from .. import runtime
     runtime.init("cpu", "f32")
-    from ..config import ConfigError
     dxs = (a.dx,) if a.dx else QUICK if a.quick else LADDER
     tmax = a.end_time or (8.0 if a.quick else END_TIME)    # 8 s: two periods past the arrival at 3 L
     try:

@@ -91,7 +91,6 @@ class SolverAPI:
         rhodev_p999 the largest 99.9th percentile of a sample (the 10th-largest value where a case
         has under 10,000 fluid particles, none under 100): the bulk's worst, which a breaking wave's impact on a few
         particles (the largest error, max_density_error) does not set."""
-        from ..particles import FLUID
         fl = st["kind"] == FLUID
         if fl.any():
             rho0 = self.mat_rho0.to_numpy()[st["mat"][fl]]

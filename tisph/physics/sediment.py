@@ -7,6 +7,7 @@ from ..particles import FLUID
 from ..terms.dem import contact_force, critical_step
 from ..terms.drag import drag_accel
 from ..terms.rheology import BINGHAM, CROSS, RHEOLOGY_CODES, bingham, cross, shear_rate
+import numpy as np
 
 DEM_SLOTS = 8   # contacts remembered per particle (a packed 2D lattice has at most 6 within dx)
 
@@ -64,7 +65,6 @@ class Rheology(Module):
         return {"mu": real}    # effective viscosity
 
     def setup(self, S):
-        import numpy as np
         S.p.mu.from_numpy(np.array([mu_at_rest(S.materials[k], S.h, S.c0, S.cfl) for k in S.particles.mat],
                                    dtype=S.np_real))
 
@@ -142,7 +142,6 @@ class DEM(Module):
                 "ces": ti.types.vector(DEM_SLOTS, real)}      # their tangential spring forces
 
     def setup(self, S):
-        import numpy as np
         S.p.cid.from_numpy(np.full((S.n, DEM_SLOTS), -1, np.int32))
 
     @ti.func

@@ -9,6 +9,7 @@ from ..particles import FLUID
 from ..terms.sps import sps_accel, sps_stress
 from ..terms.tke import (CMU14, K_FLOOR, SIGMA_K, SIGMA_W, eddy_viscosity, length_of_omega, omega_update, strain2,
                          tke_stress, tke_update)
+import numpy as np
 
 
 @ti.data_oriented
@@ -68,7 +69,6 @@ class Omega(Module):
 
     def setup(self, S):
         """omega from the scene's k and l (the wall layer's equilibrium): omega = sqrt(k) / (C_mu^(1/4) l)."""
-        import numpy as np
         k, l = S.p.kt.to_numpy().astype(float), S.p.lt.to_numpy().astype(float)
         S.p.wt.from_numpy((np.sqrt(k) / (CMU14 * np.maximum(l, 1e-12))).astype(S.np_real))
 
@@ -108,7 +108,6 @@ class TKE(Module):
     def setup(self, S):
         """k and l where the scene gives them (ParticleSet.tke, .turbulence_length), else the
         floor and numerics.mixing_length."""
-        import numpy as np
         k0 = getattr(S.particles, "tke", None)
         k = np.full(S.n, K_FLOOR) if k0 is None else np.maximum(np.asarray(k0, float), K_FLOOR)
         l0 = getattr(S.particles, "turbulence_length", None)

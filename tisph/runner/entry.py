@@ -12,6 +12,9 @@ from ..shared_keys import check_rules
 from ..waves.paddle import paddle_notes
 from .loop import Run
 from .setup import Log, build_case
+from ..describe import describe
+from ..viz.live import display_problem
+from ..config import check_file
 
 
 def run_case(case, cfg, out, log, scene_name, restart=None, force=False):
@@ -52,7 +55,6 @@ def run_scene(scene, argv=None):
     parser = make_parser(scene.NAME, (scene.__doc__ or "").strip())
     args = parser.parse_args(argv)
     if args.describe:
-        from ..describe import describe
         print(describe(scene))
         return 0
     try:
@@ -75,7 +77,6 @@ def check_live(cfg):
     if not cfg["output"]["render"]:
         raise ConfigError("output.live", True, "false with --no-render (output.render = false)",
                           "--live shows the frames as they are rendered")
-    from ..viz.live import display_problem
     why = display_problem()
     if why:
         raise ConfigError("output.live", True, "false on a machine without a display", why)
@@ -103,7 +104,6 @@ def simulate(scene, overrides=None, out=None, config=None, restart=None, force=F
         if cfg["run"]["arch"] == "gpu" and arch in ("x64", "arm64"):
             log("warning: no GPU backend found, running on the CPU", always=True)
         if restart:
-            from ..config import check_file
             check_file("--restart", restart, "checkpoint.h5 written by tisph")
         case = build_case(scene, cfg, log)
         return run_case(case, cfg, out, log, scene.NAME, restart=restart, force=force)

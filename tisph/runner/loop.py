@@ -11,6 +11,10 @@ from ..particles import FLUID
 from .outputs import Outputs
 from .setup import Log, SimulationError, describe_instability
 from .summary import summarize
+from ..io import ensure_dir
+from ..viz.render import MovieWriter, make_renderer
+from ..viz.live import LiveWindow
+from ..io import clean_stale_parts
 
 
 # a run that will write more than this warns at its start
@@ -112,10 +116,7 @@ class Run(Outputs):
         if not self.render:
             return
         if self.cfg["output"]["live"]:
-            from ..viz.live import LiveWindow
             self.live = LiveWindow(f"tisph: {self.name}")
-        from ..io import ensure_dir
-        from ..viz.render import MovieWriter, make_renderer
         outc, pic = self.cfg["output"], self.case.picture
         ensure_dir(os.path.join(self.out, "frames"))
         speed = outc["speed_scale"] if outc["speed_scale"] > 0 else (pic.speed_scale or pic.u_max)
@@ -163,7 +164,6 @@ class Run(Outputs):
 
     # -------------------------------------------------------------- the loop
     def execute(self):
-        from ..io import clean_stale_parts, ensure_dir
         clean_stale_parts(self.out)
         compile_s = self._start()
         self._open_movie()

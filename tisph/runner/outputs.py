@@ -10,6 +10,16 @@ import numpy as np
 from .. import __version__
 from ..config import ConfigError, dump_toml
 from .setup import run_settings, config_changes
+import pickle
+from ..viz.render import write_png
+from ..io import ensure_dir
+from ..io import write_csv
+from ..viz.render import STATE
+from ..io import write_snapshot, SNAPSHOT_FIELDS
+from ..io import write_xdmf
+from ..io import atomic_path, OutputError
+from ..io import load
+from ..config import tomllib as _toml
 
 
 FLUSH_S = 0.5   # wall seconds between rewrites of probes.csv and run.log during a run
@@ -27,7 +37,6 @@ def observer_state(persist):
     tisph): lists and dicts by content, other objects by their attributes; an attribute that is
     another persisted observer is kept as a reference to it, so a restart rewires it to the live
     object instead of a stale copy."""
-    import pickle
     ids = {id(o): k for k, o in enumerate(persist)}
     out = []
     for o in persist:
@@ -41,7 +50,6 @@ def observer_state(persist):
 def restore_observers(persist, blob):
     """Put a checkpoint's observer history back into the same objects (in place, so the scene's
     closures and methods see it)."""
-    import pickle
     states = pickle.loads(blob)
     if len(states) != len(persist):
         raise ConfigError("--restart", "observers", f"a checkpoint of this case ({len(persist)} observers)",
@@ -59,8 +67,6 @@ def restore_observers(persist, blob):
 class Outputs:
     # -------------------------------------------------------------- outputs
     def _still(self, state, t):
-        from ..viz.render import write_png
-        from ..io import ensure_dir
         ensure_dir(os.path.join(self.out, "stills"))
         write_png(os.path.join(self.out, "stills", f"t{t:.3f}.png"), self.renderer.frame(state, state["t"]))
 
@@ -92,15 +98,12 @@ class Outputs:
 
     def write_probes(self):
         """probes.csv: t and the scene's probe columns, every sample so far."""
-        from ..io import write_csv
         write_csv(os.path.join(self.out, "probes.csv"), self.probe_columns(), self.probes)
 
     def probe_columns(self):
         return ("t",) + tuple(self.case.observers.probe_columns)
 
     def frame(self):
-        from ..viz.render import write_png
-        from ..viz.render import STATE
         s = self.solver
         img = self.renderer.frame(s.state(STATE + s.optional_members), s.time)
         write_png(os.path.join(self.out, "frames", f"{self.frame_no:05d}.png"), img)
@@ -115,7 +118,6 @@ class Outputs:
                     material_names=", ".join(f"{i} {m.get('name', '')}" for i, m in enumerate(self.case.materials)))
 
     def snapshot(self, state=None, name=None, time=None, step=None):
-        from ..io import write_snapshot, SNAPSHOT_FIELDS
         s = self.solver
         state = state if state is not None else s.state(s.snapshot_members)
         time = s.time if time is None else time
@@ -136,7 +138,6 @@ class Outputs:
                 self.write_xdmf()
 
     def write_xdmf(self):
-        from ..io import write_xdmf
         if self._xdmf_dirty:
             write_xdmf(os.path.join(self.out, "snapshots.xdmf"),
                        [(t, rel, n, {k: (v[0], np.dtype(v[1])) for k, v in sh.items()})
@@ -146,7 +147,6 @@ class Outputs:
 
     def checkpoint(self, path=None):
         import h5py
-        from ..io import atomic_path, OutputError
         path = path or os.path.join(self.out, "checkpoint.h5")
         arrays, scal = self.solver.raw_state()
         try:
@@ -171,14 +171,12 @@ class Outputs:
 
     def resume(self):
         """Load self.restart into the solver and the run's own state."""
-        from ..io import load   # simulate() checked that the path is a file
         arrays, attrs = load(self.restart)
         if attrs.get("kind") != "tisph checkpoint" or "particles" not in arrays:
             raise ConfigError("--restart", self.restart, "a checkpoint.h5 written by tisph")
         if attrs.get("scene") != self.name:
             raise ConfigError("--restart", self.restart, f"a checkpoint of scene {self.name!r}",
                               f"it is a checkpoint of {attrs.get('scene')!r}")
-        from ..config import tomllib as _toml
         old = _toml.loads(attrs["config"])
         changes = config_changes(run_settings(old), run_settings(self.cfg))
         if changes and not self.force:

@@ -9,6 +9,7 @@ import numpy as np
 from ..hooks.errors import SimulationError, unstable  # noqa: F401  (the runner's: re-exported)
 from ..io import OutputError, write_text
 from ..particles import KIND_NAMES
+from ..particles import RUN_BYTES_PER_PARTICLE, check_fits
 
 
 def sound_speed(cfg, u_max, depth=0.0, g=9.81):
@@ -105,7 +106,6 @@ PARTICLE_STEPS_PER_S = 2.8e6
 
 def check_size(case, cfg):
     """Refuse a case that cannot fit in memory; warn when one will take very long."""
-    from ..particles import RUN_BYTES_PER_PARTICLE, check_fits
     n = len(case.particles)
     dx = cfg["numerics"]["dx"]
     check_fits(n, RUN_BYTES_PER_PARTICLE, dx, "this case")

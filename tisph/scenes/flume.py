@@ -42,6 +42,7 @@ from ..waves.paddle import PADDLE, check_paddle, paddle, resolve_paddle
 from ..waves.theory import linear_wave
 from ..measure.plots import pyplot, save
 from ..measure import harmonics
+from ..io import write_csv
 
 NAME = "flume"
 
@@ -268,7 +269,6 @@ def irregular_metrics(c, p, xg, cols, cg, keep):
 
 def write_spectra(out, spectra, p, xg):
     """spectra.csv (f, the target, each gauge's S) and spectra.png."""
-    from ..io import write_csv
     f = next(iter(spectra.values()))[0]
     fp = 1.0 / p["tp"]
     band = (f >= p["band"][0] * fp) & (f <= p["band"][1] * fp)

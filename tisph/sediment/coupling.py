@@ -22,6 +22,7 @@ from .bed import Bed
 from .lee import lee_vortex_shear, lee_zones, vortex_throw
 from .outer import Window, outer_heights, outer_scale
 from .transport import reference_concentration, settling_velocity, shear_log_law, shear_waves, shields_number
+from ..config import ConfigError, raise_collected
 
 
 SEDIMENT = {
@@ -75,7 +76,6 @@ FAR_FIELD_SHEARS = ("log_far_field", "wall_function")
 def refuse_unused_sediment_keys(cfg, scene_defaults):
     """With sediment.model = "particles" the sand is SPH particles and the [sediment] keys, which
     drive the bed-load bed, do nothing: a key set away from its default is refused, all at once."""
-    from ..config import ConfigError, raise_collected
     sed = cfg.get("sediment")
     if not sed or sed.get("model") != "particles":
         return
@@ -122,7 +122,6 @@ class BedCoupler:
         self.measured = amplitude is None
         self.amplitude = np.zeros(len(stations)) if self.measured else amplitude
         self.history = Window(len(stations))   # (t, filtered u, u outer) over the last wave period
-        from ..config import ConfigError
         if sed["shear"] in FAR_FIELD_SHEARS and far_field is None:
             raise ConfigError("sediment.shear", sed["shear"], "'waves' or 'log' in this scene: the far-field "
                               "scaling needs the undisturbed bed and the current's u*, which the pipeline sets")

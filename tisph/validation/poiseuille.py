@@ -16,6 +16,9 @@ from ..schema import POSITIVE, choices, K, ranges, values
 from ..particles import ParticleSet, block, tait_B, FLUID, WALL
 from ..case import make_case
 from ..runner import common_params, run_scene, sound_speed
+from ..profiles import plot_profiles, write_profile
+import copy
+import types
 
 NAME = "poiseuille"
 
@@ -128,7 +131,6 @@ def build(cfg):
                     u_max_exact=float(exact(0.0, G, b, mu, tau)))
 
     def finalize(out, metrics):
-        from ..profiles import plot_profiles, write_profile
         y, u = result["y"], result["u"]
         write_profile(os.path.join(out, "profile.csv"), y, u, exact(y, G, b, mu, tau), names=("y", "u_sph", "u_exact"))
         yf = np.linspace(-b, b, 400)
@@ -155,8 +157,6 @@ def main(argv=None):
             del argv[i:i + 2]
     mod = sys.modules[__name__]
     if extra:
-        import copy
-        import types
         d = copy.deepcopy(DEFAULTS)
         for key, val in extra:
             try:

@@ -8,6 +8,7 @@ import os
 from ...config import ConfigError
 from ...measure.gauges import GAUGE_TYPES
 from ...schema import K, values
+from ...geometry import read_profile
 
 NUM = "a number"
 
@@ -121,7 +122,6 @@ def _solid(s, base_dir):
         if s[k][2] <= 0:
             raise ConfigError(key, s[k], "[xc, zc, r] in m with r > 0")
     else:
-        from ...geometry import read_profile
         path = s[k] if os.path.isabs(s[k]) else os.path.join(base_dir, s[k])
         if not os.path.isfile(path):
             raise ConfigError(key, s[k], "an existing CSV file of x, z rows", f"looked for {path}")

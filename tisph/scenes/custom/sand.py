@@ -15,6 +15,7 @@ from ...io import write_station_rows
 from ...particles import density_from_pressure
 from ...schema import K, values, with_defaults
 from ...sediment import coupling, initial
+from ...measure.plots import pyplot, save
 
 SAND = {
     "x": K([], '[x0, x1] m: the stretch of the sand line that is a bed-load bed; []: no sand'),
@@ -122,7 +123,6 @@ class SandBed:
         if not self.rows:
             return
         write_station_rows(os.path.join(out, "bed_profile.csv"), self.stations, self.rows)
-        from ...measure.plots import pyplot, save
         plt = pyplot()
         b = self.coupler
         fig, (a1, a2) = plt.subplots(2, 1, figsize=(9, 5), sharex=True)

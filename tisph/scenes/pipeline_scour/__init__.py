@@ -43,6 +43,8 @@ from ...validation import mao
 from .common import (NAME, add_pipe, friction_velocity, geometry, has_bedload, initial_bed,  # noqa: F401
                        log_law, profile_time, ring)
 from .record import ScourRecord, streamlines_event
+from .bedload import bed_stations, far_field
+from .bedload import build_bedload
 
 
 
@@ -126,7 +128,6 @@ def check(cfg):
         raise ConfigError("sediment.suspended", True, "false unless sediment.model = \"bedload\" over sand "
                           "(geometry.sand_depth > 0): the suspension is exchanged with the bed-load bed")
     if has_bedload(cfg):
-        from .bedload import bed_stations, far_field
         gm = geometry(cfg)
         far_field(gm, bed_stations(gm), g["inflow_length"])
     if 0 < g["sand_depth"] < 4 * dx:
@@ -157,7 +158,6 @@ def check(cfg):
 
 def build(cfg):
     if has_bedload(cfg):
-        from .bedload import build_bedload
         return build_bedload(cfg)
     geo = cfg["geometry"]
     g = geometry(cfg)
