@@ -327,3 +327,16 @@ def test_waves_bench_refuses_a_dx_the_flume_refuses(capsys):
     assert cli.main(["--waves", "--dx", "0.04"]) == 2
     err = capsys.readouterr().err
     assert "numerics.dx = 0.04" in err and "8 particles across the depth" in err
+
+
+def test_a_quick_validation_writes_only_under_its_out(tmp_path):
+    """--validate --quick --out DIR writes the page, its figures and results under DIR: the tree's
+    docs/validation.md, its figures and the README stay as they are."""
+    import os
+    root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    watched = [os.path.join(root, p) for p in ("README.md", "docs/validation.md", "docs/validation/cost.png",
+                                               "docs/validation/results.json")]
+    before = {p: open(p, "rb").read() for p in watched if os.path.exists(p)}
+    assert cli.main(["--validate", "--quick", "--only", "tank", "--out", str(tmp_path)]) == 0
+    assert (tmp_path / "validation.md").exists() and (tmp_path / "validation" / "cost.png").exists()
+    assert {p: open(p, "rb").read() for p in before} == before

@@ -244,3 +244,27 @@ def test_reading_checking_and_describing_every_scene_imports_no_taichi():
     r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT, timeout=300)
     assert r.returncode == 0, r.stderr
     assert r.stdout.strip().splitlines()[-1] == "False"
+
+
+def test_the_tisph_command_runs_describes_and_lists_scenes(tmp_path, capsys):
+    """`tisph run SCENE|FILE`, `tisph describe SCENE`, `tisph scenes` (the console script
+    pyproject.toml installs): a case file's scene from its header, a bad name refused by name."""
+    import tomllib
+    from tisph import registry
+    from tisph.command import main
+    with open(os.path.join(ROOT, "pyproject.toml"), "rb") as f:
+        assert tomllib.load(f)["project"]["scripts"]["tisph"] == "tisph.command:main"
+    assert main(["scenes"]) == 0
+    listed = capsys.readouterr().out
+    assert all(name in listed for name in registry.names())
+    assert main(["describe", "tank"]) == 0 and "sediment_depth" in capsys.readouterr().out
+    out = tmp_path / "hatch"
+    assert main(["run", os.path.join(ROOT, "scenes", "hatch.toml"), "--max-steps", "2", "--no-render", "--quiet",
+                 "--out", str(out)]) == 0
+    assert json.load(open(out / "summary.json"))["scene"] == "hatch"
+    assert main(["run", "no_such_scene"]) == 2
+    assert "no_such_scene" in capsys.readouterr().err
+    bare = tmp_path / "bare.toml"
+    bare.write_text("[numerics]\ndx = 0.02\n")
+    assert main(["run", str(bare)]) == 2
+    assert "header line naming its scene" in capsys.readouterr().err

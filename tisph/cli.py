@@ -21,8 +21,8 @@ class _Parser(argparse.ArgumentParser):
         self.exit(2, f"{self.prog}: error: {message}\n")
 
 
-def make_parser(scene, description=""):
-    p = _Parser(prog=f"python -m tisph.scenes.{scene}", description=description,
+def make_parser(scene, description="", prog=None):
+    p = _Parser(prog=prog or f"python -m tisph.scenes.{scene}", description=description,
                 formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--config", metavar="FILE", help="TOML case file (see scenes/*.toml); flags override it")
     p.add_argument("--dx", type=float, help="initial particle spacing in m")

@@ -38,7 +38,9 @@ def main(argv=None):
     p.add_argument("--arch", choices=["cpu", "gpu"], default="cpu",
                    help="with --speed: gpu runs the tank ladder on CUDA, Vulkan or Metal, on the CPU with a warning "
                         "where none is present")
-    p.add_argument("--out", default=os.path.join("renders", "bench"))
+    p.add_argument("--out", help="where the runs and the report go (default renders/bench, renders/validate "
+                                 "with --validate; a --validate with --out or --quick writes its page and "
+                                 "figures there too, and leaves docs/ and the README alone)")
     p.add_argument("--scheduler", metavar="ADDRESS",
                    help="run the ladders on this Dask scheduler (tcp://host:8786), the path tisph.sweep takes; "
                         "timings then share the cluster's cores")
@@ -84,6 +86,8 @@ def main(argv=None):
     p.add_argument("--dry-run", action="store_true",
                    help="exercise every code path in seconds: one tiny case, tiny scaling, no profile (for tests)")
     a = p.parse_args(argv)
+    a.out_given = a.out is not None
+    a.out = a.out or os.path.join("renders", "validate" if a.validate else "bench")
     if a.ripples:
         return ripples.main(a)
     if a.waves:

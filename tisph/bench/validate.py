@@ -265,8 +265,10 @@ def save_results(path, results):
 def main(a):
     from .. import runtime
     runtime.init("cpu", "f32")
-    docs = a.docs or os.path.join(ROOT, "docs")
-    out = a.out if a.out != os.path.join("renders", "bench") else os.path.join("renders", "validate")
+    # only a full run without --out refreshes the tree's docs/ and README; any other writes under --out
+    tree = not (a.quick or getattr(a, "out_given", False))
+    out = a.out
+    docs = a.docs or (os.path.join(ROOT, "docs") if tree else out)
     ensure_dir(os.path.join(docs, "validation"))
     store = os.path.join(docs, "validation", "results.json")
     log = lambda m: print(m, file=sys.stderr, flush=True)
@@ -300,7 +302,7 @@ def main(a):
     figs = {k: v[1] for k, v in results.items()}
     cost_figure(rows, os.path.join(docs, "validation", "cost.png"))
     write_text(os.path.join(docs, "validation.md"), page(rows, a.quick, started, time.perf_counter() - t0, mach, figs))
-    readme = a.readme if a.readme is not None else os.path.join(ROOT, "README.md")
+    readme = a.readme if a.readme is not None else (os.path.join(ROOT, "README.md") if tree and not a.docs else "")
     if readme and all(c.name in results for c in CASES):
         fill_readme(readme, readme_table(rows))
     log(f"wrote {os.path.join(docs, 'validation.md')}")

@@ -49,10 +49,10 @@ def resolve(scene, config=None, overrides=None):
     return cfg
 
 
-def run_scene(scene, argv=None):
-    """Entry point of `python -m tisph.scenes.NAME`. Exit codes: 0 ok, 2 bad input, 3 unstable,
-    130/143 stopped by SIGINT/SIGTERM."""
-    parser = make_parser(scene.NAME, (scene.__doc__ or "").strip())
+def run_scene(scene, argv=None, prog=None):
+    """Entry point of `python -m tisph.scenes.NAME` and `tisph run NAME`. Exit codes: 0 ok, 2 bad
+    input, 3 unstable, 130/143 stopped by SIGINT/SIGTERM."""
+    parser = make_parser(scene.NAME, (scene.__doc__ or "").strip(), prog)
     args = parser.parse_args(argv)
     if args.describe:
         print(describe(scene))
