@@ -62,6 +62,7 @@ def test_readme_is_a_guide():
     with open(os.path.join(ROOT, "README.md"), encoding="utf-8") as f:
         lines = f.read().splitlines()
     assert len(lines) <= 300, f"README.md has {len(lines)} lines"
-    assert "python -m tisph.scenes.beach" in "\n".join(lines[:20])
+    head = " ".join(lines[:20])
+    assert "tisph run beach" in head and "python -m tisph.scenes.beach" in head
     for section in ("Requirements", "Scenes", "Validation", "docs/"):
         assert any(section in line for line in lines), section
