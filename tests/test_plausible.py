@@ -86,3 +86,17 @@ def test_gauges_on_dry_land_are_warned_about_and_report_no_height():
     assert m["wave_height_at_gauges"][1] is None and m["wave_height_at_gauges"][0] == pytest.approx(0.1, rel=0.02)
     assert m["gauges_on_dry_land"] == [6.0]
     assert case is not None
+
+
+def test_a_wave_height_is_named_as_written_with_the_centimetre_guess():
+    """A height the user gave is what the message names (not the stroke derived from it, with its
+    round-off), and a height in centimetres is guessed as such."""
+    from tisph.config import ConfigError
+    with pytest.raises(ConfigError) as e:
+        resolve(flume, None, {"paddle.wave_height": 5.0})
+    assert e.value.field == "paddle.wave_height" and "looks like centimetres" in str(e.value)
+    assert "0.05 m here" in str(e.value)
+    with pytest.raises(ConfigError) as e:
+        resolve(flume, None, {"paddle.wave_height": 0.005, "paddle.period": 0.5, "numerics.dx": 0.025})
+    assert e.value.field == "paddle.wave_height" and e.value.value == 0.005
+    assert "0.00251 m" in str(e.value) and "0.0025100" not in str(e.value)

@@ -40,6 +40,18 @@ def unit_guess(cfg):
     return ""
 
 
+def height_guess(height, depth):
+    """' (... looks like centimetres ...)' for a wave height no water of this depth holds (over 0.8
+    of it) that would be a wave in centimetres or millimetres; '' otherwise."""
+    if height <= 0.8 * depth:
+        return ""
+    for unit, f in (("centimetres", 100.0), ("millimetres", 1000.0)):
+        if height / f <= 0.8 * depth:
+            return (f" ({height:g} looks like {unit}: tisph reads metres, so {height / f:g} m here; the still "
+                    f"water is {depth:g} m deep)")
+    return ""
+
+
 def check_materials(cfg):
     """The water's rest density near water's."""
     water = cfg.get("materials", {}).get("water")

@@ -9,7 +9,7 @@ from ..config import ConfigError
 from ..constants import G
 from ..measure.records import wave_period
 from ..particles import block
-from ..plausible import check_regular_waves, unit_guess
+from ..plausible import check_regular_waves, height_guess, unit_guess
 from ..schema import choices, K, ranges, values
 from .absorb import absorbing, check_absorb
 from .irregular import check_irregular, irregular_series
@@ -51,7 +51,7 @@ def stroke_for(cfg, depth, default_stroke=None):
                           f"the two: that height needs a stroke of {S:.4g} m by Biesel)")
     if S > depth:
         raise ConfigError("paddle.wave_height", H, f"a height whose stroke is at most the depth ({depth:g} m): "
-                          f"Biesel gives a stroke of {S:.4g} m for it")
+                          f"Biesel gives a stroke of {S:.4g} m for it{height_guess(H, depth)}")
     return S
 
 
@@ -88,6 +88,10 @@ def check_paddle(cfg, depth, length, default_stroke=None):
     if stroke > depth:
         raise ConfigError("paddle.stroke", stroke, f"at most the depth at the paddle ({depth:g} m){unit_guess(cfg)}")
     if not p["series"] and stroke < dx:
+        if H > 0:   # the user asked for a height: name it, and the stroke it asks for
+            raise ConfigError("paddle.wave_height", H, f"a height whose stroke is at least dx = {dx:g} m (Biesel "
+                              f"gives {stroke:.3g} m for it; the paddle must move a particle spacing): a higher "
+                              "wave, or a smaller numerics.dx")
         raise ConfigError("paddle.stroke", stroke, f"at least dx = {dx:g} m (the paddle must move a particle spacing)")
     if p["series"]:
         if p["order"] == 2:
