@@ -100,3 +100,41 @@ def test_a_wave_height_is_named_as_written_with_the_centimetre_guess():
         resolve(flume, None, {"paddle.wave_height": 0.005, "paddle.period": 0.5, "numerics.dx": 0.025})
     assert e.value.field == "paddle.wave_height" and e.value.value == 0.005
     assert "0.00251 m" in str(e.value) and "0.0025100" not in str(e.value)
+
+
+def test_a_custom_case_is_warned_as_the_flume_is(tmp_path):
+    """The custom case's gauges and waves get the flume's and the beach's warnings, from the same
+    place: a wave under 3 dx, a gauge on dry land, a window after the end, too few wave periods."""
+    from tisph.runner import simulate
+    from tisph.scenes import custom
+    case = tmp_path / "c.toml"
+    case.write_text("""
+[numerics]
+dx = 0.03
+[run]
+end_time = 0.3
+[domain]
+box = [-0.4, 6.5, 0.0, 0.8]
+[[solid]]
+line = [[-0.4, 0.8], [-0.4, 0.0], [4.0, 0.0], [6.5, 0.5], [6.5, 0.8]]
+[[water]]
+level = 0.3
+[paddle]
+type = "piston"
+wave_height = 0.05
+period = 1.2
+[[gauge]]
+type = "surface"
+x = 2.0
+[[gauge]]
+type = "surface"
+x = 6.3
+from_time = 1.0
+""")
+    simulate(custom, {"run.max_steps": 1, "output.render": False, "output.quiet": True,
+                      "output.snapshot_every": 0.0}, out=str(tmp_path / "out"), config=str(case))
+    said = (tmp_path / "out" / "run.log").read_text()     # the run logs its set-up's warnings
+    assert "surface2 (x = 6.3 m) stand on dry land" in said
+    assert "from_time = 1 s) start their statistics at or after run.end_time" in said
+    assert "the wave height 0.05 m is 1.7 dx" in said
+    assert "wave periods at the gauge at x = 2 m" in said

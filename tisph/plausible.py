@@ -108,3 +108,29 @@ def warn_window(p, xs, cg, end_time, period, arrival, what="the waves"):
                       f"wave periods at the gauge at x = {x:g} m after {what} reach it: its height needs at "
                       f"least 3; run.end_time = {math.ceil(need):g} s gives them")
     return need
+
+
+def warn_gauges(cfg, gauges, depth_at):
+    """The warnings a case's [[gauge]] tables earn at the start: a surface gauge with no water under
+    it (dry land: its wave height means nothing), a window that starts at or after the end, and a
+    run too short for any gauge to record two readings. depth_at(x): the still water's depth there
+    (NaN or <= 0 where dry)."""
+    end, dt = cfg["run"]["end_time"], cfg["output"]["probe_interval"]
+    dry = [q for q in gauges if q["type"] == "surface" and not depth_at(q["x"]) > 0]
+    if dry:
+        warnings.warn("surface gauges " + ", ".join(f"{q['label']} (x = {q['x']:g} m)" for q in dry) + " stand on "
+                      "dry land at the start: no water under them, so their wave heights read nothing")
+    late = [q for q in gauges if q["from_time"] >= end]
+    if late:
+        warnings.warn("gauges " + ", ".join(f"{q['label']} (from_time = {q['from_time']:g} s)" for q in late) +
+                      f" start their statistics at or after run.end_time = {end:g} s: they report none")
+    if gauges and all(end - q["from_time"] < 2 * dt for q in gauges):
+        warnings.warn(f"run.end_time = {end:g} s leaves no gauge two readings (one every output.probe_interval = "
+                      f"{dt:g} s after its from_time): summary.json will have no gauge metrics")
+
+
+def warn_case_waves(cfg, H, k, depth, xs, cg, period, arrival):
+    """A case's regular waves: warn_waves for the height, and warn_window for the surface gauges at
+    xs (m in front of the paddle)."""
+    warn_waves(cfg, H, k, depth)
+    warn_window(cfg["paddle"], [x for x in xs if x > 0], cg, cfg["run"]["end_time"], period, arrival)

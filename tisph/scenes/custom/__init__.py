@@ -21,7 +21,8 @@ from ...config import ConfigError, physics_from_config, raise_collected
 from ...particles import ParticleSet, hydrostatic_density, tait_B, wall_density, FLUID, WALL, MOVING
 from ...runner import common_params, run_scene, sound_speed
 from ...schema import POSITIVE, choices, K, ranges, values, with_defaults
-from ...measure.records import wave_period
+from ...measure.records import arrival_time, wave_period
+from ...plausible import warn_case_waves, warn_gauges
 from ...waves import paddle as wp
 from ...waves.absorb import with_control
 from ...waves.irregular import IRREGULAR
@@ -227,6 +228,11 @@ def build(cfg):
         col = lay.column(x)
         return col[1] - col[0] if col else float("nan")
 
+    warn_gauges(cfg, gauges, depth_at)
+    if paddle_parts and not p["series"] and not p["spectrum"]:
+        omega, k, _, cgroup, F = linear_wave(cfg, level - floor)
+        warn_case_waves(cfg, F * p["stroke"], k, level - floor, [q["x"] - p["x"] for q in gauges if q["type"] == "surface" and depth_at(q["x"]) > 0],
+                        cgroup, period, arrival_time)
     cg = CaseGauges(gauges, dx, h, g, wall_side, depth_at)
     parts = dict(probe_columns=cg.columns, probe=cg.read, persist=(cg,),
                  metrics=lambda c: cg.metrics(c, period, still),
