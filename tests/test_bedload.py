@@ -593,8 +593,9 @@ def test_a_tunnel_bed_faster_than_the_default_s_says_the_morfac_that_keeps_it_as
     """The bed load's turnover (wave periods to move one predicted ripple's sand) is the flux of the
     formula averaged over a period: at the default tunnel 6.8 periods at morfac 10, which is the
     limit's reference, so the default is at its limit and not warned; at mobility 145 (d0 = 0.4 m,
-    T = 1.5 s) the bed turns over 2.4 times as fast and the run says morfac 4.2. The beach takes the
-    rule at its toe: morfac 30 warns with 22.2, its default 22 does not."""
+    T = 1.5 s) the bed turns over 2.4 times as fast: left at its default the tunnel chooses morfac
+    4.2, and a morfac 10 the user set is warned with 4.2. The beach takes the rule at its toe:
+    morfac 30 warns with 22.2, its default 22 does not."""
     import warnings
     from tisph.runner import resolve
     from tisph.scenes import tunnel
@@ -612,8 +613,10 @@ def test_a_tunnel_bed_faster_than_the_default_s_says_the_morfac_that_keeps_it_as
     from tisph.scenes import beach
     # the beach takes the rule at its toe's linear-wave d0 (0.251 m, T = 2.5 s): its default 22
     # within it, 30 past it
-    for scene, ov, warned in ((tunnel, {}, None),
-                              (tunnel, {"geometry.orbital_diameter": 0.4, "geometry.period": 1.5}, "morfac = 4.2 keeps"),
+    fast = {"geometry.orbital_diameter": 0.4, "geometry.period": 1.5}
+    assert resolve(tunnel, None, fast)["sediment"]["morfac"] == 4.2     # left at its default: chosen so
+    for scene, ov, warned in ((tunnel, {}, None), (tunnel, fast, None),
+                              (tunnel, dict(fast, **{"sediment.morfac": 10.0}), "morfac = 4.2 keeps"),
                               (beach, {}, None), (beach, {"sediment.morfac": 30.0}, "morfac = 22.2 keeps")):
         with warnings.catch_warnings(record=True) as w:
             warnings.simplefilter("always")
@@ -690,3 +693,23 @@ def test_a_random_initial_bed_rests_at_the_angle_of_repose():
         assert 0.0027 < np.sqrt(np.mean((z - z0) ** 2)) < 0.003
     steep = 0.08 + 0.7 * dx * np.arange(10)     # faces of 35 degrees, no random bed: as given
     assert np.array_equal(initial_bed(x[:10], steep, dict(DEFAULTS, seed_rms=0.0), dx, periodic=False), steep)
+
+
+def test_the_tunnel_chooses_dx_and_morfac_from_its_physics_and_says_so(tmp_path):
+    """Left at their defaults, dx resolves the predicted ripple over 18 spacings and morfac keeps the
+    bed as slow as the calibration tunnel's (d0 = 0.2 m, T = 1.6 s: dx 0.0068 m, morfac 8; the
+    calibration tunnel keeps 0.01 and 10), and run.log says each; a value the user sets wins."""
+    from tisph.runner import resolve, simulate
+    from tisph.scenes import tunnel
+    base = resolve(tunnel, None, {})
+    assert (base["numerics"]["dx"], base["sediment"]["morfac"]) == (0.01, 10.0)
+    ov = {"geometry.orbital_diameter": 0.2, "geometry.period": 1.6}
+    cfg = resolve(tunnel, None, ov)
+    assert (cfg["numerics"]["dx"], cfg["sediment"]["morfac"]) == (0.0068, 8.0)
+    assert 0.124 / 0.0068 >= 18
+    mine = resolve(tunnel, None, dict(ov, **{"numerics.dx": 0.01, "sediment.morfac": 10.0}))
+    assert (mine["numerics"]["dx"], mine["sediment"]["morfac"]) == (0.01, 10.0) and not mine.notes
+    simulate(tunnel, dict(ov, **{"run.max_steps": 1, "output.render": False, "output.quiet": True,
+                                 "output.snapshot_every": 0.0}), out=str(tmp_path / "t"))
+    log = (tmp_path / "t" / "run.log").read_text()
+    assert "numerics.dx = 0.0068 m: the predicted ripple (0.124 m" in log and "sediment.morfac = 8:" in log

@@ -3,7 +3,7 @@ import os
 import sys
 
 from ..cli import make_parser, overrides_from_args
-from ..config import ConfigError, build_config, dump_toml
+from ..config import ConfigError, build_config, dump_toml, flatten, read_toml
 from ..sediment.coupling import refuse_unused_sediment_keys
 from ..io import OutputError, ensure_dir
 from ..plausible import check_materials
@@ -36,14 +36,35 @@ def output_dir(scene, cfg):
     return cfg["output"]["dir"] or os.path.join("renders", scene.NAME)
 
 
+class ResolvedConfig(dict):
+    """A resolved config; notes: run.log's lines on the values the scene chose itself (derive)."""
+    notes: list
+
+    def __init__(self, *a, **kw):
+        super().__init__(*a, **kw)
+        self.notes = []
+
+
+def given_keys(config, overrides):
+    """The dotted keys the user set, in the case file and as overrides (flags, the API)."""
+    keys = set(overrides or {})
+    if config:
+        keys |= set(flatten(config if isinstance(config, dict) else read_toml(config)))
+    return keys
+
+
 def resolve(scene, config=None, overrides=None):
-    """The validated config of a scene: defaults <- TOML <- overrides, then the scene's checks."""
-    cfg = build_config(scene.DEFAULTS, config, overrides or {},
-                       getattr(scene, "RANGES", None), getattr(scene, "CHOICES", None))
+    """The validated config of a scene: defaults <- TOML <- overrides; then what the scene derives
+    from the physics for a key the user left at its default (derive: the tunnel's dx and morfac),
+    said in cfg.notes; then the scene's checks."""
+    cfg = ResolvedConfig(build_config(scene.DEFAULTS, config, overrides or {},
+                                      getattr(scene, "RANGES", None), getattr(scene, "CHOICES", None)))
     refuse_unused_sediment_keys(cfg, scene.DEFAULTS)
     if isinstance(config, str) and cfg.get("domain", {}).get("base_dir") == "":
         cfg["domain"]["base_dir"] = os.path.dirname(os.path.abspath(config))   # a case's files sit beside it
     check_materials(cfg)
+    if hasattr(scene, "derive"):
+        cfg.notes += scene.derive(cfg, given_keys(config, overrides))
     if hasattr(scene, "check"):
         scene.check(cfg)
     return cfg
@@ -99,6 +120,8 @@ def simulate(scene, overrides=None, out=None, config=None, restart=None, force=F
         log("# resolved config\n" + dump_toml(cfg), file_only=True)
         for note in paddle_notes(cfg):
             log(note, file_only=True)
+        for note in getattr(cfg, "notes", ()):
+            log(note)
         arch = runtime.init(cfg["run"]["arch"], cfg["run"]["precision"])
         log(f"# {runtime.describe()}, requested {cfg['run']['arch']}", file_only=True)
         if cfg["run"]["arch"] == "gpu" and arch in ("x64", "arm64"):

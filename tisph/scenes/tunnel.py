@@ -31,7 +31,7 @@ from ..schema import NON_NEGATIVE, POSITIVE, choices, K, ranges, values, with_de
 from ..io import write_station_rows
 from ..particles import ParticleSet, block, density_from_pressure, layered_pressure, tait_B, FLUID, WALL
 from ..viz.render import SAND
-from ..ripples import (MIN_HEIGHT_DX, MIN_LENGTH_DX, last_finite, periodic_ripples as ripples_counted,
+from ..ripples import (MIN_HEIGHT_DX, MIN_LENGTH_DX, RESOLVED_DX, last_finite, periodic_ripples as ripples_counted,
                        ripple_band, ripple_stats, unresolved, warn_unresolved, wiberg_harris)
 from ..measure.control import PIDrive
 from ..case import make_case
@@ -71,6 +71,33 @@ SCHEMA = {
 DEFAULTS = values(SCHEMA)
 RANGES = ranges(SCHEMA)
 CHOICES = choices(SCHEMA)
+
+
+def floor2(x):
+    """x rounded down to two significant digits (a spacing that resolves at least what x does)."""
+    e = math.floor(math.log10(x)) - 1
+    return round(math.floor(x / 10.0 ** e + 1e-9) * 10.0 ** e, 12)
+
+
+def derive(cfg, given):
+    """dx and morfac from the physics where the user left them at their defaults: dx resolves the
+    predicted ripple (Wiberg & Harris for d0 and d50) over RESOLVED_DX spacings, and morfac turns
+    the bed over no faster than in the calibration tunnel (tisph/sediment/morfac.py), at most its
+    10. The calibration tunnel itself keeps dx 0.01 and morfac 10. Returns run.log's lines."""
+    g, notes = cfg["geometry"], []
+    lam = wiberg_harris(g["orbital_diameter"], g["grain_diameter"])[0]
+    if "numerics.dx" not in given:   # and no coarser than the layers check() asks for
+        cap = min(g["water_depth"] / 6, g["sand_depth"] / 4, g["length"] / 20)
+        cfg["numerics"]["dx"] = dx = floor2(min(lam / RESOLVED_DX, cap))
+        notes.append(f"numerics.dx = {dx:g} m: the predicted ripple ({lam:.3g} m, Wiberg & Harris for d0 = "
+                     f"{g['orbital_diameter']:g} m) over {RESOLVED_DX:g} spacings (set numerics.dx to choose)")
+    if cfg["sediment"]["model"] == "bedload" and "sediment.morfac" not in given:
+        limit = morfac_limit(cfg)
+        m = max(1.0, min(CALIBRATION["morfac"], math.floor(limit * 10 + 1e-6) / 10))
+        cfg["sediment"]["morfac"] = m
+        notes.append(f"sediment.morfac = {m:g}: the bed turns over no faster per wave period than in the "
+                     f"calibration tunnel (at most {CALIBRATION['morfac']:g}; set sediment.morfac to choose)")
+    return notes
 
 
 def check(cfg):
