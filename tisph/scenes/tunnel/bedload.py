@@ -1,0 +1,140 @@
+"""The tunnel over the bed-load bed (sediment.model = "bedload"): water only, over BED particles that
+follow the bed level z_b, which the bed load moves (tisph/sediment)."""
+import os
+import warnings
+
+import numpy as np
+
+from ...constants import G
+from ...config import physics_from_config
+from ...io import write_station_rows
+from ...particles import ParticleSet, density_from_pressure, tait_B, FLUID
+from ...ripples import (last_finite, periodic_ripples as ripples_counted,
+                       ripple_band, unresolved, warn_unresolved, wiberg_harris)
+from ...case import make_case
+from ...runner import common_params, sound_speed
+from ...measure.ripple_plots import plot_bed, plot_growth
+from ...sediment import coupling, initial
+from ...sediment.morfac import warn_fast_bed
+
+from .drive import BED_PERIODS, CREST_SPEED, TunnelDrive, seed_count, seed_rms, turnover_periods
+
+
+def build_bedload(cfg, name):
+    """The tunnel over a morphodynamic bed: water only, over BED particles that follow z_b."""
+    geo, num, sed = cfg["geometry"], cfg["numerics"], cfg["sediment"]
+    dx, Lx, hw, hs = num["dx"], geo["length"], geo["water_depth"], geo["sand_depth"]
+    d0 = geo["orbital_diameter"]
+    drive = TunnelDrive(geo)
+    Um = drive.Um
+    rw = cfg["materials"]["water"]["rho0"]
+    c0, u_max = sound_speed(cfg, CREST_SPEED * Um, hw, G)
+    L, h = num["wall_layers"], num["h_factor"] * dx
+    ytop = hs + hw
+    lam_wh, eta_wh, regime = wiberg_harris(d0, geo["grain_diameter"])
+    warn_unresolved(lam_wh, dx, "(Wiberg & Harris for d0)")
+    bed_periods = cfg["run"]["end_time"] / geo["period"] * sed["morfac"]
+    if bed_periods < 0.99 * BED_PERIODS:            # a rounded end time is not short
+        warnings.warn(f"run.end_time = {cfg['run']['end_time']:g} s is {bed_periods:.0f} periods of bed change "
+                      f"(wave periods x morfac {sed['morfac']:g}): ripples take about 100 to reach their length and "
+                      f"a run should show 100 more that it holds; run.end_time = "
+                      f"{BED_PERIODS * geo['period'] / sed['morfac']:g} s gives {BED_PERIODS}")
+    turnover = turnover_periods(cfg)
+    limit = warn_fast_bed(sed, turnover, f"at d0 = {d0:g} m")
+    n_seed = seed_count(geo, lam_wh)
+    stations = (np.arange(int(round(Lx / dx))) + 0.5) * dx
+    z = hs + 0.5 * geo["seed_ripple_height"] * np.sin(2 * np.pi * n_seed * stations / Lx)
+    sed = dict(sed, seed_rms=seed_rms(cfg))
+    z = initial.initial_bed(stations, z, sed, dx, periodic=True, top=ytop)
+    ps = _bedload_particles(cfg, stations, z, c0)
+    params = common_params(cfg, c0, G, depth=ytop)
+    params["bed_stations"] = len(stations)
+    pad = 4 * h
+    domain = ((0.0, float(z.min()) - (L + 2) * dx - pad), (Lx, 2.0 * ytop + pad))
+    physics = physics_from_config(cfg, periodic_x=True, materials_used=["water"], moving_bed=True)
+    bed = coupling.BedCoupler(sed, stations, z, dx, h, geo["grain_diameter"], sed["grain_density"],
+                              amplitude=0.5 * d0, periodic=True, rho_w=rw, omega=drive.omega, still_level=ytop)
+    rows = []
+
+    def ripples_round(zb):
+        """(mean length, mean height) of the ripples counted round the periodic bed."""
+        n, hr = ripples_counted(zb, Lx, ripple_band(zb, dx))
+        return (Lx / n, hr) if n else (float("nan"), float("nan"))
+
+    def control(s):
+        drive.update(s)
+        bed.update(s)
+
+    def probe(st):
+        zb = bed.bed.z
+        rows.append((st["t"],) + tuple(zb))
+        lam, hr = ripples_round(zb)
+        rms = float(np.sqrt(np.mean((zb - bed.z0) ** 2)))
+        return (lam, hr, rms, drive.u_free(st), drive.target(st["t"]), float(np.abs(bed.tau).max()),
+                float(np.mean(bed.u)), float(np.mean(bed.u_eff)))
+
+    seen = {}                             # the probe columns, for the growth plot
+
+    def metrics(c):
+        seen.update(c)
+        out = dict(velocity_amplitude=Um, predicted_ripple_length=lam_wh, predicted_ripple_height=eta_wh,
+                   predicted_regime=regime, morfac=sed["morfac"], sediment_model="bedload",
+                   theta_cr=bed.bed.theta_cr, sand_volume_error=bed.volume_error(),
+                   mobility_number=Um ** 2 / ((sed["grain_density"] / rw - 1) * G * geo["grain_diameter"]),
+                   bed_turnover_periods=turnover, morfac_limit=limit)
+        out.update(last_finite(c, ("ripple_length", "ripple_height", "bed_change_rms")))
+        lam = out["ripple_length"]
+        out["ripple_count"] = int(round(Lx / lam)) if np.isfinite(lam) and lam > 0 else 0   # exact: lam = Lx / count
+        out["ripple_length_over_d0"] = lam / d0
+        out["ripple_steepness"] = out["ripple_height"] / lam if lam > 0 else float("nan")
+        out["ripple_length_over_prediction"] = lam / lam_wh if lam_wh > 0 else float("nan")
+        out["near_bed_velocity_ratio"] = near_bed_ratio(c["t"], c["u_near_bed"], Um, drive.period)
+        out["effective_velocity_ratio"] = near_bed_ratio(c["t"], c["u_bed_effective"], Um, drive.period)
+        return unresolved(out, lam_wh, dx, ("ripple_length_over_d0", "ripple_length_over_prediction",
+                                            "ripple_steepness"))
+
+    def finalize(out, metrics):
+        if rows:
+            write_station_rows(os.path.join(out, "bed_profile.csv"), stations, rows)
+            plot_bed(os.path.join(out, "bed_profile.png"), np.array(rows), stations, geo, dx, lam_wh, eta_wh,
+                      level=hs)
+            plot_growth(os.path.join(out, "ripple_growth.png"), seen, geo, sed["morfac"])
+
+    return make_case(name=name, particles=ps, materials=[dict(cfg["materials"]["water"], name="water",
+                                                               B=tait_B(rw, c0))],
+                     domain=domain, params=params, physics=physics, view=((0.0, hs - 0.1), (Lx, ytop + 2 * dx)),
+                     u_max=u_max, probe_columns=("ripple_length", "ripple_height", "bed_change_rms", "u_free",
+                                                 "u_target", "max_bed_shear", "u_near_bed",
+                                                 "u_bed_effective"),
+                     probe=probe, metrics=metrics, finalize=finalize, container=(-1e9, float(z.min()) - L * dx, 1e9,
+                                                                                float("inf")),
+                     control=control, control_every=sed["update_every"], persist=(drive.ctl, bed, rows),
+                     **bed.picture())
+
+
+def near_bed_ratio(t, u, Um, period):
+    """The amplitude of a near-bed velocity series u(t) (averaged along the bed) over U_m, in the
+    last two periods: what the bed reads of the free stream (1: all of it; a numerical boundary
+    layer thicker than the reference height reads less). NaN before three periods."""
+    t, u = np.asarray(t, float), np.asarray(u, float)
+    if len(t) < 4 or t[-1] < 3.0 * period:
+        return float("nan")
+    last = t >= t[-1] - 2.0 * period
+    return float(0.5 * (u[last].max() - u[last].min()) / Um)
+
+
+def _bedload_particles(cfg, stations, z, c0):
+    """Water in columns from dx/2 above the bed z and the bed's BED particle columns."""
+    geo, num = cfg["geometry"], cfg["numerics"]
+    dx, L = num["dx"], num["wall_layers"]
+    ytop = geo["sand_depth"] + geo["water_depth"]
+    rw = cfg["materials"]["water"]["rho0"]
+    xw = initial.water_columns(stations, z, dx, ytop)
+
+    def density(y):
+        return density_from_pressure(rw * G * (ytop - np.minimum(y, ytop)), rw, c0)
+
+    ps = ParticleSet()
+    ps.add(xw, FLUID, 0, density(xw[:, 1]), rw * dx * dx)
+    initial.add_bed_particles(ps, stations, z, dx, L, rw, density)
+    return ps
