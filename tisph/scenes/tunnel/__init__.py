@@ -84,14 +84,10 @@ def derive(cfg, given):
     10. The calibration tunnel itself keeps dx 0.01 and morfac 10. Returns run.log's lines."""
     g, notes = cfg["geometry"], []
     lam = wiberg_harris(g["orbital_diameter"], g["grain_diameter"])[0]
-    if "numerics.dx" not in given:   # and no coarser than the layers check() asks for
-        cap = min(g["water_depth"] / 6, g["sand_depth"] / 4, g["length"] / 20)
-        cfg["numerics"]["dx"] = dx = floor2(min(lam / RESOLVED_DX, cap))
-        why = (f"the predicted ripple ({lam:.3g} m, Wiberg & Harris for d0 = {g['orbital_diameter']:g} m) over "
-               f"{RESOLVED_DX:g} spacings" if lam / RESOLVED_DX <= cap else
-               "the finest the water and sand layers and the length ask for (6, 4 and 20 spacings), finer than the "
-               f"predicted ripple's {lam:.3g} m needs")
-        notes.append(f"numerics.dx = {dx:g} m: {why} (set numerics.dx to choose)")
+    if "numerics.dx" not in given:
+        cfg["numerics"]["dx"] = dx = floor2(lam / RESOLVED_DX)
+        notes.append(f"numerics.dx = {dx:g} m: the predicted ripple ({lam:.3g} m, Wiberg & Harris for d0 = "
+                     f"{g['orbital_diameter']:g} m) over {RESOLVED_DX:g} spacings (set numerics.dx to choose)")
     if cfg["sediment"]["model"] == "bedload" and "sediment.morfac" not in given:
         limit = morfac_limit(cfg)
         m = max(1.0, min(CALIBRATION["morfac"], math.floor(limit * 10 + 1e-6) / 10))
