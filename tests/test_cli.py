@@ -253,7 +253,7 @@ def test_the_tisph_command_runs_describes_and_lists_scenes(tmp_path, capsys):
     from tisph import registry
     from tisph.command import main
     with open(os.path.join(ROOT, "pyproject.toml"), "rb") as f:
-        assert tomllib.load(f)["project"]["scripts"]["tisph"] == "tisph.command:main"
+        assert tomllib.load(f)["project"]["scripts"]["tisph"] == "tisph.command:console"
     assert main(["scenes"]) == 0
     listed = capsys.readouterr().out
     assert all(name in listed for name in registry.names())
@@ -268,3 +268,10 @@ def test_the_tisph_command_runs_describes_and_lists_scenes(tmp_path, capsys):
     bare.write_text("[numerics]\ndx = 0.02\n")
     assert main(["run", str(bare)]) == 2
     assert "header line naming its scene" in capsys.readouterr().err
+
+
+def test_the_tisph_command_is_quiet_when_its_reader_stops_early():
+    """`tisph describe flume | head -1`: the first line, and no traceback for the closed pipe."""
+    r = subprocess.run(f"{sys.executable} -m tisph.command describe flume | head -1", shell=True,
+                       capture_output=True, text=True, cwd=ROOT, timeout=120)
+    assert r.stdout.startswith("Config keys of flume") and "Traceback" not in r.stderr, r.stderr

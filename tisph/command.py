@@ -98,5 +98,14 @@ def main(argv: list[str] | None = None) -> int:
     return 2
 
 
+def console() -> int:
+    """The console script: main, quiet when its reader stops early (tisph describe flume | head)."""
+    try:
+        return main()
+    except BrokenPipeError:
+        sys.stderr.close()      # nothing more can be said to a closed pipe
+        return 0
+
+
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(console())
