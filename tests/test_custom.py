@@ -170,7 +170,7 @@ def test_a_new_gauge_type_is_one_class(tmp_path, monkeypatch):
         type = "depth"
         needs = {"x": "a number (m): a depth gauge's position"}
         prefixes = ("d",)
-        panel = ("d", "depth (m)", 1.0)
+        panel = ("depth (m)", 1.0)
 
         def __init__(self, label, x, from_time=0.0):
             super().__init__(label, from_time)

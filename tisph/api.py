@@ -23,12 +23,9 @@ import numpy as np
 from . import registry as scenes
 from .config import ConfigError, read_toml, set_path
 from .geometry import Circle, Polygon, Polyline
-from .runner.entry import output_dir, simulate
-from .runner.entry import resolve
+from .runner.entry import output_dir, simulate, resolve
 from .describe import describe
-from .io import read_csv
-from .io import snapshot_files
-from .io import load
+from .io import read_csv, snapshot_files, load
 
 SCENES = scenes.names()
 

@@ -27,7 +27,6 @@ from .switches import Physics, physics_from_config  # noqa: F401  (re-exported: 
 # The keys every scene shares, the turbulence closure's and every material's, as Keys
 # (tisph/shared_keys.py); a scene's SCHEMA lays its own on them. These are read from there.
 SHARED_DEFAULTS = schema.values(SHARED)
-TURBULENCE_DEFAULTS = schema.values(TURBULENCE)
 RANGES = dict(schema.ranges(SHARED), **schema.ranges(TURBULENCE, "numerics"))
 CHOICES = dict(schema.choices(SHARED), **schema.choices(TURBULENCE, "numerics"))
 MATERIAL_RANGES = schema.ranges(MATERIAL)

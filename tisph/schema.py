@@ -69,14 +69,6 @@ def docs(tree: dict, prefix: str = "") -> dict[str, str]:
     return {p: words(v) for p, v in walk(tree, prefix) if isinstance(v, Key) and v.doc}
 
 
-def merge(base: dict, over: dict) -> dict:
-    """base with over's entries laid on it, table by table (a scene's tree on the shared one)."""
-    out = dict(base)
-    for k, v in over.items():
-        out[k] = merge(out[k], v) if isinstance(v, dict) and isinstance(out.get(k), dict) else v
-    return out
-
-
 def with_defaults(tree: dict, **defaults: object) -> dict:
     """A copy of a table whose named keys take new defaults, keeping their words and rules (a
     scene's own values for a shared table: dict(coupling.SEDIMENT) with its morfac)."""

@@ -92,8 +92,8 @@ MATERIAL = {
 }
 
 
-# ---- rules that join keys, beside them: each (the keys it joins, a check of the resolved config
-# and the case's compiled physics that raises a ConfigError naming the key to change)
+# ---- rules that join keys, beside them: each a check of the resolved config and the case's
+# compiled physics that raises a ConfigError naming the key to change
 def _wall_layers_fill_the_support(cfg, physics, particles):
     """Dynamic wall particles must fill the kernel's support (2 h) behind the wall, or a fluid
     particle there sums a truncated kernel (the kernel's rule, not a measured fix: Mao's case at
@@ -141,15 +141,11 @@ def _concentration_needs_suspension(cfg, physics, particles):
                           "sand (sediment.suspended = true, the pipeline over the bed-load bed)")
 
 
-RULES = (
-    (("numerics.wall_layers", "numerics.h_factor", "numerics.wall"), _wall_layers_fill_the_support),
-    (("numerics.mixing_length", "numerics.turbulence"), _turbulence_needs_sps),
-    (("numerics.length_scale", "numerics.stress_limiter", "numerics.turbulence"), _k_options_need_the_k_equation),
-    (("output.field", "sediment.suspended"), _concentration_needs_suspension),
-)
+RULES = (_wall_layers_fill_the_support, _turbulence_needs_sps, _k_options_need_the_k_equation,
+         _concentration_needs_suspension)
 
 
 def check_rules(cfg, physics, particles):
     """Every rule that joins keys, against the resolved config and the case built from it."""
-    for _, rule in RULES:
+    for rule in RULES:
         rule(cfg, physics, particles)

@@ -13,13 +13,12 @@ import types
 
 import numpy as np
 
-from .config import ConfigError
+from .config import ConfigError, physics_from_config
 from .io import OutputError, ensure_dir, write_csv, write_text
 from .particles import ParticleSet, box_walls, FLUID, WALL, tait_B
 from .case import make_case
 from .runner import common_params, simulate, sound_speed
 from .scenes import dam_break, tank
-from .config import physics_from_config
 
 
 def _variant(base, name, build):

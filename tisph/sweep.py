@@ -26,8 +26,7 @@ import time
 from . import registry as scenes
 from .config import ConfigError, tomllib
 from .io import OutputError, ensure_dir, write_csv, write_json, write_text
-from .runner import resolve
-from .runner import simulate
+from .runner import resolve, simulate
 from .measure.plots import pyplot, save
 
 CASE_FILE = "sweep_case.json"   # what a case folder was run with: --resume compares it

@@ -25,9 +25,8 @@ from .io import OPTIONAL, SNAPSHOT_FIELDS, OutputError, ensure_dir, load, load_a
 from .viz.render import FIELDS, STATE, MovieWriter, make_renderer, write_png
 from .runner import resolve
 from .particles import BED
-from .viz.live import display_problem
+from .viz.live import display_problem, LiveWindow
 from .case import Picture
-from .viz.live import LiveWindow
 
 KEYS = {SNAPSHOT_FIELDS[k][0]: k for k in STATE}   # dataset name -> what a frame reads
 

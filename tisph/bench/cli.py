@@ -5,14 +5,7 @@ import os
 
 from .codes import PEERS
 from .ladder import __doc__ as LADDER_DOC
-from . import ladder
-from . import ripples
-from . import waves
-from . import standing
-from . import validate
-from . import speed
-from . import shedding
-from . import mao_held
+from . import ladder, ripples, waves, standing, validate, speed, shedding, mao_held
 
 
 def _peers(text):

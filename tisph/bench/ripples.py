@@ -17,19 +17,18 @@ and steepness against d0 with the bands) and growth.png (the length against bed 
 import math
 import os
 import sys
+import json
+import time
 
 import numpy as np
 
-from ..io import read_csv, write_csv, write_text
+from ..io import read_csv, write_csv, write_text, ensure_dir
 from ..ripples import ORBITAL_BAND as BAND, STEEPNESS_BAND as STEEP_BAND, wiberg_harris
 from .common import table
 from ..runner import resolve
 from ..scenes import tunnel
-import json
 from ..measure.plots import pyplot, save
 from .. import sweep
-from ..io import ensure_dir
-import time
 
 GRAIN = 0.0003                 # d50 (m): the tunnel's default
 S_GRAIN = 2.65                 # quartz

@@ -22,8 +22,7 @@ import time
 import numpy as np
 
 from . import dualsphysics
-from .common import cache_dir
-from .common import run_case, table
+from .common import cache_dir, run_case, table
 from .ladder import CASES
 from ..constants import G
 from ..measure.records import arrival_time, wave_height

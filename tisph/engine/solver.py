@@ -32,13 +32,12 @@ from ..config import Physics
 from .kernels import get_kernel
 from ..particles import FLUID, MOVING, OUT, OUTFLOW
 from ..terms.pressure import tait
-from . import state as st_mod
+from . import state as st_mod, pairs
 from .grid import Grid
 from ..hooks.health import BAD_DENSITY, BAD_LEAK, BAD_NONE, fluid_code, report
 from .limits import next_dt
 from .access import SolverAPI
 from ..hooks.module import HOOKS
-from . import pairs
 from .pairs import PairOnce
 from .registry import enabled_modules
 

@@ -11,12 +11,13 @@ discharge  V_<label>: the water beyond the vertical section at x (m3 per m); its
 front      front_<label>: the leading water along a floor at z (the largest x of the water within two
            spacings above it, plus half a spacing: the dam break's surge front)
 
-A new type is one subclass here (type, columns, read_all, metrics; panel for gauges.png) and
+A new type is one subclass here (type, needs, prefixes, read or read_all, metrics, panel) and
 its entry in GAUGE_TYPES; the case file's [[gauge]] keys it needs are checked in
 tisph/scenes/custom/elements.py.
 """
 from __future__ import annotations
 
+import itertools
 import math
 import warnings
 from typing import Iterable
@@ -37,7 +38,8 @@ class Gauge:
     """The interface. type: the [[gauge]] type; needs: the [[gauge]] keys it must be given, each
     with what it means; from_spec: one from a checked [[gauge]] table; columns: its probes.csv
     columns; read_all: one pass for every gauge of the type (read together, as one batch);
-    metrics: summary.json's entries from its record; panel: (column prefix, axis label, scale)."""
+    metrics: summary.json's entries from its record; panel: gauges.png's (axis label, scale) of its
+    first column."""
     type = ""
     needs = {}
     prefixes = ()
@@ -83,7 +85,7 @@ class SurfaceGauge(Gauge):
     type = "surface"
     needs = {"x": "a number (m): a surface gauge's position"}
     prefixes = ("eta",)
-    panel = ("eta", "surface (m)", 1.0)
+    panel = ("surface (m)", 1.0)
 
     def __init__(self, label, x, from_time=0.0, floor=-1e9, mat=None, level=0.0, column=None):
         super().__init__(label, from_time)
@@ -97,18 +99,14 @@ class SurfaceGauge(Gauge):
 
     @classmethod
     def read_all(cls, gauges, st, site):
-        out, k = [], 0
-        while k < len(gauges):   # one surface search for each run of gauges alike in floor and material
-            g0 = gauges[k]
-            run = gauges[k:k + next((i for i, g in enumerate(gauges[k:]) if (g.floor, g.mat) != (g0.floor, g0.mat)),
-                                    len(gauges) - k)]
-            zs = surface_heights(st, [g.x for g in run], site.dx, site.h, floor=g0.floor, mat=g0.mat)
-            for g, z in zip(run, zs):
+        out = []   # one surface search for each run of gauges alike in floor and material
+        for (floor, mat), run in itertools.groupby(gauges, key=lambda g: (g.floor, g.mat)):
+            run = list(run)
+            for g, z in zip(run, surface_heights(st, [g.x for g in run], site.dx, site.h, floor=floor, mat=mat)):
                 eta = float(z) - g.level
                 if g.zero is None:
                     g.zero = eta
                 out.append([eta - g.zero])
-            k += len(run)
         return out
 
     def metrics(self, c, t, w, period):
@@ -139,7 +137,7 @@ class VelocityGauge(_PointGauge):
     type = "velocity"
     needs = {"x": "a number (m): a velocity gauge's position", "z": "a number (m): a velocity gauge's height"}
     prefixes = ("u", "w")
-    panel = ("u", "u (m/s)", 1.0)
+    panel = ("u (m/s)", 1.0)
     field = "v"
 
     @staticmethod
@@ -147,7 +145,7 @@ class VelocityGauge(_PointGauge):
         return [float(v[0]), float(v[1])]
 
     def metrics(self, c, t, w, period):
-        sp = np.hypot(c[f"u_{self.label}"], c[f"w_{self.label}"])[w]
+        sp = np.hypot(*(np.asarray(c[col]) for col in self.columns))[w]
         return {f"{self.label}_speed_max": float(np.nanmax(sp)) if np.isfinite(sp).any() else None}
 
 
@@ -164,7 +162,7 @@ class PressureGauge(_PointGauge):
     type = "pressure"
     needs = {"x": "a number (m): a pressure gauge's position", "z": "a number (m): a pressure gauge's height"}
     prefixes = ("p",)
-    panel = ("p", "pressure (kPa)", 1e-3)
+    panel = ("pressure (kPa)", 1e-3)
     field = "p"
 
     @staticmethod
@@ -172,7 +170,7 @@ class PressureGauge(_PointGauge):
         return [float(p)]
 
     def metrics(self, c, t, w, period):
-        return _peaks(self.label, c[f"p_{self.label}"], t, w)
+        return _peaks(self.label, c[self.columns[0]], t, w)
 
 
 class ForceGauge(Gauge):
@@ -181,7 +179,7 @@ class ForceGauge(Gauge):
     type = "force"
     needs = {"line": "two points [[x0, z0], [x1, z1]] along the wall face"}
     prefixes = ("F",)
-    panel = ("F", "force (N/m)", 1.0)
+    panel = ("force (N/m)", 1.0)
 
     @classmethod
     def from_spec(cls, q, dx, h, side):
@@ -201,7 +199,7 @@ class ForceGauge(Gauge):
         return [float(np.nansum(p) * self.ds)]
 
     def metrics(self, c, t, w, period):
-        return _peaks(self.label, c[f"F_{self.label}"], t, w)
+        return _peaks(self.label, c[self.columns[0]], t, w)
 
 
 class DischargeGauge(Gauge):
@@ -210,7 +208,7 @@ class DischargeGauge(Gauge):
     type = "discharge"
     needs = {"x": "a number (m): a discharge gauge's position"}
     prefixes = ("V",)
-    panel = ("V", "beyond x (m3/m)", 1.0)
+    panel = ("beyond x (m3/m)", 1.0)
 
     def __init__(self, label, x, from_time=0.0):
         super().__init__(label, from_time)
@@ -221,7 +219,7 @@ class DischargeGauge(Gauge):
         return [float((st["m"][beyond] / st["rho"][beyond]).sum())]
 
     def metrics(self, c, t, w, period):
-        V, tw = np.asarray(c[f"V_{self.label}"])[w], t[w]
+        V, tw = np.asarray(c[self.columns[0]])[w], t[w]
         return {f"{self.label}_volume_end": float(V[-1]),
                 f"{self.label}_mean_discharge": float((V[-1] - V[0]) / (tw[-1] - tw[0]))}
 
@@ -232,7 +230,7 @@ class FrontGauge(Gauge):
     type = "front"
     needs = {"z": "a number (m): the floor level a front gauge follows the water along"}
     prefixes = ("front",)
-    panel = ("front", "front x (m)", 1.0)
+    panel = ("front x (m)", 1.0)
 
     def __init__(self, label, z, from_time=0.0):
         super().__init__(label, from_time)
@@ -244,7 +242,7 @@ class FrontGauge(Gauge):
         return [float(band[:, 0].max()) + 0.5 * site.dx if len(band) else float("nan")]
 
     def metrics(self, c, t, w, period):
-        return {f"{self.label}_end": float(np.asarray(c[f"front_{self.label}"])[-1])}
+        return {f"{self.label}_end": float(np.asarray(c[self.columns[0]])[-1])}
 
 
 GAUGE_TYPES = {cls.type: cls for cls in (SurfaceGauge, VelocityGauge, PressureGauge, ForceGauge, DischargeGauge,
@@ -260,13 +258,15 @@ class GaugeSet:
         self.columns = tuple(c for g in self.gauges for c in g.columns)
         self.seen = None
 
+    def by_type(self):
+        """[(type, its gauges)] in GAUGE_TYPES' order, each type once."""
+        types = [cls for cls in GAUGE_TYPES.values() if any(type(g) is cls for g in self.gauges)]
+        return [(cls, [g for g in self.gauges if type(g) is cls]) for cls in types]
+
     def read(self, st: dict) -> tuple[float, ...]:
         vals = {}
-        for cls in GAUGE_TYPES.values():
-            mine = [g for g in self.gauges if isinstance(g, cls)]
-            if mine:
-                for g, v in zip(mine, cls.read_all(mine, st, self.site)):
-                    vals[id(g)] = v
+        for cls, mine in self.by_type():
+            vals.update(zip(map(id, mine), cls.read_all(mine, st, self.site)))
         return tuple(x for g in self.gauges for x in vals[id(g)])
 
     def metrics(self, c: dict, period: float | None) -> dict:
@@ -282,17 +282,15 @@ class GaugeSet:
 
     def plot(self, path: str) -> None:
         """gauges.png: every gauge's record, one panel per type of gauge."""
-        c = self.seen
-        panels = [cls for cls in GAUGE_TYPES.values() if any(isinstance(g, cls) for g in self.gauges)]
+        c, panels = self.seen, self.by_type()
         if not panels or c is None or len(c["t"]) < 2:
             return
         plt = pyplot()
         fig, axes = plt.subplots(len(panels), 1, figsize=(7.5, 1.7 * len(panels) + 0.6), sharex=True, squeeze=False)
-        for ax, cls in zip(axes[:, 0], panels):
-            col, label, scale = cls.panel
-            for g in self.gauges:
-                if isinstance(g, cls):
-                    ax.plot(c["t"], scale * np.asarray(c[f"{col}_{g.label}"]), lw=0.8, label=g.label)
+        for ax, (cls, mine) in zip(axes[:, 0], panels):
+            label, scale = cls.panel
+            for g in mine:
+                ax.plot(c["t"], scale * np.asarray(c[g.columns[0]]), lw=0.8, label=g.label)
             ax.set_ylabel(label, fontsize=8)
             ax.legend(fontsize=7, ncol=4, loc="upper left")
         axes[-1, 0].set_xlabel("t (s)")

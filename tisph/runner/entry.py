@@ -3,7 +3,7 @@ import os
 import sys
 
 from ..cli import make_parser, overrides_from_args
-from ..config import ConfigError, build_config, dump_toml, flatten, read_toml
+from ..config import ConfigError, build_config, dump_toml, flatten, read_toml, check_file
 from ..sediment.coupling import refuse_unused_sediment_keys
 from ..io import OutputError, ensure_dir
 from ..plausible import check_materials
@@ -14,7 +14,6 @@ from .loop import Run
 from .setup import Log, build_case
 from ..describe import describe
 from ..viz.live import display_problem
-from ..config import check_file
 
 
 def run_case(case, cfg, out, log, scene_name, restart=None, force=False):

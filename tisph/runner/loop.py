@@ -11,10 +11,9 @@ from ..particles import FLUID
 from .outputs import Outputs
 from .setup import Log, SimulationError, describe_instability
 from .summary import summarize
-from ..io import ensure_dir
+from ..io import ensure_dir, clean_stale_parts
 from ..viz.render import MovieWriter, make_renderer
 from ..viz.live import LiveWindow
-from ..io import clean_stale_parts
 
 
 # a run that will write more than this warns at its start

@@ -4,22 +4,15 @@ import json
 import math
 import os
 import time as time_mod
+import pickle
 
 import numpy as np
 
 from .. import __version__
-from ..config import ConfigError, dump_toml
+from ..config import ConfigError, dump_toml, tomllib as _toml
 from .setup import run_settings, config_changes
-import pickle
-from ..viz.render import write_png
-from ..io import ensure_dir
-from ..io import write_csv
-from ..viz.render import STATE
-from ..io import write_snapshot, SNAPSHOT_FIELDS
-from ..io import write_xdmf
-from ..io import atomic_path, OutputError
-from ..io import load
-from ..config import tomllib as _toml
+from ..viz.render import write_png, STATE
+from ..io import ensure_dir, write_csv, write_snapshot, SNAPSHOT_FIELDS, write_xdmf, atomic_path, OutputError, load
 
 
 FLUSH_S = 0.5   # wall seconds between rewrites of probes.csv and run.log during a run

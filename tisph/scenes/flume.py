@@ -33,7 +33,7 @@ from ..case import make_case
 from ..runner import common_params, run_scene, sound_speed
 from ..constants import G
 from ..plausible import warn_waves, warn_window
-from ..measure import records
+from ..measure import records, harmonics
 from ..measure.gauges import WaveGauges
 from ..waves import theory
 from ..waves.absorb import with_control
@@ -41,7 +41,6 @@ from ..waves.irregular import IRREGULAR, spectrum
 from ..waves.paddle import PADDLE, check_paddle, paddle, resolve_paddle
 from ..waves.theory import linear_wave
 from ..measure.plots import pyplot, save
-from ..measure import harmonics
 from ..io import write_csv
 
 NAME = "flume"
@@ -86,8 +85,7 @@ def check(cfg):
     if 0 < g["array_gauges"] < 3:
         raise ConfigError("geometry.array_gauges", g["array_gauges"], "0 (no array) or 3 to 12 (two waves "
                           "are fitted at each frequency)")
-    check_paddle(cfg, g["depth"], g["length"], default_stroke=DEFAULTS["paddle"]["stroke"])
-    resolve_paddle(cfg, g["depth"], default_stroke=DEFAULTS["paddle"]["stroke"])
+    resolve_paddle(cfg, check_paddle(cfg, g["depth"], g["length"], default_stroke=DEFAULTS["paddle"]["stroke"]))
 
 
 def build(cfg):

@@ -8,6 +8,8 @@ u(y) = G (b^2 - y^2) / (2 mu_p) - tau_y (b - |y|) / mu_p. tau_y = 0 is the Newto
 """
 import os
 import sys
+import copy
+import types
 
 import numpy as np
 
@@ -17,8 +19,6 @@ from ..particles import ParticleSet, block, tait_B, FLUID, WALL
 from ..case import make_case
 from ..runner import common_params, run_scene, sound_speed
 from ..profiles import plot_profiles, write_profile
-import copy
-import types
 
 NAME = "poiseuille"
 

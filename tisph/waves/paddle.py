@@ -55,10 +55,10 @@ def stroke_for(cfg, depth, default_stroke=None):
     return S
 
 
-def resolve_paddle(cfg, depth, default_stroke=None):
-    """Write the stroke a wave height asks for into the config (a resolved value: run.log says
-    where it came from, paddle_notes)."""
-    cfg["paddle"]["stroke"] = stroke_for(cfg, depth, default_stroke)
+def resolve_paddle(cfg, stroke):
+    """Write the stroke check_paddle returned into the config (a resolved value where a wave
+    height asked for it: run.log says where it came from, paddle_notes)."""
+    cfg["paddle"]["stroke"] = stroke
 
 
 def paddle_notes(cfg):
@@ -71,8 +71,8 @@ def paddle_notes(cfg):
 
 
 def check_paddle(cfg, depth, length, default_stroke=None):
-    """The paddle's keys against the depth and dx, for the stroke it will run (stroke_for); the
-    config is read, not written (resolve_paddle writes the stroke)."""
+    """The paddle's keys against the depth and dx, for the stroke it will run (stroke_for), which
+    it returns; the config is read, not written (resolve_paddle writes the stroke)."""
     p, dx = cfg["paddle"], cfg["numerics"]["dx"]
     check_absorb(p)
     H = p.get("wave_height", 0.0)
@@ -83,7 +83,7 @@ def check_paddle(cfg, depth, length, default_stroke=None):
                           "paddle.ramp_periods periods up and as many down)")
     if p.get("spectrum"):
         check_irregular(cfg, depth)
-        return
+        return stroke
     # a shallow-water piston moves the whole column: a stroke beyond the depth makes a bore, not a wave
     if stroke > depth:
         raise ConfigError("paddle.stroke", stroke, f"at most the depth at the paddle ({depth:g} m){unit_guess(cfg)}")
@@ -104,6 +104,7 @@ def check_paddle(cfg, depth, length, default_stroke=None):
         if k2h > 100:   # cosh k2 (z + h) spans e^100 over the depth: the integrals lose it
             raise ConfigError("paddle.order", 2, f"1 for this wave: its second harmonic is in deep water (k2 h = "
                               f"{k2h:.0f}, at most 100), where the second-order stroke is not computed")
+    return stroke
 
 
 def paddle(cfg, depth, height, floor_y=0.0):

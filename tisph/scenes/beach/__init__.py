@@ -121,8 +121,7 @@ def check(cfg):
     # the bed-load bed's paddle stands on the bed, the Bingham bed's on the floor under the sand
     bedload = cfg["sediment"]["model"] == "bedload"
     depth = g["depth"] + (0.0 if bedload else g["sand_thickness"])
-    check_paddle(cfg, depth, g["length"], default_stroke=DEFAULTS["paddle"]["stroke"])
-    resolve_paddle(cfg, depth, default_stroke=DEFAULTS["paddle"]["stroke"])
+    resolve_paddle(cfg, check_paddle(cfg, depth, g["length"], default_stroke=DEFAULTS["paddle"]["stroke"]))
 
 
 def build(cfg):

@@ -139,8 +139,7 @@ def paddle_site(cfg, lay, box):
     floor, level = col
     depth = level - floor
     length = float(lay.pts[lay.water, 0].max()) - p["x"]
-    wp.check_paddle(cfg, depth, length, default_stroke=0.04)
-    wp.resolve_paddle(cfg, depth, default_stroke=0.04)
+    wp.resolve_paddle(cfg, wp.check_paddle(cfg, depth, length, default_stroke=0.04))
     parts = wp.paddle(cfg, depth, p["top"] or box[3], floor)   # built once: the travel here, the particles in build
     reach = parts[3]
     back = p["x"] - lay.T - reach

@@ -43,8 +43,7 @@ from ...validation import mao
 from .common import (NAME, add_pipe, friction_velocity, geometry, has_bedload, initial_bed,  # noqa: F401
                        log_law, profile_time, ring)
 from .record import ScourRecord, streamlines_event
-from .bedload import bed_stations, far_field
-from .bedload import build_bedload
+from .bedload import bed_stations, far_field, build_bedload
 
 
 

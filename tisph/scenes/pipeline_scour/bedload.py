@@ -27,7 +27,7 @@ import os
 
 import numpy as np
 
-from ...constants import G, KAPPA
+from ...constants import G, KAPPA, SQRT_CMU
 from ...config import ConfigError, physics_from_config
 from ...io import write_csv, write_station_rows
 from ...particles import ParticleSet, block, density_from_pressure, tait_B, FLUID
@@ -36,7 +36,6 @@ from ...runner import common_params, sound_speed
 from ...measure.plots import pyplot, save
 from ...sediment import coupling, initial
 from ...sediment.transport import rouse_profile, transport_scale
-from ...constants import SQRT_CMU
 from ...validation import mao
 from .record import ScourRecord, streamlines_event, water_velocity
 from .common import NAME, add_pipe, geometry, initial_bed, log_law, profile_time

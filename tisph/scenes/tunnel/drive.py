@@ -5,8 +5,7 @@ import math
 
 from ...particles import FLUID
 from ...measure.control import PIDrive
-from ...sediment import initial
-from ...sediment import morfac
+from ...sediment import initial, morfac
 from ...sediment.morfac import bed_turnover
 
 BED_PERIODS = 200
