@@ -26,7 +26,7 @@ CASES = [
     (dam_break, [], "[numerics]\ndensity_diffusion = \"yes\"\n", ["numerics.density_diffusion", "'fourtakas'"]),
     (dam_break, [], "[numerics]\nh_factor = 0.5\n", ["numerics.h_factor", ">= 1.0"]),
     (dam_break, [], "[numerics]\nwall_layers = 0\n", ["numerics.wall_layers", ">= 1"]),
-    (dam_break, [], "[numerics]\nh_factor = 2.0\n", ["numerics.wall_layers", "3", "at least 4", "2 h = 4 dx"]),
+    (dam_break, [], "[numerics]\nh_factor = 3.0\n", ["numerics.wall_layers", "5", "at least 6", "2 h = 6 dx"]),
     (dam_break, [], "[numerics]\ncfl = 0\n", ["numerics.cfl", "> 0"]),
     (dam_break, [], "[numerics]\ndx = nan\n", ["numerics.dx", "nan"]),
     # the turbulence keys belong to the scene with SPS turbulence (the pipeline) and are refused elsewhere

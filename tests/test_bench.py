@@ -50,19 +50,19 @@ def test_speed_bench_refuses_an_unknown_revision_by_name(tmp_path):
 
 
 def test_speed_measures_a_known_case_in_a_fresh_process_and_reports_its_ratio():
-    """--speed's measurement runs this tree in a fresh process: the dam break at dx 0.08 has 768
-    particles, runs the 20 steps asked, and its rate is the particles times the steps over the
+    """--speed's measurement runs this tree in a fresh process: the dam break at dx 0.08 has 1100
+    particles (its five wall layers included), runs the 20 steps asked, and its rate is the particles times the steps over the
     time; the report gives the ratio against another revision's rate."""
     import argparse
     from tisph.bench import speed
     m = speed.measure(speed.ROOT, "dam_break", {"numerics.dx": 0.08}, 20)
-    assert m["particles"] == 768 and m["steps"] == 20 and m["arch"] == "x64"
-    assert m["pps"] == pytest.approx(768 * 20 / m["seconds"], rel=1e-9) and 50 < m["field_bytes"] < 1000
+    assert m["particles"] == 1100 and m["steps"] == 20 and m["arch"] == "x64"
+    assert m["pps"] == pytest.approx(1100 * 20 / m["seconds"], rel=1e-9) and 50 < m["field_bytes"] < 1000
     a = argparse.Namespace(against="abc123", repeats=1)
     rows = [dict(case="dam break dx 0.08", particles=m["particles"], steps=20, pps=m["pps"],
                  field_bytes=m["field_bytes"], pps_against=m["pps"] / 2, ratio=2.0, arch=m["arch"])]
     text = "\n".join(speed.report(a, rows, 1.3, 0.5))
-    assert "| dam break dx 0.08 | 768 | 20 |" in text and "| 2.00 |" in text
+    assert "| dam break dx 0.08 | 1100 | 20 |" in text and "| 2.00 |" in text
     assert "cold 1.30 s" in text and "warm 0.50 s" in text
 
 
@@ -180,7 +180,7 @@ def test_validate_quick_one_case_writes_its_row_figure_and_cost(tmp_path):
     md, readme = _validate(tmp_path, "tank")
     row = next(line for line in md.splitlines() if line.startswith("| Still water in a tank |"))
     cells = [c.strip() for c in row.strip("|").split("|")]
-    assert cells[4] == "0.05" and int(cells[5]) == 232 and int(cells[6]) > 100
+    assert cells[4] == "0.05" and int(cells[5]) == 340 and int(cells[6]) > 100
     assert float(cells[3]) < 0.1                       # the pressure error of a still tank
     assert (tmp_path / "docs" / "validation" / "still_water_in_a_tank.png").stat().st_size > 5000
     assert (tmp_path / "docs" / "validation" / "cost.png").exists()

@@ -70,7 +70,7 @@ def test_every_bad_key_is_reported_at_once(tmp_path):
 def test_summary_says_why_laminar_viscosity_is_on_when_the_config_says_off():
     from tisph.config import physics_from_config
     from tisph.runner.summary import physics_notes
-    cfg = build_config(tank.DEFAULTS, None, {"geometry.sediment_depth": 0.2})
+    cfg = build_config(tank.DEFAULTS, None, {"geometry.sediment_depth": 0.2, "numerics.laminar_viscosity": False})
     assert cfg["numerics"]["laminar_viscosity"] is False
     ph = physics_from_config(cfg)
     assert ph.laminar_viscosity and "rheology" in physics_notes(cfg, ph)[0]

@@ -82,7 +82,8 @@ def test_switched_off_terms_change_the_result():
         cfg = build_config(dam_break.DEFAULTS, None, dict({"numerics.dx": 0.06}, **ov))
         case = dam_break.build(cfg)
         return Solver(case.physics, case.particles, case.materials, case.domain, case.params)
-    off = make(**{"numerics.artificial_viscosity": 0.0, "numerics.xsph": 0.0,
+    off = make(**{"numerics.artificial_viscosity": 0.0, "numerics.artificial_viscosity_surface": 0.0,
+                  "numerics.xsph": 0.0,
                   "numerics.density_diffusion": "none", "numerics.laminar_viscosity": False})
     on = make(**{"numerics.artificial_viscosity": 0.1, "numerics.xsph": 0.3,
                  "numerics.density_diffusion": "fourtakas", "numerics.laminar_viscosity": True})
@@ -102,8 +103,8 @@ def test_physics_follows_config():
                                                   "numerics.shepard_every": 20})
     ph = physics_from_config(cfg)
     assert ph.kernel == "wendland" and ph.wall == "repulsive" and ph.shepard
-    assert ph.artificial_viscosity and ph.density_diffusion == "fourtakas" and not ph.xsph
-    assert not ph.surface_viscosity
+    # the default scheme: no alpha but in sheets and droplets, renormalised diffusion
+    assert ph.artificial_viscosity and ph.surface_viscosity and ph.density_diffusion == "antuono" and not ph.xsph
     # the surface alpha compiles the term in on its own, and only above alpha
     for alpha, surface, want in ((0.0, 0.1, (True, True)), (0.1, 0.05, (True, False)), (0.0, 0.0, (False, False))):
         ph = physics_from_config(build_config(dam_break.DEFAULTS, None, {"numerics.artificial_viscosity": alpha,

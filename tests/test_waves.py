@@ -647,8 +647,10 @@ def test_flume_water_stops_at_the_end_wall_whatever_the_length():
 def test_renormalised_diffusion_keeps_the_standing_wave_fourtakas_damps(tmp_path):
     """A standing wave of the flume's wave in a closed tank at dx = 0.025 (H = 2.4 dx), 10 periods
     (tisph/bench/standing.py): with the renormalised density gradients (the flume's default) the mode
-    keeps 0.91 of its amplitude (0.81 % a period); with Fourtakas' hydrostatic correction 0.75
-    (3.3 % a period), its diffusion acting on the wave's dynamic pressure under the surface."""
+    keeps 0.86 of its amplitude (1.57 % a period; 0.91 and 0.81 % without the wall's impact guard
+    and the sheets' alpha, whose share is largest at this coarse spacing: docs/engine.md); with
+    Fourtakas' hydrostatic correction 0.74 (3.3 % a period), its diffusion acting on the wave's
+    dynamic pressure under the surface."""
     import tisph
     from tisph.bench import standing
     last, rate = {}, {}
@@ -657,7 +659,7 @@ def test_renormalised_diffusion_keeps_the_standing_wave_fourtakas_damps(tmp_path
         assert r.status == "ok"
         amp, rate[kind] = standing.decay(r.probes, 10)
         last[kind] = amp[-1]
-    assert last["antuono"] > 0.85 and rate["antuono"] < 0.015, (last, rate)
+    assert last["antuono"] > 0.84 and rate["antuono"] < 0.018, (last, rate)
     assert last["fourtakas"] < last["antuono"] - 0.08, (last, rate)
 
 

@@ -6,7 +6,8 @@ import math
 
 from .errors import ConfigError
 from .hooks.keys import KEYED
-from .schema import NON_NEGATIVE, POSITIVE, K
+from .schema import NON_NEGATIVE, POSITIVE, K, with_defaults
+from .schemes import DEFAULT, SCHEMES
 
 SHARED = {
     "run": {
@@ -19,6 +20,9 @@ SHARED = {
     },
     "numerics": {
         "dx": K(0.03, "initial particle spacing", "m", POSITIVE),
+        "scheme": K(DEFAULT, "the numerics scheme (tisph/schemes.py): default (waves, sloshing, impacts) | paper000 "
+                    "(paper 000's Table 2) | paper002 (paper 002) | bed (the sand bed's calibration); named in a "
+                    "case file, it sets every numerics key the file leaves unset", choices=tuple(SCHEMES)),
         "h_factor": K(1.3, "smoothing length h = h_factor * dx", range=(1.0, 3.0, True, True)),
         "kernel": K("cubic", "cubic (paper 000 eq. 5) | wendland (paper 002 eq. 6)", choices=("cubic", "wendland")),
         "wall": K("dynamic", "dynamic (DBC) | repulsive (paper 000 eq. 6) | adami (pressure from the water, "
@@ -58,6 +62,9 @@ SHARED = {
         "live": K(False, "show each frame in a window as it is rendered (--live; needs a display)"),
     },
 }
+
+# the keys a scheme sets take the default scheme's values
+SHARED["numerics"] = with_defaults(SHARED["numerics"], **SCHEMES[DEFAULT])
 
 # The turbulence closure's keys: only a scene with SPS turbulence (the pipeline) has them, in its
 # SCHEMA's [numerics]; elsewhere they are refused by name.

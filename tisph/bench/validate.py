@@ -16,6 +16,7 @@ import time
 
 import numpy as np
 
+from ..constants import G
 from ..io import ensure_dir, read_csv, write_text
 from .common import ROOT, run_case, table
 from ..measure.plots import pyplot, save
@@ -47,6 +48,14 @@ CASES = [
     Case("Still water in a tank", "scenes.tank", "pressure_error", "pressure against rho g d, below the top two rows",
          "hydrostatics", (0.04, 0.02), 0.05, overrides={"run.end_time": 2.0}, quick_overrides={"run.end_time": 0.2},
          probes=("speed_ratio",), also=("density_error",)),
+    # the first mode of a closed tank: linear theory's period for L = 0.9 m, d = 0.3 m (the case
+    # file's header); the loss a period beside it (linear theory: none)
+    Case("Sloshing, first mode (linear theory)", "scenes.custom", "left_period", "period error",
+         "linear theory, omega^2 = g k tanh(k d), k = pi / L", (0.02, 0.01), 0.03, config="sloshing.toml",
+         quick_overrides={"run.end_time": 1.0}, probes=("eta_left", "eta_right"),
+         reference_value=2 * np.pi / np.sqrt(G * np.pi / 0.9 * np.tanh(np.pi / 0.9 * 0.3)),
+         also=("left_loss_per_period", "right_loss_per_period", "max_density_error"),
+         note="The amplitude lost a period is the numerics' dissipation (linear theory keeps it)."),
     Case("Poiseuille, Newtonian", "validation.poiseuille", "velocity_l2_error", "L2 velocity error",
          "the exact parabola (periodic plane channel, Morris no-slip walls)", (0.01, 0.005), 0.01,
          overrides={"materials.fluid.yield_stress": 0.0, "geometry.length": 0.08}, quick_overrides={"run.end_time": 0.3},

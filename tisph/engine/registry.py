@@ -6,7 +6,7 @@ config key that sets it), and test it (tests/test_terms.py).
 """
 from ..boundaries.bed import MovingBed
 from ..boundaries.paddle import Paddle
-from ..boundaries.walls import DynamicWall, ExtrapolatedWall, NoSlip, RepulsiveWall
+from ..boundaries.walls import DynamicWall, ExtrapolatedWall, NoSlip, RepulsiveWall, WallImpact
 from ..boundaries.zones import Container, Damping, Drive, Inflow, Outflow, Spray
 from ..physics.fluid import (XSPH, ArtificialViscosity, Continuity, DensityDiffusion, LaminarViscosity,
                              Pressure, Shifting, VelocityGradient)
@@ -17,7 +17,7 @@ from ..physics.turbulence import SPS, TKE, Omega
 
 MODULES = (
     RepulsiveWall,        # view: the wall particle mirrors i's pressure; Lennard-Jones force first
-    Continuity, Pressure, ArtificialViscosity,
+    Continuity, Pressure, WallImpact, ArtificialViscosity,
     NoSlip,               # the ghost velocity, before the viscous terms read it
     LaminarViscosity, VelocityGradient, TKE, Omega, SPS, DEM, Drag, DensityDiffusion, XSPH, Shifting, Suspension,
     Rheology,             # finish: the effective viscosity for the next step (may rest the plug)

@@ -18,8 +18,12 @@ KEYED = {p.key: p for p in (
           key="numerics.artificial_viscosity"),
     Param(0.0, "-", (0.0, 2.0, True, True),
           "above artificial_viscosity: the alpha of a pair with a particle at the free surface (its position "
-          "divergence under 1.5), where droplets and the swash ring (with artificial_viscosity 0 too); 0: alpha everywhere",
-          key="numerics.artificial_viscosity_surface"),
+          "divergence under surface_divergence), where droplets and the swash ring (with artificial_viscosity 0 "
+          "too); 0: alpha everywhere", key="numerics.artificial_viscosity_surface"),
+    Param(1.5, "-", (0.0, 2.0, False, True),
+          "the position divergence -sum_j V_j r_ij . grad W_ij under which artificial_viscosity_surface acts (2 "
+          "inside the water; a flat surface's top row 1.15 with Wendland h = 2.5 dx, 1.28 with the cubic at 1.3 "
+          "dx; a sheet two rows thick 0.64 and 1.16; a lone particle 0)", key="numerics.surface_divergence"),
     Param(0.1, "-", (0.0, 1.0, True, True), "density diffusion coefficient",
           key="numerics.delta"),
     Param(0.0, "-", (0.0, 10.0, True, True),

@@ -1,4 +1,6 @@
 """Numerical gauges: the free surface (or a sediment surface) along x from the particles."""
+import functools
+
 import numpy as np
 
 from ..kernels import CubicSpline2D as K
@@ -42,6 +44,28 @@ def surface_heights(st, xs, dx, h, floor=0.0, mat=0):
             if i + 1 < len(ys):   # where the fraction crosses 1/2 between two samples
                 out[k] += step * (frac[i] - 0.5) / max(frac[i] - frac[i + 1], 1e-12)
     return out
+
+
+@functools.lru_cache(maxsize=None)
+def lattice_offset(dx, h):
+    """What surface_heights reads above still water on the particle lattice, whose surface (the
+    water's mass level) is half a spacing above its top row's centres: the gauge subtracts it, so
+    it reads the water's level, whatever the surface at the start (a tilted one included)."""
+    n = int(np.ceil(K.support * h / dx)) + 2
+    X, Y = np.meshgrid(np.arange(-n, n + 1) * dx, (np.arange(-2 * n, 0) + 0.5) * dx)
+    st = {"x": np.c_[X.ravel(), Y.ravel()], "kind": np.full(X.size, FLUID), "m": np.full(X.size, dx * dx),
+          "rho": np.ones(X.size)}
+    return float(surface_heights(st, [0.0], dx, h, floor=-1e9, mat=None)[0])
+
+
+def particle_surface(st, xg, dx, mat=0):
+    """The water's own surface over x at a lattice start: the top particle of material `mat`
+    (None: every fluid) within half a spacing of x, plus half a spacing; None where dry."""
+    fl = st["kind"] == FLUID
+    if mat is not None and st.get("mat") is not None:
+        fl &= st["mat"] == mat
+    near = fl & (np.abs(st["x"][:, 0] - xg) <= 0.5 * dx + 1e-9)
+    return float(st["x"][near, 1].max()) + 0.5 * dx if near.any() else None
 
 
 def surface_at(st, xg, dx, h, floor=0.0, mat=0):

@@ -25,9 +25,9 @@ from typing import Iterable
 import numpy as np
 
 from ..particles import FLUID, SPRAY
-from .field import shepard_at, surface_heights
+from .field import lattice_offset, particle_surface, shepard_at, surface_heights
 from .plots import pyplot, save
-from .records import arrival_time, crossing_period_and_level, height_at, wave_height
+from .records import arrival_time, crossing_period_and_level, free_oscillation, height_at, wave_height
 
 # a point reads the water only where the water fraction sum V W is at least this (DualSPHysics'
 # MeasureTool's KClimit): elsewhere it is dry (NaN; nothing in a force)
@@ -78,17 +78,22 @@ class Site:
 
 
 class SurfaceGauge(Gauge):
-    """The free surface at x, less the still-water level `level`, zeroed at the first reading (the
-    SPH surface of a lattice reads about dx/2 under the water's mass level, as a laboratory gauge
-    is zeroed in still water). floor and mat: where the surface search starts and which
-    material counts as water (None: every fluid)."""
+    """The free surface at x above the still-water level `level`. The SPH surface reads under the
+    water's own, by an offset taken at the first reading. A scene whose water starts still at
+    `level` (the flume, the beach) zeroes the gauge there, as a laboratory gauge is zeroed in
+    still water (`still_start`). A case file's water may start tilted or moving: its offset is
+    taken against the particles' own surface at x (the top particle within half a spacing, plus
+    half a spacing), so the record starts at the water's level; a gauge dry at the start takes
+    a deep still surface's offset on the lattice (field.lattice_offset). floor and mat: where the
+    surface search starts and which material counts as water (None: every fluid)."""
     type = "surface"
     needs = {"x": "a number (m): a surface gauge's position"}
     prefixes = ("eta",)
     panel = ("surface (m)", 1.0)
 
-    def __init__(self, label, x, from_time=0.0, floor=-1e9, mat=None, level=0.0, column=None):
+    def __init__(self, label, x, from_time=0.0, floor=-1e9, mat=None, level=0.0, column=None, still_start=False):
         super().__init__(label, from_time)
+        self.still_start = still_start
         self.x, self.floor, self.mat, self.level = float(x), floor, mat, level
         self.column = column
         self.zero = None
@@ -103,10 +108,12 @@ class SurfaceGauge(Gauge):
         for (floor, mat), run in itertools.groupby(gauges, key=lambda g: (g.floor, g.mat)):
             run = list(run)
             for g, z in zip(run, surface_heights(st, [g.x for g in run], site.dx, site.h, floor=floor, mat=mat)):
-                eta = float(z) - g.level
-                if g.zero is None:
-                    g.zero = eta
-                out.append([eta - g.zero])
+                if g.zero is None and g.still_start:
+                    g.zero = float(z) - g.level
+                elif g.zero is None:
+                    top = particle_surface(st, g.x, site.dx, mat)
+                    g.zero = float(z) - top if top is not None else lattice_offset(site.dx, site.h)
+                out.append([float(z) - g.level - g.zero])
         return out
 
     def metrics(self, c, t, w, period):
@@ -116,6 +123,11 @@ class SurfaceGauge(Gauge):
             H, n = wave_height(t, e, self.from_time, float(t[-1]), period)
             out[f"{self.label}_wave_height"] = H if n else float("nan")
             out[f"{self.label}_waves"] = int(n)
+        else:       # no wave maker: the water's own oscillation (sloshing, a seiche)
+            T, loss, n = free_oscillation(np.asarray(t)[w], e[w])
+            if n:
+                out.update({f"{self.label}_period": T, f"{self.label}_loss_per_period": loss,
+                            f"{self.label}_cycles": n})
         return out
 
 
@@ -312,7 +324,7 @@ class WaveGauges(GaugeSet):
                           f"still-water shoreline is at x = {dry_from:.3g} m): their wave heights are reported "
                           "as null")
         cols = tuple(columns or (f"eta_x{x:.2f}" for x in self.xs))
-        super().__init__([SurfaceGauge(col, x, floor=0.0, mat=0, level=level, column=col)
+        super().__init__([SurfaceGauge(col, x, floor=0.0, mat=0, level=level, column=col, still_start=True)
                           for x, col in zip(self.xs, cols)], dx, h)
 
     @property

@@ -68,8 +68,9 @@ class ArtificialViscosity(Module):
     """Monaghan's artificial viscosity, paper 000 eq. 9; its signal speed enters the time step.
 
     With numerics.artificial_viscosity_surface above alpha, a pair with a particle at the free
-    surface (its position divergence -sum_j V_j r_ij . grad W_ij, 2 inside a 2D fluid, under 1.5,
-    DualSPHysics' threshold; one step behind) takes that alpha instead. A particle with part of
+    surface (its position divergence -sum_j V_j r_ij . grad W_ij, 2 inside a 2D fluid, under
+    numerics.surface_divergence: 1.5, DualSPHysics' threshold, or 1.0 in the default scheme,
+    sheets and droplets only; one step behind) takes that alpha instead. A particle with part of
     its support empty has no neighbours to carry an oscillation away as sound: a few particles
     torn off a breaker, or left in the swash, ring as the Tait tension pulls them together and
     apart (density +-20 % at alpha 0.01, docs/waves.md), where a constant alpha large enough to
@@ -78,7 +79,8 @@ class ArtificialViscosity(Module):
     pair_once = {"mu": "max"}
     on = {"artificial_viscosity": True}
     params = {"alpha": KEYED["numerics.artificial_viscosity"],
-              "alpha_s": KEYED["numerics.artificial_viscosity_surface"]}
+              "alpha_s": KEYED["numerics.artificial_viscosity_surface"],
+              "div_s": KEYED["numerics.surface_divergence"]}
     acc = {"mu": "real"}
     SURFACE_DIV = SURFACE_DIV
 
@@ -136,7 +138,7 @@ class ArtificialViscosity(Module):
     def finish(self, S, i, mi, acc: ti.template(), pt: ti.template()):
         pt.mumax = ti.max(pt.mumax, acc.mu)
         if ti.static(self.surface):
-            S.p.fs[i] = 1.0 if acc.dvr < self.SURFACE_DIV else 0.0
+            S.p.fs[i] = 1.0 if acc.dvr < S.prm[None].div_s else 0.0
 
 
 @ti.data_oriented

@@ -14,6 +14,7 @@ from .loop import Run
 from .setup import Log, build_case
 from ..describe import describe
 from ..viz.live import display_problem
+from ..schemes import apply_scheme
 
 
 def run_case(case, cfg, out, log, scene_name, restart=None, force=False):
@@ -62,8 +63,10 @@ def resolve(scene, config=None, overrides=None):
     if isinstance(config, str) and cfg.get("domain", {}).get("base_dir") == "":
         cfg["domain"]["base_dir"] = os.path.dirname(os.path.abspath(config))   # a case's files sit beside it
     check_materials(cfg)
+    given = given_keys(config, overrides)
+    cfg.notes += apply_scheme(cfg, given)
     if hasattr(scene, "derive"):
-        cfg.notes += scene.derive(cfg, given_keys(config, overrides))
+        cfg.notes += scene.derive(cfg, given)
     if hasattr(scene, "check"):
         scene.check(cfg)
     return cfg

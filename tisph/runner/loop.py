@@ -250,7 +250,7 @@ class Run(Outputs):
         wall = self.wall_so_far()
         rate = s.n * (s.steps - self.steps0) / max(self.step_s, 1e-9)
         left = max(wall / max(s.time, 1e-12) * (t_end - s.time), 0.0)
-        self.log(f"progress {100.0 * s.time / t_end:3.0f} %: t = {s.time:.4g} of {t_end:g} s, step {s.steps}, "
+        self.log(f"progress {min(100.0 * s.time / t_end, 100.0):3.0f} %: t = {s.time:.4g} of {t_end:g} s, step {s.steps}, "
                  f"dt = {s.dt:.3g} s, {rate:.3g} particle-steps/s, wall {wall:.0f} s, about {left:.0f} s left")
 
     def _on_unstable(self, message):

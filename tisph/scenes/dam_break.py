@@ -23,14 +23,14 @@ from ..profiles import depth_profile, plot_profiles, write_profile
 from ..case import make_case
 from ..runner import common_params, run_scene, sound_speed
 from ..validation import martin_moyce, shallow_water
+from ..schemes import numerics
 
 NAME = "dam_break"
 
 
 SCHEMA = {
     "run": {"end_time": K(0.7902, "T = t sqrt(2 g / a) = 3.5 for a = 1 m", "s")},
-    "numerics": {"dx": 0.03, "h_factor": 1.3, "artificial_viscosity": 0.1,
-                 "density_diffusion": "fourtakas", "delta": 0.1},
+    "numerics": numerics("default", dx=0.03),
     "geometry": {
         "tank_width": K(4.0, "the tank's inside length", "m", range=POSITIVE),
         "tank_height": K(4.0, "the tank's walls' height", "m", range=POSITIVE),

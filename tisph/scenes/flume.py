@@ -42,6 +42,7 @@ from ..waves.paddle import PADDLE, check_paddle, paddle, resolve_paddle
 from ..waves.theory import linear_wave
 from ..measure.plots import pyplot, save
 from ..io import write_csv
+from ..schemes import numerics
 
 NAME = "flume"
 
@@ -49,9 +50,7 @@ NAME = "flume"
 SCHEMA = {
     "run": {"end_time": K(16.0, "long enough for the wave reflected from the far end to be back over the "
                             "array (reflection)", "s")},
-    "numerics": {"dx": 0.0125, "h_factor": 2.5, "kernel": "wendland", "wall": "adami", "wall_layers": 5,
-                 "artificial_viscosity": 0.0, "laminar_viscosity": True, "density_diffusion": "antuono",
-                 "delta": 0.1},
+    "numerics": numerics("default", dx=0.0125),
     "geometry": {
         "length": K(4.5, "paddle (x = 0) to the end wall", "m", range=POSITIVE),
         "depth": K(0.25, "still water", "m", range=POSITIVE),

@@ -22,6 +22,7 @@ from ..particles import ParticleSet, block, hydrostatic_density, tait_B, wall_de
 from ..profiles import surface_profile, write_profile, plot_profiles
 from ..case import make_case
 from ..runner import common_params, run_scene, sound_speed
+from ..schemes import numerics
 
 NAME = "hatch"
 
@@ -29,8 +30,7 @@ NAME = "hatch"
 SCHEMA = {
     "run": {"end_time": 0.3},
     # Paper Table 1: 900 water particles at 0.005 m (30 x 30); h = 1.5 dx as in its Table 2.
-    "numerics": {"dx": 0.005, "h_factor": 1.5, "artificial_viscosity": 0.02,
-                 "density_diffusion": "fourtakas", "delta": 0.1},
+    "numerics": numerics("default", dx=0.005),
     "geometry": {
         "reservoir_length": K(0.15, "the reservoir behind the gate", "m", range=POSITIVE),
         "water_depth": K(0.15, "the water in it at the start", "m", range=POSITIVE),

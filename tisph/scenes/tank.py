@@ -18,14 +18,14 @@ from ..particles import (ParticleSet, block, box_walls, density_from_pressure, l
                          FLUID, WALL)
 from ..case import make_case
 from ..runner import common_params, run_scene, sound_speed
+from ..schemes import numerics
 
 NAME = "tank"
 
 
 SCHEMA = {
     "run": {"end_time": 2.0},
-    "numerics": {"dx": 0.02, "h_factor": 1.3, "artificial_viscosity": 0.1,
-                 "density_diffusion": "fourtakas", "delta": 0.1},
+    "numerics": numerics("default", dx=0.02),
     "geometry": {
         "width": K(0.5, "the tank's inside width", "m", range=POSITIVE),
         "depth": K(0.5, "still water", "m", range=POSITIVE),

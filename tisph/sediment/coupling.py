@@ -64,9 +64,6 @@ CHOICES = choices(SEDIMENT, "sediment")
 WAVE_RIPPLES = dict(model="bedload", grain_density=2650.0, shear="waves", reference_height=1.5, outer_height=6.0,
                     lee_vortex=0.5, separation_length=6.0, separation_slope=10.0, separation_excursion=0.6,
                     gravity_coefficient=1.8, vortex_throw=1.0, throw_distance=1.0)
-# the water over it: no artificial viscosity (alpha h c0 / 8's Stokes layer is 1.6 dx at the tunnel's c0)
-WAVE_NUMERICS = dict(h_factor=1.3, artificial_viscosity=0.0, laminar_viscosity=True, density_diffusion="fourtakas",
-                     delta=0.1)
 # the fastest the bed may move, in units of the sound speed (BedCoupler.check_speed)
 BED_MACH = 0.2
 # the shears scaled to the far field (the pipeline's undisturbed bed and its current's u*)

@@ -55,8 +55,13 @@ from ...measure.plots import pyplot, save
 from ...sediment import coupling
 from ...waves.absorb import with_control
 from .bedload import build_bedload
+from ...schemes import numerics
 
 NAME = "beach"
+# where the scene departs from its scheme (tisph/schemes.py), and why: breaking waves (below)
+DEPARTS = {"artificial_viscosity": "breaking waves compress the water without it (below)",
+           "artificial_viscosity_surface": "droplets and the swash's film ring without it (below)",
+           "laminar_viscosity": "alpha's viscosity is 500 times the water's; the bed was calibrated so"}
 # Bedforms longer than this many wavelengths (bars, the shoreline's retreat) are filtered out before
 # the ripples are counted; shorter than 3 dx or lower than dx / 2 is not a ripple (tisph/ripples.py).
 RIPPLE_WINDOW = 0.25
@@ -64,15 +69,15 @@ RIPPLE_WINDOW = 0.25
 
 SCHEMA = {
     "run": {"end_time": 22.0},
-    # the tunnel's numerics (coupling.WAVE_NUMERICS) but for breaking waves: without artificial
+    # the tunnel's numerics (the bed scheme) but for breaking waves: without artificial
     # viscosity the breakers compress the water (99.9th percentile of the density error 3.5 %, 1.1 %
     # with alpha 0.01); the bed's outer scaling takes away the slower near-bed flow alpha's Stokes
     # layer makes. At the free surface, 0.1: droplets torn off a breaker and the swash's thin film
     # ring under the Tait tension (largest density error 20-25 % at 0.01, 7.7 % at 0.05, 2.1 % at
     # 0.1; a constant alpha of 0.03 holds them but takes 13-18 % off the breaking height;
     # docs/waves.md). The Bingham beaches set their own alpha.
-    "numerics": dict(coupling.WAVE_NUMERICS, dx=0.015, artificial_viscosity=0.01, artificial_viscosity_surface=0.1,
-                     laminar_viscosity=False),
+    "numerics": numerics("bed", dx=0.015, artificial_viscosity=0.01, artificial_viscosity_surface=0.1,
+                         laminar_viscosity=False),
     "geometry": {
         "length": K(8.0, "paddle (x = 0) to the end wall", "m", range=POSITIVE),
         "depth": K(0.3, "still water over the flat sand", "m", range=POSITIVE),

@@ -32,13 +32,13 @@ from .elements import ELEMENTS, entries, numbers  # noqa: F401  (ELEMENTS: --des
 from .gauges import CaseGauges
 from .layout import Layout, who
 from .sand import SAND, SEDIMENT, SandBed, check as check_sand
+from ...schemes import numerics
 
 NAME = "custom"
 
 SCHEMA = {
     "run": {"end_time": 1.0},
-    "numerics": {"dx": 0.02, "h_factor": 1.3, "artificial_viscosity": 0.1, "density_diffusion": "fourtakas",
-                 "delta": 0.1},
+    "numerics": numerics("default", dx=0.02),
     "domain": {
         "box": K([], "[x0, x1, z0, z1] m: the region particles may occupy (a particle leaving it is lost)"),
         "gravity": K(9.81, "acting in -z", "m/s2", POSITIVE),
@@ -173,8 +173,14 @@ def build(cfg):
     rho0 = cfg["materials"]["water"]["rho0"]
     water = lay.pts[lay.water]
     height = float(water[:, 1].max() - water[:, 1].min()) + dx
-    # free fall from the water's height bounds the speeds of a collapse and of a wave's crest
-    c0, u_max = sound_speed(cfg, math.sqrt(2 * g * height), height, g)
+    # the fastest the water can go: free fall from its highest point to the lowest solid (or the
+    # box's floor) under the box, plus any speed it starts with; it bounds a collapse's, a jet's
+    # and a wave crest's speed (a breakwater's water falls into a basin below its own bottom)
+    walls = lay.pts[lay.wall]
+    lowest = min(float(water[:, 1].min()) - 0.5 * dx, float(walls[:, 1].min()) if len(walls) else np.inf)
+    drop = float(water[:, 1].max()) + 0.5 * dx - max(lowest, box[2])
+    u0 = float(np.hypot(*lay.velocity[lay.water].T).max()) if lay.water.any() else 0.0
+    c0, u_max = sound_speed(cfg, u0 + math.sqrt(2 * g * drop), height, g)
     params = common_params(cfg, c0, g, depth=height)
     p = cfg["paddle"]
     physics_kw, period, paddle_parts, sand = {}, None, None, None

@@ -44,6 +44,7 @@ from .common import (NAME, add_pipe, friction_velocity, geometry, has_bedload, i
                        log_law, profile_time, ring)
 from .record import ScourRecord, streamlines_event
 from .bedload import bed_stations, far_field, build_bedload
+from ...schemes import numerics
 
 
 
@@ -53,8 +54,7 @@ SCHEMA = {
     # Wendland kernel (paper 002 eq. 6), laminar viscosity + SPS (eq. 10), Shepard every 200 steps
     # is an option (shepard_every = 200); density diffusion is the default
     # c0 = 18 m/s: Table 3's c_0m
-    "numerics": dict(TURBULENCE, dx=0.01, h_factor=1.3, kernel="wendland", artificial_viscosity=0.0,
-                     laminar_viscosity=True, density_diffusion="fourtakas", delta=0.1, c0=18.0),
+    "numerics": dict(TURBULENCE, **numerics("paper002", dx=0.01, c0=18.0)),
     "geometry": {
         "pipe_diameter": K(0.1, "D", "m", range=POSITIVE),
         "water_depth": K(0.35, "above the undisturbed bed", "m", range=POSITIVE),

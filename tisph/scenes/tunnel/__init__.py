@@ -42,6 +42,7 @@ from ...sediment.morfac import CALIBRATION
 from .bedload import build_bedload, near_bed_ratio  # noqa: F401  (near_bed_ratio: the tests read it here)
 from .drive import (BED_PERIODS, CREST_SPEED, TunnelDrive, free_stream, morfac_limit, seed_count,  # noqa: F401
                     seed_rms, turnover_periods)
+from ...schemes import numerics
 
 NAME = "tunnel"
 # periods of bed change (wave periods x morfac) a run needs: the ripples' growth and 100 held
@@ -49,7 +50,7 @@ NAME = "tunnel"
 
 SCHEMA = {
     "run": {"end_time": 40.0},
-    "numerics": dict(coupling.WAVE_NUMERICS, dx=0.01),
+    "numerics": numerics("bed", dx=0.01),
     "geometry": {
         "length": K(1.2, "periodic length", "m", range=POSITIVE),
         "water_depth": K(0.15, "water above the bed", "m", range=POSITIVE),
