@@ -144,7 +144,7 @@ def test_changed_config_refused_on_restart_unless_forced(tmp_path, capsys):
     code = run_scene(dam_break, ["--dx", "0.06", "--config", str(cfg), "--end-time", "0.02", "--no-render",
                                  "--quiet", "--out", out, "--restart", ck])
     err = capsys.readouterr().err
-    assert code == 2 and "numerics.artificial_viscosity: 0.1 -> 0.2" in err and "--force" in err
+    assert code == 2 and "numerics.artificial_viscosity: 0.0 -> 0.2" in err and "--force" in err
     code = run_scene(dam_break, ["--dx", "0.06", "--config", str(cfg), "--end-time", "0.02", "--no-render",
                                  "--quiet", "--out", out, "--restart", ck, "--force"])
     assert code == 0

@@ -78,7 +78,10 @@ def test_poiseuille_against_exact(tau_y, l2_bound, tmp_path):
 
 @pytest.mark.slow
 def test_sediment_layer_under_water_stays_put(tmp_path):
-    s = simulate(tank, {"geometry.sediment_depth": 0.2, "run.end_time": 2.0, "output.quiet": True},
+    # the cubic set at h = 1.3 dx with alpha 0.1 (tests/test_hydrostatic.py): the interface's test
+    s = simulate(tank, {"geometry.sediment_depth": 0.2, "run.end_time": 2.0, "output.quiet": True,
+                        "numerics.scheme": "paper000", "numerics.h_factor": 1.3,
+                        "numerics.artificial_viscosity": 0.1, "numerics.xsph": 0.0},
                  out=str(tmp_path))
     m = s["metrics"]
     assert s["status"] == "ok" and s["leaked_particles"] == 0 and m["crossed_wall"] == 0

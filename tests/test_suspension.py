@@ -29,8 +29,11 @@ def test_settling_velocity_and_reference_concentration():
 
 def still_column(tmp_path):
     """A still water column 0.3 m deep in a tank, with the suspension compiled in."""
+    # the cubic set at h = 1.3 dx with alpha 0.1 (tests/test_hydrostatic.py): still water to 0.1 %
     cfg = resolve(tank, overrides={"numerics.dx": 0.01, "geometry.width": 0.2, "geometry.depth": 0.3,
-                                   "geometry.tank_height": 0.35})
+                                   "geometry.tank_height": 0.35, "numerics.scheme": "paper000",
+                                   "numerics.h_factor": 1.3, "numerics.artificial_viscosity": 0.1,
+                                   "numerics.xsph": 0.0})
     case = build_case(tank, cfg, Log(str(tmp_path / "log"), True))
     physics = dataclasses.replace(case.physics, suspension=True)
     s = Solver(physics, case.particles, case.materials, case.domain, case.params)

@@ -27,8 +27,9 @@ SHARED = {
         "kernel": K("cubic", "cubic (paper 000 eq. 5) | wendland (paper 002 eq. 6)", choices=("cubic", "wendland")),
         "wall": K("dynamic", "dynamic (DBC) | repulsive (paper 000 eq. 6) | adami (pressure from the water, "
                     "Adami et al. 2012)", choices=("dynamic", "repulsive", "adami")),
-        "wall_layers": K(3, "layers of dynamic boundary particles", range=(1, 6, True, True)),
-        "wall_strength": K(0.0, "repulsive D (m^2/s^2); 0: auto = 5 g H (Monaghan 1994)", range=NON_NEGATIVE),
+        "wall_layers": K(3, "layers of wall particles (dynamic and extrapolated walls)", range=(1, 6, True, True)),
+        "wall_strength": K(0.0, "D of the Lennard-Jones force (m^2/s^2): repulsive walls', and the extrapolated "
+                              "walls' backstop at 0.75 dx; 0: auto = 5 g H (Monaghan 1994)", range=NON_NEGATIVE),
         "c0": K(0.0, "sound speed (m/s); 0: auto = c0_factor * u_max", range=NON_NEGATIVE),
         "c0_factor": K(10.0, "c0 = this x max(expected speed, sqrt(g depth)) when c0 = 0",
                          range=(1.0, None, True, True)),

@@ -5,7 +5,7 @@ import os
 
 from .codes import PEERS
 from .ladder import __doc__ as LADDER_DOC
-from . import ladder, ripples, waves, standing, validate, speed, shedding, mao_held
+from . import convergence, ladder, ripples, waves, standing, validate, speed, shedding, mao_held
 
 
 def _peers(text):
@@ -68,6 +68,9 @@ def main(argv=None):
     p.add_argument("--standing", action="store_true",
                    help="a standing wave in a closed tank: the height the flume's numerics take per period, with "
                         "each density diffusion (tisph/bench/standing.py; --dx, --end-time in periods)")
+    p.add_argument("--convergence", action="store_true",
+                   help="the breakwater's overtopping and the seawall's peak force at three resolutions, with the "
+                        "observed order and Roache's GCI (tisph/bench/convergence.py; about an hour on two cores)")
     p.add_argument("--peer-finest", type=float, default=0.0125,
                    help="with --waves: the finest dp DualSPHysics runs at (default 0.0125, H/dx = 5; at 0.0075 its two "
                         "runs take about two hours)")
@@ -87,6 +90,8 @@ def main(argv=None):
         return waves.main(a)
     if a.standing:
         return standing.main(a)
+    if a.convergence:
+        return convergence.main(a)
     if a.validate:
         return validate.main(a)
     if a.docs is not None or a.readme is not None:

@@ -98,19 +98,20 @@ WALL_D = Param(0.0, "m2/s2", (0.0, None), "wall strength D of eq. 6 (numerics.wa
 
 @ti.data_oriented
 class WallImpact(Module):
-    """The extrapolated wall's guard against penetration: a fluid particle closing on a wall
-    particle sees, besides the wall's extrapolated pressure, the acoustic pressure of the
-    approach, as the linearised Riemann solver of Zhang, Hu & Adams (2017, J. Comput. Phys.
-    335:605, eqs. 19-22) gives it for a wall whose state mirrors the fluid's (Adami et al.'s
-    wall velocity): 2 rho_i c0 beta u_n beside p_i + p_j, with beta = min(6 u_n / c0, 1) and u_n
-    the speed closing on the wall along its normal (as SPHinXsys takes the wall's normal, so
-    water sliding along a wall, or rising and falling beside it, sees none of it). The normal
-    points away from the wall's own particles around the wall particle (sum_k r_wk W_wk over
-    the boundary particles k), from the extrapolation's pass a step behind: it follows a moving
-    paddle or bed and needs no geometry. (The direction to the water instead tilts down at a
-    wall above the surface, and damped a sloshing tank's contact line.) The limiter keeps it to 12 rho u_n^2 at a wave's speeds
-    and lets it grow to twice the water-hammer pressure rho c0 u_n under an impact, where Adami's extrapolation alone
-    holds a thin film of water at its low pressure and lets it through the wall.
+    """The extrapolated wall's guard against penetration. A fluid particle closing on a wall
+    particle sees, beside the wall's extrapolated pressure, the acoustic pressure of the approach
+    as the linearised Riemann solver of Zhang, Hu & Adams (2017, J. Comput. Phys. 335:605,
+    eqs. 19-22) gives it for a wall whose state mirrors the fluid's: 2 rho_i c0 beta u_n beside
+    p_i + p_j, with beta = min(6 u_n / c0, 1) and u_n the speed closing on the wall along its
+    normal (SPHinXsys takes the wall's normal too: water sliding along a wall, or rising and
+    falling beside it, sees none of it). The limiter keeps it to 12 rho u_n^2 at a wave's speeds
+    and lets it grow to twice the water hammer's rho c0 u_n under an impact, where Adami's
+    extrapolation alone holds a thin film at its low pressure and lets it through the wall.
+
+    The normal points away from the wall's own particles around the wall particle (sum_k r_wk
+    W_wk over the boundary particles k), from the extrapolation's pass a step behind: it follows
+    a moving paddle or bed and needs no geometry. (The direction to the water instead tilts at
+    the dry floor ahead of a surge front and held the front back.)
 
     Behind it, a last guard: paper 000's eq. 6 (Lennard-Jones, D = numerics.wall_strength,
     5 g H by default) with r0 = 0.75 dx. On the lattice no water particle sits closer to a wall
