@@ -2,35 +2,35 @@
 its width, the walls, the viscous terms, the density diffusion, the drift corrections).
 
 A scene's SCHEMA takes one with `numerics(NAME, dx=..., key=value)`; a key it sets beside dx is a
-departure from the scheme, and the scene says why in its DEPARTS ({key: reason}; tests/test_cli.py
+departure from the scheme, and the scene says why in its DEPARTS ({key: reason}; tests/test_schemes.py
 holds every scene to its scheme but for those). A user picks another with numerics.scheme in a
 case file: the keys they leave unset then take that scheme's values (docs/engine.md).
 """
 
+# waves, sloshing, impacts and sheets (docs/engine.md, docs/waves.md): Wendland h = 2.5 dx, walls
+# that carry the water's pressure (Adami et al. 2012) with the Riemann guard of boundaries/walls.py,
+# the water's own viscosity, renormalised density diffusion; alpha 0.1 only in a pair with a
+# particle thinner-surrounded than a flat surface's top row (a sheet or a droplet: position
+# divergence under 1.0, the top row's 1.15), which ring without it
+_DEFAULT = {"kernel": "wendland", "h_factor": 2.5, "wall": "adami", "wall_layers": 5, "laminar_viscosity": True,
+            "density_diffusion": "antuono", "delta": 0.1, "artificial_viscosity": 0.0,
+            "artificial_viscosity_surface": 0.1, "surface_divergence": 1.0, "xsph": 0.0, "shifting": 0.0}
+# what the presets share: dynamic walls, Fourtakas' diffusion, no drift correction, no surface alpha
+_DYNAMIC = dict(_DEFAULT, wall="dynamic", wall_layers=3, density_diffusion="fourtakas",
+                artificial_viscosity_surface=0.0, surface_divergence=1.5)
+# paper 002: Wendland (eq. 6) at h = 1.3 dx, laminar viscosity (eq. 10)
+_PAPER002 = dict(_DYNAMIC, h_factor=1.3)
 SCHEMES = {
-    # waves, sloshing, impacts and sheets (docs/engine.md, docs/waves.md): Wendland h = 2.5 dx,
-    # walls that carry the water's pressure (Adami et al. 2012) with the Riemann guard of
-    # boundaries/walls.py, the water's own viscosity, renormalised density diffusion; alpha 0.1
-    # only in a pair with a particle thinner-surrounded than a flat surface's top row (a sheet
-    # or a droplet: position divergence under 1.0, the top row's 1.15), which ring without it
-    "default": {"kernel": "wendland", "h_factor": 2.5, "wall": "adami", "wall_layers": 5, "laminar_viscosity": True,
-                "density_diffusion": "antuono", "delta": 0.1, "artificial_viscosity": 0.0,
-                "artificial_viscosity_surface": 0.1, "surface_divergence": 1.0, "xsph": 0.0, "shifting": 0.0},
-    # paper 000's Table 2 (h = 1.5 L0, XSPH 0.1) with dynamic walls, alpha 0.02 and density
-    # diffusion: its dam breaks on dry and wet beds and its hatch
-    "paper000": {"kernel": "cubic", "h_factor": 1.5, "wall": "dynamic", "wall_layers": 3, "laminar_viscosity": False,
-                 "density_diffusion": "fourtakas", "delta": 0.1, "artificial_viscosity": 0.02,
-                 "artificial_viscosity_surface": 0.0, "surface_divergence": 1.5, "xsph": 0.1, "shifting": 0.0},
-    # paper 002: Wendland (eq. 6) at h = 1.3 dx, laminar viscosity (eq. 10), dynamic walls
-    "paper002": {"kernel": "wendland", "h_factor": 1.3, "wall": "dynamic", "wall_layers": 3, "laminar_viscosity": True,
-                 "density_diffusion": "fourtakas", "delta": 0.1, "artificial_viscosity": 0.0,
-                 "artificial_viscosity_surface": 0.0, "surface_divergence": 1.5, "xsph": 0.0, "shifting": 0.0},
+    "default": _DEFAULT,
+    # paper 000's Table 2 (h = 1.5 L0, XSPH 0.1) with alpha 0.02 and density diffusion: its dam
+    # breaks on dry and wet beds and its hatch
+    "paper000": dict(_DYNAMIC, kernel="cubic", h_factor=1.5, laminar_viscosity=False, artificial_viscosity=0.02,
+                     xsph=0.1),
+    "paper002": _PAPER002,
     # the numerics the sand bed's constants were calibrated with (docs/sediment.md): the tunnel's
     # and the beach's; a bed calibrated on one scheme is not carried to another untested. No
     # artificial viscosity: alpha h c0 / 8's Stokes layer is 1.6 dx at the tunnel's c0
-    "bed": {"kernel": "cubic", "h_factor": 1.3, "wall": "dynamic", "wall_layers": 3, "laminar_viscosity": True,
-            "density_diffusion": "fourtakas", "delta": 0.1, "artificial_viscosity": 0.0,
-            "artificial_viscosity_surface": 0.0, "surface_divergence": 1.5, "xsph": 0.0, "shifting": 0.0},
+    "bed": dict(_PAPER002, kernel="cubic"),
 }
 DEFAULT = "default"
 SCHEME_KEYS = tuple(SCHEMES[DEFAULT])

@@ -129,9 +129,9 @@ class WallImpact(Module):
     @ti.func
     def pair(self, S, i, j, r, r2, nb, acc: ti.template()):
         if nb.kj != FLUID:
-            pj = riemann_wall_pressure(acc.rhoi, S.prm[None].c0, nb.v_ij, S.tmp.nw[j])
-            acc.a += pressure_accel(nb.m_j, 0.0, pj, acc.inv_rhoi, nb.ir_j, nb.gw)
             prm = S.prm[None]
+            pj = riemann_wall_pressure(acc.rhoi, prm.c0, nb.v_ij, S.tmp.nw[j])
+            acc.a += pressure_accel(nb.m_j, 0.0, pj, acc.inv_rhoi, nb.ir_j, nb.gw)
             acc.a += lennard_jones(prm.wall_D, prm.guard_r0, r, r2)
 
     @ti.func

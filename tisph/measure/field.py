@@ -7,12 +7,18 @@ from ..kernels import CubicSpline2D as K
 from ..particles import FLUID
 
 
-def _near_columns(st, mat, xs, reach, field="v"):
-    """The particles of material `mat` (None: every fluid), sorted by x, as (x, st[field],
-    volume), and for each position in xs the index range [lo, hi) of those within `reach` of it in x."""
+def _water(st, mat):
+    """The fluid particles of material `mat` (None: every fluid)."""
     fl = st["kind"] == FLUID
     if mat is not None and st.get("mat") is not None:
         fl &= st["mat"] == mat
+    return fl
+
+
+def _near_columns(st, mat, xs, reach, field="v"):
+    """The particles of material `mat` (None: every fluid), sorted by x, as (x, st[field],
+    volume), and for each position in xs the index range [lo, hi) of those within `reach` of it in x."""
+    fl = _water(st, mat)
     order = np.argsort(st["x"][fl][:, 0])
     x = st["x"][fl][order]
     v = np.asarray(st[field])[fl][order] if field in st else None
@@ -61,10 +67,7 @@ def lattice_offset(dx, h):
 def particle_surface(st, xg, dx, mat=0):
     """The water's own surface over x at a lattice start: the top particle of material `mat`
     (None: every fluid) within half a spacing of x, plus half a spacing; None where dry."""
-    fl = st["kind"] == FLUID
-    if mat is not None and st.get("mat") is not None:
-        fl &= st["mat"] == mat
-    near = fl & (np.abs(st["x"][:, 0] - xg) <= 0.5 * dx + 1e-9)
+    near = _water(st, mat) & (np.abs(st["x"][:, 0] - xg) <= 0.5 * dx + 1e-9)
     return float(st["x"][near, 1].max()) + 0.5 * dx if near.any() else None
 
 

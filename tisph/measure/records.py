@@ -17,6 +17,11 @@ def wave_height(t, eta, t0, t1, period):
     return (float(np.mean(hs)) if hs else float("nan")), len(hs)
 
 
+def _crossing_times(t, d, up):
+    """The times d crosses zero upwards, interpolated between samples up and up + 1."""
+    return t[up] - d[up] * (t[up + 1] - t[up]) / (d[up + 1] - d[up])
+
+
 def crossing_period_and_level(t, eta, t0, t1):
     """(mean zero up-crossing period about the window's mean, that mean level) of eta over
     [t0, t1]: what a gauge's record says of the waves' period and of the set-up or set-down.
@@ -42,7 +47,7 @@ def crossing_period_and_level(t, eta, t0, t1):
     up = np.array(up, int)
     if len(up) < 2:
         return float("nan"), level
-    tc = tt[up] - d[up] * (tt[up + 1] - tt[up]) / (d[up + 1] - d[up])
+    tc = _crossing_times(tt, d, up)
     if len(tc) < 2:
         return float("nan"), level
     whole = (tt >= tc[0]) & (tt < tc[-1])          # the level over whole waves only
@@ -64,7 +69,7 @@ def free_oscillation(t, eta):
     up = np.nonzero((e[:-1] < 0) & (e[1:] >= 0))[0]
     if len(up) < 4:
         return float("nan"), float("nan"), 0
-    tc = t[up] - e[up] * (t[up + 1] - t[up]) / (e[up + 1] - e[up])
+    tc = _crossing_times(t, e, up)
     amp = np.array([0.5 * (e[a:b + 1].max() - e[a:b + 1].min()) for a, b in zip(up[:-1], up[1:])])
     slope = np.polyfit(np.arange(len(amp)), np.log(amp), 1)[0]
     return float(np.mean(np.diff(tc))), float(1.0 - np.exp(slope)), len(amp)
