@@ -565,12 +565,14 @@ def test_a_ripple_under_the_resolved_spacings_is_warned_about():
 
 
 def test_ripple_statistics_of_an_unresolved_ripple_are_null_with_the_reason():
-    from tisph.ripples import UNRESOLVED_DX, unresolved
+    from tisph.ripples import RESOLVED_DX, unresolved
     m = unresolved({"ripple_length_over_prediction": 2.19, "ripple_steepness": 0.03}, 0.071, 0.02)
     assert m["ripple_length_over_prediction"] is None and m["ripple_steepness"] is None
-    assert "3.5 dx" in m["ripple_metrics_note"] and f"under {UNRESOLVED_DX:g} dx" in m["ripple_metrics_note"]
+    assert "3.5 dx" in m["ripple_metrics_note"] and f"under {RESOLVED_DX:g} dx" in m["ripple_metrics_note"]
     kept = unresolved({"ripple_length_over_prediction": 1.1, "ripple_steepness": 0.15}, 0.186, 0.01)
     assert kept["ripple_length_over_prediction"] == 1.1 and "ripple_metrics_note" not in kept
+    # 12.4 spacings: formed, but the grid's as much as the waves' (the tunnel's 1.0 d0 there)
+    assert unresolved({"ripple_length_over_prediction": 1.6, "ripple_steepness": 0.1}, 0.186, 0.015)["ripple_steepness"] is None
 
 
 def test_a_tunnel_run_too_short_for_its_period_says_the_end_time_it_needs():
@@ -595,7 +597,7 @@ def test_a_tunnel_bed_faster_than_the_default_s_says_the_morfac_that_keeps_it_as
     limit's reference, so the default is at its limit and not warned; at mobility 145 (d0 = 0.4 m,
     T = 1.5 s) the bed turns over 2.4 times as fast: left at its default the tunnel chooses morfac
     4.2, and a morfac 10 the user set is warned with 4.2. The beach takes the rule at its toe:
-    morfac 30 warns with 22.2, its default 22 does not."""
+    left unset it chooses 20.2, and morfac 30 warns with 20.2."""
     import warnings
     from tisph.runner import resolve
     from tisph.scenes import tunnel
@@ -611,13 +613,13 @@ def test_a_tunnel_bed_faster_than_the_default_s_says_the_morfac_that_keeps_it_as
     q = np.mean(bedload_mpm(theta / ((2650 - 1000) * 9.81 * D), shields_critical(D, 2.65))) * transport_scale(D, 2.65)
     assert ripple_turnover_periods(d0, T, D, 2.65, 0.186, 0.03162) == pytest.approx(0.6 * 0.5 * 0.186 * 0.03162 / (q * T), rel=2e-3)
     from tisph.scenes import beach
-    # the beach takes the rule at its toe's linear-wave d0 (0.251 m, T = 2.5 s): its default 22
-    # within it, 30 past it
+    # the beach takes the rule at its toe's linear-wave d0 (0.27 m, T = 2.5 s): 20.2, and 30 past it
+    assert resolve(beach, None, {})["sediment"]["morfac"] == 20.2
     fast = {"geometry.orbital_diameter": 0.4, "geometry.period": 1.5}
     assert resolve(tunnel, None, fast)["sediment"]["morfac"] == 4.2     # left at its default: chosen so
     for scene, ov, warned in ((tunnel, {}, None), (tunnel, fast, None),
                               (tunnel, dict(fast, **{"sediment.morfac": 10.0}), "morfac = 4.2 keeps"),
-                              (beach, {}, None), (beach, {"sediment.morfac": 30.0}, "morfac = 22.2 keeps")):
+                              (beach, {}, None), (beach, {"sediment.morfac": 30.0}, "morfac = 20.2 keeps")):
         with warnings.catch_warnings(record=True) as w:
             warnings.simplefilter("always")
             scene.build(resolve(scene, None, ov))

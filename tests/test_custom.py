@@ -76,7 +76,8 @@ def test_crossing_and_profile(tmp_path):
     (TANK + "[[solid]]\npolygon = [[0.5, 0.5], [1.0, 1.0], [1.0, 0.5], [0.5, 1.0]]\n" + WATER, "solid[1].polygon"),
     (TANK + "[[solid]]\nbox = [0.5, 0.52, 0.1, 1.0]\n" + WATER, "two particle spacings thick"),
     (TANK + "[[solid]]\nbox = [0.5, 1.0, 0.1, 1.0]\ncircle = [1, 1, 0.2]\n" + WATER, "exactly one of"),
-    (TANK + "[[water]]\npolygon = [[0.2, -0.1], [1.0, -0.1], [1.0, 0.5], [0.2, 0.5]]\n", "overlap a solid"),
+    (TANK + "[[solid]]\nbox = [0.8, 1.2, 0.0, 0.3]\n[[water]]\npolygon = [[0.2, 0.0], [1.0, 0.0], [1.0, 0.5], [0.2, 0.5]]\n",
+     "overlap a solid"),
     (TANK.replace("[2.0, 0.0], [2.0, 2.0]", "[2.0, 0.0]") + WATER, "nothing holds it at the domain's right edge"),
     (TANK + WATER + "[[gauge]]\nx = 3.0\n", "gauge[0].x"),
     (TANK + WATER + "[[gauge]]\ntype = \"pressure\"\nx = 1.0\n", "gauge[0].z"),
@@ -94,6 +95,18 @@ def test_bad_case_files_are_refused(tmp_path, capsys, text, expect):
 def test_every_error_at_once(tmp_path, capsys):
     err = refused(tmp_path, capsys, TANK + "[[water]]\nlevl = 0.5\n[[gauge]]\ntype = \"x\"\nx = 1.0\n")
     assert "water[0].levl" in err and "gauge[0].type" in err
+
+
+def test_key_errors_and_the_cases_own_checks_together(tmp_path, capsys):
+    """A typo, a string dx and a gauge outside the box in one file: all three, not the first two."""
+    text = TANK.replace("dx = 0.05", 'dx = "0.05"') + "[run]\nend_tme = 1.0\n" + WATER + "[[gauge]]\nx = 3.0\n"
+    err = refused(tmp_path, capsys, text)
+    assert "run.end_tme" in err and "numerics.dx = '0.05'" in err and "gauge[0].x = 3.0" in err, err
+
+
+def test_water_past_the_box_is_named_as_such(tmp_path, capsys):
+    err = refused(tmp_path, capsys, TANK + "[[water]]\npolygon = [[0, 0], [3, 0], [3, 0.5], [0, 0.5]]\n")
+    assert "corners inside domain.box" in err and "(3, 0) m lies outside it" in err, err
 
 
 def test_dam_break_as_custom_case_matches_the_builtin(tmp_path):

@@ -76,7 +76,8 @@ def test_a_wave_under_three_spacings_and_a_nonlinear_wave_are_warned_about():
 
 
 def test_gauges_on_dry_land_are_warned_about_and_report_no_height():
-    ov = {"geometry.slope": 15.0, "geometry.depth": 0.25, "paddle.stroke": 0.2}
+    ov = {"geometry.slope": 15.0, "geometry.depth": 0.25, "paddle.stroke": 0.2, "geometry.length": 8.0,
+          "geometry.toe_x": 1.5, "geometry.gauges_x": [1.0, 3.0, 4.5, 5.5, 6.5], "numerics.dx": 0.03}
     case = warned(beach, ov, "x = 5.5, 6.5 m stand on dry land", "5.25")
     g = WaveGauges([1.0, 6.0], 0.02, 0.026, 0.3, dry_from=5.25)
     import numpy as np

@@ -39,7 +39,7 @@ def test_every_scene_frame_has_metre_axes(name, ov):
     r = make_renderer(case.picture, cfg["output"], cfg["numerics"]["dx"], name, case.u_max)
     img = r.frame(st, 0.0)
     assert r.left >= 32 and img.shape[1] == r.left + r.W + r.BAR
-    assert len(r.panels) == len(r.modes) + (r.zoom is not None)
+    assert len(r.panels) == len(r.modes) * max(1, len(r.rows)) + (r.zoom is not None)
     for top, H, ((x0, y0), (x1, y1)), _ in r.panels:
         scale = r.W / (x1 - x0)
         xt = [v for v in nice_ticks(x0, x1, max(2, r.W // (6 * r.font_px)))
@@ -60,6 +60,37 @@ def test_every_scene_frame_has_metre_axes(name, ov):
         (a, _), (b, _) = r.zoom.view
         assert b - a == pytest.approx(1.0)              # a metre of the ripple zone
         assert r.zoom.scale == pytest.approx(r.zoom.W / 1.0)
+
+
+def test_a_long_view_is_drawn_in_rows_that_cover_it():
+    """A flume 16 heights long: rows of at most ROW_ASPECT heights' length, end to end, one colour
+    bar; a short tank keeps one panel."""
+    r = Renderer(((0.0, 0.0), (8.0, 0.5)), 640, 0.02, 1.0)
+    assert len(r.rows) == 2
+    assert r.rows[0].view[0][0] == 0.0 and r.rows[0].view[1][0] == r.rows[1].view[0][0] and r.rows[-1].view[1][0] == 8.0
+    n = 400
+    st = dict(x=np.column_stack([np.linspace(0.01, 7.99, n), np.full(n, 0.2)]), v=np.zeros((n, 2)), p=np.zeros(n),
+              rho=np.full(n, 1000.0), kind=np.zeros(n, int), mat=np.zeros(n, int))
+    r.frame(st, 0.0)
+    assert len(r.panels) == 2 and r.panels[0][3] is not None and r.panels[1][3] is None
+    assert Renderer(((0.0, 0.0), (2.0, 1.0)), 640, 0.02, 1.0).rows == []
+
+
+def test_fields_are_drawn_continuous_and_end_at_the_free_surface():
+    """The speed of a block of water interpolated onto the pixels: one colour inside for a uniform
+    field, none a spacing above the top row, and no gaps between particles a pixel apart."""
+    dx = 0.02
+    g = np.mgrid[0:50, 0:10].reshape(2, -1).T * dx + 0.5 * dx
+    n = len(g)
+    r = Renderer(((0.0, 0.0), (1.0, 0.5)), 640, dx, 2.0, axes=False)
+    img = r.frame(dict(x=g, v=np.tile([1.0, 0.0], (n, 1)), p=np.zeros(n), rho=np.full(n, 1000.0),
+                       kind=np.zeros(n, int), mat=np.zeros(n, int)), 0.0)
+    top, H, _, _ = r.panels[0]
+    panel = img[top:top + H, r.left:r.left + r.W].astype(int)
+    inside = panel[H - 1 - int(0.1 * r.scale), 20:r.W // 2]           # 0.1 m up, along the block
+    assert np.ptp(inside, axis=0).max() <= 2                            # one colour, no disc edges
+    above = panel[H - 1 - int((10 * dx + dx) * r.scale), 20:r.W // 2]  # a spacing above the top row
+    assert (above == 255).all()
 
 
 def test_zoom_window_from_the_config_and_its_outline():

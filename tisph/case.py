@@ -52,6 +52,7 @@ class Picture:
     pressure_scale: float = 0.0       # top of the "pressure" panel's colour bar (Pa)
     bed_panel: Callable = None        # bed_panel(x0, x1, n) -> (x, bed change): a panel under the frame
     bed_label: str = ""               # what the bed panel's label adds (the morphological factor)
+    bed_range: float = 0.0            # m: the bed panel's half-height for the whole movie; 0: grows with the bed
     bed_surface: Callable = None      # bed_surface(x) -> z_b: the sand under it is filled in sand colour
     zoom: tuple = None                # ((x0, y0), (x1, y1)): a window at true scale under the frame
     marks: tuple = ()                 # (x, label) of gauges: a dotted line across the frame

@@ -204,10 +204,14 @@ def get_path(d: dict, path: str):
 
 
 def build_config(scene_defaults: dict, toml_path=None, overrides: dict | None = None,
-                 extra_ranges=None, extra_choices=None) -> dict:
-    """Defaults <- TOML file (or its tables as a dict) <- CLI overrides (dotted paths), validated."""
+                 extra_ranges=None, extra_choices=None, errors=None) -> dict:
+    """Defaults <- TOML file (or its tables as a dict) <- CLI overrides (dotted paths), validated.
+    errors: a list to collect the bad input in instead of raising it; each bad key then keeps its
+    default, so that the scene's own checks can run on the rest and report theirs with it."""
     base = merge(SHARED_DEFAULTS, {}) if not scene_defaults else _deep_union(SHARED_DEFAULTS, scene_defaults)
-    cfg, errors = base, []
+    top = errors is None
+    cfg, errors = base, ([] if top else errors)
+    n0 = len(errors)
     if toml_path:
         cfg = merge(cfg, toml_path if isinstance(toml_path, dict) else read_toml(toml_path), errors=errors)
     if overrides:
@@ -221,7 +225,13 @@ def build_config(scene_defaults: dict, toml_path=None, overrides: dict | None = 
         errors += e.errors
     except ConfigError as e:
         errors.append(e)
-    raise_collected(errors)
+    if top:
+        raise_collected(errors)
+    for e in errors[n0:]:
+        try:
+            set_path(cfg, e.field, copy.deepcopy(get_path(base, e.field)))
+        except (KeyError, TypeError):
+            pass                                   # an unknown key: never merged
     return cfg
 
 

@@ -51,7 +51,10 @@ QUICK = 4   # --quick: the first four
 # timed by the runner (its step_time_s, without the outputs), from the start of the run past
 # the first wave period (the bed's outer scaling and its amplitude start once it has seen one)
 SCENES = [
-    ("beach (default)", "beach", {}, 8000),
+    # the 1:20 beach (scenes/beach_1to20.toml) by its keys, which older trees have too
+    ("beach (1:20, dx 0.015)", "beach", {"geometry.length": 8.0, "geometry.toe_x": 1.5, "geometry.slope": 20.0,
+                                         "geometry.gauges_x": [1.0, 3.0, 4.5, 5.5, 6.5], "paddle.stroke": 0.26,
+                                         "numerics.dx": 0.015, "sediment.morfac": 22.0}, 8000),
     ("tunnel (default)", "tunnel", {}, 8000),
 ]
 # --arch gpu: the tank ladder, the case whose size a GPU is for

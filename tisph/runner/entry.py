@@ -3,7 +3,7 @@ import os
 import sys
 
 from ..cli import make_parser, overrides_from_args
-from ..config import ConfigError, build_config, dump_toml, flatten, read_toml, check_file
+from ..config import ConfigError, ConfigErrors, build_config, raise_collected, dump_toml, flatten, read_toml, check_file
 from ..sediment.coupling import refuse_unused_sediment_keys
 from ..io import OutputError, ensure_dir
 from ..plausible import check_materials
@@ -57,8 +57,26 @@ def resolve(scene, config=None, overrides=None):
     """The validated config of a scene: defaults <- TOML <- overrides; then what the scene derives
     from the physics for a key the user left at its default (derive: the tunnel's dx and morfac),
     said in cfg.notes; then the scene's checks."""
-    cfg = ResolvedConfig(build_config(scene.DEFAULTS, config, overrides or {},
-                                      getattr(scene, "RANGES", None), getattr(scene, "CHOICES", None)))
+    errors = []
+    cfg = ResolvedConfig(build_config(scene.DEFAULTS, config, overrides or {}, getattr(scene, "RANGES", None),
+                                      getattr(scene, "CHOICES", None), errors=errors))
+    if not errors:
+        return _checked(scene, cfg, config, overrides)
+    # the scene's checks on the rest (each bad key at its default), so every error shows at once;
+    # what they find about a key already reported, or a check the defaults cannot pass, is left out
+    bad = {e.field for e in errors}
+    try:
+        _checked(scene, cfg, config, overrides)
+    except ConfigErrors as e:
+        errors += [x for x in e.errors if x.field not in bad]
+    except ConfigError as e:
+        errors += [e] if e.field not in bad else []
+    except Exception:       # noqa: BLE001  (a check that cannot run on what is left stands aside)
+        pass
+    raise_collected(errors)
+
+
+def _checked(scene, cfg, config, overrides):
     refuse_unused_sediment_keys(cfg, scene.DEFAULTS)
     if isinstance(config, str) and cfg.get("domain", {}).get("base_dir") == "":
         cfg["domain"]["base_dir"] = os.path.dirname(os.path.abspath(config))   # a case's files sit beside it

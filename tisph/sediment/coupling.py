@@ -315,10 +315,11 @@ class BedCoupler:
             return xs, np.interp(xs, self.stations, dz, period=len(self.stations) * self.dx)
         return xs, np.interp(xs, self.stations, dz, left=np.nan, right=np.nan)
 
-    def picture(self, left=None):
-        """The make_case parts that draw this bed: sand under z_b, the bed-change panel, morfac."""
+    def picture(self, left=None, ripple_height=0.0):
+        """The make_case parts that draw this bed: sand under z_b, the bed-change panel (one scale
+        for the whole movie where the predicted ripple's height gives it), morfac."""
         m = self.sed["morfac"]
-        return dict(bed_surface=lambda x: self.surface(x, left), bed_panel=self.change,
+        return dict(bed_surface=lambda x: self.surface(x, left), bed_panel=self.change, bed_range=ripple_height,
                     bed_label=f", morfac {m:g}: the bed moves {m:g}x as fast")
 
     def volume_error(self):

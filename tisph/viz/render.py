@@ -35,7 +35,7 @@ class Renderer:
 
     def __init__(self, view, width=640, dx=0.01, speed_scale=0.0, title="", modes=("speed",), mat_colors=None,
                  pressure_scale=0.0, bed_panel=None, bed_label="", vrange=None, min_height=0, bed_surface=None,
-                 zoom=None, zoom_field="vorticity", axes=True, marks=(), zones=()):
+                 zoom=None, zoom_field="vorticity", axes=True, marks=(), zones=(), bed_range=0.0, rows=True):
         (x0, y0), (x1, y1) = view
         W = max(16, int(width) // 16 * 16)
         self.scale = W / (x1 - x0)
@@ -57,7 +57,10 @@ class Renderer:
         self.pressure_scale = float(pressure_scale)   # 0: from the water in view, each frame
         self.mat_colors = list(mat_colors or [])
         self.bed_panel, self.bed_label, self.bed_surface = bed_panel, bed_label, bed_surface
-        self.bed_range = 0.0            # m: the bed panel's half-height, only ever grows (a steady scale)
+        # m: the bed panel's half-height: the step that holds bed_range, fixed for the movie; or, with
+        # none given, the step that holds the bed so far, only ever growing
+        self.bed_fixed = bed_range > 0
+        self.bed_range = next((r for r in self.BED_RANGE if bed_range <= r), self.BED_RANGE[-1]) if self.bed_fixed else 0.0
         self.font_px = max(11, W // 85)
         self.BAR = int(np.ceil(7 * self.font_px / 16)) * 16     # strips in multiples of 16 px (the MP4's blocks)
         self.strip = int(np.ceil(1.8 * self.font_px / 16)) * 16
@@ -78,6 +81,17 @@ class Renderer:
                                  bed_surface=bed_surface)
         self.panels = []                # (top row, height, view, bar) of each panel of the last frame
         self.marks, self.zones = tuple(marks), tuple(zones)
+        # a long view (a flume) in rows, each a stretch of it at a readable scale, where no bed
+        # panel or zoom window is drawn along the whole length
+        self.rows = []
+        n = int(np.ceil(np.sqrt((x1 - x0) / (y1 - y0) / self.ROW_ASPECT)))
+        if n > 1 and rows and bed_panel is None and zoom is None:
+            n = min(n, self.MAX_ROWS)
+            step = (x1 - x0) / n
+            self.rows = [Renderer(((x0 + i * step, y0), (x0 + (i + 1) * step, y1)), width, dx, speed_scale, modes=modes,
+                                  mat_colors=mat_colors, pressure_scale=pressure_scale, vrange=vrange,
+                                  min_height=min_height, bed_surface=bed_surface, axes=axes, marks=marks, zones=zones,
+                                  rows=False) for i in range(n)]
 
     @property
     def left(self):
@@ -102,6 +116,8 @@ class Renderer:
             hi = self.pressure_scale or (float(np.percentile(values, 99.5)) if len(values) else 1.0)
             return 0.0, max(hi, 1e-6)
         if field == "vorticity":
+            if self.speed_scale > 0:       # one range for the movie: the colour bar's top speed over 10 dx
+                return -self.speed_scale / (10.0 * self.dx), self.speed_scale / (10.0 * self.dx)
             w = float(np.percentile(np.abs(values), 98)) if len(values) else 1.0
             return -max(w, 1e-6), max(w, 1e-6)
         if field == "concentration":
@@ -111,6 +127,7 @@ class Renderer:
         return float(lo), float(max(hi, lo + 1e-6))
 
     def _colours(self, mode, st):
+        self._field = None
         kind, mat = st["kind"], st["mat"]
         fl = kind == FLUID
         col = np.tile(np.array(BOUNDARY), (len(kind), 1))
@@ -133,6 +150,14 @@ class Renderer:
                 s01 = (vals[fl] - lo) / (hi - lo)
             cmap = diverging if field == "vorticity" else colormap
             col[fl] = cmap(s01)
+            # drawn continuous: every fluid in a field panel, the water (no colour of its own) in phase
+            smooth = fl.copy()
+            if mode == "phase":
+                own = [k for k in range(len(self.mat_colors)) if self.mat_colors[k] is not None]
+                smooth &= ~np.isin(mat, own)
+            vals01 = np.zeros(len(kind))
+            vals01[fl] = s01
+            self._field = (smooth, vals01, cmap)
             unit = UNITS[field]
             if field == "pressure":
                 lo, hi = lo / 1000.0, hi / 1000.0
@@ -152,7 +177,12 @@ class Renderer:
             col[sel] = base * (shade[:, None] if mode == "phase" else 1.0)
         return col
 
+    ROW_ASPECT = 4.0   # a view longer than this many heights is drawn in rows (at most MAX_ROWS)
+    MAX_ROWS = 3
+
     def _splat(self, st, col):
+        """The panel: sand under a bed surface, the field's fluid interpolated by the kernel onto
+        the pixels (Shepard-normalised, cut where the water ends), every other particle a disc."""
         img = np.empty((self.H, self.W, 3), np.uint8)
         img[:] = (np.array(BACKGROUND) * 255).astype(np.uint8)
         (x0, y0), _ = self.view
@@ -161,9 +191,15 @@ class Renderer:
             top = np.clip(np.floor((zb - y0) * self.scale).astype(int), 0, self.H)
             rows = np.arange(self.H)[:, None]
             img[(self.H - 1 - rows) < top[None, :]] = (np.array(SAND) * 255).astype(np.uint8)
+        smooth = np.zeros(len(st["kind"]), bool)
+        if self._field is not None and self._field[0].any():
+            smooth, s01, cmap = self._field
+            rgb, inside = self._continuous(st["x"][smooth], s01[smooth])
+            img[inside] = (np.clip(cmap(rgb[inside]), 0, 1) * 255).astype(np.uint8)
         cx = np.floor((st["x"][:, 0] - x0) * self.scale).astype(int)
         cy = np.floor((st["x"][:, 1] - y0) * self.scale).astype(int)
         order = np.argsort(st["kind"] == FLUID, kind="stable")     # boundaries first, fluid on top
+        order = order[~smooth[order]]
         inview = (cx[order] > -self.radius - 2) & (cx[order] < self.W + self.radius + 2) & \
                  (cy[order] > -self.radius - 2) & (cy[order] < self.H + self.radius + 2)
         order = order[inview]
@@ -173,6 +209,50 @@ class Renderer:
             ok = (px >= 0) & (px < self.W) & (py >= 0) & (py < self.H)
             img[self.H - 1 - py[ok], px[ok]] = c8[ok]
         return img
+
+    SHEPARD_CUT = 0.35   # the water ends where the kernel sum falls under this: 0.5 a free surface's
+                         # half spacing out, a lone droplet 0.45 at its centre (it stays drawn)
+
+    def _continuous(self, x, f):
+        """f at the fluid points x interpolated onto the panel's pixels with the cubic spline at
+        h = dx (support 2 dx), normalised by the kernel sum; returns (values, inside) with rows top
+        to bottom, inside where the sum reaches SHEPARD_CUT. Summed on a grid of at most a sixth
+        of the support a cell, then bilinear onto the pixels (a zoom's kernel spans many)."""
+        (x0, y0), _ = self.view
+        dx, H, W = self.dx, self.H, self.W
+        g = max(1, int(2.0 * dx * self.scale // 6))              # px a grid cell
+        cell = g / self.scale
+        gw, gh = -(-W // g), -(-H // g)
+        px, py = (x[:, 0] - x0) / cell - 0.5, (x[:, 1] - y0) / cell - 0.5
+        rc = int(np.ceil(2.0 * dx / cell))
+        near = (px > -rc - 1) & (px < gw + rc) & (py > -rc - 1) & (py < gh + rc)
+        px, py, f = px[near], py[near], f[near]
+        ix0, iy0 = np.floor(px).astype(int), np.floor(py).astype(int)
+        num, den = np.zeros(gw * gh), np.zeros(gw * gh)
+        for oy in range(-rc, rc + 2):
+            iy = iy0 + oy
+            for ox in range(-rc, rc + 2):
+                ix = ix0 + ox
+                q = np.hypot(ix - px, iy - py) * (cell / dx)
+                w = np.where(q < 1.0, 1.0 - 1.5 * q * q + 0.75 * q ** 3, 0.25 * np.maximum(2.0 - q, 0.0) ** 3)
+                ok = (w > 0) & (ix >= 0) & (ix < gw) & (iy >= 0) & (iy < gh)
+                idx = iy[ok] * gw + ix[ok]
+                den += np.bincount(idx, weights=w[ok], minlength=gw * gh)
+                num += np.bincount(idx, weights=w[ok] * f[ok], minlength=gw * gh)
+        norm = 10.0 / (7.0 * np.pi)                  # the 2D cubic's sigma h^2; times V / h^2 = 1
+        den, num = (den * norm).reshape(gh, gw), (num * norm).reshape(gh, gw)
+        if g > 1:                                    # bilinear from the cells' centres to the pixels'
+            def up(a, n, axis):
+                c = np.clip((np.arange(n) + 0.5) / g - 0.5, 0, a.shape[axis] - 1)
+                i = np.minimum(np.floor(c).astype(int), a.shape[axis] - 2) if a.shape[axis] > 1 else np.zeros(n, int)
+                t = c - i if a.shape[axis] > 1 else np.zeros(n)
+                lo, hi = np.take(a, i, axis), np.take(a, np.minimum(i + 1, a.shape[axis] - 1), axis)
+                t = t[:, None] if axis == 0 else t[None, :]
+                return lo * (1 - t) + hi * t
+            den, num = (up(up(a, H, 0), W, 1) for a in (den, num))
+        with np.errstate(invalid="ignore", divide="ignore"):
+            val = np.where(den > 0, num / den, 0.0)
+        return val[::-1], (den >= self.SHEPARD_CUT)[::-1]
 
     def frame(self, st, t):
         """RGB uint8 image (rows top to bottom) of the state st (arrays x, v, p, rho, kind, mat)."""
@@ -187,16 +267,19 @@ class Renderer:
 
         blocks, self.panels, row = [strip(self.strip)], [], self.strip
         for m in self.modes:
-            img = self._splat(st, self._colours(m, st))
-            if self.zoom is not None:
-                self._outline(img, self.zoom.view)
-            for x, _ in self.marks:               # gauges: a dotted line across the panel
-                i = int(round((x - self.view[0][0]) * self.scale))
-                if 0 <= i < W:
-                    img[::4, i] = 30
-            self.panels.append((row, self.H, self.view, self.bars[-1]))
-            blocks += [img, strip(self.AXIS)]
-            row += self.H + self.AXIS
+            col = self._colours(m, st)
+            for k, r in enumerate(self.rows or [self]):     # the colours from the whole view, one bar
+                r._field = self._field
+                img = r._splat(st, col)
+                if self.zoom is not None:
+                    self._outline(img, self.zoom.view)
+                for x, _ in self.marks:               # gauges: a dotted line across the panel
+                    i = int(round((x - r.view[0][0]) * r.scale))
+                    if 0 <= i < W:
+                        img[::4, i] = 30
+                self.panels.append((row, r.H, r.view, self.bars[-1] if k == 0 else None))
+                blocks += [img, strip(self.AXIS)]
+                row += r.H + self.AXIS
         self.bed_row = None
         if self.bed_panel is not None:
             bed = self._bed_image()
@@ -235,12 +318,14 @@ class Renderer:
         xs, dz = self.bed_panel(x0, x1, self.W)
         dz = np.asarray(dz, float)
         peak = float(np.nanmax(np.abs(dz))) if np.isfinite(dz).any() else 0.0
-        rng = next((r for r in self.BED_RANGE if peak <= 0.9 * r), self.BED_RANGE[-1])
-        self.bed_range = max(self.bed_range, rng)
+        if not self.bed_fixed:
+            rng = next((r for r in self.BED_RANGE if peak <= 0.9 * r), self.BED_RANGE[-1])
+            self.bed_range = max(self.bed_range, rng)
         Hp = max(48, self.W // 8) // 16 * 16
         img = np.full((Hp, self.W, 3), 255, np.uint8)
         rows = np.arange(Hp)[:, None]                          # 0 at the top
         level = 0.5 * Hp * (1.0 - np.nan_to_num(dz) / self.bed_range)
+        level = np.clip(level, 0, Hp - 1)                      # a fixed scale clips what exceeds it
         sand = (rows >= level[None, :]) & np.isfinite(dz)[None, :]
         img[sand] = (np.array(SAND) * 255).astype(np.uint8)
         img[Hp // 2, :] = (110, 110, 110)
@@ -295,7 +380,7 @@ class Renderer:
         fp = self.font_px
         L = self.LEFT
         scale = self.W / (x1 - x0)
-        if view == self.view:
+        if view == self.view or view in [r.view for r in self.rows]:
             for x, label in self.marks:
                 if x0 <= x <= x1:
                     d.text((L + int(round((x - x0) * scale)) + 2, top + 2), label, fill=(0, 0, 0), font=font)
@@ -347,7 +432,8 @@ def make_renderer(pic, outc, dx, title, speed_scale):
     return Renderer(view, outc["width"], dx, speed_scale, title=title, modes=modes, mat_colors=pic.mat_colors,
                     pressure_scale=pic.pressure_scale, bed_panel=pic.bed_panel, bed_label=pic.bed_label,
                     vrange=outc.get("range") or None, min_height=outc.get("min_height", 0),
-                    bed_surface=pic.bed_surface, zoom=zoom, marks=pic.marks, zones=pic.zones)
+                    bed_surface=pic.bed_surface, zoom=zoom, marks=pic.marks, zones=pic.zones,
+                    bed_range=pic.bed_range)
 
 
 def write_png(path, img):

@@ -5,15 +5,16 @@ Default (scenes/beach.toml): the sand is the morphodynamic bed below particle sc
 (sediment.model = "bedload", tisph/sediment, tisph/scenes/beach/bedload.py) under SPH water, and
 ripples form on it. Why this geometry: Wiberg & Harris (1994) orbital ripples are 0.62 d0 long,
 and in shallow water a piston moves the whole column, so the near-bed orbital diameter d0 is
-about the stroke; for ripples of at least 8 dx at dx = 0.015 (0.12 m, d0 about 0.2 m where the
-waves have lost some height) the stroke must be about 0.26 m, which needs at least that much
-water (paddle.stroke <= depth). So: still water 0.3 m deep over
-0.1 m of sand, flat to x = 1.5 m and then 1:20 to above the waterline at 7.5 m, 8 m long; T =
-2.5 s (kh = 0.45), stroke 0.26 m, Biesel H = 0.12 m, 0.3 mm quartz sand, dx 0.015, morfac 22 (22 s of
-flow move the bed as 484 s would: 190 wave periods; the tunnel's rule, no faster a wave period
-than in the default tunnel, at the toe's linear-wave d0). The lee vortex (sediment.lee_vortex,
-separation_*) is what grows ripples from the random bed it starts with (RMS 1 % of the toe's
-linear-wave d0, 2.5 mm: geometry.roughness); docs/sediment.md says what it does and what is measured.
+about the stroke, which is at most the depth: a ripple is about half the depth long, and the bed
+model resolves it over 18 dx, so the water is about 40 particles deep. Still water 0.3 m deep
+over 0.1 m of sand, flat to x = 1 m and then 1:10 to above the waterline at 4 m, 4.5 m long; T =
+2.5 s (kh = 0.45), stroke 0.28 m, Biesel H = 0.127 m, d0 = 0.27 m at the toe, 0.3 mm quartz sand.
+dx and morfac follow from the wave where a case leaves them unset (derive): dx puts the ripple
+predicted at the toe over 18 spacings (0.0093 m), morfac turns the bed over no faster a wave
+period than in the default tunnel (20.2: 16 s of flow move the bed as 323 s would, 129 wave
+periods). The lee vortex (sediment.lee_vortex, separation_*) is what grows ripples from the
+random bed it starts with (RMS 1 % of the toe's linear-wave d0: geometry.roughness);
+docs/sediment.md says what it does and what is measured.
 
 The paper's case (paper 000 section 5, Table 5, Figs. 17-28), scenes/beach_bingham_tau200.toml
 and beach_bingham_tau1000.toml: the sand as Bingham particles, 1950 kg/m3, mu_B = 0.1 Pa s,
@@ -26,7 +27,7 @@ would fall below the acoustic one, and sand below the yield stress is held at re
 
 Outputs besides the usual: bed_profile.csv (the bed along x at every probe), probes.csv with the
 ripple statistics, bed_profile.png, ripple_prediction.csv (the Wiberg & Harris ripple for the
-near-bed orbital motion measured along the beach) and stills at t = 0, 0.7, 2, 4, 8, 16, 22 s (the
+near-bed orbital motion measured along the beach) and stills at t = 0, 0.7, 2, 4, 8, 12, 16 s (the
 Bingham beach adds streamline panels, stills/streamlines_t*.png).
 """
 import math
@@ -54,7 +55,7 @@ from ...waves.theory import linear_wave
 from ...measure.plots import pyplot, save
 from ...sediment import coupling
 from ...waves.absorb import with_control
-from .bedload import build_bedload
+from .bedload import build_bedload, derive_bedload
 from ...schemes import numerics
 
 NAME = "beach"
@@ -68,7 +69,7 @@ RIPPLE_WINDOW = 0.25
 
 
 SCHEMA = {
-    "run": {"end_time": 22.0},
+    "run": {"end_time": 16.0},
     # the tunnel's numerics (the bed scheme) but for breaking waves: without artificial
     # viscosity the breakers compress the water (99.9th percentile of the density error 3.5 %, 1.1 %
     # with alpha 0.01); the bed's outer scaling takes away the slower near-bed flow alpha's Stokes
@@ -76,33 +77,41 @@ SCHEMA = {
     # ring under the Tait tension (largest density error 20-25 % at 0.01, 7.7 % at 0.05, 2.1 % at
     # 0.1; a constant alpha of 0.03 holds them but takes 13-18 % off the breaking height;
     # docs/waves.md). The Bingham beaches set their own alpha.
-    "numerics": numerics("bed", dx=0.015, artificial_viscosity=0.01, artificial_viscosity_surface=0.1,
-                         laminar_viscosity=False),
+    # A breaker may throw a droplet out of the density band: removed and counted as spray (at most
+    # 0.2 % of the water), not a stop. dx: the derived value at these defaults (derive, below).
+    "numerics": numerics("bed", dx=0.0093, artificial_viscosity=0.01, artificial_viscosity_surface=0.1,
+                         laminar_viscosity=False, spray_limit=0.002),
     "geometry": {
-        "length": K(8.0, "paddle (x = 0) to the end wall", "m", range=POSITIVE),
+        "length": K(4.5, "paddle (x = 0) to the end wall", "m", range=POSITIVE),
         "depth": K(0.3, "still water over the flat sand", "m", range=POSITIVE),
         "sand_thickness": K(0.1, "the sand's level above the floor (m): the flat bed, and under the ramp", range=POSITIVE),
-        "toe_x": K(1.5, "where the beach starts to rise", "m", range=POSITIVE),
-        "slope": K(20.0, "1 : slope (horizontal run per unit rise)", range=(1.0, None, True, True)),
+        "toe_x": K(1.0, "where the beach starts to rise", "m", range=POSITIVE),
+        "slope": K(10.0, "1 : slope (horizontal run per unit rise)", range=(1.0, None, True, True)),
         "wall_height": K(0.6, "the side walls' height above the floor", "m", range=POSITIVE),
         "grain_diameter": K(0.0003, "d50: the bed load's grain, and the Wiberg & Harris ripple prediction; a medium sand", "m", range=POSITIVE),
-        "gauges_x": K([1.0, 3.0, 4.5, 5.5, 6.5], "wave gauges (m from the paddle's mean position): probes.csv eta_x..., and the wave height at each in summary.json (wave_height_at_gauges)"),
-        "roughness": K(0.01, "the bed-load bed's random RMS over the linear-wave d0 at the toe where sediment.seed_rms = 0 (2.5 mm at the default), as the tunnel's (docs/sediment.md)", range=(0.0, 0.1, True, True)),
+        "gauges_x": K([0.8, 2.0, 3.0, 3.6], "wave gauges (m from the paddle's mean position): probes.csv eta_x..., and the wave height at each in summary.json (wave_height_at_gauges)"),
+        "roughness": K(0.01, "the bed-load bed's random RMS over the linear-wave d0 at the toe where sediment.seed_rms = 0 (2.7 mm at the default), as the tunnel's (docs/sediment.md)", range=(0.0, 0.1, True, True)),
     },
-    "paddle": with_defaults(PADDLE, stroke=0.26, period=2.5, ramp_periods=1.0),
+    "paddle": with_defaults(PADDLE, stroke=0.28, period=2.5, ramp_periods=1.0),
     "materials": {"water": dict(WATER), "sand": dict(BINGHAM_SAND)},
     # sediment.model = "bedload": the bed below particle scale (tisph/sediment, scenes/beach.toml);
     # "particles": the paper's Bingham sand (scenes/beach_bingham_tau200.toml)
     # the tunnel's bed parameters, the outer scaling included: the beach's near-wall layer is as thick
     # (at 1.5 dx the velocity amplitude is half of that 6 dx up) and the flow above it carries the
     # waves' flux at 0.89-1.02 of (H / 2) sqrt(g h) up the slope (docs/sediment.md)
-    "sediment": with_defaults(coupling.SEDIMENT, **coupling.WAVE_RIPPLES, morfac=22.0),
+    "sediment": with_defaults(coupling.SEDIMENT, **coupling.WAVE_RIPPLES, morfac=20.2),
     "output": {"frame_interval": 0.04, "probe_interval": 0.04, "width": 1280},
 }
 DEFAULTS = values(SCHEMA)
 RANGES = ranges(SCHEMA)
 CHOICES = choices(SCHEMA)
-STILLS = (0.0, 0.7, 2.0, 4.0, 8.0, 16.0, 22.0)
+STILLS = (0.0, 0.7, 2.0, 4.0, 8.0, 12.0, 16.0)
+
+
+def derive(cfg, given):
+    """The bed-load beach's dx and morfac from its wave where the user left them unset
+    (bedload.derive_bedload); run.log's lines."""
+    return derive_bedload(cfg, given) if cfg["sediment"]["model"] == "bedload" else []
 
 
 def check(cfg):

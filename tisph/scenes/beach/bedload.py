@@ -17,14 +17,14 @@ from ...constants import G
 from ...config import physics_from_config
 from ...io import write_csv, write_station_rows
 from ...particles import ParticleSet, block, density_from_pressure, tait_B, FLUID, WALL, MOVING
-from ...ripples import (MIN_LENGTH_DX, last_finite, orbital_diameter, ripple_stats, unresolved, warn_unresolved,
-                        wiberg_harris)
+from ...ripples import (MIN_LENGTH_DX, RESOLVED_DX, floor2, last_finite, orbital_diameter, ripple_stats, unresolved,
+                        warn_unresolved, wiberg_harris)
 from ...case import make_case
 from ...runner import common_params, sound_speed
 from ...measure.field import surface_at
 from ...measure.plots import pyplot, save
 from .shoaling import Shoaling
-from ...sediment.morfac import bed_turnover, warn_fast_bed
+from ...sediment.morfac import bed_turnover, morfac_limit, warn_fast_bed
 from ...plausible import warn_waves
 from ...sediment import coupling, initial
 from ...measure.gauges import WaveGauges
@@ -42,6 +42,39 @@ def bed_profile(geo, x):
     return geo["sand_thickness"] + np.maximum(0.0, (np.asarray(x, float) - geo["toe_x"]) / geo["slope"])
 
 
+def toe_wave(cfg):
+    """(omega, k, Biesel H, d0) of the linear wave over the flat bed in front of the toe."""
+    d, p = cfg["geometry"]["depth"], cfg["paddle"]
+    omega, k, _, _, hs_ratio = linear_wave(cfg, d)
+    H = p["wave_height"] if p["wave_height"] > 0 else hs_ratio * p["stroke"]
+    return omega, k, H, orbital_diameter(H, k, d)
+
+
+def derive_bedload(cfg, given):
+    """dx and morfac from the wave where the user left them unset, as the tunnel's: dx resolves the
+    ripple Wiberg & Harris predict for the toe's linear-wave d0 over RESOLVED_DX spacings, and
+    morfac turns the bed there over no faster per wave period than in the calibration tunnel.
+    Returns run.log's lines."""
+    geo, sed, notes = cfg["geometry"], cfg["sediment"], []
+    if cfg["paddle"]["series"]:
+        return notes                       # a measured signal: no wave to derive them from
+    omega, _, H, d0 = toe_wave(cfg)
+    if not (H > 0 and d0 > 0):
+        return notes
+    lam = wiberg_harris(d0, geo["grain_diameter"])[0]
+    if "numerics.dx" not in given:
+        cfg["numerics"]["dx"] = dx = floor2(lam / RESOLVED_DX)
+        notes.append(f"numerics.dx = {dx:g} m: the ripple Wiberg & Harris predict at the toe ({lam:.3g} m, for the "
+                     f"linear-wave d0 = {d0:.3g} m) over {RESOLVED_DX:g} spacings (set numerics.dx to choose)")
+    if "sediment.morfac" not in given:
+        rw = cfg["materials"]["water"]["rho0"]
+        turn = bed_turnover(d0, 2.0 * math.pi / omega, geo["grain_diameter"], sed["grain_density"] / rw, sed)
+        sed["morfac"] = m = max(1.0, math.floor(morfac_limit(sed, turn) * 10 + 1e-6) / 10)
+        notes.append(f"sediment.morfac = {m:g}: the bed at the toe turns over no faster per wave period than in "
+                     f"the calibration tunnel (set sediment.morfac to choose)")
+    return notes
+
+
 def build_bedload(cfg, name, stills):
     geo, num, p, sed = cfg["geometry"], cfg["numerics"], cfg["paddle"], cfg["sediment"]
     dx, Lf, d, ts, Hw = num["dx"], geo["length"], geo["depth"], geo["sand_thickness"], geo["wall_height"]
@@ -50,7 +83,8 @@ def build_bedload(cfg, name, stills):
     omega, k, wavelength, cg, hs_ratio = linear_wave(cfg, d)
     H_biesel = hs_ratio * p["stroke"]
     d0_toe = orbital_diameter(H_biesel, k, d)
-    warn_unresolved(0.62 * d0_toe, dx, "at the toe (Wiberg & Harris for the linear-wave d0)")
+    warn_unresolved(wiberg_harris(d0_toe, geo["grain_diameter"])[0], dx,
+                    "at the toe (Wiberg & Harris for the linear-wave d0)")
     T_wave = 2.0 * math.pi / omega
     warn_fast_bed(sed, bed_turnover(d0_toe, T_wave, geo["grain_diameter"], sed["grain_density"] / rw, sed),
                   f"at the toe's linear-wave d0 of {d0_toe:.3g} m")
@@ -90,8 +124,9 @@ def build_bedload(cfg, name, stills):
     # the frame: the whole beach from the paddle, where the bed changes, to the swash; under it a
     # metre of the ripple zone (from half a metre past the toe) at true scale (output.zoom)
     view = ((0.0, ts - 0.05), (Lf, min(Hw, yw + 0.1)))
+    # tall enough for a shoaled crest (up to about a wave height above still water near breaking)
     zx = geo["toe_x"] + 0.5
-    zoom = ((zx, float(bed_profile(geo, zx)) - 0.04), (zx + 1.0, yw + 0.06))
+    zoom = ((zx, float(bed_profile(geo, zx)) - 0.04), (zx + 1.0, yw + max(0.06, H_biesel)))
     # colour top: three times the near-bed orbital speed at the paddle (linear waves), not the
     # bore speed that bounds the sound speed: the shoaling waves are what the frame shows
     u_col = 3.0 * 0.5 * H_biesel * omega / math.sinh(k * d)
@@ -104,7 +139,7 @@ def build_bedload(cfg, name, stills):
                      finalize=rec.finalize, stills=stills, container=(-reach - dx, floor - T, Lf, float("inf"), Hw),
                      control=with_control(motion, bed.update), control_every=sed["update_every"],
                      persist=(bed, rec) + ((motion,) if p["absorb"] else ()),
-                     **bed.picture(left=ts))
+                     **bed.picture(left=ts, ripple_height=wiberg_harris(d0_toe, geo["grain_diameter"])[1]))
 
 
 class BeachBed:
@@ -215,7 +250,7 @@ class BeachBed:
                       label=f"its mean over the ripple zone, {100 * lengths[1]:.1f} cm")
             a2.hlines(100 * lengths[0], x0, x1, color="C3", lw=2.0,
                       label=f"the ripples' mean length there, {100 * lengths[0]:.1f} cm")
-        a2.axhline(100 * 8 * self.dx, color="k", lw=0.8, ls=":", label="8 dx")
+        a2.axhline(100 * RESOLVED_DX * self.dx, color="k", lw=0.8, ls=":", label=f"{RESOLVED_DX:g} dx (resolved)")
         a2.set_ylabel("ripple length (cm)")
         a2.set_xlabel("x (m)")
         a2.legend(fontsize=7, loc="lower left", ncol=2)

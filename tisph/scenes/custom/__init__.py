@@ -254,6 +254,8 @@ def build(cfg):
     if paddle_parts and p["absorb"]:   # the absorbing paddle reads its gauge at the same interval
         parts["control"] = with_control(paddle_parts[1], parts.get("control"))
         parts["persist"] += (paddle_parts[1],)
+    if not paddle_parts:
+        parts["speed_scale"] = release_speed(lay, water, u0, g, height)
     if paddle_parts and not p["series"]:
         # colour top: twice the linear surface orbital speed at the paddle, as the flume's
         depth = level - floor
@@ -268,6 +270,18 @@ def build(cfg):
                      physics=physics_from_config(cfg, **physics_kw), u_max=u_max,
                      view=((box[0] - margin, box[2] - margin), (box[1] + margin, box[3] + margin)),
                      marks=[(q["x"], q["label"]) for q in gauges if q["type"] == "surface"], zones=zones, **parts)
+
+
+def release_speed(lay, water, u0, g, height):
+    """Colour top of a case without a paddle: twice the mean speed the water reaches if all the
+    potential energy it holds above its settled state (the same particles filling the box from
+    the bottom) turns into motion, plus its starting speed; at least 5 % of sqrt(g height). A
+    dam break's collapse and a tank's slosh each get their own scale, not the free fall that
+    bounds the sound speed."""
+    free = lay.pts[lay.in_box & ~lay.solid & ~lay.wall]
+    settled = np.sort(free[:, 1])[:len(water)]
+    fall = max(0.0, float(water[:, 1].mean() - settled.mean())) if len(settled) == len(water) else 0.0
+    return max(u0 + 2.0 * math.sqrt(2.0 * g * fall), 0.05 * math.sqrt(g * height))
 
 
 def main(argv=None):

@@ -30,7 +30,7 @@ from ...schema import NON_NEGATIVE, POSITIVE, choices, K, ranges, values, with_d
 from ...io import write_station_rows
 from ...particles import ParticleSet, block, density_from_pressure, layered_pressure, tait_B, FLUID, WALL
 from ...viz.render import SAND
-from ...ripples import MIN_HEIGHT_DX, MIN_LENGTH_DX, RESOLVED_DX, last_finite, ripple_stats, wiberg_harris
+from ...ripples import MIN_HEIGHT_DX, MIN_LENGTH_DX, RESOLVED_DX, floor2, last_finite, ripple_stats, wiberg_harris
 from ...case import make_case
 from ...runner import common_params, run_scene, sound_speed
 from ...materials import BINGHAM_SAND, WATER
@@ -70,12 +70,6 @@ SCHEMA = {
 DEFAULTS = values(SCHEMA)
 RANGES = ranges(SCHEMA)
 CHOICES = choices(SCHEMA)
-
-
-def floor2(x):
-    """x rounded down to two significant digits (a spacing that resolves at least what x does)."""
-    e = math.floor(math.log10(x)) - 1
-    return round(math.floor(x / 10.0 ** e + 1e-9) * 10.0 ** e, 12)
 
 
 def derive(cfg, given):

@@ -109,7 +109,7 @@ def build_bedload(cfg, name):
                      probe=probe, metrics=metrics, finalize=finalize, container=(-1e9, float(z.min()) - L * dx, 1e9,
                                                                                 float("inf")),
                      control=control, control_every=sed["update_every"], persist=(drive.ctl, bed, rows),
-                     **bed.picture())
+                     **bed.picture(ripple_height=eta_wh))
 
 
 def near_bed_ratio(t, u, Um, period):
