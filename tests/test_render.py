@@ -64,7 +64,7 @@ def test_every_scene_frame_has_metre_axes(name, ov):
 
 def test_a_long_view_is_drawn_in_rows_that_cover_it():
     """A flume 16 heights long: rows of at most ROW_ASPECT heights' length, end to end, one colour
-    bar; a short tank keeps one panel."""
+    bar; a short tank keeps one panel, and so does a frame of two fields."""
     r = Renderer(((0.0, 0.0), (8.0, 0.5)), 640, 0.02, 1.0)
     assert len(r.rows) == 2
     assert r.rows[0].view[0][0] == 0.0 and r.rows[0].view[1][0] == r.rows[1].view[0][0] and r.rows[-1].view[1][0] == 8.0
@@ -74,6 +74,7 @@ def test_a_long_view_is_drawn_in_rows_that_cover_it():
     r.frame(st, 0.0)
     assert len(r.panels) == 2 and r.panels[0][3] is not None and r.panels[1][3] is None
     assert Renderer(((0.0, 0.0), (2.0, 1.0)), 640, 0.02, 1.0).rows == []
+    assert Renderer(((0.0, 0.0), (8.0, 0.5)), 640, 0.02, 1.0, modes=("speed", "pressure")).rows == []
 
 
 def test_fields_are_drawn_continuous_and_end_at_the_free_surface():

@@ -454,7 +454,7 @@ def bed_roughness(z, x, lo, hi, window=0.5):
 
 @pytest.mark.slow
 def test_bedload_beach_grows_ripples_under_waves_that_shoal(tmp_path):
-    """The bed-load beach at dx 0.03 for 9 s (the ramped waves reach x = 5 m at about 6 s) at morfac
+    """The 1:20 bed-load beach (scenes/beach_1to20.toml) at dx 0.03 for 9 s (the ramped waves reach x = 5 m at about 6 s) at morfac
     30 (faster than the default's 22, so that 9 s is enough), from a 5 mm random bed (at this dx the default 2.5 mm one, 1 % of d0, is a spacing's tenth and grows
     nothing in 9 s): ripples grow: over x = 3-6 m the bed's roughness (its RMS about a 0.5 m running
     mean) ends at least 1.1 times the random initial bed's (measured 1.27; with the bed held still
@@ -465,7 +465,7 @@ def test_bedload_beach_grows_ripples_under_waves_that_shoal(tmp_path):
     out = tmp_path / "b"
     s = simulate(beach, {"numerics.dx": 0.03, "run.end_time": 9.0, "output.render": False, "output.quiet": True,
                          "output.snapshot_every": 0.0, "sediment.seed_rms": 0.005, "sediment.morfac": 30.0},
-                 out=str(out))
+                 out=str(out), config=os.path.join(ROOT, "scenes", "beach_1to20.toml"))
     m = s["metrics"]
     assert s["status"] == "ok" and m["sand_volume_error"] < 1e-9
     t, x, z = read_station_rows(str(out / "bed_profile.csv"))

@@ -81,11 +81,11 @@ class Renderer:
                                  bed_surface=bed_surface)
         self.panels = []                # (top row, height, view, bar) of each panel of the last frame
         self.marks, self.zones = tuple(marks), tuple(zones)
-        # a long view (a flume) in rows, each a stretch of it at a readable scale, where no bed
-        # panel or zoom window is drawn along the whole length
+        # a long view (a flume) in rows, each a stretch of it at a readable scale, where it is the
+        # frame's one panel (no second field, bed panel or zoom window along the whole length)
         self.rows = []
         n = int(np.ceil(np.sqrt((x1 - x0) / (y1 - y0) / self.ROW_ASPECT)))
-        if n > 1 and rows and bed_panel is None and zoom is None:
+        if n > 1 and rows and bed_panel is None and zoom is None and len(modes) == 1:
             n = min(n, self.MAX_ROWS)
             step = (x1 - x0) / n
             self.rows = [Renderer(((x0 + i * step, y0), (x0 + (i + 1) * step, y1)), width, dx, speed_scale, modes=modes,
@@ -177,7 +177,7 @@ class Renderer:
             col[sel] = base * (shade[:, None] if mode == "phase" else 1.0)
         return col
 
-    ROW_ASPECT = 4.0   # a view longer than this many heights is drawn in rows (at most MAX_ROWS)
+    ROW_ASPECT = 6.0   # a view longer than this many heights is drawn in rows (at most MAX_ROWS)
     MAX_ROWS = 3
 
     def _splat(self, st, col):
@@ -194,8 +194,9 @@ class Renderer:
         smooth = np.zeros(len(st["kind"]), bool)
         if self._field is not None and self._field[0].any():
             smooth, s01, cmap = self._field
-            rgb, inside = self._continuous(st["x"][smooth], s01[smooth])
-            img[inside] = (np.clip(cmap(rgb[inside]), 0, 1) * 255).astype(np.uint8)
+            val, inside = self._continuous(st["x"][smooth], s01[smooth])
+            lut = (np.clip(cmap(np.linspace(0.0, 1.0, 256)), 0, 1) * 255).astype(np.uint8)
+            img[inside] = lut[(np.clip(val[inside], 0.0, 1.0) * 255 + 0.5).astype(np.uint8)]
         cx = np.floor((st["x"][:, 0] - x0) * self.scale).astype(int)
         cy = np.floor((st["x"][:, 1] - y0) * self.scale).astype(int)
         order = np.argsort(st["kind"] == FLUID, kind="stable")     # boundaries first, fluid on top
@@ -216,11 +217,11 @@ class Renderer:
     def _continuous(self, x, f):
         """f at the fluid points x interpolated onto the panel's pixels with the cubic spline at
         h = dx (support 2 dx), normalised by the kernel sum; returns (values, inside) with rows top
-        to bottom, inside where the sum reaches SHEPARD_CUT. Summed on a grid of at most a sixth
-        of the support a cell, then bilinear onto the pixels (a zoom's kernel spans many)."""
+        to bottom, inside where the sum reaches SHEPARD_CUT. Summed on a grid of about a third of
+        the support a cell, then bilinear onto the pixels (a zoom's kernel spans many)."""
         (x0, y0), _ = self.view
         dx, H, W = self.dx, self.H, self.W
-        g = max(1, int(2.0 * dx * self.scale // 6))              # px a grid cell
+        g = max(1, int(round(2.0 * dx * self.scale / 3)))         # px a grid cell: a third of the support
         cell = g / self.scale
         gw, gh = -(-W // g), -(-H // g)
         px, py = (x[:, 0] - x0) / cell - 0.5, (x[:, 1] - y0) / cell - 0.5
@@ -228,19 +229,16 @@ class Renderer:
         near = (px > -rc - 1) & (px < gw + rc) & (py > -rc - 1) & (py < gh + rc)
         px, py, f = px[near], py[near], f[near]
         ix0, iy0 = np.floor(px).astype(int), np.floor(py).astype(int)
-        num, den = np.zeros(gw * gh), np.zeros(gw * gh)
-        for oy in range(-rc, rc + 2):
-            iy = iy0 + oy
-            for ox in range(-rc, rc + 2):
-                ix = ix0 + ox
-                q = np.hypot(ix - px, iy - py) * (cell / dx)
-                w = np.where(q < 1.0, 1.0 - 1.5 * q * q + 0.75 * q ** 3, 0.25 * np.maximum(2.0 - q, 0.0) ** 3)
-                ok = (w > 0) & (ix >= 0) & (ix < gw) & (iy >= 0) & (iy < gh)
-                idx = iy[ok] * gw + ix[ok]
-                den += np.bincount(idx, weights=w[ok], minlength=gw * gh)
-                num += np.bincount(idx, weights=w[ok] * f[ok], minlength=gw * gh)
+        oy, ox = (o.ravel() for o in np.mgrid[-rc:rc + 2, -rc:rc + 2])     # every cell offset at once
+        ix, iy = ix0[:, None] + ox[None, :], iy0[:, None] + oy[None, :]
+        q = np.hypot(ix - px[:, None], iy - py[:, None]) * (cell / dx)
+        ok = (q < 2.0) & (ix >= 0) & (ix < gw) & (iy >= 0) & (iy < gh)
+        q, idx = q[ok], (iy * gw + ix)[ok]
+        w = np.where(q < 1.0, 1.0 - 1.5 * q * q + 0.75 * q ** 3, 0.25 * (2.0 - q) ** 3)
         norm = 10.0 / (7.0 * np.pi)                  # the 2D cubic's sigma h^2; times V / h^2 = 1
-        den, num = (den * norm).reshape(gh, gw), (num * norm).reshape(gh, gw)
+        den = np.bincount(idx, weights=w, minlength=gw * gh).reshape(gh, gw) * norm
+        num = np.bincount(idx, weights=w * np.broadcast_to(f[:, None], ok.shape)[ok], minlength=gw * gh)
+        num = num.reshape(gh, gw) * norm
         if g > 1:                                    # bilinear from the cells' centres to the pixels'
             def up(a, n, axis):
                 c = np.clip((np.arange(n) + 0.5) / g - 0.5, 0, a.shape[axis] - 1)
