@@ -438,7 +438,8 @@ def write_png(path, img):
     import imageio.v2 as imageio
     try:
         with atomic_path(path) as tmp:
-            imageio.imwrite(tmp, img, format="PNG")
+            # zlib level 3: a frame in half the time of the default 6, a fifth larger
+            imageio.imwrite(tmp, img, format="PNG", compress_level=3)
     except OSError as e:
         raise OutputError(f"cannot write {path!r}: {e}") from None
 
