@@ -104,6 +104,28 @@ def test_key_errors_and_the_cases_own_checks_together(tmp_path, capsys):
     assert "run.end_tme" in err and "numerics.dx = '0.05'" in err and "gauge[0].x = 3.0" in err, err
 
 
+def test_a_gauge_on_dry_land_reads_nothing_not_a_sentinel(tmp_path):
+    """A surface gauge over the dry part of a slope: no reading (null eta_max and eta_min in the
+    metrics), not the surface search's floor of -1e9."""
+    import json
+    text = """
+[numerics]
+dx = 0.05
+[domain]
+box = [0.0, 2.0, 0.0, 1.0]
+[[solid]]
+line = [[0.0, 1.0], [0.0, 0.0], [1.2, 0.0], [2.0, 0.8], [2.0, 1.0]]
+[[water]]
+level = 0.3
+[[gauge]]
+label = "dry"
+x = 1.9
+"""
+    assert run_cli(tmp_path, text, "--end-time", "0.02") == 0
+    m = json.loads((tmp_path / "out" / "summary.json").read_text())["metrics"]
+    assert m["dry_eta_max"] is None and m["dry_eta_min"] is None
+
+
 def test_water_past_the_box_is_named_as_such(tmp_path, capsys):
     err = refused(tmp_path, capsys, TANK + "[[water]]\npolygon = [[0, 0], [3, 0], [3, 0.5], [0, 0.5]]\n")
     assert "corners inside domain.box" in err and "(3, 0) m lies outside it" in err, err

@@ -108,6 +108,9 @@ class SurfaceGauge(Gauge):
         for (floor, mat), run in itertools.groupby(gauges, key=lambda g: (g.floor, g.mat)):
             run = list(run)
             for g, z in zip(run, surface_heights(st, [g.x for g in run], site.dx, site.h, floor=floor, mat=mat)):
+                if z <= floor:             # no water over the gauge (dry land, a drained basin): no reading
+                    out.append([float("nan")])
+                    continue
                 if g.zero is None and g.still_start:
                     g.zero = float(z) - g.level
                 elif g.zero is None:
@@ -117,8 +120,10 @@ class SurfaceGauge(Gauge):
         return out
 
     def metrics(self, c, t, w, period):
-        e = np.asarray(c[self.columns[0]])
-        out = {f"{self.label}_eta_max": float(np.nanmax(e[w])), f"{self.label}_eta_min": float(np.nanmin(e[w]))}
+        e = np.asarray(c[self.columns[0]], float)
+        wet = np.isfinite(e[w])
+        out = {f"{self.label}_eta_max": float(np.max(e[w][wet])) if wet.any() else float("nan"),
+               f"{self.label}_eta_min": float(np.min(e[w][wet])) if wet.any() else float("nan")}
         if period:
             H, n = wave_height(t, e, self.from_time, float(t[-1]), period)
             out[f"{self.label}_wave_height"] = H if n else float("nan")

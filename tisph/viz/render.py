@@ -37,6 +37,7 @@ class Renderer:
                  pressure_scale=0.0, bed_panel=None, bed_label="", vrange=None, min_height=0, bed_surface=None,
                  zoom=None, zoom_field="vorticity", axes=True, marks=(), zones=(), bed_range=0.0, rows=True):
         (x0, y0), (x1, y1) = view
+        aspect = (x1 - x0) / (y1 - y0)                  # as asked, before any air is added
         W = max(16, int(width) // 16 * 16)
         self.scale = W / (x1 - x0)
         H = max(16, int(round((y1 - y0) * self.scale / 16)) * 16)
@@ -84,10 +85,11 @@ class Renderer:
         # a long view (a flume) in rows, each a stretch of it at a readable scale, where it is the
         # frame's one panel (no second field, bed panel or zoom window along the whole length)
         self.rows = []
-        n = int(np.ceil(np.sqrt((x1 - x0) / (y1 - y0) / self.ROW_ASPECT)))
+        n = int(np.ceil(np.sqrt(aspect / self.ROW_ASPECT)))
         if n > 1 and rows and bed_panel is None and zoom is None and len(modes) == 1:
             n = min(n, self.MAX_ROWS)
             step = (x1 - x0) / n
+            y1 = view[1][1]
             self.rows = [Renderer(((x0 + i * step, y0), (x0 + (i + 1) * step, y1)), width, dx, speed_scale, modes=modes,
                                   mat_colors=mat_colors, pressure_scale=pressure_scale, vrange=vrange,
                                   min_height=min_height, bed_surface=bed_surface, axes=axes, marks=marks, zones=zones,

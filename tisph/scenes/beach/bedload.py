@@ -16,7 +16,7 @@ import numpy as np
 from ...constants import G
 from ...config import physics_from_config
 from ...io import write_csv, write_station_rows
-from ...particles import ParticleSet, block, density_from_pressure, tait_B, FLUID, WALL, MOVING
+from ...particles import ParticleSet, block, density_from_pressure, tait_B, BED, FLUID, WALL, MOVING
 from ...ripples import (MIN_LENGTH_DX, RESOLVED_DX, floor2, last_finite, orbital_diameter, ripple_stats, unresolved,
                         warn_unresolved, wiberg_harris)
 from ...case import make_case
@@ -105,17 +105,25 @@ def build_bedload(cfg, name, stills):
     ps.add(xw, FLUID, 0, density(xw[:, 1]), rw * dx * dx)
     pad_pts, motion, extra, reach = paddle(cfg, d, Hw, floor_y=ts)
     x_left = -reach - 2 * T
-    walls = np.vstack([block(x_left, ts - T, RIGID, ts, dx),
-                       block(Lf, float(z.min()) - 0.1 - T, Lf + T, Hw, dx)])
+    floor = float(z.min()) - 0.1                      # the bed may erode 0.1 m below its lowest point
+    # Where the rigid floor meets the bed, the bed's first column and the floor's last two reach
+    # down to the bed's floor: sand piled against the rigid floor (or scoured beside it) leaves
+    # a face higher than the column's own layers, and water found its way under the bed there
+    # (at dx 0.0062, a 2.6 cm pile).
+    walls = np.vstack([block(x_left, ts - T, RIGID, ts, dx), block(RIGID - 2 * dx, floor - T, RIGID, ts - T, dx),
+                       block(Lf, floor - T, Lf + T, Hw, dx)])
     ps.add(walls, WALL, 0, density(walls[:, 1]), rw * dx * dx)
     ps.add(pad_pts, MOVING, 0, density(pad_pts[:, 1]), rw * dx * dx)
     initial.add_bed_particles(ps, stations, z, dx, L, rw, density)
+    for k in range(L, int(np.ceil((z[0] - floor) / dx)) + L):
+        y = np.array([z[0] - (k + 0.5) * dx])
+        ps.add(np.array([[stations[0], y[0]]]), BED, 0, density(y), rw * dx * dx, station=np.array([0]),
+               normal=(0.0, 1.0), wall_dist=(k + 0.5) * dx)
 
     params = common_params(cfg, c0, G, depth=yw)
     params.update(extra)
     params["bed_stations"] = len(stations)
     pad = 3 * T + 4 * h
-    floor = float(z.min()) - 0.1                      # the bed may erode 0.1 m below its lowest point
     domain = ((x_left - pad, floor - T - pad), (Lf + T + pad, 2 * Hw + pad))
     physics = physics_from_config(cfg, paddle=p["type"], materials_used=["water"], moving_bed=True)
     bed = coupling.BedCoupler(sed, stations, z, dx, h, geo["grain_diameter"], sed["grain_density"],

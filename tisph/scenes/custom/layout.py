@@ -143,7 +143,7 @@ class Layout:
         """(floor, level) of the water in the lattice column just right of x: its lowest and highest
         particle, half a spacing out; None if there is no water there."""
         dx = self.dx
-        xc = (math.floor(x / dx + 1e-9) + 0.5) * dx
+        xc = (math.floor(x / dx - 0.5 + 1e-9) + 1.5) * dx      # the first column centre past x
         sel = self.water & (np.abs(self.pts[:, 0] - xc) < 0.25 * dx)
         if not sel.any():
             return None
