@@ -126,3 +126,19 @@ def test_gauges_are_marked_on_the_flume_frame():
     for x, _ in r.marks:
         col = img[top:top + H, r.left + int(round((x - x0) * r.scale))]
         assert (col.max(axis=1) <= 40).sum() >= H // 8       # a dotted line down the panel
+
+
+def test_the_beach_colours_by_its_waves_own_speed():
+    """The beach's colour top is three times the linear near-bed orbital speed at the paddle
+    (1.02 m/s at the defaults), and its vorticity range that over 10 dx: one range a movie."""
+    import math
+    from tisph.runner import resolve
+    from tisph.scenes import beach
+    from tisph.waves.theory import linear_wave
+    cfg = resolve(beach)
+    case = beach.build(cfg)
+    omega, k, _, _, hs = linear_wave(cfg, 0.3)
+    u = 1.5 * hs * cfg["paddle"]["stroke"] * omega / math.sinh(k * 0.3)
+    assert case.picture.speed_scale == pytest.approx(u) and 0.9 < u < 1.1
+    r = make_renderer(case.picture, cfg["output"], cfg["numerics"]["dx"], "beach", case.picture.speed_scale)
+    assert r.zoom._colour_range("vorticity", np.array([0.0, 50.0])) == pytest.approx((-u / (10 * 0.0093), u / (10 * 0.0093)))

@@ -115,10 +115,10 @@ def build_bedload(cfg, name, stills):
     ps.add(walls, WALL, 0, density(walls[:, 1]), rw * dx * dx)
     ps.add(pad_pts, MOVING, 0, density(pad_pts[:, 1]), rw * dx * dx)
     initial.add_bed_particles(ps, stations, z, dx, L, rw, density)
-    for k in range(L, int(np.ceil((z[0] - floor) / dx)) + L):
-        y = np.array([z[0] - (k + 0.5) * dx])
+    for layer in range(L, int(np.ceil((z[0] - floor) / dx)) + L):
+        y = np.array([z[0] - (layer + 0.5) * dx])
         ps.add(np.array([[stations[0], y[0]]]), BED, 0, density(y), rw * dx * dx, station=np.array([0]),
-               normal=(0.0, 1.0), wall_dist=(k + 0.5) * dx)
+               normal=(0.0, 1.0), wall_dist=(layer + 0.5) * dx)
 
     params = common_params(cfg, c0, G, depth=yw)
     params.update(extra)
