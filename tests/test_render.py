@@ -142,3 +142,18 @@ def test_the_beach_colours_by_its_waves_own_speed():
     assert case.picture.speed_scale == pytest.approx(u) and 0.9 < u < 1.1
     r = make_renderer(case.picture, cfg["output"], cfg["numerics"]["dx"], "beach", case.picture.speed_scale)
     assert r.zoom._colour_range("vorticity", np.array([0.0, 50.0])) == pytest.approx((-u / (10 * 0.0093), u / (10 * 0.0093)))
+
+
+def test_the_pressure_bar_holds_the_first_frames_range():
+    """Without a scene's pressure scale the bar is the first frame's (the water at rest: rho g
+    depth) for the whole movie, not each frame's: an impact later is drawn against it."""
+    dx = 0.02
+    g = np.mgrid[0:50, 0:10].reshape(2, -1).T * dx + 0.5 * dx
+    n = len(g)
+    r = Renderer(((0.0, 0.0), (1.0, 0.5)), 320, dx, 1.0, modes=("pressure",), axes=False)
+    st = dict(x=g, v=np.zeros((n, 2)), p=9810.0 * (0.2 - g[:, 1]), rho=np.full(n, 1000.0),
+              kind=np.zeros(n, int), mat=np.zeros(n, int))
+    r.frame(st, 0.0)
+    first = r.bars[-1][1:3]
+    r.frame(dict(st, p=3.0 * st["p"]), 0.1)
+    assert r.bars[-1][1:3] == first and 1.5 < first[1] < 2.0     # kPa: rho g 0.19 m

@@ -29,8 +29,9 @@ class Renderer:
     the colour bar with its title; text scales with the width and never covers particles.
 
     vrange: (lo, hi) of the colour bar; None: speed from speed_scale (the scene's expected peak
-    speed) or else the 99th percentile, pressure from pressure_scale, density and vorticity from
-    robust percentiles of each frame. min_height: a panel shorter than this (px) gets more room
+    speed) or else the 99th percentile, pressure from pressure_scale or else the first frame's
+    (held for the movie), vorticity from speed_scale over 10 dx, density from robust
+    percentiles of each frame. min_height: a panel shorter than this (px) gets more room
     above the view's top (air), not a squashed picture."""
 
     def __init__(self, view, width=640, dx=0.01, speed_scale=0.0, title="", modes=("speed",), mat_colors=None,
@@ -55,7 +56,7 @@ class Renderer:
                 raise ValueError(f"render mode {m!r}: expected one of {sorted(MODES)}")
         self.modes = tuple(modes)
         self.vrange = tuple(vrange) if vrange else None
-        self.pressure_scale = float(pressure_scale)   # 0: from the water in view, each frame
+        self.pressure_scale = float(pressure_scale)   # 0: from the water in view in the first frame
         self.mat_colors = list(mat_colors or [])
         self.bed_panel, self.bed_label, self.bed_surface = bed_panel, bed_label, bed_surface
         # m: the bed panel's half-height: the step that holds bed_range, fixed for the movie; or, with
@@ -115,8 +116,9 @@ class Renderer:
             hi = self.speed_scale if self.speed_scale > 0 else float(np.percentile(values, 99)) if len(values) else 1.0
             return 0.0, max(hi, 1e-6)
         if field == "pressure":   # the water's, not the walls' (whose pressure can be several times it)
-            hi = self.pressure_scale or (float(np.percentile(values, 99.5)) if len(values) else 1.0)
-            return 0.0, max(hi, 1e-6)
+            if not self.pressure_scale and len(values):   # the first frame's (at rest: rho g depth), then held
+                self.pressure_scale = max(float(np.percentile(values, 99.5)), 1e-6)
+            return 0.0, max(self.pressure_scale or 1.0, 1e-6)
         if field == "vorticity":
             if self.speed_scale > 0:       # one range for the movie: the colour bar's top speed over 10 dx
                 return -self.speed_scale / (10.0 * self.dx), self.speed_scale / (10.0 * self.dx)
