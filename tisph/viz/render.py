@@ -384,8 +384,9 @@ class Renderer:
         scale = self.W / (x1 - x0)
         if view == self.view or view in [r.view for r in self.rows]:
             for x, label in self.marks:
-                if x0 <= x <= x1:
-                    d.text((L + int(round((x - x0) * scale)) + 2, top + 2), label, fill=(0, 0, 0), font=font)
+                px = int(round((x - x0) * scale))
+                if 0 <= px < self.W - 2 * fp:     # its dotted line drawn, and room for the label
+                    d.text((L + px + 2, top + 2), label, fill=(0, 0, 0), font=font)
             for a, b, label in self.zones:
                 pa, pb = (L + int(round((min(max(v, x0), x1) - x0) * scale)) for v in (a, b))
                 if pb > pa:
