@@ -51,6 +51,24 @@ def floor2(x):
     return round(math.floor(x / 10.0 ** e + 1e-9) * 10.0 ** e, 12)
 
 
+def derive_resolution(cfg, given, lam, d0, where="", limit=None, cap=None):
+    """A ripple scene's dx and morfac where the user left them unset: dx puts the predicted ripple
+    lam (Wiberg & Harris for d0) over RESOLVED_DX spacings; morfac is the largest, to a tenth, at
+    which the bed turns over no faster per wave period than in the calibration tunnel (limit,
+    tisph/sediment/morfac.py; None: keep morfac), at most cap. Returns run.log's lines."""
+    notes = []
+    if "numerics.dx" not in given:
+        cfg["numerics"]["dx"] = dx = floor2(lam / RESOLVED_DX)
+        notes.append(f"numerics.dx = {dx:g} m: the predicted ripple{where} ({lam:.3g} m, Wiberg & Harris for d0 = "
+                     f"{d0:.3g} m) over {RESOLVED_DX:g} spacings (set numerics.dx to choose)")
+    if limit is not None and "sediment.morfac" not in given:
+        m = max(1.0, min(cap or math.inf, math.floor(limit * 10 + 1e-6) / 10))
+        cfg["sediment"]["morfac"] = m
+        notes.append(f"sediment.morfac = {m:g}: the bed{where} turns over no faster per wave period than in the "
+                     f"calibration tunnel ({f'at most {cap:g}; ' if cap else ''}set sediment.morfac to choose)")
+    return notes
+
+
 def warn_unresolved(length, dx, where):
     """A warning (captured into summary.json and printed at the start) when the predicted ripple
     is shorter than RESOLVED_DX spacings."""

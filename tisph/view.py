@@ -22,7 +22,8 @@ import numpy as np
 from . import registry as scenes
 from .config import ConfigError, flatten, tomllib
 from .io import OPTIONAL, SNAPSHOT_FIELDS, OutputError, ensure_dir, load, load_attrs, snapshot_files
-from .viz.render import FIELDS, STATE, MovieWriter, make_renderer, write_png
+from .viz.files import MovieWriter, write_png
+from .viz.render import FIELDS, STATE, make_renderer
 from .runner import resolve
 from .particles import BED
 from .viz.live import display_problem, LiveWindow

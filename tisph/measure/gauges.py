@@ -121,9 +121,9 @@ class SurfaceGauge(Gauge):
 
     def metrics(self, c, t, w, period):
         e = np.asarray(c[self.columns[0]], float)
-        wet = np.isfinite(e[w])
-        out = {f"{self.label}_eta_max": float(np.max(e[w][wet])) if wet.any() else float("nan"),
-               f"{self.label}_eta_min": float(np.min(e[w][wet])) if wet.any() else float("nan")}
+        wet = e[w][np.isfinite(e[w])]             # a dry gauge's readings are NaN
+        out = {f"{self.label}_eta_max": float(wet.max()) if wet.size else float("nan"),
+               f"{self.label}_eta_min": float(wet.min()) if wet.size else float("nan")}
         if period:
             H, n = wave_height(t, e, self.from_time, float(t[-1]), period)
             out[f"{self.label}_wave_height"] = H if n else float("nan")

@@ -12,7 +12,8 @@ from .outputs import Outputs
 from .setup import Log, SimulationError, describe_instability
 from .summary import summarize
 from ..io import ensure_dir, clean_stale_parts
-from ..viz.render import MovieWriter, make_renderer
+from ..viz.files import MovieWriter
+from ..viz.render import make_renderer
 from ..viz.live import LiveWindow
 
 

@@ -11,7 +11,8 @@ import numpy as np
 from .. import __version__
 from ..config import ConfigError, dump_toml, tomllib as _toml
 from .setup import run_settings, config_changes
-from ..viz.render import write_png, STATE
+from ..viz.files import write_png
+from ..viz.render import STATE
 from ..io import ensure_dir, write_csv, write_snapshot, SNAPSHOT_FIELDS, write_xdmf, atomic_path, OutputError, load
 
 

@@ -1,15 +1,14 @@
-"""Offscreen rendering: NumPy splats particles from arrays into an image (no window, no GPU; the
-live run and tisph.view share it); PIL adds the labels and colour bars; imageio writes PNG
-frames and an MP4 (imageio-ffmpeg)."""
-import os
-import warnings
-
+"""Offscreen rendering: NumPy draws particles from arrays into an image, the water's field
+interpolated by the kernel (tisph/viz/interpolate.py), the rest as discs (no window, no GPU; the
+live run and tisph.view share it); PIL adds the labels and colour bars; tisph/viz/files.py writes
+the PNG frames and the MP4."""
 import numpy as np
 
-from ..io import OPTIONAL, atomic_path, OutputError
+from ..io import OPTIONAL
 from ..particles import BED, FLUID
 from .colours import (BACKGROUND, BOUNDARY, MODES, SAND, WATER, colormap, diverging,  # noqa: F401 (re-exported)
                       vorticity)
+from .interpolate import kernel_image
 
 FIELDS = ("speed", "pressure", "density", "material", "vorticity", "concentration")   # output.field
 UNITS = {"speed": "|u| (m/s)", "pressure": "p (kPa)", "density": "rho (kg/m3)", "vorticity": "curl u (1/s)",
@@ -131,7 +130,9 @@ class Renderer:
         return float(lo), float(max(hi, lo + 1e-6))
 
     def _colours(self, mode, st):
-        self._field = None
+        """Each particle's colour, and the field drawn continuous: (which particles, their value
+        in 0-1 of the colour bar, the colour map), or None."""
+        field_image = None
         kind, mat = st["kind"], st["mat"]
         fl = kind == FLUID
         col = np.tile(np.array(BOUNDARY), (len(kind), 1))
@@ -161,7 +162,7 @@ class Renderer:
                 smooth &= ~np.isin(mat, own)
             vals01 = np.zeros(len(kind))
             vals01[fl] = s01
-            self._field = (smooth, vals01, cmap)
+            field_image = (smooth, vals01, cmap)
             unit = UNITS[field]
             if field == "pressure":
                 lo, hi = lo / 1000.0, hi / 1000.0
@@ -179,12 +180,12 @@ class Renderer:
             base = np.array(c if c is not None else (WATER if k == 0 else SAND))
             shade = 1.0 - 0.45 * np.minimum(speed[sel] / self._speed_hi, 1.0) if mode == "phase" else 1.0
             col[sel] = base * (shade[:, None] if mode == "phase" else 1.0)
-        return col
+        return col, field_image
 
     ROW_ASPECT = 6.0   # a view longer than this many heights is drawn in rows (at most MAX_ROWS)
     MAX_ROWS = 3
 
-    def _splat(self, st, col):
+    def _splat(self, st, col, field_image=None):
         """The panel: sand under a bed surface, the field's fluid interpolated by the kernel onto
         the pixels (Shepard-normalised, cut where the water ends), every other particle a disc."""
         img = np.empty((self.H, self.W, 3), np.uint8)
@@ -196,9 +197,9 @@ class Renderer:
             rows = np.arange(self.H)[:, None]
             img[(self.H - 1 - rows) < top[None, :]] = (np.array(SAND) * 255).astype(np.uint8)
         smooth = np.zeros(len(st["kind"]), bool)
-        if self._field is not None and self._field[0].any():
-            smooth, s01, cmap = self._field
-            val, inside = self._continuous(st["x"][smooth], s01[smooth])
+        if field_image is not None and field_image[0].any():
+            smooth, s01, cmap = field_image
+            val, inside = kernel_image(st["x"][smooth], s01[smooth], (x0, y0), self.scale, self.dx, self.W, self.H)
             lut = (np.clip(cmap(np.linspace(0.0, 1.0, 256)), 0, 1) * 255).astype(np.uint8)
             img[inside] = lut[(np.clip(val[inside], 0.0, 1.0) * 255 + 0.5).astype(np.uint8)]
         cx = np.floor((st["x"][:, 0] - x0) * self.scale).astype(int)
@@ -215,47 +216,6 @@ class Renderer:
             img[self.H - 1 - py[ok], px[ok]] = c8[ok]
         return img
 
-    SHEPARD_CUT = 0.35   # the water ends where the kernel sum falls under this: 0.5 a free surface's
-                         # half spacing out, a lone droplet 0.45 at its centre (it stays drawn)
-
-    def _continuous(self, x, f):
-        """f at the fluid points x interpolated onto the panel's pixels with the cubic spline at
-        h = dx (support 2 dx), normalised by the kernel sum; returns (values, inside) with rows top
-        to bottom, inside where the sum reaches SHEPARD_CUT. Summed on a grid of about a third of
-        the support a cell, then bilinear onto the pixels (a zoom's kernel spans many)."""
-        (x0, y0), _ = self.view
-        dx, H, W = self.dx, self.H, self.W
-        g = max(1, int(round(2.0 * dx * self.scale / 3)))         # px a grid cell: a third of the support
-        cell = g / self.scale
-        gw, gh = -(-W // g), -(-H // g)
-        px, py = (x[:, 0] - x0) / cell - 0.5, (x[:, 1] - y0) / cell - 0.5
-        rc = int(np.ceil(2.0 * dx / cell))
-        near = (px > -rc - 1) & (px < gw + rc) & (py > -rc - 1) & (py < gh + rc)
-        px, py, f = px[near], py[near], f[near]
-        ix0, iy0 = np.floor(px).astype(int), np.floor(py).astype(int)
-        oy, ox = (o.ravel() for o in np.mgrid[-rc:rc + 2, -rc:rc + 2])     # every cell offset at once
-        ix, iy = ix0[:, None] + ox[None, :], iy0[:, None] + oy[None, :]
-        q = np.hypot(ix - px[:, None], iy - py[:, None]) * (cell / dx)
-        ok = (q < 2.0) & (ix >= 0) & (ix < gw) & (iy >= 0) & (iy < gh)
-        q, idx = q[ok], (iy * gw + ix)[ok]
-        w = np.where(q < 1.0, 1.0 - 1.5 * q * q + 0.75 * q ** 3, 0.25 * (2.0 - q) ** 3)
-        norm = 10.0 / (7.0 * np.pi)                  # the 2D cubic's sigma h^2; times V / h^2 = 1
-        den = np.bincount(idx, weights=w, minlength=gw * gh).reshape(gh, gw) * norm
-        num = np.bincount(idx, weights=w * np.broadcast_to(f[:, None], ok.shape)[ok], minlength=gw * gh)
-        num = num.reshape(gh, gw) * norm
-        if g > 1:                                    # bilinear from the cells' centres to the pixels'
-            def up(a, n, axis):
-                c = np.clip((np.arange(n) + 0.5) / g - 0.5, 0, a.shape[axis] - 1)
-                i = np.minimum(np.floor(c).astype(int), a.shape[axis] - 2) if a.shape[axis] > 1 else np.zeros(n, int)
-                t = c - i if a.shape[axis] > 1 else np.zeros(n)
-                lo, hi = np.take(a, i, axis), np.take(a, np.minimum(i + 1, a.shape[axis] - 1), axis)
-                t = t[:, None] if axis == 0 else t[None, :]
-                return lo * (1 - t) + hi * t
-            den, num = (up(up(a, H, 0), W, 1) for a in (den, num))
-        with np.errstate(invalid="ignore", divide="ignore"):
-            val = np.where(den > 0, num / den, 0.0)
-        return val[::-1], (den >= self.SHEPARD_CUT)[::-1]
-
     def frame(self, st, t):
         """RGB uint8 image (rows top to bottom) of the state st (arrays x, v, p, rho, kind, mat)."""
         self.bars = []
@@ -269,10 +229,9 @@ class Renderer:
 
         blocks, self.panels, row = [strip(self.strip)], [], self.strip
         for m in self.modes:
-            col = self._colours(m, st)
+            col, field_image = self._colours(m, st)
             for k, r in enumerate(self.rows or [self]):     # the colours from the whole view, one bar
-                r._field = self._field
-                img = r._splat(st, col)
+                img = r._splat(st, col, field_image)
                 if self.zoom is not None:
                     self._outline(img, self.zoom.view)
                 for x, _ in self.marks:               # gauges: a dotted line across the panel
@@ -292,7 +251,7 @@ class Renderer:
         if self.zoom is not None:
             z = self.zoom
             z.bars = []
-            img = z._splat(st, z._colours(z.modes[0], st))
+            img = z._splat(st, *z._colours(z.modes[0], st))
             self.zoom_row = row
             self.panels.append((row + self.strip, z.H, z.view, z.bars[-1]))
             blocks += [strip(self.strip), img, strip(self.AXIS)]
@@ -437,49 +396,3 @@ def make_renderer(pic, outc, dx, title, speed_scale):
                     vrange=outc.get("range") or None, min_height=outc.get("min_height", 0),
                     bed_surface=pic.bed_surface, zoom=zoom, marks=pic.marks, zones=pic.zones,
                     bed_range=pic.bed_range)
-
-
-def write_png(path, img):
-    import imageio.v2 as imageio
-    try:
-        with atomic_path(path) as tmp:
-            # zlib level 3: a frame in half the time of the default 6, a fifth larger
-            imageio.imwrite(tmp, img, format="PNG", compress_level=3)
-    except OSError as e:
-        raise OutputError(f"cannot write {path!r}: {e}") from None
-
-
-class MovieWriter:
-    """MP4 through imageio-ffmpeg, written under a temporary name and renamed on close."""
-
-    def __init__(self, path, fps):
-        import imageio.v2 as imageio
-        self.path = path
-        d = os.path.dirname(os.path.abspath(path))
-        self.tmp = os.path.join(d, "." + os.path.basename(path) + ".part.mp4")
-        self.writer = None
-        try:
-            self.writer = imageio.get_writer(self.tmp, format="FFMPEG", fps=fps, codec="libx264",
-                                             pixelformat="yuv420p", macro_block_size=16,
-                                             ffmpeg_log_level="error", quality=7)
-        except Exception as e:  # no ffmpeg binary: frames are still written
-            warnings.warn(f"MP4 disabled: {e}")
-
-    def append(self, img):
-        if self.writer is not None:
-            self.writer.append_data(img)
-
-    def close(self):
-        if self.writer is not None:
-            self.writer.close()
-            self.writer = None
-            os.replace(self.tmp, self.path)
-
-    def abort(self):
-        if self.writer is not None:
-            try:
-                self.writer.close()
-            finally:
-                self.writer = None
-                if os.path.exists(self.tmp):
-                    os.unlink(self.tmp)

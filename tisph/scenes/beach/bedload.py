@@ -17,7 +17,7 @@ from ...constants import G
 from ...config import physics_from_config
 from ...io import write_csv, write_station_rows
 from ...particles import ParticleSet, block, density_from_pressure, tait_B, BED, FLUID, WALL, MOVING
-from ...ripples import (MIN_LENGTH_DX, RESOLVED_DX, floor2, last_finite, orbital_diameter, ripple_stats, unresolved,
+from ...ripples import (MIN_LENGTH_DX, RESOLVED_DX, derive_resolution, last_finite, orbital_diameter, ripple_stats, unresolved,
                         warn_unresolved, wiberg_harris)
 from ...case import make_case
 from ...runner import common_params, sound_speed
@@ -55,24 +55,16 @@ def derive_bedload(cfg, given):
     ripple Wiberg & Harris predict for the toe's linear-wave d0 over RESOLVED_DX spacings, and
     morfac turns the bed there over no faster per wave period than in the calibration tunnel.
     Returns run.log's lines."""
-    geo, sed, notes = cfg["geometry"], cfg["sediment"], []
+    geo, sed = cfg["geometry"], cfg["sediment"]
     if cfg["paddle"]["series"]:
-        return notes                       # a measured signal: no wave to derive them from
+        return []                          # a measured signal: no wave to derive them from
     omega, _, H, d0 = toe_wave(cfg)
     if not (H > 0 and d0 > 0):
-        return notes
-    lam = wiberg_harris(d0, geo["grain_diameter"])[0]
-    if "numerics.dx" not in given:
-        cfg["numerics"]["dx"] = dx = floor2(lam / RESOLVED_DX)
-        notes.append(f"numerics.dx = {dx:g} m: the ripple Wiberg & Harris predict at the toe ({lam:.3g} m, for the "
-                     f"linear-wave d0 = {d0:.3g} m) over {RESOLVED_DX:g} spacings (set numerics.dx to choose)")
-    if "sediment.morfac" not in given:
-        rw = cfg["materials"]["water"]["rho0"]
-        turn = bed_turnover(d0, 2.0 * math.pi / omega, geo["grain_diameter"], sed["grain_density"] / rw, sed)
-        sed["morfac"] = m = max(1.0, math.floor(morfac_limit(sed, turn) * 10 + 1e-6) / 10)
-        notes.append(f"sediment.morfac = {m:g}: the bed at the toe turns over no faster per wave period than in "
-                     f"the calibration tunnel (set sediment.morfac to choose)")
-    return notes
+        return []
+    rw = cfg["materials"]["water"]["rho0"]
+    turn = bed_turnover(d0, 2.0 * math.pi / omega, geo["grain_diameter"], sed["grain_density"] / rw, sed)
+    return derive_resolution(cfg, given, wiberg_harris(d0, geo["grain_diameter"])[0], d0, " at the toe",
+                             limit=morfac_limit(sed, turn))
 
 
 def build_bedload(cfg, name, stills):
@@ -83,8 +75,8 @@ def build_bedload(cfg, name, stills):
     omega, k, wavelength, cg, hs_ratio = linear_wave(cfg, d)
     H_biesel = hs_ratio * p["stroke"]
     d0_toe = orbital_diameter(H_biesel, k, d)
-    warn_unresolved(wiberg_harris(d0_toe, geo["grain_diameter"])[0], dx,
-                    "at the toe (Wiberg & Harris for the linear-wave d0)")
+    lam_toe, ripple_h_toe, _ = wiberg_harris(d0_toe, geo["grain_diameter"])
+    warn_unresolved(lam_toe, dx, "at the toe (Wiberg & Harris for the linear-wave d0)")
     T_wave = 2.0 * math.pi / omega
     warn_fast_bed(sed, bed_turnover(d0_toe, T_wave, geo["grain_diameter"], sed["grain_density"] / rw, sed),
                   f"at the toe's linear-wave d0 of {d0_toe:.3g} m")
@@ -115,10 +107,10 @@ def build_bedload(cfg, name, stills):
     ps.add(walls, WALL, 0, density(walls[:, 1]), rw * dx * dx)
     ps.add(pad_pts, MOVING, 0, density(pad_pts[:, 1]), rw * dx * dx)
     initial.add_bed_particles(ps, stations, z, dx, L, rw, density)
-    for layer in range(L, int(np.ceil((z[0] - floor) / dx)) + L):
-        y = np.array([z[0] - (layer + 0.5) * dx])
-        ps.add(np.array([[stations[0], y[0]]]), BED, 0, density(y), rw * dx * dx, station=np.array([0]),
-               normal=(0.0, 1.0), wall_dist=(layer + 0.5) * dx)
+    depth = (np.arange(L, int(np.ceil((z[0] - floor) / dx)) + L) + 0.5) * dx     # below the first column's L
+    y = z[0] - depth
+    ps.add(np.column_stack([np.full(len(y), stations[0]), y]), BED, 0, density(y), rw * dx * dx,
+           station=np.zeros(len(y), int), normal=(0.0, 1.0), wall_dist=depth)
 
     params = common_params(cfg, c0, G, depth=yw)
     params.update(extra)
@@ -147,7 +139,7 @@ def build_bedload(cfg, name, stills):
                      finalize=rec.finalize, stills=stills, container=(-reach - dx, floor - T, Lf, float("inf"), Hw),
                      control=with_control(motion, bed.update), control_every=sed["update_every"],
                      persist=(bed, rec) + ((motion,) if p["absorb"] else ()),
-                     **bed.picture(left=ts, ripple_height=wiberg_harris(d0_toe, geo["grain_diameter"])[1]))
+                     **bed.picture(left=ts, ripple_height=ripple_h_toe))
 
 
 class BeachBed:

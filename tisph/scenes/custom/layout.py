@@ -82,8 +82,8 @@ class Layout:
                 errors.append(ConfigError(f"{w['name']}.polygon", "crosses itself", "a polygon that does not cross itself"))
                 return
             x0, x1, z0, z1 = self.box
-            out = [[float(a) for a in q] for q in poly if not (x0 - 0.5 * dx <= q[0] <= x1 + 0.5 * dx and z0 - 0.5 * dx <= q[1] <= z1 + 0.5 * dx)]
-            if out:      # said first: past the box, it is also in the walls that close the box
+            out = poly[((poly < [x0 - 0.5 * dx, z0 - 0.5 * dx]) | (poly > [x1 + 0.5 * dx, z1 + 0.5 * dx])).any(1)]
+            if len(out):      # said first: past the box, it is also in the walls that close the box
                 errors.append(ConfigError(f"{w['name']}.polygon", w["polygon"], f"corners inside domain.box = "
                                           f"[{x0:g}, {x1:g}, {z0:g}, {z1:g}]", f"({out[0][0]:g}, {out[0][1]:g}) m lies outside it"))
                 return

@@ -18,7 +18,6 @@ particles; 40 s (20 periods, 200 periods of bed change at morfac 10), about 2 mi
 cores. geometry.seed_ripple_height > 0 starts the bed rippled (at the predicted length, or
 geometry.seed_ripple_length), to ask whether the bed keeps them, merges or splits them.
 """
-import math
 import os
 import sys
 
@@ -30,7 +29,7 @@ from ...schema import NON_NEGATIVE, POSITIVE, choices, K, ranges, values, with_d
 from ...io import write_station_rows
 from ...particles import ParticleSet, block, density_from_pressure, layered_pressure, tait_B, FLUID, WALL
 from ...viz.render import SAND
-from ...ripples import MIN_HEIGHT_DX, MIN_LENGTH_DX, RESOLVED_DX, floor2, last_finite, ripple_stats, wiberg_harris
+from ...ripples import MIN_HEIGHT_DX, MIN_LENGTH_DX, derive_resolution, last_finite, ripple_stats, wiberg_harris
 from ...case import make_case
 from ...runner import common_params, run_scene, sound_speed
 from ...materials import BINGHAM_SAND, WATER
@@ -77,19 +76,10 @@ def derive(cfg, given):
     predicted ripple (Wiberg & Harris for d0 and d50) over RESOLVED_DX spacings, and morfac turns
     the bed over no faster than in the calibration tunnel (tisph/sediment/morfac.py), at most its
     10. The calibration tunnel itself keeps dx 0.01 and morfac 10. Returns run.log's lines."""
-    g, notes = cfg["geometry"], []
-    lam = wiberg_harris(g["orbital_diameter"], g["grain_diameter"])[0]
-    if "numerics.dx" not in given:
-        cfg["numerics"]["dx"] = dx = floor2(lam / RESOLVED_DX)
-        notes.append(f"numerics.dx = {dx:g} m: the predicted ripple ({lam:.3g} m, Wiberg & Harris for d0 = "
-                     f"{g['orbital_diameter']:g} m) over {RESOLVED_DX:g} spacings (set numerics.dx to choose)")
-    if cfg["sediment"]["model"] == "bedload" and "sediment.morfac" not in given:
-        limit = morfac_limit(cfg)
-        m = max(1.0, min(CALIBRATION["morfac"], math.floor(limit * 10 + 1e-6) / 10))
-        cfg["sediment"]["morfac"] = m
-        notes.append(f"sediment.morfac = {m:g}: the bed turns over no faster per wave period than in the "
-                     f"calibration tunnel (at most {CALIBRATION['morfac']:g}; set sediment.morfac to choose)")
-    return notes
+    g = cfg["geometry"]
+    limit = morfac_limit(cfg) if cfg["sediment"]["model"] == "bedload" else None
+    return derive_resolution(cfg, given, wiberg_harris(g["orbital_diameter"], g["grain_diameter"])[0],
+                             g["orbital_diameter"], limit=limit, cap=CALIBRATION["morfac"])
 
 
 def check(cfg):
