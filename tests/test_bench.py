@@ -84,6 +84,21 @@ def test_wake_spectrum_finds_a_shedding_frequency_and_not_in_noise():
     assert all(np.isnan(wake_spectrum(t[:5], t[:5])))
 
 
+def test_live_bed_windows_split_the_series_from_the_bed_start():
+    """--shedding --live-bed: 2 s windows from the bed's start; a last piece under half a window
+    joins the one before, every sample after the start lands in exactly one window."""
+    import numpy as np
+    from tisph.bench.shedding import windows
+    t = np.round(np.arange(0.0, 8.31, 0.05), 10)
+    v = np.stack([t, -t], axis=1)
+    w = windows(t, v, 0.5)
+    assert [(a, round(b, 2)) for a, b, _ in w] == [(0.5, 2.5), (2.5, 4.5), (4.5, 6.5), (6.5, 8.3)]
+    assert sum(len(x) for _, _, x in w) == int(np.sum(t >= 0.5))
+    assert w[0][2][0, 0] == 0.5 and w[0][2][-1, 0] < 2.5 and w[-1][2][-1, 0] == 8.3
+    m = t <= 7.3
+    assert [(a, round(b, 2)) for a, b, _ in windows(t[m], v[m], 0.5)] == [(0.5, 2.5), (2.5, 4.5), (4.5, 7.3)]
+
+
 @pytest.mark.slow
 def test_shedding_bench_dry_run(tmp_path):
     """--shedding --dry-run: the whole path (the fixed-bed run, the snapshots read and deleted,
@@ -100,6 +115,12 @@ def test_shedding_bench_dry_run(tmp_path):
     rows = (tmp_path / "shedding.csv").read_text().splitlines()
     assert len(rows) == 2 and rows[0].startswith("gap_over_D")
     assert not (tmp_path / "runs" / "shedding_gap2" / "snapshots").exists()
+    assert cli.main(["--shedding", "--live-bed", "--dry-run", "--out", str(tmp_path / "live")]) == 0
+    md = (tmp_path / "live" / "shedding.md").read_text()
+    assert "The wake over a scouring bed" in md and "| 0.5-0.8 |" in md and "scheme paper002" in md
+    assert not (tmp_path / "live" / "runs" / "shedding_live_bed" / "snapshots").exists()
+    with pytest.raises(SystemExit):
+        cli.main(["--live-bed"])
     with pytest.raises(SystemExit):
         cli.main(["--gaps", "1.0"])
     with pytest.raises(SystemExit):
@@ -110,7 +131,8 @@ def test_shedding_bench_dry_run(tmp_path):
 def test_mao_held_bench_dry_run(tmp_path):
     """--mao-held --dry-run: Mao's 18 s bed is the run's initial bed (geometry.initial_profile)
     and stays put; the run writes the bed shear at every probe; the report has the rates by region
-    beside Mao's, and the figure is written."""
+    beside Mao's, with the wake's verdict; the snapshots it was read from are gone; the figure is
+    written."""
     from tisph.io import read_station_rows
     from tisph.validation import mao
     assert cli.main(["--mao-held", "--dry-run", "--out", str(tmp_path)]) == 0
@@ -128,6 +150,7 @@ def test_mao_held_bench_dry_run(tmp_path):
     md = (tmp_path / "mao_held.md").read_text()
     for region in ("upstream", "hole", "lee", "dune"):
         assert f"| 18 s | {region} (" in md
+    assert "| wake sheds (St; v std m/s) |" in md and not (run / "snapshots").exists()
     rows = (tmp_path / "mao_held.csv").read_text().splitlines()
     assert rows[0].startswith("t_mao,x_over_D") and len(rows) == 1 + 17
     assert (tmp_path / "mao_held.png").stat().st_size > 10000
@@ -353,3 +376,17 @@ def test_gci_recovers_a_known_order_and_its_limit_and_refuses_oscillation():
     assert p == pytest.approx(2.0, rel=1e-6) and ext == pytest.approx(1.0, rel=1e-6)
     assert g21 == pytest.approx(1.25 * (f[1] - f[0]) / f[0] / ((dx[1] / dx[0]) ** 2 - 1), rel=1e-6) and g32 > g21
     assert all(math.isnan(v) for v in gci(1.0, 1.1, 1.05, 1.5, 1.5))
+
+
+def test_bench_bad_case_file_is_a_message_not_a_traceback(tmp_path):
+    """python -m tisph.bench --shedding --config F with a key the pipeline refuses: the key, the
+    value and what is allowed, exit 2."""
+    import subprocess
+    import sys
+    src = open(os.path.join(ROOT, "scenes", "pipeline_scour_mao.toml")).read()
+    cfg = tmp_path / "bad.toml"
+    cfg.write_text(src.replace('turbulence = "k_equation"\n', 'turbulence = "smagorinsky"\n', 1))
+    r = subprocess.run([sys.executable, "-m", "tisph.bench", "--shedding", "--config", str(cfg), "--out",
+                        str(tmp_path / "out")], capture_output=True, text=True, cwd=ROOT)
+    assert r.returncode == 2, r.stderr
+    assert "sediment.shear = 'wall_function' is not allowed" in r.stderr and "Traceback" not in r.stderr

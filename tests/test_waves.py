@@ -542,6 +542,22 @@ def test_gauge_period_and_mean_level_over_whole_waves():
     assert np.isnan(crossing_period_and_level(t, np.zeros_like(t), 5.0, 20.0)[0])
 
 
+def test_free_oscillation_reads_the_loss_a_period_and_its_standard_error():
+    """A sloshing gauge's record: a cosine losing 2 % a period gives its period and loss exactly
+    and a standard error near zero; a higher mode beating in it spreads the cycles' amplitudes, and
+    the standard error covers the loss's error; under three cycles nothing."""
+    from tisph.measure.records import free_oscillation
+    t = np.arange(0.0, 12.0, 0.01)
+    T0, lam = 1.2, -np.log(0.98) / 1.2
+    clean = 0.02 * np.exp(-lam * t) * np.cos(2 * np.pi * t / T0)
+    T, loss, se, n = free_oscillation(t, clean)
+    assert T == pytest.approx(T0, rel=2e-3) and loss == pytest.approx(0.02, abs=2e-3) and se < 1e-3 and n >= 8
+    beat = clean + 0.003 * np.cos(2 * np.pi * t / 0.62 + 0.4)
+    T, loss, se, n = free_oscillation(t, beat)
+    assert se > 1e-3 and abs(loss - 0.02) < 2.5 * se
+    assert np.isnan(free_oscillation(t[:250], clean[:250])[2])
+
+
 def test_gauge_period_ignores_a_shoaling_waves_secondary_crests():
     t = np.linspace(0.0, 20.0, 4001)
     eta = 0.03 * np.sin(2 * np.pi * t / 1.2) + 0.012 * np.sin(2 * np.pi * 3 * t / 1.2 + 0.5)

@@ -1,5 +1,10 @@
 import sys
 
 from .cli import main
+from ..errors import ConfigError
 
-sys.exit(main())
+try:
+    sys.exit(main())
+except ConfigError as e:      # a bad case file given with --config: the message, not a traceback
+    print(f"python -m tisph.bench: {e}", file=sys.stderr)
+    sys.exit(2)

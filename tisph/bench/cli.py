@@ -51,6 +51,9 @@ def main(argv=None):
                    help="the pipeline case over Mao's measured beds held still: does the flow erode them where his "
                         "did? (tisph/bench/mao_held.py)")
     p.add_argument("--gaps", type=float, nargs="*", help="with --shedding: gaps in pipe diameters (default 0.5 1 2)")
+    p.add_argument("--live-bed", action="store_true",
+                   help="with --shedding: the case file as written, its bed scouring, the wake judged over each 2 s "
+                        "of flow")
     p.add_argument("--times", type=float, nargs="*", choices=[11.0, 18.0, 25.0],
                    help="with --mao-held: Mao's profiles to hold (default 11 18 25)")
     p.add_argument("--dx", type=float, help="with --shedding or --mao-held: particle spacing (default the case "
@@ -108,6 +111,8 @@ def main(argv=None):
         if a.dry_run:
             a.times, a.dx, a.end_time = a.times or [18.0], a.dx or 0.006, a.end_time or 0.3
         return mao_held.main(a)
+    if a.live_bed:
+        p.error("--live-bed needs --shedding")
     for name in ("gaps", "times", "dx", "end_time", "config"):
         if getattr(a, name) is not None:
             p.error(f"--{name.replace('_', '-')} needs --shedding, --mao-held (or --waves, --standing for --dx, "

@@ -12,17 +12,20 @@ Exner; no avalanching, which acts only on faces steeper than the repose angle) f
 dz_b/dt the bed would start to change at, on the experiment's clock.
 Mao's own rate is his next profile less this one over the 7 s between them, and under the pipe
 his series' deepening. A model that reproduces the experiment must erode where his bed went down.
+Beside it, whether the wake sheds over his hole (the fixed-bed benchmark's spectrum test,
+tisph/bench/shedding.py, on snapshots every 0.05 s over the same averaging window).
 Writes OUT/mao_held.md, OUT/mao_held.csv and OUT/mao_held.png; a benchmark, not a test (about
 13,700 steps of 48,000 particles per time at 2.5 s).
 """
 import os
+import shutil
 import time
 
 import numpy as np
 
 from .common import ROOT, table
 from ..io import read_station_rows, ensure_dir, write_csv, write_text
-from .shedding import average_from, run_pipeline
+from .shedding import POINTS, SAMPLE, average_from, run_pipeline, verdict, wake_series, wake_spectrum
 from ..sediment import coupling
 from ..validation import mao
 from ..measure.plots import pyplot, save
@@ -63,10 +66,17 @@ def mao_rate(tp, x_rel, D):
 def run_time(tp, end_time, out, cfg_file, dx=None):
     """One run over Mao's bed at tp held still; the shear and rates along the bed."""
     ov = {"geometry.initial_profile": f"mao_{tp:g}s", "sediment.morph_start": 10.0 * end_time,
-          "run.end_time": end_time, "output.render": False, "output.quiet": True}
+          "run.end_time": end_time, "output.render": False, "output.quiet": True, "output.snapshot_every": SAMPLE}
     run_dir = os.path.join(out, "runs", f"mao_held_{tp:g}s")
     cfg, s, wall, g = run_pipeline(cfg_file, ov, dx, run_dir)
-    return analyse(tp, run_dir, cfg, g, dict(particles=s["particles"], steps=s["steps"], wall_time_s=round(wall, 1)))
+    # does the wake shed over his hole? (the fixed-bed benchmark's test, over the averaging window)
+    t, v = wake_series(run_dir, g.xc, g.yc, g.D, average_from(end_time))
+    shutil.rmtree(os.path.join(run_dir, "snapshots"), ignore_errors=True)
+    std, freq, share = np.array([wake_spectrum(t, v[:, k]) for k in range(len(POINTS))]).T
+    best, sheds = verdict(std, freq, share, g.U, g.D)
+    info = dict(particles=s["particles"], steps=s["steps"], wall_time_s=round(wall, 1), sheds=sheds,
+                strouhal=float(freq[best] * g.D / g.U), v_std=float(np.max(std)))
+    return analyse(tp, run_dir, cfg, g, info)
 
 
 def analyse(tp, run_dir, cfg, g, info):
@@ -157,9 +167,11 @@ def write_report(rows, out, cfg_file, end):
           "negative: it goes down). Mao's rate is his next profile less this one over the 7 s between them; "
           "under the pipe, his series' deepening.", "",
           table(("Mao's bed", "particles", "steps", "wall s", "fastest rate within 1 D of the pipe (D/s)",
-                  "Mao's series under the pipe (D/s)"),
+                  "Mao's series under the pipe (D/s)", "wake sheds (St; v std m/s)"),
                  [(f"{r['time']:g} s", r["particles"], r["steps"], f"{r['wall_time_s']:.0f}",
-                   f"{r['under_model']:+.4f}", f"{r['under_mao']:+.4f}") for r in rows]), "",
+                   f"{r['under_model']:+.4f}", f"{r['under_mao']:+.4f}",
+                   f"{'yes' if r.get('sheds') else 'no'} ({r.get('strouhal', float('nan')):.2f}; "
+                   f"{r.get('v_std', float('nan')):.3f})") for r in rows]), "",
           table(("Mao's bed", "region (x / D)", "shear / far field", "rate (D/s)", "Mao's rate (D/s)"),
                  [(f"{r['time']:g} s", f"{n} ({lo:g} to {hi:g})", f"{s:.2f}", f"{m:+.4f}",
                    "-" if not np.isfinite(o) else f"{o:+.4f}")

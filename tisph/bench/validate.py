@@ -57,8 +57,10 @@ CASES = [
          "linear theory, omega^2 = g k tanh(k d), k = pi / L", (0.02, 0.01), 0.03, config="sloshing.toml",
          quick_overrides={"run.end_time": 1.0}, probes=("eta_left", "eta_right"),
          reference_value=2 * np.pi / np.sqrt(G * np.pi / 0.9 * np.tanh(np.pi / 0.9 * 0.3)),
-         also=("left_loss_per_period", "right_loss_per_period", "max_density_error"),
-         note="The amplitude lost a period is the numerics' dissipation (linear theory keeps it)."),
+         also=("left_loss_per_period", "left_loss_stderr", "right_loss_per_period", "right_loss_stderr",
+               "max_density_error"),
+         note="The amplitude lost a period is the numerics' dissipation (linear theory keeps it); its standard "
+              "error is the cycles' scatter about the fit."),
     Case("Poiseuille, Newtonian", "validation.poiseuille", "velocity_l2_error", "L2 velocity error",
          "the exact parabola (periodic plane channel, Morris no-slip walls)", (0.01, 0.005), 0.01,
          overrides={"materials.fluid.yield_stress": 0.0, "geometry.length": 0.08}, quick_overrides={"run.end_time": 0.3},

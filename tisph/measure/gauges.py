@@ -129,10 +129,10 @@ class SurfaceGauge(Gauge):
             out[f"{self.label}_wave_height"] = H if n else float("nan")
             out[f"{self.label}_waves"] = int(n)
         else:       # no wave maker: the water's own oscillation (sloshing, a seiche)
-            T, loss, n = free_oscillation(np.asarray(t)[w], e[w])
+            T, loss, se, n = free_oscillation(np.asarray(t)[w], e[w])
             if n:
                 out.update({f"{self.label}_period": T, f"{self.label}_loss_per_period": loss,
-                            f"{self.label}_cycles": n})
+                            f"{self.label}_loss_stderr": se, f"{self.label}_cycles": n})
         return out
 
 

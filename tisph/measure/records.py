@@ -55,24 +55,29 @@ def crossing_period_and_level(t, eta, t0, t1):
 
 
 def free_oscillation(t, eta):
-    """(period, fraction of the amplitude lost a period, whole cycles) of a free oscillation about
-    the record's mean level (sloshing, a seiche): the period is the mean spacing of the up-crossings;
-    each cycle between two up-crossings gives an amplitude, half its range, and the loss is
-    1 - exp(slope) of their logarithm against the cycle (Antuono et al. 2011 read an SPH
-    standing wave's damping so). (nan, nan, 0) under three cycles."""
+    """(period, fraction of the amplitude lost a period, its standard error, whole cycles) of a free
+    oscillation about the record's mean level (sloshing, a seiche): the period is the mean spacing
+    of the up-crossings; each cycle between two up-crossings gives an amplitude, half its range, and
+    the loss is 1 - exp(slope) of their logarithm against the cycle (Antuono et al. 2011 read an SPH
+    standing wave's damping so); the standard error is the slope's, from the scatter of the cycles
+    about the line (higher modes beating in a gauge's record). (nan, nan, nan, 0) under three cycles."""
+    nothing = float("nan"), float("nan"), float("nan"), 0
     t, e = np.asarray(t, float), np.asarray(eta, float)
     ok = np.isfinite(e)
     t, e = t[ok], e[ok]
     if len(e) < 8:
-        return float("nan"), float("nan"), 0
+        return nothing
     e = e - e.mean()
     up = np.nonzero((e[:-1] < 0) & (e[1:] >= 0))[0]
     if len(up) < 4:
-        return float("nan"), float("nan"), 0
+        return nothing
     tc = _crossing_times(t, e, up)
     amp = np.array([0.5 * (e[a:b + 1].max() - e[a:b + 1].min()) for a, b in zip(up[:-1], up[1:])])
-    slope = np.polyfit(np.arange(len(amp)), np.log(amp), 1)[0]
-    return float(np.mean(np.diff(tc))), float(1.0 - np.exp(slope)), len(amp)
+    k, y = np.arange(len(amp), dtype=float), np.log(amp)
+    slope, icept = np.polyfit(k, y, 1)
+    res = y - (slope * k + icept)
+    se = np.sqrt(np.sum(res ** 2) / (len(k) - 2) / np.sum((k - k.mean()) ** 2))
+    return float(np.mean(np.diff(tc))), float(1.0 - np.exp(slope)), float(np.exp(slope) * se), len(amp)
 
 
 def wave_period(p):
