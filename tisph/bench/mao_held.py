@@ -117,7 +117,8 @@ def plot(rows, path):
         a0.set_title(f"Mao's bed at {r['time']:g} s, held still", fontsize=10)
         a1.axhline(1.0, color="0.6", lw=0.8)
         a1.plot(r["x"], r["tau"], color="C0", lw=1)
-        a1.set_ylim(0, max(2.5, float(np.nanmax(r["tau"])) * 1.1))
+        # signed: water running back at the bed (a separation bubble) reads below zero
+        a1.set_ylim(min(0.0, float(np.nanmin(r["tau"])) * 1.1), max(2.5, float(np.nanmax(r["tau"])) * 1.1))
         a2.axhline(0.0, color="0.6", lw=0.8)
         a2.plot(r["x"], r["rate"], color="C0", lw=1, label="tisph's bed model")
         if np.isfinite(r["mao_rate"]).any():
