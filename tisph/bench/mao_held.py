@@ -25,7 +25,7 @@ import numpy as np
 
 from .common import ROOT, table
 from ..io import read_station_rows, ensure_dir, write_csv, write_text
-from .shedding import POINTS, SAMPLE, average_from, run_pipeline, verdict, wake_series, wake_spectrum
+from .shedding import SAMPLE, average_from, judge, run_pipeline, wake_series
 from ..sediment import coupling
 from ..validation import mao
 from ..measure.plots import pyplot, save
@@ -72,8 +72,7 @@ def run_time(tp, end_time, out, cfg_file, dx=None):
     # does the wake shed over his hole? (the fixed-bed benchmark's test, over the averaging window)
     t, v = wake_series(run_dir, g.xc, g.yc, g.D, average_from(end_time))
     shutil.rmtree(os.path.join(run_dir, "snapshots"), ignore_errors=True)
-    std, freq, share = np.array([wake_spectrum(t, v[:, k]) for k in range(len(POINTS))]).T
-    best, sheds = verdict(std, freq, share, g.U, g.D)
+    std, freq, _, best, sheds = judge(t, v, g)
     info = dict(particles=s["particles"], steps=s["steps"], wall_time_s=round(wall, 1), sheds=sheds,
                 strouhal=float(freq[best] * g.D / g.U), v_std=float(np.max(std)))
     return analyse(tp, run_dir, cfg, g, info)
@@ -171,8 +170,7 @@ def write_report(rows, out, cfg_file, end):
                   "Mao's series under the pipe (D/s)", "wake sheds (St; v std m/s)"),
                  [(f"{r['time']:g} s", r["particles"], r["steps"], f"{r['wall_time_s']:.0f}",
                    f"{r['under_model']:+.4f}", f"{r['under_mao']:+.4f}",
-                   f"{'yes' if r.get('sheds') else 'no'} ({r.get('strouhal', float('nan')):.2f}; "
-                   f"{r.get('v_std', float('nan')):.3f})") for r in rows]), "",
+                   f"{'yes' if r['sheds'] else 'no'} ({r['strouhal']:.2f}; {r['v_std']:.3f})") for r in rows]), "",
           table(("Mao's bed", "region (x / D)", "shear / far field", "rate (D/s)", "Mao's rate (D/s)"),
                  [(f"{r['time']:g} s", f"{n} ({lo:g} to {hi:g})", f"{s:.2f}", f"{m:+.4f}",
                    "-" if not np.isfinite(o) else f"{o:+.4f}")

@@ -63,6 +63,13 @@ def verdict(std, freq, share, U, D):
     return best, bool(share[best] >= SHEDS_POWER and np.nanmax(std) >= SHEDS_STD * U)
 
 
+def judge(t, v, g):
+    """A wake series v(t) at each of POINTS judged: (each point's std, peak Hz and share, the
+    index of the point whose peak decides, sheds?)."""
+    std, freq, share = np.array([wake_spectrum(t, v[:, k]) for k in range(v.shape[1])]).T
+    return (std, freq, share) + verdict(std, freq, share, g.U, g.D)
+
+
 def wake_series(run_dir, xc, yc, D, t0=SPIN_UP):
     """(times, v at each of POINTS) from a run's snapshots, fluid particles within RADIUS D."""
     ts, vs = [], []
@@ -110,8 +117,7 @@ def run_gap(gap, D, dx, end_time, out, cfg_file):
     t_from = average_from(end_time)
     t, v = wake_series(run_dir, g.xc, g.yc, g.D, t_from)
     shutil.rmtree(os.path.join(run_dir, "snapshots"), ignore_errors=True)
-    std, freq, share = np.array([wake_spectrum(t, v[:, k]) for k in range(len(POINTS))]).T
-    best, sheds = verdict(std, freq, share, g.U, g.D)
+    std, freq, share, best, sheds = judge(t, v, g)
     return dict(gap_over_D=gap, dx=cfg["numerics"]["dx"], particles=s["particles"], steps=s["steps"],
                 sim_time=s["sim_time"], wall_time_s=round(wall, 1), t_from=t_from, samples=len(t),
                 v_std_min=float(np.nanmin(std)), v_std_max=float(np.nanmax(std)),
@@ -137,13 +143,11 @@ def windows(t, v, t_start, width=WINDOW):
 def wake_windows(run_dir, g, t_start):
     """The wake's verdict over each WINDOW of a run's snapshots from t_start, with S/D (probes.csv)
     at each window's end."""
-    t, v = wake_series(run_dir, g.xc, g.yc, g.D, t0=0.0)
+    t, v = wake_series(run_dir, g.xc, g.yc, g.D, t0=t_start)
     depth = np.loadtxt(os.path.join(run_dir, "probes.csv"), delimiter=",", skiprows=1, usecols=(0, 1), ndmin=2)
     rows = []
-    for t0, t1, vw in windows(t, v, t_start):
-        tw = t[(t >= t0) & (t <= t1)][:len(vw)]
-        std, freq, share = np.array([wake_spectrum(tw, vw[:, k]) for k in range(len(POINTS))]).T
-        best, sheds = verdict(std, freq, share, g.U, g.D)
+    for t0, t1, tv in windows(t, np.column_stack([t, v]), t_start):     # each window's times with its v
+        std, freq, share, best, sheds = judge(tv[:, 0], tv[:, 1:], g)
         rows.append(dict(t0=t0, t1=t1, s_over_d=float(np.interp(t1, depth[:, 0], depth[:, 1])),
                          v_std_max=float(np.max(std)), strouhal=float(freq[best] * g.D / g.U),
                          peak_share_max=float(np.max(share)), sheds=sheds))
