@@ -71,6 +71,21 @@ def cache_debug_info():
     ctx.get_pos_info = get_pos_info
 
 
+def cuda_driver_present():
+    """Whether the CUDA driver library loads. Taichi's CUDA probe prints "libcuda.so lib not
+    found" as a warning where it does not; without it CUDA is left out of the arches tried."""
+    import ctypes
+    import sys
+    names = {"win32": ("nvcuda.dll",), "darwin": ()}.get(sys.platform, ("libcuda.so.1", "libcuda.so"))
+    for name in names:
+        try:
+            ctypes.CDLL(name)
+            return True
+        except OSError:
+            continue
+    return False
+
+
 def arch_name():
     """The arch Taichi runs on: x64, arm64, cuda, vulkan or metal."""
     return str(ti.lang.impl.current_cfg().arch).split(".")[-1]
@@ -86,7 +101,7 @@ def init(arch="cpu", precision="f32", quiet=True):
     if _current is not None and _current[0] == key:
         return _current[1]
     # Not ti.gpu: that list includes OpenGL/GLES, whose probe segfaults on a headless machine.
-    gpus = [ti.cuda, ti.vulkan, ti.metal]
+    gpus = ([ti.cuda] if cuda_driver_present() else []) + [ti.vulkan, ti.metal]
     a = {"cpu": ti.cpu, "gpu": gpus, "auto": gpus}[arch]
     fp = {"f32": ti.f32, "f64": ti.f64}[precision]
     # auto falls back to the CPU silently; gpu says so (the runner logs it too)

@@ -69,8 +69,10 @@ CASES = [
 ]
 
 
-def run(case_id, steps=STEPS):
-    """Final state digest of one case: a hash of x, v, rho (by particle id) and of probes.csv."""
+def run(case_id, steps=STEPS, arch="cpu", arrays=False):
+    """Final state digest of one case: a hash of x, v, rho (by particle id) and of probes.csv.
+    arch: the Taichi backend ("gpu": Vulkan, CUDA or Metal; tests/test_gpu_path.py); arrays:
+    also return the final x, v, rho and kind by particle id under "arrays", the arch under "arch"."""
     import numpy as np
     from tisph import runtime
     from tisph.runner import Log, Run, build_case, resolve
@@ -84,23 +86,26 @@ def run(case_id, steps=STEPS):
     with tempfile.TemporaryDirectory() as out:
         overrides["output.dir"] = out
         cfg = resolve(scene, os.path.join(ROOT, cfile) if cfile else None, overrides)
-        runtime.init("cpu", cfg["run"]["precision"])
+        used = runtime.init(arch, cfg["run"]["precision"])
         log = Log(os.path.join(out, "run.log"), True)
         case = build_case(scene, cfg, log)
         r = Run(case, cfg, out, log, scene.NAME)
         r.arch = runtime.current_arch()
         summary = r.execute()
-        st = r.solver.state(("x", "v", "rho"))
+        st = r.solver.state(("x", "v", "rho", "kind"))
         with open(os.path.join(out, "probes.csv"), "rb") as f:
             probes = f.read()
     h = hashlib.sha256()
     for k in ("x", "v", "rho"):
         h.update(np.ascontiguousarray(st[k]).tobytes())
-    return dict(state=h.hexdigest()[:20], probes=hashlib.sha256(probes).hexdigest()[:20],
+    out = dict(state=h.hexdigest()[:20], probes=hashlib.sha256(probes).hexdigest()[:20],
                 steps=int(summary["steps"]), particles=int(summary["particles"]),
                 modules=summary.get("modules", []),
                 x_sum=float(np.sum(st["x"], dtype=np.float64)), status=summary["status"],
                 fields={k: fingerprint(st[k]) for k in ("x", "v", "rho")}, probe_columns=probe_fingerprint(probes))
+    if arrays:
+        out["arrays"], out["arch"] = st, used
+    return out
 
 
 def fingerprint(a):
