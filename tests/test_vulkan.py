@@ -8,7 +8,7 @@ in place of each pair once, the serial loops as one GPU thread) runs there.
 
 Why a tolerance and not bit for bit: the GPU's pow (SPIR-V's, exp2 of log2) rounds differently
 from the CPU's in about a quarter of its results, and the extrapolated wall's density is
-rho0 (p / B + 1)^(1/7); the impact guard then grows that round-off by about 10x every 30 steps
+rho0 (p / B + 1)^(1/7); the impact guard then grows the difference about tenfold every 30 steps
 in a dam break. With walls that use no pow (dynamic, repulsive) the dam break's state after 120
 steps is the CPU's bit for bit. The bounds below are 3-10x the largest differences measured on
 llvmpipe (docs/performance.md); a term missing on the GPU moves the state by order one.

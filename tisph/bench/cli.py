@@ -5,7 +5,7 @@ import os
 
 from .codes import PEERS
 from .ladder import __doc__ as LADDER_DOC
-from . import convergence, ladder, ripples, waves, standing, validate, speed, shedding, mao_held
+from . import convergence, ladder, ripples, waves, standing, validate, speed, shedding, mao_held, traffic
 
 
 def _peers(text):
@@ -41,6 +41,12 @@ def main(argv=None):
     p.add_argument("--no-scaling", action="store_true", help="skip the scaling, specialisation and profile parts")
     p.add_argument("--speed", action="store_true",
                    help="engine speed only (tisph/bench/speed.py): particle-steps/s from 3.4e3 to 6.5e5 particles, compile")
+    p.add_argument("--traffic", action="store_true",
+                   help="kernel launches and host-device transfers a step, one golden case a scene, in the run loop "
+                        "(tisph/bench/traffic.py; from a source checkout)")
+    p.add_argument("--sizes", type=lambda t: int(float(t)), nargs="+", metavar="N",
+                   help="with --speed: the dam break and the flume at about N particles each (1e4 to 1e6: the GPU "
+                        "check, with --arch gpu)")
     p.add_argument("--against", metavar="REV", help="with --speed: the same runs on this git revision, back to back")
     p.add_argument("--repeats", type=int, default=3, help="with --speed: runs (pairs) per case (default 3)")
     p.add_argument("--threads", type=int, help="with --speed: Taichi's CPU threads in every run (default all cores; "
@@ -101,8 +107,12 @@ def main(argv=None):
         p.error("--docs and --readme need --validate")
     if a.speed:
         return speed.main(a)
+    if a.traffic:
+        return traffic.main(a)
     if a.against:
         p.error("--against needs --speed")
+    if a.sizes:
+        p.error("--sizes needs --speed")
     if a.shedding:
         if a.dry_run:
             a.gaps, a.dx, a.end_time = a.gaps or [2.0], a.dx or 0.006, a.end_time or 0.8

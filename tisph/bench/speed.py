@@ -3,6 +3,10 @@ warm compile, and the same cases on another git revision, run back to back.
 
     python -m tisph.bench --speed [--against REV] [--repeats N] [--threads N] [--quick]
                                   [--peer pysph,dualsphysics] [--arch gpu] [--out renders/bench]
+                                  [--sizes 1e4 1e5 1e6]
+
+--sizes: the dam break and the flume at about these particle counts (the GPU check of
+docs/performance.md: `--speed --arch gpu --sizes 1e4 1e5 1e6 --repeats 1`).
 
 Each measurement runs in its own process (Taichi compiles once per process): build the case,
 prime, one warm-up step, then a fixed number of steps timed with a field read at the end (it
@@ -81,8 +85,12 @@ s = Solver(case.physics, case.particles, case.materials, case.domain, case.param
 t1 = time.perf_counter()
 s.prime(); s.step(); s.dt
 t2 = time.perf_counter()
-for _ in range(steps):
-    s.step()
+batch = getattr(s, "steps_ahead_allowed", False)
+left = steps
+while left > 0:   # as the runner steps: in batches with one read each, where no paddle needs the host
+    n = min(left, 64) if batch else 1
+    s.step_ahead(n) if batch else s.step()
+    left -= n
 s.dt
 el = time.perf_counter() - t2
 fb = s.field_bytes() / s.n if hasattr(s, "field_bytes") else float("nan")
@@ -152,9 +160,40 @@ def _measure_old(tree, rev, name, scene, ov, steps, log, arch, whole, threads):
         return float("nan")
 
 
+# --sizes: the scenes a GPU user scales up, each at the dx that gives about the particles asked
+SIZED = ("dam_break", "flume")
+
+
+def dx_for(scene_name, n):
+    """The dx at which a scene's default case has about n particles (the count scales as dx^-2;
+    two corrections from the particles built, nothing compiled)."""
+    import importlib
+    from ..runner import Log, build_case, resolve
+    scene = importlib.import_module("tisph.scenes." + scene_name)
+    dx = resolve(scene, overrides={"output.quiet": True})["numerics"]["dx"]
+    for _ in range(2):
+        cfg = resolve(scene, overrides={"output.quiet": True, "numerics.dx": dx})
+        have = len(build_case(scene, cfg, Log(os.devnull, True)).particles)
+        dx *= math.sqrt(have / n)
+    return float(f"{dx:.4g}")
+
+
+def sized_cases(a):
+    """--sizes: the dam break and the flume at each size, steps from about 3e8 particle-steps
+    (at least 50, at most 1000; --quick: 10)."""
+    out = []
+    for scene in SIZED:
+        for n in a.sizes:
+            steps = 10 if a.quick else int(max(50, min(1000, 3e8 / n)))
+            out.append((f"{scene.replace('_', ' ')} {n:.0e}", scene, {"numerics.dx": dx_for(scene, n)}, steps, False))
+    return out
+
+
 def cases_for(a):
     """(name, scene, overrides, steps, whole) of the run a asks for."""
     arch = getattr(a, "arch", "cpu") or "cpu"
+    if getattr(a, "sizes", None):
+        return sized_cases(a)
     if arch == "gpu":   # --quick: the smallest tank, a few steps (the fallback's test)
         return [GPU_CASES[0][:3] + (20, False)] if a.quick else [c + (False,) for c in GPU_CASES]
     if a.quick:

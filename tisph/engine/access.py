@@ -27,24 +27,60 @@ class SolverAPI:
     def prime(self):
         """Bin the particles and evaluate forces at t = 0 (a zero-length step) to get a^0, dt^0."""
         self._set_dt(0.0)
-        self._dt = float(self._step())
+        self._step(0, 0.0, 0.0)    # the paddle at rest where it starts
+        self._dt = float(self.dtlog[0])
         self._primed = True
 
     def step(self):
         """Advance one time step; returns the dt taken."""
+        dt = self.dt
+        self.step_ahead(1)
+        return dt
+
+    @property
+    def steps_ahead_allowed(self):
+        """Whether steps may run without the host between them: not where the host moves the
+        paddle (its motion(t) needs each step's time)."""
+        return not (self.motion is not None and "pd" in self.param_decl)
+
+    @property
+    def dt_bound(self):
+        """No step is longer than this: the acoustic limit cfl h / c0 (engine/limits.py; the
+        viscous signal, the force and the other limits only shorten it), with f32's rounding."""
+        return float(self.param_values["cfl"]) * self.h / self.c0 * (1.0 + 1e-5)
+
+    def step_ahead(self, n=1):
+        """Advance n steps (1 to self.batch) with one read of the device at the end: each
+        step's dt stays on the device until then (the step kernel takes the dt the one before
+        chose). Time, the step count and the health code (self.health) are current on return.
+        A paddle moved from the host needs its time before each step: there n must be 1."""
         if not self._primed:
             self.prime()
-        dt = self.dt                              # what _step will take (prm.dt, as it returns it)
-        if self.motion is not None and "pd" in self.param_decl:   # the paddle module is on
-            self.set_paddle(self.time + dt)       # the kernel moves the paddle to t + dt
-        # _step returns the next dt: no read of the parameter struct from Python per step
-        # (building a Taichi struct there cost about 1 ms, a third of a beach step)
-        self._dt = float(self._step())
-        self.steps += 1
-        self.time += dt
-        for m in self.hooks["after_step"]:
-            m.after_step(self)
-        return dt
+        self.dt     # the step's dt, read once after a restart
+        if not 1 <= n <= self.batch:
+            raise ValueError(f"step_ahead takes 1 to {self.batch} steps, not {n}")
+        if n > 1 and not self.steps_ahead_allowed:
+            raise ValueError("a paddle moved from the host steps one at a time")
+        paddle = self._paddle_at(self.time + self._dt)    # the kernel moves the paddle to t + dt
+        for k in range(n):
+            self._step(k, *paddle)
+            self.steps += 1
+            for m in self.hooks["after_step"]:
+                m.after_step(self)
+        log = self.dtlog.to_numpy()           # the batch's one transfer
+        for k in range(n):                    # the dt each step took, summed in step order
+            self.time += self._dt
+            self._dt = float(log[k])
+        self.health = int(log[-1])
+        return n
+
+    def _paddle_at(self, t):
+        """The paddle's displacement and rate at t for the step kernel (zeros where the host moves
+        none; step_ahead takes one step at a time where it does)."""
+        if self.motion is not None and "pd" in self.param_decl:
+            d, r = self.motion(t)
+            return float(d), float(r)
+        return 0.0, 0.0
 
     # ------------------------------------------------------------------ runtime inputs
     def set_paddle(self, t):

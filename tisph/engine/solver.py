@@ -41,6 +41,9 @@ from ..hooks.module import HOOKS
 from .pairs import PairOnce
 from .registry import enabled_modules
 
+# the most steps the host launches between two reads of the device (access.py, step_ahead)
+BATCH = 64
+
 # The base slots of a fluid particle's accumulator (the modules add theirs).
 ACC_CORE = {"a": "vec2", "drho": "real", "vi": "vec2", "rhoi": "real", "pi": "real", "inv_rhoi": "real",
             "mui": "real", "mat": "int", "kind": "int", "m": "real"}
@@ -109,6 +112,10 @@ class Solver(SolverAPI):
         self.blk = max(1, self.n // 1024) if self.cpu else 1
         self.nblk = (self.n + self.blk - 1) // self.blk
         self.bmax = self.MaxT.field(shape=self.nblk if self.cpu else 1)
+        # each step k of a batch writes the dt it chose into dtlog[k], and the health code into
+        # the last slot: the host reads the batch back in one transfer (access.py, step_ahead)
+        self.batch = BATCH
+        self.dtlog = ti.field(self.real, shape=BATCH + 1)
         # the maxima a finish hook raises through pt (the pass itself raises amax2 and rhodev)
         self._module_max0 = {k: 0 if t == "int" else 0.0 for k, t in self.maxima.items()
                              if k not in ("amax2", "rhodev")}
@@ -142,7 +149,8 @@ class Solver(SolverAPI):
         self.time = 0.0
         self.rhodev_sum, self.rhodev_n, self.rhodev_p999 = 0.0, 0, 0.0   # the probe samples' (access.py)
         self._primed = False
-        self._dt = None          # the next step's dt as the step kernel returned it (None: read prm)
+        self._dt = None          # the next step's dt as the step kernel logged it (None: read prm)
+        self.health = BAD_NONE   # the health code the last batch of steps read back
 
     def has_stat(self, name):
         return name in self.stat_decl
@@ -303,8 +311,14 @@ class Solver(SolverAPI):
 
     # ------------------------------------------------------------------ the step
     @ti.kernel
-    def _step(self) -> ti.f32:
-        """One step; returns the next step's dt."""
+    def _step(self, k: ti.i32, pd: ti.f64, pv: ti.f64):
+        """One step; writes the next step's dt into dtlog[k] and the health code into the log's
+        last slot (no value returned: a return waits for the device). pd, pv: the paddle's
+        displacement and rate at the step's end, where the paddle module is on (a launch's
+        arguments, not a launch of their own)."""
+        if ti.static("pd" in self.param_decl):
+            self.prm[None].pd = ti.cast(pd, self.real)
+            self.prm[None].pv = ti.cast(pv, self.real)
         dt = self.prm[None].dt
         ncell = self.grid.ncells
         for i in range(self.n):
@@ -343,4 +357,5 @@ class Solver(SolverAPI):
                 for k in ti.static(self._maxima):
                     self.stats[None][k] = ti.max(self.stats[None][k], self.bmax[b][k])
             next_dt(self)
-        return self.prm[None].dt
+            self.dtlog[k] = self.prm[None].dt
+            self.dtlog[BATCH] = ti.cast(self.stats[None].bad_code, self.real)

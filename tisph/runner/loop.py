@@ -215,18 +215,18 @@ class Run(Outputs):
         def next_pct():
             return (math.floor(20.0 * s.time / t_end + 1e-9) + 1) * t_end / 20.0
         t_report = next_pct()
+        backed = s.steps
         while s.time < t_end - 1e-12 and (max_steps == 0 or s.steps < max_steps):
             ts = time.perf_counter()
-            s.step()
+            s.step_ahead(self._quiet_steps(t_end, max_steps))
             if obs.control is not None and s.steps % obs.control_every == 0:
                 obs.control(s)
             self.step_s += time.perf_counter() - ts
-            if s.steps % 10 == 0 or s.time >= self.next_output - 1e-12:
-                bad = s.check()
-                if bad:
-                    raise SimulationError(describe_instability(s, *bad))
-                if s.steps % 10 == 0:
-                    s.backup()
+            if s.health:   # hooks/health.py's BAD_NONE is 0
+                raise SimulationError(describe_instability(s, *s.check()))
+            if s.steps - backed >= 10:
+                s.backup()
+                backed = s.steps
             self.outputs()
             if self.signal is not None:
                 raise KeyboardInterrupt
@@ -245,6 +245,21 @@ class Run(Outputs):
             raise SimulationError(describe_instability(s, *bad))
         if not self.probes or self.probes[-1][0] < s.time:
             self.sample()
+
+    def _quiet_steps(self, t_end, max_steps):
+        """How many steps may run with no read of the device between them (solver.step_ahead):
+        none but the last may reach an output, an event or the end (no step is longer than
+        dt_bound), and the last is at most a control step or the step cap."""
+        s, obs = self.solver, self.case.observers
+        if not s.steps_ahead_allowed:
+            return 1
+        horizon = min(t_end, self.next_output, self.events[0][0] if self.events else math.inf)
+        n = math.floor((horizon - 1e-12 - s.time) / s.dt_bound)
+        if max_steps:
+            n = min(n, max_steps - s.steps)
+        if obs.control is not None:
+            n = min(n, obs.control_every - s.steps % obs.control_every)
+        return max(1, min(n, s.batch))
 
     def _progress_line(self, t_end):
         s = self.solver

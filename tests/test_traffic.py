@@ -1,0 +1,54 @@
+"""A step with no host work: steps run in batches with one read of the device a batch
+(Solver.step_ahead), and give the state, time and step count of single steps bit for bit;
+the run loop's steps that write nothing mostly read nothing (tisph/bench/traffic.py counts)."""
+import os
+
+import numpy as np
+import pytest
+
+from tisph.bench.traffic import Counter, measure
+from tisph.engine.solver import Solver
+from tisph.runner import Log, build_case, resolve
+from tisph.scenes import dam_break, flume
+
+
+def _solver(scene, **ov):
+    cfg = resolve(scene, overrides=dict({"output.quiet": True}, **ov))
+    case = build_case(scene, cfg, Log(os.devnull, True))
+    return Solver(case.physics, case.particles, case.materials, case.domain, case.params)
+
+
+def test_a_batch_of_steps_is_single_steps_bit_for_bit_with_one_transfer():
+    one, many = _solver(dam_break, **{"numerics.dx": 0.06}), _solver(dam_break, **{"numerics.dx": 0.06})
+    for _ in range(50):
+        one.step()
+    many.prime()
+    c = Counter()
+    with c.install():
+        many.step_ahead(20)
+        launches, transfers = c.total()
+    many.step_ahead(30)
+    assert (launches, transfers) == (21, 1), (c.launches, c.transfers)   # 20 steps, one read of the log
+    assert many.steps == one.steps == 50 and many.time == one.time and many.dt == one.dt
+    a, b = one.state(("x", "v", "rho")), many.state(("x", "v", "rho"))
+    for k in a:
+        assert np.array_equal(a[k], b[k]), k
+    with pytest.raises(ValueError, match="1 to"):
+        many.step_ahead(many.batch + 1)
+
+
+def test_a_paddle_moved_from_the_host_steps_one_at_a_time():
+    s = _solver(flume, **{"numerics.dx": 0.025, "geometry.length": 2.0, "geometry.damping_length": 0.6,
+                          "geometry.gauges_wavelengths": [0.5, 1.0]})
+    assert not s.steps_ahead_allowed
+    s.step_ahead(1)
+    with pytest.raises(ValueError, match="paddle"):
+        s.step_ahead(2)
+
+
+def test_the_run_loops_quiet_steps_read_nothing_but_a_batchs_end():
+    r = measure("tank", steps=120)
+    quiet = r["transfers_quiet"]
+    assert r["quiet_steps"] > 100
+    assert quiet["max"] <= 1 and quiet["mean"] < 0.35, r   # at most the batch's one read (before: 1 a step)
+    assert r["launches_quiet"]["min"] == 1                  # most steps: the step kernel alone
