@@ -37,10 +37,35 @@ def test_a_batch_of_steps_is_single_steps_bit_for_bit_with_one_transfer():
         many.step_ahead(many.batch + 1)
 
 
-def test_a_paddle_moved_from_the_host_steps_one_at_a_time():
-    s = _solver(flume, **{"numerics.dx": 0.025, "geometry.length": 2.0, "geometry.damping_length": 0.6,
-                          "geometry.gauges_wavelengths": [0.5, 1.0]})
-    assert not s.steps_ahead_allowed
+FLUME = {"numerics.dx": 0.025, "geometry.length": 2.0, "geometry.damping_length": 0.6,
+         "geometry.gauges_wavelengths": [0.5, 1.0], "paddle.type": "flap"}
+
+
+def test_the_paddles_series_over_a_batch_follows_its_motion():
+    """A GPU's path, forced on the CPU: the paddle from a Chebyshev series over each batch gives
+    the host-driven run's state to round-off (f32 rounding of the series against that of
+    motion(t)), the same steps and time, and the paddle where motion(t) puts it."""
+    host, dev = _solver(flume, **FLUME), _solver(flume, **FLUME)
+    assert not host.paddle_series and not host.steps_ahead_allowed     # the CPU's default
+    dev.paddle_series = True
+    assert dev.steps_ahead_allowed
+    for _ in range(300):
+        host.step()
+    dev.prime()
+    while dev.steps < 300:
+        dev.step_ahead(min(dev.batch, 300 - dev.steps))
+    assert dev.time == host.time and dev.steps == host.steps
+    d, _ = dev.motion(dev.time)
+    assert abs(float(dev.prm[None].pd) - d) <= 1e-6 * abs(d) + 1e-9      # a flap's angle, rad
+    a, b = host.state(("x", "v")), dev.state(("x", "v"))
+    assert np.max(np.abs(a["x"] - b["x"])) < 1e-4 * 0.025
+    assert np.max(np.abs(a["v"] - b["v"])) < 1e-3 * np.max(np.abs(a["v"]))
+
+
+def test_an_absorbing_paddle_steps_one_at_a_time():
+    s = _solver(flume, **dict(FLUME, **{"paddle.absorb": True}))
+    s.paddle_series = True
+    assert not s.steps_ahead_allowed      # its correction integrates call by call
     s.step_ahead(1)
     with pytest.raises(ValueError, match="paddle"):
         s.step_ahead(2)

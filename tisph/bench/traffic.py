@@ -11,7 +11,9 @@ steps ahead. This counts, in the real run loop (runner/loop.py) of one golden ca
   each kernel that returns a value to the host. A kernel's scalar arguments travel with its
   launch and are not counted apart.
 
-A step runs from its step kernel's launch to the next one's: what the host does after it (the
+The loop runs as it runs on a GPU: a smooth paddle motion followed on the device by a series
+over each batch of steps (engine/access.py, paddle_fit), where the CPU takes the host's value
+every step. A step runs from its step kernel's launch to the next one's: what the host does after it (the
 read of a batch of steps, the health check, the backup, a control, the next step's paddle) is
 the step's. It "writes nothing" where none of the run's outputs (probes, frames, snapshots,
 checkpoints, the scene's events) was written in it. Printed as a table and written to OUT/traffic.md and traffic.json."""
@@ -100,6 +102,7 @@ def measure(case_id, steps=STEPS, arch="cpu"):
         runtime.init(arch, cfg["run"]["precision"])
         log = Log(os.path.join(out, "run.log"), True)
         case = build_case(scene, cfg, log)
+        case.params["paddle_series"] = True   # as a GPU runs it (on the CPU the host gives the paddle)
         run = Run(case, cfg, out, log, scene.NAME)
         run.arch = runtime.current_arch()
         wrote = [False]

@@ -11,6 +11,10 @@ from ..particles import FLUID, SPRAY
 from ..hooks.health import BAD_NONE
 from .state import ParticleFields, np_dtype, type_bytes
 
+# the degree of the paddle's Chebyshev series over a batch of steps (paddle_fit)
+CHEB = 8
+NO_FIT = (1.0, (0.0,) * (CHEB + 1), (0.0,) * (CHEB + 1))   # span and series where the host gives the paddle
+
 
 class SolverAPI:
     @property
@@ -27,7 +31,7 @@ class SolverAPI:
     def prime(self):
         """Bin the particles and evaluate forces at t = 0 (a zero-length step) to get a^0, dt^0."""
         self._set_dt(0.0)
-        self._step(0, 0.0, 0.0)    # the paddle at rest where it starts
+        self._step(0, 0, 0.0, 0.0, *NO_FIT)    # the paddle at rest where it starts
         self._dt = float(self.dtlog[0])
         self._primed = True
 
@@ -38,10 +42,33 @@ class SolverAPI:
         return dt
 
     @property
+    def moves_paddle(self):
+        return self.motion is not None and "pd" in self.param_decl
+
+    @property
     def steps_ahead_allowed(self):
-        """Whether steps may run without the host between them: not where the host moves the
-        paddle (its motion(t) needs each step's time)."""
-        return not (self.motion is not None and "pd" in self.param_decl)
+        """Whether steps may run without the host between them: not where the paddle's motion
+        is more than a smooth function of time (a measured series, or the active absorption,
+        which integrates its correction step by step), which needs each step's time; nor on
+        the CPU, where the host gives the paddle every step (self.paddle_series)."""
+        return not self.moves_paddle or (self.paddle_series and bool(getattr(self.motion, "smooth", False)))
+
+    def paddle_fit(self, n):
+        """Chebyshev series (degree CHEB) of the paddle's displacement and rate over
+        the longest time n steps can take from now, for the device to evaluate at each step's
+        time: (span, cd, cv), or None where a series misses the motion by more than 3e-8 of its
+        largest value at 4 points between each pair of nodes (then the steps go one at a time)."""
+        span = n * self.dt_bound
+        cheb = np.polynomial.chebyshev
+        nodes = np.cos(np.pi * (np.arange(CHEB + 1) + 0.5) / (CHEB + 1))
+        at = lambda x: np.array([self.motion(self.time + 0.5 * span * (u + 1.0)) for u in x], np.float64)
+        fits = [cheb.chebfit(nodes, col, CHEB) for col in at(nodes).T]
+        check = np.linspace(-1.0, 1.0, 4 * CHEB + 1)
+        want = at(check)
+        for c, col in zip(fits, want.T):
+            if np.max(np.abs(cheb.chebval(check, c) - col)) > 3e-8 * np.max(np.abs(col)) + 1e-30:
+                return None
+        return span, tuple(fits[0]), tuple(fits[1])
 
     @property
     def dt_bound(self):
@@ -53,7 +80,9 @@ class SolverAPI:
         """Advance n steps (1 to self.batch) with one read of the device at the end: each
         step's dt stays on the device until then (the step kernel takes the dt the one before
         chose). Time, the step count and the health code (self.health) are current on return.
-        A paddle moved from the host needs its time before each step: there n must be 1."""
+        A paddle follows a Chebyshev series of its motion over the batch (paddle_fit); where it
+        cannot (steps_ahead_allowed) n must be 1, and where the series does not hold one step
+        is taken. Returns the steps taken."""
         if not self._primed:
             self.prime()
         self.dt     # the step's dt, read once after a restart
@@ -61,9 +90,15 @@ class SolverAPI:
             raise ValueError(f"step_ahead takes 1 to {self.batch} steps, not {n}")
         if n > 1 and not self.steps_ahead_allowed:
             raise ValueError("a paddle moved from the host steps one at a time")
-        paddle = self._paddle_at(self.time + self._dt)    # the kernel moves the paddle to t + dt
+        fit = self.paddle_fit(n) if n > 1 and self.moves_paddle else None
+        if n > 1 and self.moves_paddle and fit is None:
+            n = 1      # the series did not hold: this step alone, its paddle from the host
+        if fit is None:   # the kernel moves the paddle to t + dt
+            args = (0,) + self._paddle_at(self.time + self._dt) + NO_FIT
+        else:
+            args = (1, 0.0, 0.0) + fit
         for k in range(n):
-            self._step(k, *paddle)
+            self._step(k, *args)
             self.steps += 1
             for m in self.hooks["after_step"]:
                 m.after_step(self)
@@ -72,7 +107,7 @@ class SolverAPI:
             self.time += self._dt
             self._dt = float(log[k])
         self.health = int(log[-1])
-        return n
+        return n      # the steps taken: fewer than asked where the paddle's series did not hold
 
     def _paddle_at(self, t):
         """The paddle's displacement and rate at t for the step kernel (zeros where the host moves

@@ -36,13 +36,24 @@ from . import state as st_mod, pairs
 from .grid import Grid
 from ..hooks.health import BAD_DENSITY, BAD_LEAK, BAD_NONE, fluid_code, report
 from .limits import next_dt
-from .access import SolverAPI
+from .access import CHEB, SolverAPI
 from ..hooks.module import HOOKS
 from .pairs import PairOnce
 from .registry import enabled_modules
 
 # the most steps the host launches between two reads of the device (access.py, step_ahead)
 BATCH = 64
+PaddleFit = ti.types.vector(CHEB + 1, ti.f64)
+
+
+@ti.func
+def chebyshev(c: ti.template(), x, real: ti.template()):
+    """sum_j c_j T_j(x) by Clenshaw's recurrence, in the solver's precision."""
+    b1 = ti.cast(0.0, real)
+    b2 = ti.cast(0.0, real)
+    for j in ti.static(range(CHEB, 0, -1)):
+        b1, b2 = 2.0 * x * b1 - b2 + ti.cast(c[j], real), b1
+    return x * b1 - b2 + ti.cast(c[0], real)
 
 # The base slots of a fluid particle's accumulator (the modules add theirs).
 ACC_CORE = {"a": "vec2", "drho": "real", "vi": "vec2", "rhoi": "real", "pi": "real", "inv_rhoi": "real",
@@ -116,6 +127,7 @@ class Solver(SolverAPI):
         # the last slot: the host reads the batch back in one transfer (access.py, step_ahead)
         self.batch = BATCH
         self.dtlog = ti.field(self.real, shape=BATCH + 1)
+        self.ptau = ti.field(self.real, shape=())   # time into a batch, for the paddle's series
         # the maxima a finish hook raises through pt (the pass itself raises amax2 and rhodev)
         self._module_max0 = {k: 0 if t == "int" else 0.0 for k, t in self.maxima.items()
                              if k not in ("amax2", "rhodev")}
@@ -133,6 +145,11 @@ class Solver(SolverAPI):
             m.allocate(self)          # module fields that are not per particle, if any
         st_mod.write_tables(self, mat_writes, self.param_values)   # every field exists now
         self.motion = params.get("motion")   # motion(t) -> (displacement, rate), for the paddle
+        # a smooth paddle motion followed on the device by a series over a batch of steps
+        # (access.py, paddle_fit), which rounds differently from the host's motion(t) cast to f32:
+        # on a GPU, where the host's value every step costs a wait for the device; on the CPU,
+        # where it costs microseconds, the host's, so the CPU's results stay as they were
+        self.paddle_series = bool(params.get("paddle_series", not self.cpu))
 
         fp = self.np_real
         self.p.x.from_numpy(particles.x.astype(fp))
@@ -311,15 +328,26 @@ class Solver(SolverAPI):
 
     # ------------------------------------------------------------------ the step
     @ti.kernel
-    def _step(self, k: ti.i32, pd: ti.f64, pv: ti.f64):
+    def _step(self, k: ti.i32, fit: ti.i32, pd: ti.f64, pv: ti.f64, span: ti.f64, cd: PaddleFit, cv: PaddleFit):
         """One step; writes the next step's dt into dtlog[k] and the health code into the log's
-        last slot (no value returned: a return waits for the device). pd, pv: the paddle's
-        displacement and rate at the step's end, where the paddle module is on (a launch's
-        arguments, not a launch of their own)."""
-        if ti.static("pd" in self.param_decl):
-            self.prm[None].pd = ti.cast(pd, self.real)
-            self.prm[None].pv = ti.cast(pv, self.real)
+        last slot (no value returned: a return waits for the device). Where the paddle module
+        is on, its displacement and rate at the step's end: pd, pv as given (fit 0), or (fit 1)
+        the Chebyshev series cd, cv over [0, span] seconds from the batch's start, at the time
+        the batch's steps have taken so far (access.py, paddle_fit). All are the launch's
+        arguments, not launches of their own."""
         dt = self.prm[None].dt
+        if ti.static("pd" in self.param_decl):
+            if fit == 0:
+                self.prm[None].pd = ti.cast(pd, self.real)
+                self.prm[None].pv = ti.cast(pv, self.real)
+            else:
+                tau = dt
+                if k > 0:
+                    tau += self.ptau[None]
+                self.ptau[None] = tau
+                x = 2.0 * tau / ti.cast(span, self.real) - 1.0
+                self.prm[None].pd = chebyshev(cd, x, self.real)
+                self.prm[None].pv = chebyshev(cv, x, self.real)
         ncell = self.grid.ncells
         for i in range(self.n):
             self.advance(i, dt)

@@ -39,6 +39,7 @@ DRIFT_PERIODS = 5.0     # the correction's displacement relaxes to zero over thi
 class AbsorbingMotion:
     """A paddle's Motion plus the absorbing correction; callable as the Motion is (t -> X, V for a
     piston, angle and its rate for a flap)."""
+    smooth = False   # each call integrates the correction: the solver calls it once a step
 
     def __init__(self, motion, height, k, depth, gain, x_gauge, x_paddle, still_level, dx, h, target_series=None):
         """x_gauge: the gauge's distance in front of the paddle's mean position x_paddle;

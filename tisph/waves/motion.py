@@ -29,6 +29,9 @@ class Motion:
         self.t_ramp = float(ramp_periods) * self.T
         self.lever = float(lever)
         self.series = None
+        # a smooth function of time alone: the solver may follow it by a series over a batch of
+        # steps (engine/access.py, paddle_fit); a measured series is piecewise linear
+        self.smooth = series is None
         if series is not None:
             t, x = (np.asarray(a, float) for a in series)
             self.series = (t, x, np.gradient(x, t) if len(t) > 1 else np.zeros_like(x))
