@@ -257,6 +257,7 @@ def test_the_tisph_command_runs_describes_and_lists_scenes(tmp_path, capsys):
     assert main(["scenes"]) == 0
     listed = capsys.readouterr().out
     assert all(name in listed for name in registry.names())
+    assert "Wave flume: a piston or flap paddle" in listed and "tisph.scenes." not in listed   # what each is
     assert main(["describe", "tank"]) == 0 and "sediment_depth" in capsys.readouterr().out
     out = tmp_path / "hatch"
     assert main(["run", os.path.join(ROOT, "scenes", "hatch.toml"), "--max-steps", "2", "--no-render", "--quiet",

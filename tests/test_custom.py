@@ -1,6 +1,7 @@
 """Custom cases (python -m tisph.scenes.custom): the geometry, the checks a case file gets, the
 dam break written as a custom case against the built-in scene, and the example cases at a coarse dx."""
 import os
+import warnings
 
 import numpy as np
 import pytest
@@ -124,6 +125,60 @@ x = 1.9
     assert run_cli(tmp_path, text, "--end-time", "0.02") == 0
     m = json.loads((tmp_path / "out" / "summary.json").read_text())["metrics"]
     assert m["dry_eta_max"] is None and m["dry_eta_min"] is None
+
+
+BLOCK = TANK + WATER + "[[solid]]\nlabel = \"block\"\nbox = [1.4, 1.6, 0.0, 0.3]\n"
+
+
+def test_gauges_are_checked_against_the_geometry(tmp_path, capsys):
+    """A pressure point inside a solid and a force line in open water are refused, each naming the
+    solid and the fix, together; the same line on the block's face runs."""
+    text = BLOCK + ('[[gauge]]\ntype = "pressure"\nx = 1.5\nz = 0.1\n'
+                    '[[gauge]]\ntype = "force"\nline = [[1.2, 0.0], [1.2, 0.3]]\n')
+    err = refused(tmp_path, capsys, text)
+    assert "gauge[0].x = 1.5" in err and "inside solid[1] ('block')" in err, err
+    assert "gauge[1].line" in err and "off the nearest solid's face, solid[1] ('block')" in err, err
+    ok = BLOCK + '[[gauge]]\ntype = "force"\nline = [[1.4, 0.0], [1.4, 0.3]]\n'
+    assert run_cli(tmp_path, ok, "--end-time", "0.01") == 0
+
+
+def test_a_pressure_gauge_that_stays_dry_has_null_metrics(tmp_path):
+    import json
+    text = TANK + WATER + '[[gauge]]\ntype = "pressure"\nx = 1.0\nz = 1.5\nlabel = "air"\n'
+    assert run_cli(tmp_path, text, "--end-time", "0.02") == 0
+    m = json.loads((tmp_path / "out" / "summary.json").read_text())["metrics"]
+    assert m["air_max"] is None and m["air_time_of_max"] is None and m["air_mean"] is None
+
+
+def test_a_level_the_lattice_rounds_is_said_with_the_dx_that_keeps_it(tmp_path):
+    text = TANK.replace("dx = 0.05", "dx = 0.03") + WATER.replace("level = 0.5", "level = 0.4")
+    with pytest.warns(UserWarning, match=r"water\[0\]\.level = 0\.4 m fills whole rows of particles up to 0\.39 m.*"
+                                         r"numerics\.dx = 0\.02857 m \(14 rows"):
+        custom.build(custom_cfg(tmp_path, text))
+    with warnings.catch_warnings():   # 0.5 at dx 0.05: kept, nothing said
+        warnings.filterwarnings("error", message=".*fills whole rows.*")
+        custom.build(custom_cfg(tmp_path, TANK + WATER))
+
+
+def test_a_paddle_at_the_boxs_edge_is_told_where_its_room_ends(tmp_path, capsys):
+    """A box starting at the paddle's face: the paddle's room is what is refused (not the water at
+    the edge), in numbers that add up: face - travel - plate - wall layers = the box's start."""
+    text = ("[numerics]\ndx = 0.03\n[domain]\nbox = [0.0, 6.0, 0.0, 0.8]\n[[solid]]\n"
+            "line = [[0.0, 0.8], [0.0, 0.0], [6.0, 0.0], [6.0, 0.8]]\n[[water]]\nlevel = 0.42\n"
+            '[paddle]\ntype = "piston"\nx = 0.0\nwave_height = 0.04\nperiod = 2.0\n')
+    err = refused(tmp_path, capsys, text)
+    assert "paddle.x = 0.0" in err and "nothing holds it" not in err, err
+    import re
+    travel, plate = (float(v) for v in re.search(r"its travel \(([\d.]+) m\) and plate \(([\d.]+) m", err).groups())
+    start = float(re.search(r"or domain.box starting at x = (-[\d.]+) m", err).group(1))
+    assert abs(-travel - 2 * plate - start) < 2e-4, err
+
+
+def custom_cfg(tmp_path, text):
+    from tisph.runner import resolve
+    path = tmp_path / "level.toml"
+    path.write_text(text)
+    return resolve(custom, str(path), {"output.quiet": True})
 
 
 def test_water_past_the_box_is_named_as_such(tmp_path, capsys):

@@ -22,6 +22,14 @@ from . import registry
 from .config import read_toml
 from .errors import ConfigError
 
+def scene_line(module, width=100):
+    """What a scene is, in one line: its docstring's first sentence, cut at a word (importing a
+    scene imports no Taichi)."""
+    para = " ".join((module.__doc__ or module.__name__).strip().split("\n\n")[0].split())
+    first = re.split(r"\.\s+(?=[A-Z])", para)[0].rstrip(".")   # not at "Fig. 3"
+    return first if len(first) <= width else first[:width - 3].rsplit(" ", 1)[0] + "..."
+
+
 COMMANDS = ("run", "describe", "scenes", "view", "sweep", "bench", "stress")
 
 
@@ -77,7 +85,7 @@ def main(argv: list[str] | None = None) -> int:
             return describe(rest)
         if cmd == "scenes":
             for name in registry.names():
-                print(f"{name:16s} {registry.REGISTRY[name]}")
+                print(f"{name:16s} {scene_line(registry.load(name))}")
             return 0
         if cmd == "view":
             from .view import main as view

@@ -104,7 +104,7 @@ def warn_window(p, xs, cg, end_time, period, arrival, what="the waves"):
     x = max(xs)
     need = arrival(p, x, cg) + 3.0 * period
     if end_time < need:
-        warnings.warn(f"run.end_time = {end_time:g} s leaves {max(0.0, (end_time - arrival(p, x, cg)) / period):.2g} "
+        warnings.warn(f"run.end_time = {end_time:g} s leaves {math.floor(10.0 * max(0.0, (end_time - arrival(p, x, cg)) / period)) / 10.0:g} "
                       f"wave periods at the gauge at x = {x:g} m after {what} reach it: its height needs at "
                       f"least 3; run.end_time = {math.ceil(need):g} s gives them")
     return need
@@ -134,3 +134,4 @@ def warn_case_waves(cfg, H, k, depth, xs, cg, period, arrival):
     xs (m in front of the paddle)."""
     warn_waves(cfg, H, k, depth)
     warn_window(cfg["paddle"], [x for x in xs if x > 0], cg, cfg["run"]["end_time"], period, arrival)
+

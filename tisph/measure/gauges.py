@@ -167,10 +167,11 @@ class VelocityGauge(_PointGauge):
 
 
 def _peaks(label, col, t, w):
-    """The largest value, when, and the mean over the window, where the record has any."""
+    """The largest value, when, and the mean over the window; null where the record has none (a
+    point that stayed dry): the keys are there, and the run's warning names them."""
     col = np.asarray(col)[w]
     if not np.isfinite(col).any():
-        return {}
+        return {f"{label}_{k}": None for k in ("max", "time_of_max", "mean")}
     k = int(np.nanargmax(col))
     return {f"{label}_max": float(col[k]), f"{label}_time_of_max": float(t[w][k]), f"{label}_mean": float(np.nanmean(col))}
 

@@ -29,7 +29,7 @@ from ...waves.irregular import IRREGULAR
 from ...waves.paddle import PADDLE
 from ...waves.theory import linear_wave
 from .elements import ELEMENTS, entries, numbers  # noqa: F401  (ELEMENTS: --describe reads the entries' keys)
-from .gauges import CaseGauges
+from .gauges import CaseGauges, check_sites
 from .layout import Layout, who
 from .sand import SAND, SEDIMENT, SandBed, check as check_sand
 from ...schemes import numerics
@@ -100,11 +100,12 @@ def _parts(cfg):
     raise_collected(errors)
     num = cfg["numerics"]
     lay = Layout(box, solids, waters, num["dx"], num["wall_layers"], errors)
+    check_sites(gauges, lay, errors)
     raise_collected(errors)
     p = cfg["paddle"]
     if p["type"] != "none":
         lay.water &= lay.pts[:, 0] > p["x"]
-    bad = lay.unheld(outflow)
+    bad = lay.unheld(outflow, p["x"] if p["type"] != "none" else None)
     if bad is not None:
         (x, z), d = bad
         side = {(1, 0): "right", (-1, 0): "left", (0, 1): "top", (0, -1): "bottom"}[d]
@@ -147,8 +148,12 @@ def paddle_site(cfg, lay, box):
     if top <= level:
         raise ConfigError("paddle.top", top, f"above the water at the paddle ({level:.4g} m)")
     if back - lay.T < box[0]:
-        raise ConfigError("paddle.x", p["x"], f"at least {box[0] + 2 * lay.T + reach:.4g} m: the paddle's plate and "
-                          f"travel ({lay.T + reach:.3g} m behind its face) and the wall behind stay in domain.box")
+        raise ConfigError("paddle.x", p["x"], f"at least {box[0] + 2 * lay.T + reach:.4g} m, or domain.box starting "
+                          f"at x = {back - lay.T:.4g} m or further left",
+                          f"behind the paddle's face at x = {p['x']:g} m its travel ({reach:.3g} m) and plate "
+                          f"({lay.T:.3g} m: numerics.wall_layers = {cfg['numerics']['wall_layers']} spacings) reach "
+                          f"x = {back:.4g} m, and the wall layers that close the water behind it another "
+                          f"{lay.T:.3g} m, to x = {back - lay.T:.4g} m; domain.box starts at x = {box[0]:g} m")
     pts = lay.pts
     travel = (pts[:, 0] > back) & (pts[:, 0] < p["x"] + reach)
     blocked = travel & lay.wall & (pts[:, 1] > floor) & (pts[:, 1] < top)
@@ -234,6 +239,11 @@ def build(cfg):
         return col[1] - col[0] if col else float("nan")
 
     warn_gauges(cfg, gauges, depth_at)
+    note = ""
+    if paddle_parts and p["wave_height"] and not p["series"] and not p["spectrum"]:
+        note = (f" (paddle.stroke = {p['stroke']:.4g} m: Biesel's for paddle.wave_height = {p['wave_height']:g} m "
+                f"in {level - floor:.4g} m of water)")
+    lay.warn_levels(waters, note)
     if paddle_parts and not p["series"] and not p["spectrum"]:
         omega, k, _, cgroup, F = linear_wave(cfg, level - floor)
         warn_case_waves(cfg, F * p["stroke"], k, level - floor, [q["x"] - p["x"] for q in gauges if q["type"] == "surface" and depth_at(q["x"]) > 0],

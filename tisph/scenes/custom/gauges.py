@@ -4,6 +4,8 @@ import math
 
 import numpy as np
 
+from ...config import ConfigError
+from .layout import who
 from ...measure import harmonics
 from ...measure.gauges import GaugeSet, case_gauges
 from ...validation import eurotop
@@ -51,3 +53,34 @@ class CaseGauges(GaugeSet):
         ai, ar, kr = harmonics.reflection([g[lab]["x"] for lab in labs], [a[0] for a in amps], k)
         out[f"{q['label']}_reflection_coefficient"] = kr
         return 2 * ai
+
+
+def check_sites(gauges, lay, errors):
+    """Each gauge against the geometry, before anything runs (each a ConfigError in `errors`):
+    a velocity or pressure point inside a solid (it would read nothing all run), and a force
+    line that is not on a solid's face (within a spacing of it: the force is the pressure on a
+    face, read half a smoothing length into the water). A point above the water at the start is
+    left alone: run-up or a rising tide may reach it, and its record says when it was wet."""
+    dx = lay.dx
+    for q in gauges:
+        if q["type"] in ("velocity", "pressure"):
+            pt = np.array([[q["x"], q["z"]]])
+            for s, shape in lay.shapes:
+                if s["shape"] != "line" and shape.inside(pt)[0]:
+                    depth = float(shape.distance(pt)[0])
+                    errors.append(ConfigError(f"{q['name']}.x", q["x"],
+                                              f"with z = {q['z']:g} m, a point in the water, outside every solid",
+                                              f"it lies {depth:.3g} m inside {who(s)}: move it out of that "
+                                              f"solid, into the water beside its face"))
+                    break
+        elif q["type"] == "force" and lay.shapes:
+            (x0, z0), (x1, z1) = q["line"]
+            n = max(2, int(math.ceil(math.hypot(x1 - x0, z1 - z0) / dx)) + 1)
+            pts = np.column_stack([np.linspace(x0, x1, n), np.linspace(z0, z1, n)])
+            far = [(float(shape.distance(pts).max()), s) for s, shape in lay.shapes]
+            d, s = min(far, key=lambda e: e[0])
+            if d > dx:
+                errors.append(ConfigError(f"{q['name']}.line", q["line"], "a line along a solid's face (every point "
+                                          f"within dx = {dx:g} m of it)",
+                                          f"it runs up to {d:.3g} m off the nearest solid's face, {who(s)}: "
+                                          "draw it on that face, corner to corner"))

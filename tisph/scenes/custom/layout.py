@@ -2,6 +2,7 @@
 lattice, with the geometry checks (a shape drawn over itself, a feature thinner than two spacings,
 water not held, a paddle without water or floor) raised as ConfigErrors naming the entry."""
 import math
+import warnings
 
 import numpy as np
 
@@ -122,9 +123,10 @@ class Layout:
         self.velocity[sel] = w["velocity"]
         self.region[sel] = w["index"]
 
-    def unheld(self, outflow):
+    def unheld(self, outflow, paddle_x=None):
         """The first water point with a lattice neighbour outside the box that is not a wall (the water
-        would run out of the domain), unless it lies in an outflow box; None if all are held."""
+        would run out of the domain), unless it lies in an outflow box or behind the paddle's face
+        at paddle_x (the paddle holds it; its own room is checked with it); None if all are held."""
         p, dx = self.pts, self.dx
         key = {tuple(k): n for n, k in enumerate(np.round(p / dx - 0.5).astype(int))}
         ij = np.round(p[self.water] / dx - 0.5).astype(int)
@@ -134,6 +136,8 @@ class Layout:
                 if n is not None and (self.in_box[n] or self.wall[n]):
                     continue
                 nb = q + dx * np.array([di, dj])
+                if paddle_x is not None and nb[0] <= paddle_x:
+                    continue
                 if any(b[0] <= nb[0] <= b[1] and b[2] <= nb[1] <= b[3] for b in outflow):
                     continue
                 return q, (di, dj)
@@ -149,3 +153,22 @@ class Layout:
             return None
         z = self.pts[sel, 1]
         return float(z.min()) - 0.5 * dx, float(z.max()) + 0.5 * dx
+
+    def warn_levels(self, waters, stroke_note=""):
+        """A [[water]] level the lattice cannot hold as written: a level fills whole rows of
+        particles, so the still water stands at the top of the last row (0.39 m for level = 0.40
+        at dx = 0.03); said at the start, with the level the run uses and a dx that keeps the
+        written one. stroke_note: the paddle's stroke for the level used, where Biesel set it."""
+        dx, z0 = self.dx, self.box[2]
+        for w in waters:
+            mine = self.region == w["index"]
+            if w["polygon"] or not mine.any():
+                continue
+            top = float(self.pts[mine, 1].max()) + 0.5 * dx
+            if abs(top - w["level"]) <= 1e-6 * max(1.0, abs(w["level"])):
+                continue
+            rows = math.ceil((w["level"] - z0) / dx - 1e-9)
+            warnings.warn(f"{who(w)}.level = {w['level']:g} m fills whole rows of particles up to {top:.4g} m at "
+                          f"numerics.dx = {dx:g} m: the run's still water stands at {top:.4g} m{stroke_note}; "
+                          f"numerics.dx = {(w['level'] - z0) / rows:.4g} m ({rows} rows above domain.box's floor) "
+                          "keeps the level as written")
