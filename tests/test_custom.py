@@ -285,3 +285,26 @@ def test_a_new_gauge_type_is_one_class(tmp_path, monkeypatch):
     m = json.load(open(tmp_path / "out" / "summary.json"))["metrics"]
     assert m["mid_mean"] == pytest.approx(np.mean(cols["d_mid"]))
     assert run_cli(tmp_path, TANK + WATER + '[[gauge]]\ntype = "depth"\n', "--max-steps", "3") == 2   # no x
+
+
+def test_harmonic_amplitudes_of_a_record_and_a_panel_a_gauge(tmp_path):
+    """The first three harmonics of a record at the paddle's period, null under two periods; the
+    gauges figure draws one panel a gauge."""
+    import math
+    from tisph.measure.gauges import GaugeSet, SurfaceGauge, harmonic_amplitudes
+    T = 2.0
+    t = np.arange(0.0, 20.0, 0.01)
+    eta = 0.02 * np.cos(2 * math.pi * t / T) + 0.005 * np.sin(4 * math.pi * t / T + 0.3) + 0.001
+    h = harmonic_amplitudes("g", t, eta, T, 0.0)
+    assert h["g_harmonic_1"] == pytest.approx(0.02, rel=1e-6) and h["g_harmonic_2"] == pytest.approx(0.005, rel=1e-6)
+    assert h["g_harmonic_3"] == pytest.approx(0.0, abs=1e-9)
+    assert harmonic_amplitudes("g", t, eta, T, 17.0)["g_harmonic_1"] is None     # 1.5 periods left
+    heights = []
+    for n in (1, 4):
+        gs = GaugeSet([SurfaceGauge(f"s{k}", 1.0 + k) for k in range(n)], 0.02, 0.05)
+        m = gs.metrics({"t": t, **{f"eta_s{k}": eta for k in range(n)}}, T)
+        assert m["s0_harmonic_1"] == pytest.approx(0.02, rel=1e-6)
+        gs.plot(str(tmp_path / f"g{n}.png"), "case: gauges")
+        import imageio.v2 as imageio
+        heights.append(imageio.imread(tmp_path / f"g{n}.png").shape[0])
+    assert heights[1] > 2 * heights[0]

@@ -144,9 +144,10 @@ class Result:
 
 
 def run(case: Case | str, out: str | os.PathLike | None = None, render: bool = False, progress: bool = True,
-        restart: str | None = None, force: bool = False, **overrides: Any) -> Result:
+        restart: str | None = None, force: bool = False, convergence: bool = False, **overrides: Any) -> Result:
     """Run a case (a Case, a case file's path or a built-in scene's name) and return its Result.
-    overrides: dotted keys, e.g. run(case, **{"numerics.dx": 0.04})."""
+    overrides: dotted keys, e.g. run(case, **{"numerics.dx": 0.04}). convergence: also the case at
+    1.5 and 2.25 times its dx, each metric's GCI (runner/convergence.py; Result.summary["convergence"])."""
     if isinstance(case, str):
         case = Case.from_toml(case) if os.path.isfile(case) else Case(case)
     ov = dict(overrides)
@@ -156,5 +157,11 @@ def run(case: Case | str, out: str | os.PathLike | None = None, render: bool = F
         ov["output.dir"] = str(out)
     cfg = case.config(**ov)
     out = output_dir(case.module, cfg)
-    simulate(case.module, cfg=cfg, out=out, restart=restart, force=force, echo=progress)
+    summary = simulate(case.module, cfg=cfg, out=out, restart=restart, force=force, echo=progress)
+    if convergence and summary["status"] == "ok":
+        from .runner.convergence import study
+        settings = copy.deepcopy(case.settings)
+        if case.scene == "custom":
+            settings.setdefault("domain", {}).setdefault("base_dir", case.base_dir)
+        study(case.module, settings, ov, cfg, summary, out, (lambda m: None) if not progress else print)
     return Result(out)

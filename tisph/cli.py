@@ -43,6 +43,9 @@ def make_parser(scene, description="", prog=None):
     p.add_argument("--quiet", action="store_true", help="no progress bar and no messages but errors")
     p.add_argument("--live", action="store_true",
                    help="show each frame in a window as it is rendered (needs a display; the files are written all the same)")
+    p.add_argument("--convergence", action="store_true",
+                   help="also run the case at 1.5 and 2.25 times its dx: each metric's observed order, Richardson "
+                        "estimate and GCI (convergence/ in the run folder, `convergence` in summary.json)")
     p.add_argument("--describe", action="store_true",
                    help="print every config key with its default, what is allowed and what it means, and exit")
     return p

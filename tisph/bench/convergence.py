@@ -11,6 +11,7 @@ import os
 import time
 
 from ..io import ensure_dir, write_csv, write_text
+from ..measure.convergence import gci
 from .common import ROOT, table
 
 # (case file, {metric: what it is}, dx coarse to fine: refinement ratios of about 1.5)
@@ -19,28 +20,6 @@ CASES = (("breakwater", {"overtopping_mean_discharge": "mean overtopping dischar
                                                                "incident wave (the lattice's water level moves with dx)"},
           (0.015, 0.01, 0.0067)),
          ("seawall", {"wall_force_max": "peak force on the wall (N/m)"}, (0.02, 0.0133, 0.0089)))
-
-
-def gci(f1, f2, f3, r21, r32):
-    """Observed order p, the Richardson estimate of the zero-spacing value, and the fine and the
-    middle grid's GCI (safety factor 1.25) from f1 (fine), f2, f3 (coarse), the spacings' ratios
-    r21 = dx2 / dx1 and r32 = dx3 / dx2 (Celik et al. 2008, eqs. 3-6: p by fixed-point iteration
-    where the ratios differ). p is nan where the differences change sign (oscillatory
-    convergence) or vanish: then no GCI."""
-    e21, e32 = f2 - f1, f3 - f2
-    if e21 == 0 or e32 == 0 or e21 * e32 < 0:
-        return float("nan"), float("nan"), float("nan"), float("nan")
-    p = math.log(abs(e32 / e21)) / math.log(r21)
-    for _ in range(100):
-        q = math.log((r21 ** p - 1.0) / (r32 ** p - 1.0)) if p > 0 else 0.0
-        p_new = abs(math.log(abs(e32 / e21)) + q) / math.log(r21)
-        if abs(p_new - p) < 1e-10:
-            break
-        p = p_new
-    ext = (r21 ** p * f1 - f2) / (r21 ** p - 1.0)
-    gci21 = 1.25 * abs(e21 / f1) / (r21 ** p - 1.0)
-    gci32 = 1.25 * abs(e32 / f2) / (r32 ** p - 1.0)
-    return p, ext, gci21, gci32
 
 
 def main(a):

@@ -25,6 +25,7 @@ from typing import Iterable
 import numpy as np
 
 from ..particles import FLUID, SPRAY
+from .harmonics import harmonics
 from .field import lattice_offset, particle_surface, shepard_at, surface_heights
 from .plots import pyplot, save
 from .records import arrival_time, crossing_period_and_level, free_oscillation, height_at, wave_height
@@ -64,6 +65,20 @@ class Gauge:
 
     def read(self, st: dict, site: Site) -> list[float]:
         raise NotImplementedError
+
+    def describe(self, m: dict) -> str:
+        """The gauge's panel label in gauges.png: its label, where it stands, and for a surface
+        gauge its wave height and first harmonics (from the metrics m)."""
+        where = ", ".join(f"{k} = {getattr(self, k):g} m" for k in ("x", "z") if hasattr(self, k))
+        text = f"{self.label}" + (f" ({where})" if where else "")
+        h = [m.get(f"{self.label}_harmonic_{k}") for k in (1, 2, 3)]
+        unit = self.panel[0].split("(")[-1].rstrip(")") if "(" in self.panel[0] else ""
+        if m.get(f"{self.label}_wave_height") is not None and math.isfinite(m[f"{self.label}_wave_height"]):
+            text += f": H = {m[f'{self.label}_wave_height']:.3g} m"
+        if h[0]:
+            scale = self.panel[1]
+            text += "; harmonics " + ", ".join(f"{scale * v:.2g}" for v in h if v is not None) + f" {unit}"
+        return text
 
     def metrics(self, c: dict, t: np.ndarray, w: np.ndarray, period: float | None) -> dict:
         """summary.json's entries over the window w (t >= from_time) of the record c."""
@@ -128,6 +143,7 @@ class SurfaceGauge(Gauge):
             H, n = wave_height(t, e, self.from_time, float(t[-1]), period)
             out[f"{self.label}_wave_height"] = H if n else float("nan")
             out[f"{self.label}_waves"] = int(n)
+            out.update(harmonic_amplitudes(self.label, t, e, period, self.from_time))
         else:       # no wave maker: the water's own oscillation (sloshing, a seiche)
             T, loss, se, n = free_oscillation(np.asarray(t)[w], e[w])
             if n:
@@ -166,6 +182,18 @@ class VelocityGauge(_PointGauge):
         return {f"{self.label}_speed_max": float(np.nanmax(sp)) if np.isfinite(sp).any() else None}
 
 
+def harmonic_amplitudes(label, t, col, period, t0, n=3):
+    """<label>_harmonic_1 .. _n: the amplitudes of the record at the wave maker's frequency and its
+    multiples (m, Pa or N/m), least squares over the whole periods from t0 to the end with the
+    mean level (measure/harmonics.py, as the flume's); null under two whole periods. A wave
+    over a bar or a breaking wave moves energy into the higher harmonics; a regular load's first
+    harmonic is what linear theory gives, where its peaks carry the acoustic noise as well."""
+    t, col = np.asarray(t, float), np.asarray(col, float)
+    wet = np.isfinite(col) & (t >= t0)
+    c = harmonics(t, col, 2.0 * math.pi / period, t0, float(t[-1]), n) if wet.sum() > 4 * n + 2 else None
+    return {f"{label}_harmonic_{m + 1}": (float(abs(c[m])) if c is not None else None) for m in range(n)}
+
+
 def _peaks(label, col, t, w):
     """The largest value, when, and the mean over the window; null where the record has none (a
     point that stayed dry): the keys are there, and the run's warning names them."""
@@ -188,7 +216,15 @@ class PressureGauge(_PointGauge):
         return [float(p)]
 
     def metrics(self, c, t, w, period):
-        return _peaks(self.label, c[self.columns[0]], t, w)
+        return _load_metrics(self.label, c[self.columns[0]], t, w, period, self.from_time)
+
+
+def _load_metrics(label, col, t, w, period, t0):
+    """A pressure's or a force's peaks, and with a wave maker its harmonics beside them."""
+    out = _peaks(label, col, t, w)
+    if period:
+        out.update(harmonic_amplitudes(label, t, np.asarray(col, float), period, t0))
+    return out
 
 
 class ForceGauge(Gauge):
@@ -217,7 +253,7 @@ class ForceGauge(Gauge):
         return [float(np.nansum(p) * self.ds)]
 
     def metrics(self, c, t, w, period):
-        return _peaks(self.label, c[self.columns[0]], t, w)
+        return _load_metrics(self.label, c[self.columns[0]], t, w, period, self.from_time)
 
 
 class DischargeGauge(Gauge):
@@ -269,12 +305,13 @@ GAUGE_TYPES = {cls.type: cls for cls in (SurfaceGauge, VelocityGauge, PressureGa
 
 class GaugeSet:
     """A case's gauges: their columns in order, one read a probe (each type in one batch), their
-    metrics, and gauges.png (a panel a type)."""
+    metrics, and gauges.png (a panel a gauge)."""
 
     def __init__(self, gauges: Iterable[Gauge], dx: float, h: float) -> None:
         self.gauges, self.site = list(gauges), Site(dx, h)
         self.columns = tuple(c for g in self.gauges for c in g.columns)
         self.seen = None
+        self.last_metrics = {}
 
     def by_type(self):
         """[(type, its gauges)] in GAUGE_TYPES' order, each type once."""
@@ -291,27 +328,45 @@ class GaugeSet:
         """Each gauge's metrics over t >= its from_time (none where under two readings)."""
         self.seen = c
         t = np.asarray(c["t"])
-        out = {}
+        out = self.last_metrics = {}
         for g in self.gauges:
             w = t >= g.from_time
             if w.sum() >= 2:
                 out.update(g.metrics(c, t, w, period))
         return out
 
-    def plot(self, path: str) -> None:
-        """gauges.png: every gauge's record, one panel per type of gauge."""
-        c, panels = self.seen, self.by_type()
-        if not panels or c is None or len(c["t"]) < 2:
+    def plot(self, path: str, title: str = "") -> None:
+        """gauges.png: one panel a gauge (five surface gauges in one panel hid each other), the
+        gauges of a type on one vertical scale so their records compare at a glance; the panel
+        names the gauge, where it stands and, for a surface gauge, its wave height and harmonics."""
+        c = self.seen
+        shown = [g for cls, mine in self.by_type() for g in mine]
+        if not shown or c is None or len(c["t"]) < 2:
             return
         plt = pyplot()
-        fig, axes = plt.subplots(len(panels), 1, figsize=(7.5, 1.7 * len(panels) + 0.6), sharex=True, squeeze=False)
-        for ax, (cls, mine) in zip(axes[:, 0], panels):
-            label, scale = cls.panel
-            for g in mine:
-                ax.plot(c["t"], scale * np.asarray(c[g.columns[0]]), lw=0.8, label=g.label)
-            ax.set_ylabel(label, fontsize=8)
-            ax.legend(fontsize=7, ncol=4, loc="upper left")
-        axes[-1, 0].set_xlabel("t (s)")
+        fig, axes = plt.subplots(len(shown), 1, figsize=(7.5, 1.15 * len(shown) + 0.8), sharex=True, squeeze=False)
+        t = np.asarray(c["t"])
+        span = {}
+        for g in shown:   # one range a type
+            label, scale = g.panel
+            v = scale * np.asarray(c[g.columns[0]], float)
+            v = v[np.isfinite(v)]
+            if v.size:
+                lo, hi = span.get(type(g), (np.inf, -np.inf))
+                span[type(g)] = (min(lo, v.min()), max(hi, v.max()))
+        for ax, g in zip(axes[:, 0], shown):
+            label, scale = g.panel
+            ax.plot(t, scale * np.asarray(c[g.columns[0]], float), lw=0.8, color="C0")
+            lo, hi = span.get(type(g), (-1.0, 1.0))
+            pad = 0.08 * max(hi - lo, 1e-12)
+            ax.set_ylim(lo - pad, hi + pad)
+            ax.set_ylabel(label, fontsize=7)
+            ax.tick_params(labelsize=7)
+            ax.text(0.005, 0.95, g.describe(self.last_metrics), transform=ax.transAxes, fontsize=7, va="top",
+                    bbox=dict(facecolor="white", edgecolor="none", alpha=0.8, pad=1.5))
+        axes[-1, 0].set_xlabel("t (s)", fontsize=8)
+        if title:
+            fig.suptitle(title, fontsize=9)
         save(fig, path)
 
 

@@ -99,8 +99,17 @@ def run_scene(scene, argv=None, prog=None):
         print(describe(scene))
         return 0
     try:
-        cfg = resolve(scene, args.config, overrides_from_args(args))
+        overrides = overrides_from_args(args)
+        if args.convergence and args.restart:
+            raise ConfigError("--convergence", True, "a run from its start (not with --restart)")
+        cfg = resolve(scene, args.config, overrides)
         summary = simulate(scene, cfg=cfg, restart=args.restart, force=args.force, echo=True)
+        if args.convergence and summary["status"] == "ok":
+            from .convergence import study
+            say = (lambda m: None) if cfg["output"]["quiet"] else (lambda m: print(m, file=sys.stderr))
+            entry = study(scene, args.config, overrides, cfg, summary, output_dir(scene, cfg), say)
+            say(f"convergence: {os.path.join(output_dir(scene, cfg), 'convergence', 'convergence.md')}"
+                + (f" ({entry['reason']})" if entry["reason"] else ""))
     except (ConfigError, OutputError) as e:
         print(f"{parser.prog}: {e}", file=sys.stderr)
         return 2

@@ -251,10 +251,10 @@ def build(cfg):
     cg = CaseGauges(gauges, dx, h, g, wall_side, depth_at)
     parts = dict(probe_columns=cg.columns, probe=cg.read, persist=(cg,),
                  metrics=lambda c: cg.metrics(c, period, still),
-                 finalize=lambda out, m: cg.plot(os.path.join(out, "gauges.png")))
+                 finalize=lambda out, m: cg.plot(os.path.join(out, "gauges.png"), run_title(out)))
     if sand:
         def finalize(out, m):
-            cg.plot(os.path.join(out, "gauges.png"))
+            cg.plot(os.path.join(out, "gauges.png"), run_title(out))
             sand.finalize(out)
 
         parts = dict(probe_columns=cg.columns + ("bed_change_rms",), probe=lambda st: cg.read(st) + sand.probe(st),
@@ -280,6 +280,11 @@ def build(cfg):
                      physics=physics_from_config(cfg, **physics_kw), u_max=u_max,
                      view=((box[0] - margin, box[2] - margin), (box[1] + margin, box[3] + margin)),
                      marks=[(q["x"], q["label"]) for q in gauges if q["type"] == "surface"], zones=zones, **parts)
+
+
+def run_title(out):
+    """The gauges figure's title: the run's folder (tisph run my_bar.toml --out renders/my_bar)."""
+    return f"{os.path.basename(os.path.normpath(out))}: gauges"
 
 
 def release_speed(lay, water, u0, g, height):

@@ -1,0 +1,39 @@
+"""The numerical uncertainty of a run: each metric judged over three spacings (Celik et al. 2008),
+and `--convergence` on a case file end to end."""
+import json
+import os
+
+import pytest
+
+from tisph.measure.convergence import verdict
+from tisph.scenes import custom
+from tests.test_custom import TANK, WATER
+
+
+def test_a_second_order_metric_gets_its_order_and_limit():
+    f = [1.0 + 3.0 * dx ** 2 for dx in (0.01, 0.015, 0.0225)]
+    m = verdict("x", *f, 1.5, 1.5)
+    assert m["order"] == pytest.approx(2.0, rel=1e-6) and m["richardson"] == pytest.approx(1.0, rel=1e-9)
+    assert m["gci_fine"] == pytest.approx(1.25 * (f[1] - f[0]) / f[0] / (1.5 ** 2 - 1), rel=1e-6)
+
+
+@pytest.mark.parametrize("values, reason", [((1.0, 1.1, 1.0), "oscillatory"), ((1.0, 1.2, 1.25), "divergent"),
+                                            ((2.0, 2.0, 2.0), "the same")])
+def test_no_gci_without_an_asymptotic_range(values, reason):
+    m = verdict("wall_force_max", *values, 1.5, 1.5)
+    assert m["reason"].startswith(reason) and m["order"] is None
+    assert "peak" in m["note"]
+
+
+def test_convergence_from_the_command_line(tmp_path):
+    path = tmp_path / "tank.toml"
+    path.write_text(TANK + WATER + '[[gauge]]\ntype = "pressure"\nx = 1.0\nz = 0.2\nlabel = "p"\n')
+    out = tmp_path / "out"
+    assert custom.main(["--config", str(path), "--out", str(out), "--no-render", "--quiet", "--end-time", "0.05",
+                        "--convergence"]) == 0
+    s = json.loads((out / "summary.json").read_text())["convergence"]
+    assert s["dx"] == pytest.approx([0.05, 0.075, 0.1125]) and not s["reason"]
+    assert "p_mean" in s["metrics"] and len(s["metrics"]["p_mean"]["values"]) == 3
+    for f in ("convergence.md", "convergence.csv", "convergence.png"):
+        assert os.path.getsize(out / "convergence" / f) > 0
+    assert (out / "convergence" / "dx0.075" / "summary.json").exists()
