@@ -33,7 +33,7 @@ def verdict(name, f1, f2, f3, r21, r32):
     """One metric's entry: its three values (fine first), the observed order, the Richardson
     estimate and the fine grid's GCI where the three are in the asymptotic range; otherwise
     the reason there is none: the same on the three grids, oscillatory (the changes alternate
-    in sign) or divergent (the change grows as the spacing shrinks)."""
+    in sign) or not converging yet (the change does not shrink as the spacing does)."""
     out = {"values": [f1, f2, f3], "order": None, "richardson": None, "gci_fine": None, "reason": ""}
     e21, e32 = f2 - f1, f3 - f2
     if e21 == 0 and e32 == 0:
@@ -41,7 +41,8 @@ def verdict(name, f1, f2, f3, r21, r32):
     elif e21 * e32 < 0:
         out["reason"] = "oscillatory: the changes alternate in sign, so no order or GCI"
     elif abs(e21) >= abs(e32):
-        out["reason"] = "divergent: the change grows as the spacing shrinks (no asymptotic range), so no GCI"
+        out["reason"] = ("not converging yet: the change does not shrink as the spacing does (no asymptotic range), "
+                         "so no order or GCI")
     elif f1 == 0:
         out["reason"] = "zero on the finest spacing: no relative GCI"
     else:
