@@ -13,7 +13,10 @@ from .state import ParticleFields, np_dtype, type_bytes
 
 # the degree of the paddle's Chebyshev series over a batch of steps (paddle_fit)
 CHEB = 8
-NO_FIT = (1.0, (0.0,) * (CHEB + 1), (0.0,) * (CHEB + 1))   # span and series where the host gives the paddle
+# on the CPU a batch of up to this many steps reads its log element by element (5 us each); a
+# longer one, and any on a GPU (where each read waits for the device), in one to_numpy (about
+# 100 us on the CPU)
+READ_ELEMENTS = 16
 
 
 class SolverAPI:
@@ -31,7 +34,7 @@ class SolverAPI:
     def prime(self):
         """Bin the particles and evaluate forces at t = 0 (a zero-length step) to get a^0, dt^0."""
         self._set_dt(0.0)
-        self._step(0, 0, 0.0, 0.0, *NO_FIT)    # the paddle at rest where it starts
+        self._step(0, 0, 0.0, 0.0)    # the paddle at rest where it starts
         self._dt = float(self.dtlog[0])
         self._primed = True
 
@@ -72,9 +75,14 @@ class SolverAPI:
 
     @property
     def dt_bound(self):
-        """No step is longer than this: the acoustic limit cfl h / c0 (engine/limits.py; the
-        viscous signal, the force and the other limits only shorten it), with f32's rounding."""
-        return float(self.param_values["cfl"]) * self.h / self.c0 * (1.0 + 1e-5)
+        """No step is longer than this: the acoustic limit cfl h / c0, the user's cap dt_max and
+        the laminar viscous limit (engine/limits.py; the viscous signal, the force and the other
+        limits only shorten a step), with f32's rounding."""
+        v = self.param_values
+        bound = min(float(v["cfl"]) * self.h / self.c0, float(v["dt_max"]))
+        if self.physics.laminar_viscosity and "dt_visc" in v:
+            bound = min(bound, float(v["dt_visc"]))
+        return bound * (1.0 + 1e-5)
 
     def step_ahead(self, n=1):
         """Advance n steps (1 to self.batch) with one read of the device at the end: each
@@ -94,20 +102,35 @@ class SolverAPI:
         if n > 1 and self.moves_paddle and fit is None:
             n = 1      # the series did not hold: this step alone, its paddle from the host
         if fit is None:   # the kernel moves the paddle to t + dt
-            args = (0,) + self._paddle_at(self.time + self._dt) + NO_FIT
+            args = (0,) + self._paddle_at(self.time + self._dt)
         else:
-            args = (1, 0.0, 0.0) + fit
+            span, cd, cv = fit
+            self.pfit.from_numpy(np.array(list(cd) + list(cv) + [span], dtype=self.np_real))
+            args = (1, 0.0, 0.0)
         for k in range(n):
             self._step(k, *args)
             self.steps += 1
             for m in self.hooks["after_step"]:
                 m.after_step(self)
-        log = self.dtlog.to_numpy()           # the batch's one transfer
+        if n <= self.read_elements:   # the CPU, a short batch: element by element
+            log = [self.dtlog[k] for k in range(n)]
+            self.health_read = n > 1 or self.steps % 10 == 0     # a single step: every 10 steps
+            if self.health_read:
+                self.health = int(self.dtlog[self.batch])
+        else:
+            log = self.dtlog.to_numpy()       # the batch's one transfer, the health with it
+            self.health_read = True
+            self.health = int(log[-1])
         for k in range(n):                    # the dt each step took, summed in step order
             self.time += self._dt
             self._dt = float(log[k])
-        self.health = int(log[-1])
         return n      # the steps taken: fewer than asked where the paddle's series did not hold
+
+    def read_health(self):
+        """The health code as the last step left it (one read of the device)."""
+        self.health = int(self.dtlog[self.batch])
+        self.health_read = True
+        return self.health
 
     def _paddle_at(self, t):
         """The paddle's displacement and rate at t for the step kernel (zeros where the host moves

@@ -36,24 +36,23 @@ from . import state as st_mod, pairs
 from .grid import Grid
 from ..hooks.health import BAD_DENSITY, BAD_LEAK, BAD_NONE, fluid_code, report
 from .limits import next_dt
-from .access import CHEB, SolverAPI
+from .access import CHEB, READ_ELEMENTS, SolverAPI
 from ..hooks.module import HOOKS
 from .pairs import PairOnce
 from .registry import enabled_modules
 
 # the most steps the host launches between two reads of the device (access.py, step_ahead)
 BATCH = 64
-PaddleFit = ti.types.vector(CHEB + 1, ti.f64)
 
 
 @ti.func
-def chebyshev(c: ti.template(), x, real: ti.template()):
-    """sum_j c_j T_j(x) by Clenshaw's recurrence, in the solver's precision."""
-    b1 = ti.cast(0.0, real)
-    b2 = ti.cast(0.0, real)
+def chebyshev(c: ti.template(), at: ti.template(), x):
+    """sum_j c[at + j] T_j(x), j = 0 .. CHEB, by Clenshaw's recurrence."""
+    b1 = 0.0 * x
+    b2 = 0.0 * x
     for j in ti.static(range(CHEB, 0, -1)):
-        b1, b2 = 2.0 * x * b1 - b2 + ti.cast(c[j], real), b1
-    return x * b1 - b2 + ti.cast(c[0], real)
+        b1, b2 = 2.0 * x * b1 - b2 + c[at + j], b1
+    return x * b1 - b2 + c[at]
 
 # The base slots of a fluid particle's accumulator (the modules add theirs).
 ACC_CORE = {"a": "vec2", "drho": "real", "vi": "vec2", "rhoi": "real", "pi": "real", "inv_rhoi": "real",
@@ -128,6 +127,7 @@ class Solver(SolverAPI):
         self.batch = BATCH
         self.dtlog = ti.field(self.real, shape=BATCH + 1)
         self.ptau = ti.field(self.real, shape=())   # time into a batch, for the paddle's series
+        self.pfit = ti.field(self.real, shape=2 * CHEB + 3)   # its displacement's, its rate's, the span
         # the maxima a finish hook raises through pt (the pass itself raises amax2 and rhodev)
         self._module_max0 = {k: 0 if t == "int" else 0.0 for k, t in self.maxima.items()
                              if k not in ("amax2", "rhodev")}
@@ -150,6 +150,7 @@ class Solver(SolverAPI):
         # on a GPU, where the host's value every step costs a wait for the device; on the CPU,
         # where it costs microseconds, the host's, so the CPU's results stay as they were
         self.paddle_series = bool(params.get("paddle_series", not self.cpu))
+        self.read_elements = int(params.get("read_elements", READ_ELEMENTS if self.cpu else 0))
 
         fp = self.np_real
         self.p.x.from_numpy(particles.x.astype(fp))
@@ -168,6 +169,7 @@ class Solver(SolverAPI):
         self._primed = False
         self._dt = None          # the next step's dt as the step kernel logged it (None: read prm)
         self.health = BAD_NONE   # the health code the last batch of steps read back
+        self.health_read = False   # whether the last step_ahead read it (a single step: every 10th)
 
     def has_stat(self, name):
         return name in self.stat_decl
@@ -328,13 +330,13 @@ class Solver(SolverAPI):
 
     # ------------------------------------------------------------------ the step
     @ti.kernel
-    def _step(self, k: ti.i32, fit: ti.i32, pd: ti.f64, pv: ti.f64, span: ti.f64, cd: PaddleFit, cv: PaddleFit):
+    def _step(self, k: ti.i32, fit: ti.i32, pd: ti.f64, pv: ti.f64):
         """One step; writes the next step's dt into dtlog[k] and the health code into the log's
         last slot (no value returned: a return waits for the device). Where the paddle module
-        is on, its displacement and rate at the step's end: pd, pv as given (fit 0), or (fit 1)
-        the Chebyshev series cd, cv over [0, span] seconds from the batch's start, at the time
-        the batch's steps have taken so far (access.py, paddle_fit). All are the launch's
-        arguments, not launches of their own."""
+        is on, its displacement and rate at the step's end: pd, pv as given (fit 0; the launch's
+        arguments, not a launch of their own), or (fit 1) the Chebyshev series in pfit over the
+        batch's span, at the time the batch's steps have taken so far (access.py, paddle_fit).
+        Four scalar arguments: a vector argument costs about 50 us a launch on the CPU."""
         dt = self.prm[None].dt
         if ti.static("pd" in self.param_decl):
             if fit == 0:
@@ -345,9 +347,9 @@ class Solver(SolverAPI):
                 if k > 0:
                     tau += self.ptau[None]
                 self.ptau[None] = tau
-                x = 2.0 * tau / ti.cast(span, self.real) - 1.0
-                self.prm[None].pd = chebyshev(cd, x, self.real)
-                self.prm[None].pv = chebyshev(cv, x, self.real)
+                x = 2.0 * tau / self.pfit[2 * CHEB + 2] - 1.0
+                self.prm[None].pd = chebyshev(self.pfit, 0, x)
+                self.prm[None].pv = chebyshev(self.pfit, CHEB + 1, x)
         ncell = self.grid.ncells
         for i in range(self.n):
             self.advance(i, dt)

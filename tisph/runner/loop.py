@@ -222,9 +222,11 @@ class Run(Outputs):
             if obs.control is not None and s.steps % obs.control_every == 0:
                 obs.control(s)
             self.step_s += time.perf_counter() - ts
+            if not s.health_read and (s.time >= self.next_output - 1e-12 or self._event_due()):
+                s.read_health()   # a single step reads it every 10 steps, and before anything is written
             if s.health:   # hooks/health.py's BAD_NONE is 0
                 raise SimulationError(describe_instability(s, *s.check()))
-            if s.steps - backed >= 10:
+            if s.health_read and s.steps - backed >= 10:
                 s.backup()
                 backed = s.steps
             self.outputs()
@@ -245,6 +247,9 @@ class Run(Outputs):
             raise SimulationError(describe_instability(s, *bad))
         if not self.probes or self.probes[-1][0] < s.time:
             self.sample()
+
+    def _event_due(self):
+        return bool(self.events) and self.solver.time >= self.events[0][0] - 1e-12
 
     def _quiet_steps(self, t_end, max_steps):
         """How many steps may run with no read of the device between them (solver.step_ahead):
