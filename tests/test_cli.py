@@ -257,6 +257,9 @@ def test_the_tisph_command_runs_describes_and_lists_scenes(tmp_path, capsys):
     assert all(name in listed for name in registry.names())
     assert "Wave flume: a piston or flap paddle" in listed and "tisph.scenes." not in listed   # what each is
     assert main(["describe", "tank"]) == 0 and "sediment_depth" in capsys.readouterr().out
+    assert main(["describe", "custom"]) == 0
+    text = capsys.readouterr().out     # a case of one's own: its geometry's tables first
+    assert text.index("[domain]") < text.index("[[solid]]") < text.index("[[gauge]]") < text.index("[run]")
     out = tmp_path / "hatch"
     assert main(["run", os.path.join(ROOT, "scenes", "hatch.toml"), "--max-steps", "2", "--no-render", "--quiet",
                  "--out", str(out)]) == 0

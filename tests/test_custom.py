@@ -308,3 +308,22 @@ def test_harmonic_amplitudes_of_a_record_and_a_panel_a_gauge(tmp_path):
         import imageio.v2 as imageio
         heights.append(imageio.imread(tmp_path / f"g{n}.png").shape[0])
     assert heights[1] > 2 * heights[0]
+
+
+def test_an_irregular_sea_gets_hm0_and_tp_at_each_surface_gauge():
+    """With paddle.spectrum a surface gauge reports Hm0 and Tp from its spectrum, not a regular
+    wave's height and harmonics: a synthetic sea of Hm0 0.1 m peaked at 2 s reads back."""
+    import math
+    from tisph.scenes.custom.gauges import CaseGauges
+    spec = {"type": "surface", "label": "a", "x": 1.0, "z": None, "line": None, "from_time": 0.0,
+            "name": "gauge[0]", "index": 0, "crest": None, "cot_slope": 0.0, "toe_gauges": []}
+    cg = CaseGauges([spec], 0.02, 0.05, 9.81, lambda p: p * 0, lambda x: 0.5, band=(0.25, 1.0))
+    t = np.arange(0.0, 400.0, 0.05)
+    rng = np.random.default_rng(0)
+    fs = np.linspace(0.3, 0.9, 60)
+    amp = np.exp(-((fs - 0.5) / 0.08) ** 2)
+    amp *= 0.1 / (4 * np.sqrt((amp ** 2 / 2).sum()))
+    eta = sum(a * np.cos(2 * math.pi * f * t + rng.uniform(0, 2 * math.pi)) for a, f in zip(amp, fs))
+    m = cg.metrics({"t": t, "eta_a": eta}, 2.0, 0.5)
+    assert m["a_hm0"] == pytest.approx(0.1, rel=0.05) and m["a_tp"] == pytest.approx(2.0, rel=0.02)
+    assert "a_wave_height" not in m and "a_harmonic_1" not in m

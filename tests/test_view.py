@@ -78,3 +78,18 @@ def test_view_range_is_in_the_bars_unit_and_names_its_picture(tmp_path):
     auto = Renderer(((0, 0), (1, 1)), 320, dx=0.02, modes=("pressure",))
     lo, hi = auto._colour_range("pressure", st["p"])
     assert lo == 0.0 and 3900.0 < hi <= 4000.0          # the water's 99.5th percentile
+
+
+def test_view_does_not_repeat_the_runs_warnings(tmp_path):
+    """A case whose build warns (a wave under 3 dx): the run said so; rebuilding its framing for a
+    view says nothing."""
+    import warnings
+    from tisph.scenes import flume
+    out = tmp_path / "fl"
+    simulate(flume, {"numerics.dx": 0.03, "run.end_time": 0.02, "output.render": False, "output.quiet": True,
+                     "output.snapshot_every": 0.01, "geometry.length": 2.0, "geometry.damping_length": 0.6,
+                     "geometry.gauges_wavelengths": [0.5, 1.0]}, out=str(out))
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        assert view.main([str(out), "--width", "240"]) == 0
+    assert not [w for w in caught if issubclass(w.category, UserWarning)], [str(w.message) for w in caught]

@@ -59,18 +59,28 @@ def describe(scene):
     """The table as text, one key per line, grouped by table."""
     lines = [f"Config keys of {scene.NAME} (defaults; set them in a case file with --config, "
              f"see scenes/*.toml):", ""]
+    keyed = list(rows(scene))
+    geometry = []
+    if getattr(scene, "ELEMENTS", None):   # a case of one's own: the domain and its entries first
+        geometry = [r for r in keyed if r[0].startswith("domain.")]
+        keyed = [r for r in keyed if not r[0].startswith("domain.")]
     last = None
-    for key, default, allowed, meaning in rows(scene):
-        table = key.rsplit(".", 1)[0]
-        if table != last:
-            lines.append(f"[{table}]")
-            last = table
-        lines.append(f"  {key.rsplit('.', 1)[1]} = {default}    ({allowed}){'  ' + meaning if meaning else ''}")
+
+    def keys(rs):
+        nonlocal last
+        for key, default, allowed, meaning in rs:
+            table = key.rsplit(".", 1)[0]
+            if table != last:
+                lines.append(f"[{table}]")
+                last = table
+            lines.append(f"  {key.rsplit('.', 1)[1]} = {default}    ({allowed}){'  ' + meaning if meaning else ''}")
+    keys(geometry)
     for table, key, default, meaning in element_rows(scene):
         if table != last:
             lines.append(f"[[{table}]]  (as many as the case needs; each entry's keys)")
             last = table
         lines.append(f"  {key} = {default}  {meaning}")
+    keys(keyed)
     return "\n".join(lines)
 
 

@@ -16,6 +16,7 @@ import argparse
 import dataclasses
 import os
 import sys
+import warnings
 
 import numpy as np
 
@@ -49,8 +50,10 @@ def scene_picture(attrs):
     cfg_text, name = attrs.get("config", ""), attrs.get("scene", "")
     try:
         scene = scenes.load(name)
-        cfg = resolve(scene, None, flatten(tomllib.loads(cfg_text)))
-        return scene.build(cfg).picture, cfg["numerics"]["dx"]
+        with warnings.catch_warnings():   # the run said its warnings; a view only frames its pictures
+            warnings.simplefilter("ignore")
+            cfg = resolve(scene, None, flatten(tomllib.loads(cfg_text)))
+            return scene.build(cfg).picture, cfg["numerics"]["dx"]
     except Exception:      # an old or foreign snapshot: frame the particles instead
         try:
             return None, float(tomllib.loads(cfg_text)["numerics"]["dx"])

@@ -248,7 +248,8 @@ def build(cfg):
         omega, k, _, cgroup, F = linear_wave(cfg, level - floor)
         warn_case_waves(cfg, F * p["stroke"], k, level - floor, [q["x"] - p["x"] for q in gauges if q["type"] == "surface" and depth_at(q["x"]) > 0],
                         cgroup, period, arrival_time)
-    cg = CaseGauges(gauges, dx, h, g, wall_side, depth_at)
+    band = tuple(b / p["tp"] for b in p["band"]) if paddle_parts and p["spectrum"] else None
+    cg = CaseGauges(gauges, dx, h, g, wall_side, depth_at, band)
     parts = dict(probe_columns=cg.columns, probe=cg.read, persist=(cg,),
                  metrics=lambda c: cg.metrics(c, period, still),
                  finalize=lambda out, m: cg.plot(os.path.join(out, "gauges.png"), run_title(out)))

@@ -13,15 +13,19 @@ from ...waves.theory import wavenumber
 
 
 class CaseGauges(GaugeSet):
-    def __init__(self, specs, dx, h, g, wall_side, depth_at):
+    def __init__(self, specs, dx, h, g, wall_side, depth_at, band=None):
+        """band: (lo, hi) in Hz of an irregular sea's spectrum (paddle.spectrum), else None."""
         super().__init__(case_gauges(specs, dx, h, wall_side), dx, h)
-        self.specs, self.g = specs, g
+        self.specs, self.g, self.band = specs, g, band
         self.depth = {q["label"]: depth_at(q["x"]) for q in specs if q["type"] == "surface"}
 
     def metrics(self, c, period, still_level):
-        """Per gauge, over t >= its from_time: wave height (surface), peaks (velocity, pressure,
-        force), mean discharge and EurOtop's (discharge)."""
+        """Per gauge, over t >= its from_time: wave height and harmonics, or an irregular sea's
+        Hm0 and Tp (surface), peaks (velocity, pressure, force), mean discharge and EurOtop's
+        (discharge)."""
         out = super().metrics(c, period)
+        if self.band and period:
+            self.spectra(c, period, out)
         for q in self.specs:
             if q["type"] == "discharge" and q["cot_slope"] > 0 and period:
                 lab = q["label"]
@@ -35,6 +39,23 @@ class CaseGauges(GaugeSet):
                     if qe > 0 and f"{lab}_mean_discharge" in out:
                         out[f"{lab}_discharge_over_eurotop"] = out[f"{lab}_mean_discharge"] / qe
         return out
+
+    def spectra(self, c, tp, out):
+        """An irregular sea at each surface gauge: Hm0 and the peak period from its spectrum
+        (Welch, segments of 16 peak periods over the record from from_time, as the flume's), in
+        place of the regular wave's height and harmonics, which mean nothing there."""
+        t_end = float(np.asarray(c["t"])[-1])
+        for q in self.specs:
+            if q["type"] != "surface":
+                continue
+            lab = q["label"]
+            for k in ("wave_height", "waves", "harmonic_1", "harmonic_2", "harmonic_3"):
+                out.pop(f"{lab}_{k}", None)
+            f, S, n = harmonics.welch(c["t"], c[f"eta_{lab}"], q["from_time"], t_end, 16 * tp)
+            hm0, tpk = harmonics.spectral_height_and_peak(f, S, *self.band) if n else (None, None)
+            out[f"{lab}_hm0"] = float(hm0) if n else None
+            out[f"{lab}_tp"] = float(tpk) if n else None
+            out[f"{lab}_spectrum_segments"] = int(n)
 
     def incident(self, c, q, period, out):
         """The incident wave height at the toe for EurOtop: one gauge's wave height, or with three or
