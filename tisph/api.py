@@ -86,10 +86,14 @@ class Case:
 
     def config(self, **overrides: Any) -> dict:
         """The resolved, checked config (ConfigError naming every bad key)."""
+        return resolve(self.module, self.file_settings(), overrides)
+
+    def file_settings(self) -> dict:
+        """A copy of the case file's settings, a custom case's CSVs looked for beside it."""
         settings = copy.deepcopy(self.settings)
         if self.scene == "custom":
             settings.setdefault("domain", {}).setdefault("base_dir", self.base_dir)
-        return resolve(self.module, settings, overrides)
+        return settings
 
     def describe(self) -> str:
         """Every key of the case's scene with its default, what is allowed and what it means."""
@@ -160,8 +164,5 @@ def run(case: Case | str, out: str | os.PathLike | None = None, render: bool = F
     summary = simulate(case.module, cfg=cfg, out=out, restart=restart, force=force, echo=progress)
     if convergence and summary["status"] == "ok":
         from .runner.convergence import study
-        settings = copy.deepcopy(case.settings)
-        if case.scene == "custom":
-            settings.setdefault("domain", {}).setdefault("base_dir", case.base_dir)
-        study(case.module, settings, ov, cfg, summary, out, (lambda m: None) if not progress else print)
+        study(case.module, case.file_settings(), ov, cfg, summary, out, print if progress else (lambda m: None))
     return Result(out)

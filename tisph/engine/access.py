@@ -9,15 +9,8 @@ from ..io import OPTIONAL
 from .kernels import CubicSpline2D
 from ..particles import FLUID, SPRAY
 from ..hooks.health import BAD_NONE
+from .batch import paddle_fit
 from .state import ParticleFields, np_dtype, type_bytes
-
-# the degree of the paddle's Chebyshev series over a batch of steps (paddle_fit)
-CHEB = 8
-# on the CPU a batch of up to this many steps reads its log element by element (5 us each); a
-# longer one, and any on a GPU (where each read waits for the device), in one to_numpy (about
-# 100 us on the CPU)
-READ_ELEMENTS = 16
-
 
 class SolverAPI:
     @property
@@ -56,23 +49,6 @@ class SolverAPI:
         the CPU, where the host gives the paddle every step (self.paddle_series)."""
         return not self.moves_paddle or (self.paddle_series and bool(getattr(self.motion, "smooth", False)))
 
-    def paddle_fit(self, n):
-        """Chebyshev series (degree CHEB) of the paddle's displacement and rate over
-        the longest time n steps can take from now, for the device to evaluate at each step's
-        time: (span, cd, cv), or None where a series misses the motion by more than 3e-8 of its
-        largest value at 4 points between each pair of nodes (then the steps go one at a time)."""
-        span = n * self.dt_bound
-        cheb = np.polynomial.chebyshev
-        nodes = np.cos(np.pi * (np.arange(CHEB + 1) + 0.5) / (CHEB + 1))
-        at = lambda x: np.array([self.motion(self.time + 0.5 * span * (u + 1.0)) for u in x], np.float64)
-        fits = [cheb.chebfit(nodes, col, CHEB) for col in at(nodes).T]
-        check = np.linspace(-1.0, 1.0, 4 * CHEB + 1)
-        want = at(check)
-        for c, col in zip(fits, want.T):
-            if np.max(np.abs(cheb.chebval(check, c) - col)) > 3e-8 * np.max(np.abs(col)) + 1e-30:
-                return None
-        return span, tuple(fits[0]), tuple(fits[1])
-
     @property
     def dt_bound(self):
         """No step is longer than this: the acoustic limit cfl h / c0, the user's cap dt_max and
@@ -88,7 +64,7 @@ class SolverAPI:
         """Advance n steps (1 to self.batch) with one read of the device at the end: each
         step's dt stays on the device until then (the step kernel takes the dt the one before
         chose). Time, the step count and the health code (self.health) are current on return.
-        A paddle follows a Chebyshev series of its motion over the batch (paddle_fit); where it
+        A paddle follows a Chebyshev series of its motion over the batch (batch.paddle_fit); where it
         cannot (steps_ahead_allowed) n must be 1, and where the series does not hold one step
         is taken. Returns the steps taken."""
         if not self._primed:
@@ -98,7 +74,7 @@ class SolverAPI:
             raise ValueError(f"step_ahead takes 1 to {self.batch} steps, not {n}")
         if n > 1 and not self.steps_ahead_allowed:
             raise ValueError("a paddle moved from the host steps one at a time")
-        fit = self.paddle_fit(n) if n > 1 and self.moves_paddle else None
+        fit = paddle_fit(self.motion, self.time, n * self.dt_bound) if n > 1 and self.moves_paddle else None
         if n > 1 and self.moves_paddle and fit is None:
             n = 1      # the series did not hold: this step alone, its paddle from the host
         if fit is None:   # the kernel moves the paddle to t + dt
@@ -135,17 +111,12 @@ class SolverAPI:
     def _paddle_at(self, t):
         """The paddle's displacement and rate at t for the step kernel (zeros where the host moves
         none; step_ahead takes one step at a time where it does)."""
-        if self.motion is not None and "pd" in self.param_decl:
+        if self.moves_paddle:
             d, r = self.motion(t)
             return float(d), float(r)
         return 0.0, 0.0
 
     # ------------------------------------------------------------------ runtime inputs
-    def set_paddle(self, t):
-        """Paddle displacement and rate at time t, from the case's motion(t)."""
-        d, r = self.motion(t)
-        self._set_motion(d, r)
-
     def set_drive(self, gx, gy=0.0):
         """The driving pressure gradient / rho_water of a periodic current (m/s2)."""
         if not self.physics.periodic_x:
@@ -327,11 +298,6 @@ class SolverAPI:
         return {k: getattr(self.bak, k).to_numpy()[inv] for k in names}
 
     # ------------------------------------------------------------------ kernels of the API
-    @ti.kernel
-    def _set_motion(self, d: ti.f64, r: ti.f64):
-        self.prm[None].pd = ti.cast(d, self.real)
-        self.prm[None].pv = ti.cast(r, self.real)
-
     @ti.kernel
     def _set_drive(self, gx: ti.f64, gy: ti.f64):
         self.prm[None].drive = ti.Vector([ti.cast(gx, self.real), ti.cast(gy, self.real)])

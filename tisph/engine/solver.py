@@ -36,23 +36,11 @@ from . import state as st_mod, pairs
 from .grid import Grid
 from ..hooks.health import BAD_DENSITY, BAD_LEAK, BAD_NONE, fluid_code, report
 from .limits import next_dt
-from .access import CHEB, READ_ELEMENTS, SolverAPI
+from .access import SolverAPI
+from .batch import BATCH, CHEB, READ_ELEMENTS, chebyshev
 from ..hooks.module import HOOKS
 from .pairs import PairOnce
 from .registry import enabled_modules
-
-# the most steps the host launches between two reads of the device (access.py, step_ahead)
-BATCH = 64
-
-
-@ti.func
-def chebyshev(c: ti.template(), at: ti.template(), x):
-    """sum_j c[at + j] T_j(x), j = 0 .. CHEB, by Clenshaw's recurrence."""
-    b1 = 0.0 * x
-    b2 = 0.0 * x
-    for j in ti.static(range(CHEB, 0, -1)):
-        b1, b2 = 2.0 * x * b1 - b2 + c[at + j], b1
-    return x * b1 - b2 + c[at]
 
 # The base slots of a fluid particle's accumulator (the modules add theirs).
 ACC_CORE = {"a": "vec2", "drho": "real", "vi": "vec2", "rhoi": "real", "pi": "real", "inv_rhoi": "real",
@@ -146,7 +134,7 @@ class Solver(SolverAPI):
         st_mod.write_tables(self, mat_writes, self.param_values)   # every field exists now
         self.motion = params.get("motion")   # motion(t) -> (displacement, rate), for the paddle
         # a smooth paddle motion followed on the device by a series over a batch of steps
-        # (access.py, paddle_fit), which rounds differently from the host's motion(t) cast to f32:
+        # (batch.py, paddle_fit), which rounds differently from the host's motion(t) cast to f32:
         # on a GPU, where the host's value every step costs a wait for the device; on the CPU,
         # where it costs microseconds, the host's, so the CPU's results stay as they were
         self.paddle_series = bool(params.get("paddle_series", not self.cpu))
@@ -335,7 +323,7 @@ class Solver(SolverAPI):
         last slot (no value returned: a return waits for the device). Where the paddle module
         is on, its displacement and rate at the step's end: pd, pv as given (fit 0; the launch's
         arguments, not a launch of their own), or (fit 1) the Chebyshev series in pfit over the
-        batch's span, at the time the batch's steps have taken so far (access.py, paddle_fit).
+        batch's span, at the time the batch's steps have taken so far (batch.py, paddle_fit).
         Four scalar arguments: a vector argument costs about 50 us a launch on the CPU."""
         dt = self.prm[None].dt
         if ti.static("pd" in self.param_decl):

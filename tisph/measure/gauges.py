@@ -25,7 +25,7 @@ from typing import Iterable
 import numpy as np
 
 from ..particles import FLUID, SPRAY
-from .harmonics import harmonics
+from .harmonics import harmonic_amplitudes
 from .field import lattice_offset, particle_surface, shepard_at, surface_heights
 from .plots import pyplot, save
 from .records import arrival_time, crossing_period_and_level, free_oscillation, height_at, wave_height
@@ -70,14 +70,12 @@ class Gauge:
         """The gauge's panel label in gauges.png: its label, where it stands, and for a surface
         gauge its wave height and first harmonics (from the metrics m)."""
         where = ", ".join(f"{k} = {getattr(self, k):g} m" for k in ("x", "z") if hasattr(self, k))
-        text = f"{self.label}" + (f" ({where})" if where else "")
-        h = [m.get(f"{self.label}_harmonic_{k}") for k in (1, 2, 3)]
-        unit = self.panel[0].split("(")[-1].rstrip(")") if "(" in self.panel[0] else ""
-        if m.get(f"{self.label}_wave_height") is not None and math.isfinite(m[f"{self.label}_wave_height"]):
-            text += f": H = {m[f'{self.label}_wave_height']:.3g} m"
-        if h[0]:
-            scale = self.panel[1]
-            text += "; harmonics " + ", ".join(f"{scale * v:.2g}" for v in h if v is not None) + f" {unit}"
+        text, H = self.label + (f" ({where})" if where else ""), m.get(f"{self.label}_wave_height")
+        if H is not None and math.isfinite(H):
+            text += f": H = {H:.3g} m"
+        h = [v for v in (m.get(f"{self.label}_harmonic_{k}") for k in (1, 2, 3)) if v is not None]
+        if h:   # in the panel's unit (kPa for pressure), named in its axis label "... (unit)"
+            text += "; harmonics " + ", ".join(f"{self.panel[1] * v:.2g}" for v in h) + " " + self.panel[0][:-1].split("(")[-1]
         return text
 
     def metrics(self, c: dict, t: np.ndarray, w: np.ndarray, period: float | None) -> dict:
@@ -182,18 +180,6 @@ class VelocityGauge(_PointGauge):
         return {f"{self.label}_speed_max": float(np.nanmax(sp)) if np.isfinite(sp).any() else None}
 
 
-def harmonic_amplitudes(label, t, col, period, t0, n=3):
-    """<label>_harmonic_1 .. _n: the amplitudes of the record at the wave maker's frequency and its
-    multiples (m, Pa or N/m), least squares over the whole periods from t0 to the end with the
-    mean level (measure/harmonics.py, as the flume's); null under two whole periods. A wave
-    over a bar or a breaking wave moves energy into the higher harmonics; a regular load's first
-    harmonic is what linear theory gives, where its peaks carry the acoustic noise as well."""
-    t, col = np.asarray(t, float), np.asarray(col, float)
-    wet = np.isfinite(col) & (t >= t0)
-    c = harmonics(t, col, 2.0 * math.pi / period, t0, float(t[-1]), n) if wet.sum() > 4 * n + 2 else None
-    return {f"{label}_harmonic_{m + 1}": (float(abs(c[m])) if c is not None else None) for m in range(n)}
-
-
 def _peaks(label, col, t, w):
     """The largest value, when, and the mean over the window; null where the record has none (a
     point that stayed dry): the keys are there, and the run's warning names them."""
@@ -223,7 +209,7 @@ def _load_metrics(label, col, t, w, period, t0):
     """A pressure's or a force's peaks, and with a wave maker its harmonics beside them."""
     out = _peaks(label, col, t, w)
     if period:
-        out.update(harmonic_amplitudes(label, t, np.asarray(col, float), period, t0))
+        out.update(harmonic_amplitudes(label, t, col, period, t0))
     return out
 
 
@@ -346,21 +332,19 @@ class GaugeSet:
         plt = pyplot()
         fig, axes = plt.subplots(len(shown), 1, figsize=(7.5, 1.15 * len(shown) + 0.8), sharex=True, squeeze=False)
         t = np.asarray(c["t"])
+        rec = [g.panel[1] * np.asarray(c[g.columns[0]], float) for g in shown]   # in the panel's unit
         span = {}
-        for g in shown:   # one range a type
-            label, scale = g.panel
-            v = scale * np.asarray(c[g.columns[0]], float)
+        for g, v in zip(shown, rec):   # one range a type
             v = v[np.isfinite(v)]
             if v.size:
                 lo, hi = span.get(type(g), (np.inf, -np.inf))
                 span[type(g)] = (min(lo, v.min()), max(hi, v.max()))
-        for ax, g in zip(axes[:, 0], shown):
-            label, scale = g.panel
-            ax.plot(t, scale * np.asarray(c[g.columns[0]], float), lw=0.8, color="C0")
+        for ax, g, v in zip(axes[:, 0], shown, rec):
+            ax.plot(t, v, lw=0.8, color="C0")
             lo, hi = span.get(type(g), (-1.0, 1.0))
             pad = 0.08 * max(hi - lo, 1e-12)
             ax.set_ylim(lo - pad, hi + pad)
-            ax.set_ylabel(label, fontsize=7)
+            ax.set_ylabel(g.panel[0], fontsize=7)
             ax.tick_params(labelsize=7)
             ax.text(0.005, 0.95, g.describe(self.last_metrics), transform=ax.transAxes, fontsize=7, va="top",
                     bbox=dict(facecolor="white", edgecolor="none", alpha=0.8, pad=1.5))

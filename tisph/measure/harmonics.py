@@ -25,6 +25,18 @@ def harmonics(t, eta, omega, t0, t1, n=2):
     return np.array([c[2 * m - 1] - 1j * c[2 * m] for m in range(1, n + 1)])
 
 
+def harmonic_amplitudes(label, t, col, period, t0, n=3):
+    """<label>_harmonic_1 .. _n: the amplitudes of the record at the wave maker's frequency and its
+    multiples (m, Pa or N/m), least squares over the whole periods from t0 to the end with the
+    mean level (harmonics, as the flume's); null under two whole periods. A wave
+    over a bar or a breaking wave moves energy into the higher harmonics; a regular load's first
+    harmonic is what linear theory gives, where its peaks carry the acoustic noise as well."""
+    t, col = np.asarray(t, float), np.asarray(col, float)
+    wet = np.isfinite(col) & (t >= t0)
+    c = harmonics(t, col, 2.0 * math.pi / period, t0, float(t[-1]), n) if wet.sum() > 4 * n + 2 else None
+    return {f"{label}_harmonic_{m + 1}": (float(abs(c[m])) if c is not None else None) for m in range(n)}
+
+
 def two_waves(xs, amps, k_a, k_b):
     """Least squares (Mansard & Funke 1980, J. Coastal Eng. Proc. 17, for any number of gauges)
     of C(x) = A exp(-i k_a x) + B exp(-i k_b x) through the gauges' complex amplitudes: the

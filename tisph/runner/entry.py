@@ -107,8 +107,9 @@ def run_scene(scene, argv=None, prog=None):
         if args.convergence and summary["status"] == "ok":
             from .convergence import study
             say = (lambda m: None) if cfg["output"]["quiet"] else (lambda m: print(m, file=sys.stderr))
-            entry = study(scene, args.config, overrides, cfg, summary, output_dir(scene, cfg), say)
-            say(f"convergence: {os.path.join(output_dir(scene, cfg), 'convergence', 'convergence.md')}"
+            out = output_dir(scene, cfg)
+            entry = study(scene, args.config, overrides, cfg, summary, out, say)
+            say(f"convergence: {os.path.join(out, 'convergence', 'convergence.md')}"
                 + (f" ({entry['reason']})" if entry["reason"] else ""))
     except (ConfigError, OutputError) as e:
         print(f"{parser.prog}: {e}", file=sys.stderr)

@@ -1,0 +1,40 @@
+"""Steps in batches with no read of the device between them (access.py, step_ahead): the batch's
+size, how its log is read, and the paddle's motion as a Chebyshev series over a batch, fitted on
+the host (paddle_fit) and evaluated by the step kernel (chebyshev)."""
+import numpy as np
+import taichi as ti
+
+# the most steps the host launches between two reads of the device
+BATCH = 64
+# on the CPU a batch of up to this many steps reads its log element by element (5 us each); a
+# longer one, and any on a GPU (where each read waits for the device), in one to_numpy (about
+# 100 us on the CPU)
+READ_ELEMENTS = 16
+# the degree of the paddle's Chebyshev series over a batch
+CHEB = 8
+
+
+def paddle_fit(motion, t0, span):
+    """Chebyshev series of motion(t) = (displacement, rate) over [t0, t0 + span], for the device to
+    evaluate at each step's time: (span, cd, cv), or None where a series misses the motion by
+    more than 3e-8 of its largest value at 4 points between each pair of nodes (a kink: the
+    ramp's end, a ramp down; then the steps go one at a time)."""
+    cheb = np.polynomial.chebyshev
+    nodes = np.cos(np.pi * (np.arange(CHEB + 1) + 0.5) / (CHEB + 1))
+    at = lambda x: np.array([motion(t0 + 0.5 * span * (u + 1.0)) for u in x], np.float64)
+    fits = [cheb.chebfit(nodes, col, CHEB) for col in at(nodes).T]
+    check = np.linspace(-1.0, 1.0, 4 * CHEB + 1)
+    for c, col in zip(fits, at(check).T):
+        if np.max(np.abs(cheb.chebval(check, c) - col)) > 3e-8 * np.max(np.abs(col)) + 1e-30:
+            return None
+    return span, tuple(fits[0]), tuple(fits[1])
+
+
+@ti.func
+def chebyshev(c: ti.template(), at: ti.template(), x):
+    """sum_j c[at + j] T_j(x), j = 0 .. CHEB, by Clenshaw's recurrence."""
+    b1 = 0.0 * x
+    b2 = 0.0 * x
+    for j in ti.static(range(CHEB, 0, -1)):
+        b1, b2 = 2.0 * x * b1 - b2 + c[at + j], b1
+    return x * b1 - b2 + c[at]
