@@ -37,6 +37,9 @@ SHARED = {
         "laminar_viscosity": K(False, "paper 002 eq. 10 with the materials' viscosity"),
         "density_diffusion": K("none", "none | molteni | fourtakas | antuono (renormalised gradients: waves)",
                                  choices=("none", "molteni", "fourtakas", "antuono")),
+        "time_stepping": K("single", "single: every term every step | dual: the viscous and diffusive terms at "
+                           "the advection criterion, held over the acoustic steps inside it (Zhang et al. 2020)",
+                           choices=("single", "dual")),
         "shepard_every": K(0, "Shepard density filter every N steps (paper 002 eq. 14); 0 off",
                              range=(0, None, True, True)),
         **{k.split(".")[1]: p for k, p in KEYED.items()

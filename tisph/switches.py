@@ -29,6 +29,7 @@ class Physics:
     dem: bool = False           # DEM spring-dashpot contacts between sediment particles (paper 002 eqs. 17-28)
     moving_bed: bool = False    # BED particles follow a morphodynamic bed z_b(x) (tisph/sediment)
     suspension: bool = False    # the water carries suspended sand exchanged with that bed (physics/suspension.py)
+    time_stepping: str = "single"  # dual: the advection-rate terms held over acoustic steps (physics/dual.py)
     spray: bool = False         # fluid leaving the density band is removed as spray, up to numerics.spray_limit (zones.Spray)
 
     def as_dict(self):
@@ -69,4 +70,5 @@ def physics_from_config(cfg: dict, periodic_x=False, noslip=False, materials_use
         density_diffusion=n["density_diffusion"],
         shepard=n["shepard_every"] > 0,
         spray=n["spray_limit"] > 0.0,
+        time_stepping=n.get("time_stepping", "single"),
     )

@@ -23,6 +23,8 @@ def next_dt(S):
         if st.numax > 0.0:
             dt_v = ti.min(dt_v, 0.125 * S.h * S.h / st.numax)
         S.stats[None].numax = 0.0
+    if ti.static(bool(S.dual)):
+        S.prm[None].dt_vis = dt_v                     # a held viscous term's bound (physics/dual.py)
     dt_new = ti.min(prm.cfl * ti.min(dt_f, dt_cv), dt_v, prm.dt_max)
     for m in ti.static(S.hooks["dt_limit"]):
         dt_new = m.dt_limit(S, dt_new)

@@ -11,6 +11,7 @@ from ..boundaries.zones import Container, Damping, Drive, Inflow, Outflow, Spray
 from ..physics.fluid import (XSPH, ArtificialViscosity, Continuity, DensityDiffusion, LaminarViscosity,
                              Pressure, Shifting, VelocityGradient)
 from ..physics.sediment import DEM, Drag, Rheology
+from ..physics.dual import DualCriteria
 from ..physics.shepard import Shepard
 from ..physics.suspension import Suspension
 from ..physics.turbulence import SPS, TKE, Omega
@@ -22,6 +23,7 @@ MODULES = (
     LaminarViscosity, VelocityGradient, TKE, Omega, SPS, DEM, Drag, DensityDiffusion, XSPH, Shifting, Suspension,
     Rheology,             # finish: the effective viscosity for the next step (may rest the plug)
     Drive, Damping, Inflow, Paddle, MovingBed, DynamicWall, ExtrapolatedWall, Outflow, Spray, Container, Shepard,
+    DualCriteria,         # last: its finish reads the step's velocity; its dt_limit the final step
 )
 
 

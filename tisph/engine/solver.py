@@ -80,6 +80,11 @@ class Solver(SolverAPI):
 
         self.modules = enabled_modules(self)
         self.hooks = {k: [m for m in self.modules if m.has(k)] for k in HOOKS}
+        # dual time stepping (physics/dual.py): the advection-rate modules' pair and finish hooks
+        # sum into a second accumulator on the steps that evaluate them; their sums are held
+        self.dual = self.module("dual_criteria")
+        self.slow = {k: [m for m in v if self.dual and m.rate == "advection"] for k, v in self.hooks.items()}
+        self.fast = {k: [m for m in v if m not in self.slow[k]] for k, v in self.hooks.items()}
         members = st_mod.core_members(self.real)
         for m in self.modules:
             members.update(m.fields(self.real))
@@ -127,7 +132,8 @@ class Solver(SolverAPI):
         self.Acc = ti.types.struct(**self.acc_types)
         # each pair once where asked (run.pair_once, runner/setup.py) and the modules allow it
         # (engine/pairs.py); otherwise the gather pass
-        self.pair_once = PairOnce(self) if params.get("pair_once", False) and pairs.applicable(self) else None
+        self.pair_once = (PairOnce(self) if params.get("pair_once", False) and pairs.applicable(self)
+                          and self.dual is None else None)
         self.once = self.pair_once is not None
         for m in self.modules:
             m.allocate(self)          # module fields that are not per particle, if any
@@ -252,6 +258,13 @@ class Solver(SolverAPI):
     @ti.func
     def fluid_pair(self, i, j, r, r2, acc: ti.template()):
         """All enabled terms for fluid particle i from neighbour j, unrolled at compile time."""
+        nb = self.neighbour_view(i, j, r, r2, acc)
+        for m in ti.static(self.hooks["pair"]):
+            m.pair(self, i, j, r, r2, nb, acc)
+
+    @ti.func
+    def neighbour_view(self, i, j, r, r2, acc: ti.template()):
+        """How fluid particle i sees neighbour j: its state, the kernel gradient, v_ij."""
         s = self.tmp
         nb = ti.Struct(kj=s.kind[j], rho_j=s.rhoe[j], ir_j=s.ir[j], p_j=s.p[j], q=0.0, m_j=0.0, vol_j=0.0, ie=0.0,
                        gw=ti.Vector([0.0, 0.0]), v_ij=ti.Vector([0.0, 0.0]), v_visc=ti.Vector([0.0, 0.0]))
@@ -264,8 +277,7 @@ class Solver(SolverAPI):
         nb.vol_j = nb.m_j * nb.ir_j
         nb.v_ij = acc.vi - s.ve[j]
         nb.v_visc = nb.v_ij
-        for m in ti.static(self.hooks["pair"]):
-            m.pair(self, i, j, r, r2, nb, acc)
+        return nb
 
     @ti.func
     def forces(self, i, dt, mx: ti.template()):
@@ -283,8 +295,13 @@ class Solver(SolverAPI):
             acc.mui, acc.mat = self.mat_mu[mi], mi
             for m in ti.static(self.hooks["init_acc"]):
                 m.init_acc(self, i, acc)
+            full = False
+            acc_s = self.Acc(0)
             if ti.static(self.once):
                 self.pair_once.load(i, acc)         # the pair passes' sums
+            elif ti.static(bool(self.dual)):
+                acc_s = acc   # a copy: the slots the advection-rate hooks read
+                full = self.dual.sums(self, i, acc, acc_s)
             else:
                 self.grid.for_neighbours(t, i, t.x[i], self.fluid_pair, acc)
             a = acc.a + prm.g
@@ -299,8 +316,11 @@ class Solver(SolverAPI):
             self.p.v[i] = v
             self.p.rho[i] = rho
             pt = ti.Struct(a=a, v=v, rho=rho, **self._module_max0)
-            for m in ti.static(self.hooks["finish"]):
+            for m in ti.static(self.fast["finish"]):
                 m.finish(self, i, mi, acc, pt)
+            if full:
+                for m in ti.static(self.slow["finish"]):
+                    m.finish(self, i, mi, acc_s, pt)
             for k in ti.static(self._module_max):
                 mx[k] = ti.max(mx[k], pt[k])
             mx.amax2 = ti.max(mx.amax2, a.dot(a))

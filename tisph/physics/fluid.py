@@ -76,6 +76,7 @@ class ArtificialViscosity(Module):
     apart (density +-20 % at alpha 0.01, docs/waves.md), where a constant alpha large enough to
     damp them damps the waves too."""
     name = "artificial_viscosity"
+    rate = "advection"
     pair_once = {"mu": "max"}
     on = {"artificial_viscosity": True}
     params = {"alpha": KEYED["numerics.artificial_viscosity"],
@@ -145,6 +146,7 @@ class ArtificialViscosity(Module):
 class LaminarViscosity(Module):
     """Laminar viscosity, paper 002 eq. 10 (Morris et al. 1997), with the harmonic pair mean."""
     name = "laminar_viscosity"
+    rate = "advection"
     pair_once = {}
     on = {"laminar_viscosity": True}
     params = {"dt_visc": Param(lambda S, values: viscous_step(S.h, S.materials), "s", (0.0, None),
@@ -202,6 +204,7 @@ class DensityDiffusion(Module):
     pass one step behind (a second pass a step would double the cost); where L is near singular
     (a droplet) the gradient is 0, Molteni's term."""
     name = "density_diffusion"
+    rate = "advection"
     pair_once = {}   # rho0_c02 is set per particle (init_acc)
     on = {"density_diffusion": "molteni"}
     params = {"delta": KEYED["numerics.delta"]}
