@@ -80,6 +80,8 @@ def test_resume_runs_only_the_missing_cases(tmp_path):
     (["tank", "--set", "numerics.dx"], ["--set", "KEY=V1,V2"]),
     (["tank", "--zip", "--set", "numerics.dx=0.04,0.05", "--set", "geometry.depth=0.3"], ["--zip", "equal length"]),
     (["tunel", "--set", "numerics.dx=0.04"], ["SCENE", "tunel", "tunnel"]),
+    (["tank", "--seeds", "3"], ["--seeds", "nothing random"]),
+    (["tunnel", "--seeds", "2", "--set", "sediment.seed=4,5"], ["sediment.seed", "not both"]),
 ])
 def test_bad_key_or_value_exits_2_before_any_worker(argv, words, tmp_path, capsys):
     t0 = time.perf_counter()

@@ -148,10 +148,13 @@ class Result:
 
 
 def run(case: Case | str, out: str | os.PathLike | None = None, render: bool = False, progress: bool = True,
-        restart: str | None = None, force: bool = False, convergence: bool = False, **overrides: Any) -> Result:
+        restart: str | None = None, force: bool = False, convergence: bool = False, seeds: int = 0,
+        **overrides: Any) -> Result:
     """Run a case (a Case, a case file's path or a built-in scene's name) and return its Result.
     overrides: dotted keys, e.g. run(case, **{"numerics.dx": 0.04}). convergence: also the case at
-    1.5 and 2.25 times its dx, each metric's GCI (runner/convergence.py; Result.summary["convergence"])."""
+    1.5 and 2.25 times its dx, each metric's GCI (runner/convergence.py; Result.summary["convergence"]).
+    seeds: N > 1 runs it with N seeds of its random bed, each metric's mean and standard error
+    (runner/ensemble.py; Result.summary["ensemble"])."""
     if isinstance(case, str):
         case = Case.from_toml(case) if os.path.isfile(case) else Case(case)
     ov = dict(overrides)
@@ -160,9 +163,18 @@ def run(case: Case | str, out: str | os.PathLike | None = None, render: bool = F
     if out:
         ov["output.dir"] = str(out)
     cfg = case.config(**ov)
+    if seeds:
+        from .runner.ensemble import check_seeds
+        if convergence:
+            raise ConfigError("seeds", seeds, "one study a run: seeds or convergence, not both")
+        check_seeds(cfg, seeds)
     out = output_dir(case.module, cfg)
     summary = simulate(case.module, cfg=cfg, out=out, restart=restart, force=force, echo=progress)
     if convergence and summary["status"] == "ok":
         from .runner.convergence import study
         study(case.module, case.file_settings(), ov, cfg, summary, out, print if progress else (lambda m: None))
+    if seeds and summary["status"] == "ok":
+        from .runner import ensemble
+        ensemble.study(case.module, case.file_settings(), ov, cfg, summary, out, seeds,
+                       print if progress else (lambda m: None))
     return Result(out)

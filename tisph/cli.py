@@ -46,6 +46,10 @@ def make_parser(scene, description="", prog=None):
     p.add_argument("--convergence", action="store_true",
                    help="also run the case at 1.5 and 2.25 times its dx: each metric's observed order, Richardson "
                         "estimate and GCI (convergence/ in the run folder, `convergence` in summary.json)")
+    p.add_argument("--seeds", type=int, metavar="N",
+                   help="run the case with N random seeds of its initial bed (sediment.seed and the next N - 1): each "
+                        "metric's mean, standard deviation and standard error (seeds/ in the run folder, `ensemble` in "
+                        "summary.json)")
     p.add_argument("--describe", action="store_true",
                    help="print every config key with its default, what is allowed and what it means, and exit")
     return p

@@ -3,7 +3,7 @@ the swept values, each in OUT/<case-id>/ with all its usual files.
 
     python -m tisph.sweep SCENE [--config FILE] --set KEY=V1,V2,... [--set KEY=...] [--zip]
                           [--scheduler ADDRESS] [--workers N] [--threads-per-worker T]
-                          [--out DIR] [--resume] [--arch cpu|gpu|auto]
+                          [--seeds N] [--out DIR] [--resume] [--arch cpu|gpu|auto]
 
 The product of the --set lists (or the lists side by side with --zip). Without --scheduler a
 dask.distributed LocalCluster of --workers processes runs them (default: cores / threads per
@@ -12,7 +12,8 @@ initialises Taichi once with cpu_max_num_threads = --threads-per-worker. Every k
 validated before anything is submitted (exit 2, as a scene does). A case that fails (bad
 physics, instability, a killed worker) is reported in the table and the others go on; --resume
 skips the cases whose summary.json is complete and whose inputs match. Writes OUT/sweep.csv,
-OUT/sweep.md and OUT/sweep.png (each metric against the swept values).
+OUT/sweep.md and OUT/sweep.png (each metric against the swept values); with --seeds N, each combination with N
+seeds of its random bed, and OUT/ensemble.md and .csv (each metric's mean and standard error).
 """
 import argparse
 import hashlib
@@ -265,6 +266,41 @@ def plot(path, rows, cols, keys, metric_names):
     save(fig, path)
 
 
+def seed_set(scene, config, sets, n):
+    """--seeds N as one more swept key: sediment.seed from the case's own seed on."""
+    from .runner.ensemble import check_seeds, seeds_of
+    if any(k == "sediment.seed" for k, _ in sets):
+        raise ConfigError("--set", "sediment.seed", "--seeds N or sediment.seed in --set, not both")
+    cfg = resolve(scene, config, {})
+    check_seeds(cfg, n)
+    return "sediment.seed", seeds_of(cfg, n)
+
+
+def write_ensemble(out, cases, results):
+    """OUT/ensemble.csv and .md: each combination of the other swept keys, each metric's spread
+    over the seeds that finished (measure/ensemble.py)."""
+    from .measure.ensemble import ensemble_metrics
+    groups = {}
+    for cid, values, _ in cases:
+        rest = tuple((k, v) for k, v in values.items() if k != "sediment.seed")
+        status, _, summary = results.get(cid, ("not run", "", None))
+        groups.setdefault(rest, []).append(summary.get("metrics") if status == "ok" and summary else None)
+    keys = [k for k, _ in next(iter(groups))] if groups else []
+    cols = keys + ["metric", "runs_ok", "mean", "std", "stderr"]
+    rows = []
+    for rest, metrics in groups.items():
+        for name, m in ensemble_metrics([x for x in metrics if x is not None]).items():
+            rows.append([v for _, v in rest] + [name, m["n"], m["mean"], m["std"], m["stderr"]])
+    write_csv(os.path.join(out, "ensemble.csv"), cols, rows)
+
+    def fmt(v):
+        return "-" if v is None else f"{v:.4g}" if isinstance(v, float) else str(v)
+    md = ["# Ensemble", "", "Each metric over the seeds that finished: mean, standard deviation (n - 1), standard error.",
+          "", "| " + " | ".join(cols) + " |", "|" + "---|" * len(cols)]
+    md += ["| " + " | ".join(fmt(v) for v in r) + " |" for r in rows]
+    write_text(os.path.join(out, "ensemble.md"), "\n".join(md) + "\n")
+
+
 # ---------------------------------------------------------------- the command
 def make_parser():
     p = argparse.ArgumentParser(prog="python -m tisph.sweep", description=__doc__,
@@ -274,6 +310,9 @@ def make_parser():
     p.add_argument("--config", metavar="FILE", help="TOML case file every case starts from")
     p.add_argument("--set", action="append", default=[], metavar="KEY=V1,V2,...",
                    help="a config key and the values to sweep (repeat for more keys)")
+    p.add_argument("--seeds", type=int, default=0, metavar="N",
+                   help="each combination with N seeds of its random bed (sediment.seed and the next N - 1): "
+                        "OUT/ensemble.md and .csv give each metric's mean, standard deviation and standard error")
     p.add_argument("--zip", action="store_true", help="take the --set lists side by side, not their product")
     p.add_argument("--scheduler", metavar="ADDRESS", help="an existing Dask scheduler (tcp://host:8786)")
     p.add_argument("--workers", type=int, default=0, help="local worker processes (default: cores / threads)")
@@ -296,8 +335,10 @@ def main(argv=None):
             raise ConfigError("--workers", args.workers, "0 (auto) or more")
         scene = scene_module(args.scene)
         sets = parse_sets(args.set)
+        if args.seeds:
+            sets.append(seed_set(scene, args.config, sets, args.seeds))
         if not sets:
-            raise ConfigError("--set", None, "at least one KEY=V1,V2,...")
+            raise ConfigError("--set", None, "at least one KEY=V1,V2,... (or --seeds N)")
         base = {} if args.render else {"output.render": False}
         cases = plan(scene, args.config, sets, args.zip, out, base)
         ensure_dir(out)
@@ -335,6 +376,8 @@ def main(argv=None):
         if cluster is not None:
             cluster.close()
     write_tables(out, cases, results, args.scene, time.perf_counter() - t0)
+    if args.seeds:
+        write_ensemble(out, cases, results)
     if not args.quiet:
         bad = [c for c, r in results.items() if r[0] != "ok"]
         print(f"wrote {out}/sweep.csv, sweep.md, sweep.png: {len(results)} of {len(cases)} cases, "

@@ -100,17 +100,28 @@ def run_scene(scene, argv=None, prog=None):
         return 0
     try:
         overrides = overrides_from_args(args)
-        if args.convergence and args.restart:
-            raise ConfigError("--convergence", True, "a run from its start (not with --restart)")
+        for flag, on in (("--convergence", args.convergence), ("--seeds", args.seeds is not None)):
+            if on and args.restart:
+                raise ConfigError(flag, True, "a run from its start (not with --restart)")
+        if args.convergence and args.seeds is not None:
+            raise ConfigError("--seeds", args.seeds, "one study a run: --seeds or --convergence, not both")
         cfg = resolve(scene, args.config, overrides)
+        if args.seeds is not None:
+            from .ensemble import check_seeds
+            check_seeds(cfg, args.seeds)
         summary = simulate(scene, cfg=cfg, restart=args.restart, force=args.force, echo=True)
-        if args.convergence and summary["status"] == "ok":
-            from .convergence import study
+        if summary["status"] == "ok" and (args.convergence or args.seeds is not None):
             say = (lambda m: None) if cfg["output"]["quiet"] else (lambda m: print(m, file=sys.stderr))
             out = output_dir(scene, cfg)
-            entry = study(scene, args.config, overrides, cfg, summary, out, say)
-            say(f"convergence: {os.path.join(out, 'convergence', 'convergence.md')}"
-                + (f" ({entry['reason']})" if entry["reason"] else ""))
+            if args.convergence:
+                from .convergence import study
+                entry = study(scene, args.config, overrides, cfg, summary, out, say)
+                say(f"convergence: {os.path.join(out, 'convergence', 'convergence.md')}"
+                    + (f" ({entry['reason']})" if entry["reason"] else ""))
+            else:
+                from . import ensemble
+                ensemble.study(scene, args.config, overrides, cfg, summary, out, args.seeds, say)
+                say(f"seeds: {os.path.join(out, 'seeds', 'ensemble.md')}")
     except (ConfigError, OutputError) as e:
         print(f"{parser.prog}: {e}", file=sys.stderr)
         return 2

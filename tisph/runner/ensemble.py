@@ -1,0 +1,126 @@
+"""`tisph run CASE --seeds N`: the case with N random seeds of its initial bed (sediment.seed, then
+the next N - 1 integers), and each metric of summary.json as its mean, standard deviation and
+standard error over the runs (measure/ensemble.py). A case with nothing random is refused before
+it runs: its N runs would be the same run.
+
+Writes seeds/ensemble.md, ensemble.csv and ensemble.png in the run's folder (each further seed's
+own run under seeds/seed<N>/), and `ensemble` in summary.json."""
+import json
+import math
+import os
+
+from ..config import ConfigError
+from ..io import ensure_dir, write_csv, write_json, write_text
+from ..measure.ensemble import ensemble_metrics
+from .convergence import QUIET
+
+MAX_SEEDS = 100
+
+
+def check_seeds(cfg, n):
+    """--seeds N: at least 2, and a case whose initial bed is random (sediment.seed)."""
+    if not isinstance(n, int) or isinstance(n, bool) or not 2 <= n <= MAX_SEEDS:
+        raise ConfigError("--seeds", n, f"a whole number of runs from 2 to {MAX_SEEDS}")
+    if not random_bed(cfg):
+        raise ConfigError("--seeds", n, "a case with a random initial bed (the bed-load bed with sediment.seed_rms "
+                                        "or geometry.roughness above 0: the tunnel, the beach); this case has "
+                                        "nothing random, so its runs would all be the same run")
+
+
+def random_bed(cfg):
+    """Whether the case starts from a random bed that sediment.seed draws (sediment/initial.py)."""
+    sed = cfg.get("sediment", {})
+    return (sed.get("model") == "bedload" and "seed" in sed
+            and (sed.get("seed_rms", 0.0) > 0.0 or cfg.get("geometry", {}).get("roughness", 0.0) > 0.0))
+
+
+def seeds_of(cfg, n):
+    s0 = int(cfg["sediment"]["seed"])
+    return [s0 + k for k in range(n)]
+
+
+def study(scene, config, overrides, cfg, summary, out, n, log=print):
+    """Run the further seeds, write the table, the figure and summary.json's `ensemble`; returns
+    that entry. A seed that ends unstable is listed with its status and left out of the statistics."""
+    from .entry import simulate
+    seeds = seeds_of(cfg, n)
+    runs = [(seeds[0], summary, out)]
+    for s in seeds[1:]:
+        sub = os.path.join(out, "seeds", f"seed{s}")
+        ov = dict(overrides or {}, **QUIET, **{"sediment.seed": s, "output.dir": sub})
+        log(f"seeds: the case with sediment.seed = {s} ({sub})")
+        runs.append((s, simulate(scene, overrides=ov, config=config, out=sub), sub))
+    ok = [r for r in runs if r[1]["status"] == "ok"]
+    entry = {"seeds": seeds, "status": {str(s): r["status"] for s, r, _ in runs},
+             "metrics": ensemble_metrics([r[1].get("metrics") for r in ok]),
+             "seeds_ok": [r[0] for r in ok],
+             "cost_over_run": sum(r["wall_time_s"] for _, r, _ in runs[1:]) / max(summary["wall_time_s"], 1e-9)}
+    folder = ensure_dir(os.path.join(out, "seeds"))
+    write_text(os.path.join(folder, "ensemble.md"), report(entry))
+    write_csv(os.path.join(folder, "ensemble.csv"),
+              ("metric", "n", "mean", "std", "stderr", *(f"seed{s}" for s in entry["seeds_ok"])),
+              [(k, m["n"], m["mean"], m["std"], m["stderr"], *m["values"]) for k, m in entry["metrics"].items()])
+    if varying(entry):
+        figure(entry, os.path.join(folder, "ensemble.png"))
+    path = os.path.join(out, "summary.json")
+    with open(path) as f:
+        full = json.load(f)
+    full["ensemble"] = entry
+    write_json(path, full)
+    return entry
+
+
+def _num(v, fmt=".4g"):
+    return "-" if v is None else format(v, fmt)
+
+
+def report(entry):
+    ok, seeds = entry["seeds_ok"], entry["seeds"]
+    bad = [f"{s} ({entry['status'][str(s)]})" for s in seeds if s not in ok]
+    lines = ["# Ensemble", "",
+             f"The case with sediment.seed = {', '.join(str(s) for s in seeds)}: each metric's mean, standard "
+             f"deviation (n - 1) and standard error of the mean over the {len(ok)} runs that finished. The further "
+             f"runs took {entry['cost_over_run']:.2f} of the first run's wall time."
+             + (f" Left out: {', '.join(bad)}." if bad else ""), "",
+             "| metric | n | mean | std | standard error | " + " | ".join(f"seed {s}" for s in ok) + " |",
+             "|---|---|---|---|---|" + "---|" * len(ok)]
+    moved = varying(entry)
+    lines[2] += (f" {len(moved)} of the {len(entry['metrics'])} metrics moved between the seeds"
+                 + (" (ensemble.png)." if moved else "."))
+    for k, m in entry["metrics"].items():
+        lines.append(f"| {k} | {m['n']} | {_num(m['mean'])} | {_num(m['std'])} | {_num(m['stderr'])} | "
+                     + " | ".join(_num(v) for v in m["values"]) + " |")
+    return "\n".join(lines) + "\n"
+
+
+def varying(entry):
+    """The metrics whose value moved between the seeds (the others are the case's inputs or
+    deterministic: the table lists them)."""
+    return [k for k, m in entry["metrics"].items() if m["std"]]
+
+
+def figure(entry, path):
+    """Each metric that moved: its value by seed, its mean and the band of one standard error."""
+    from ..measure.plots import pyplot, save
+    plt = pyplot()
+    names = varying(entry)[:16]
+    cols = min(4, len(names))
+    rows = math.ceil(len(names) / cols)
+    fig, axes = plt.subplots(rows, cols, figsize=(3.0 * cols, 2.2 * rows + 0.4), squeeze=False)
+    seeds = entry["seeds_ok"]
+    for ax, k in zip(axes.flat, names):
+        m = entry["metrics"][k]
+        pts = [(s, v) for s, v in zip(seeds, m["values"]) if v is not None]
+        ax.plot([p[0] for p in pts], [p[1] for p in pts], "o", color="C0", ms=4)
+        if m["mean"] is not None:
+            ax.axhline(m["mean"], color="C3", lw=1)
+            if m["stderr"] is not None:
+                ax.axhspan(m["mean"] - m["stderr"], m["mean"] + m["stderr"], color="C3", alpha=0.15, lw=0)
+        se = f" +- {m['stderr']:.3g}" if m["stderr"] is not None else ""
+        ax.set_title(f"{k}\n{_num(m['mean'], '.3g')}{se}", fontsize=7)
+        ax.set_xticks(seeds)
+        ax.tick_params(labelsize=6)
+        ax.set_xlabel("sediment.seed", fontsize=6)
+    for ax in list(axes.flat)[len(names):]:
+        ax.axis("off")
+    save(fig, path)
