@@ -42,7 +42,7 @@ def fields_of(cls):
 ALL_OFF = dict(artificial_viscosity=False, laminar_viscosity=False, xsph=False, shifting=False, density_diffusion="none",
                shepard=False, rheology=False, periodic_x=False, noslip=False, paddle="none", damping=(),
                inflow=(), sps=False, turbulence="smagorinsky", tke_length="prescribed", drag=False, dem=False,
-               moving_bed=False, suspension=False, spray=False, surface_viscosity=False)
+               moving_bed=False, suspension=False, spray=False, surface_viscosity=False, time_stepping="single")
 
 
 @pytest.fixture(scope="module")

@@ -11,10 +11,9 @@ case file: the keys they leave unset then take that scheme's values (docs/engine
 # that carry the water's pressure (Adami et al. 2012) with the Riemann guard of boundaries/walls.py,
 # the water's own viscosity, renormalised density diffusion; alpha 0.1 only in a pair with a
 # particle thinner-surrounded than a flat surface's top row (a sheet or a droplet: position
-# divergence under 1.0, the top row's 1.15), which ring without it; the viscous and diffusive
-# terms evaluated every third acoustic step at most and held between (dual time stepping, physics/dual.py:
-# the same errors on the tank, the sloshing, the dam break and the flume; 1.2-1.4x faster stepping
-# at a few thousand particles, docs/performance.md)
+# divergence under 1.0, the top row's 1.15), which ring without it; the water's viscosity and the
+# density diffusion evaluated every third acoustic step at most and held between (dual time
+# stepping, physics/dual.py; docs/performance.md)
 _DEFAULT = {"kernel": "wendland", "h_factor": 2.5, "wall": "adami", "wall_layers": 5, "laminar_viscosity": True,
             "density_diffusion": "antuono", "delta": 0.1, "artificial_viscosity": 0.0,
             "artificial_viscosity_surface": 0.1, "surface_divergence": 1.0, "xsph": 0.0, "shifting": 0.0,

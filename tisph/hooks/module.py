@@ -13,7 +13,7 @@ Declarations (class attributes, all optional):
   stats          per-step statistics slots it adds (counters): {name: type}
   maxima         per-step maxima it adds: {name: type}; its finish hook raises pt.<name>,
                  which the solver reduces per block of particles (no atomics)
-  rate           "advection" for a viscous or diffusive term (dual time stepping, physics/dual.py)
+  rate           "advection" for a term that changes at the flow's pace (dual time stepping, physics/dual.py)
   pair_once      the acc slots it sums ({slot: 'sum' | 'max'}) when it has a pair2 hook and its
                  pair hook also gives j's term when called as pair(S, j, i, -r, r2, <j's view
                  of i>, <j's acc>): each pair is then visited once (engine/pairs.py)
@@ -82,7 +82,7 @@ class Module:
     maxima = {}
     pair_once = None   # {acc slot: "sum" | "max"} it sums, with a pair2 hook (engine/pairs.py)
     # "advection": with numerics.time_stepping = "dual", its pair and finish hooks run only on the
-    # steps that evaluate the viscous and diffusive terms, its sums held between (physics/dual.py)
+    # steps that evaluate the terms that change at the flow's pace, its sums held between (physics/dual.py)
     rate = "acoustic"
 
     def __init__(self, S=None):

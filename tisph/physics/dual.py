@@ -1,8 +1,9 @@
-"""Dual-criteria time stepping (Zhang, Rezavand & Hu 2020, J. Comput. Phys. 404): the
-terms that change at the flow's own pace (the viscous and diffusive ones, modules whose `rate` is
-"advection") are evaluated at the advection criterion dt_ad = advection_cfl h / |v|_max (their
-advection criterion, 0.25) and held over the acoustic steps inside it, which evaluate only the pressure and the
-continuity terms (and the walls'). The step kernel splits the sums (engine/solver.py, forces)."""
+"""Dual-criteria time stepping (Zhang, Rezavand & Hu 2020, J. Comput. Phys. 404): the terms
+that change at the flow's own pace (modules whose `rate` is "advection": the water's viscosity,
+the density diffusion) are evaluated at the advection criterion dt_ad = advection_cfl h / |v|_max
+(theirs, 0.25) and held over the acoustic steps inside it, which evaluate the pressure, the
+continuity, the walls and the artificial viscosity (acoustic damping: its coefficient is c0's).
+The step kernel splits the sums (engine/solver.py, forces)."""
 import taichi as ti
 
 from ..hooks.keys import KEYED

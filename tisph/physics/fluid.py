@@ -76,7 +76,6 @@ class ArtificialViscosity(Module):
     apart (density +-20 % at alpha 0.01, docs/waves.md), where a constant alpha large enough to
     damp them damps the waves too."""
     name = "artificial_viscosity"
-    rate = "advection"
     pair_once = {"mu": "max"}
     on = {"artificial_viscosity": True}
     params = {"alpha": KEYED["numerics.artificial_viscosity"],

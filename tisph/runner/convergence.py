@@ -58,10 +58,15 @@ def study(scene, config, overrides, cfg, summary, out, log=print):
                for k, m in entry["metrics"].items()])
     if entry["metrics"]:
         figure(entry, os.path.join(folder, "convergence.png"))
+    return add_to_summary(out, "convergence", entry)
+
+
+def add_to_summary(out, key, entry):
+    """A study's entry into the run's summary.json, under key; returns the entry."""
     path = os.path.join(out, "summary.json")
     with open(path) as f:
         full = json.load(f)
-    full["convergence"] = entry
+    full[key] = entry
     write_json(path, full)
     return entry
 
@@ -87,16 +92,27 @@ def report(entry):
     return "\n".join(lines) + "\n"
 
 
-def figure(entry, path):
-    """Each metric against dx, the Richardson estimate at dx = 0 where there is one."""
+def panels(names, path, draw, xlabel):
+    """One small panel a metric, four to a row: draw(ax, name) fills each; saved to path."""
     from ..measure.plots import pyplot, save
     plt = pyplot()
-    names = list(entry["metrics"])
     cols = min(4, len(names))
     rows = math.ceil(len(names) / cols)
     fig, axes = plt.subplots(rows, cols, figsize=(3.0 * cols, 2.2 * rows + 0.4), squeeze=False)
-    dx = entry["dx"]
     for ax, k in zip(axes.flat, names):
+        draw(ax, k)
+        ax.tick_params(labelsize=6)
+        ax.set_xlabel(xlabel, fontsize=6)
+    for ax in list(axes.flat)[len(names):]:
+        ax.axis("off")
+    save(fig, path)
+
+
+def figure(entry, path):
+    """Each metric against dx, the Richardson estimate at dx = 0 where there is one."""
+    dx = entry["dx"]
+
+    def draw(ax, k):
         m = entry["metrics"][k]
         ax.plot(dx, m["values"], "o-", color="C0", ms=4)
         if m["richardson"] is not None and m["order"] is not None:
@@ -105,8 +121,4 @@ def figure(entry, path):
         else:
             ax.set_title(f"{k}\n{m['reason'].split(':')[0] or 'no study'}", fontsize=7)
         ax.set_xlim(left=0.0)
-        ax.tick_params(labelsize=6)
-        ax.set_xlabel("dx (m)", fontsize=6)
-    for ax in list(axes.flat)[len(names):]:
-        ax.axis("off")
-    save(fig, path)
+    panels(list(entry["metrics"]), path, draw, "dx (m)")

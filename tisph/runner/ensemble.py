@@ -5,14 +5,12 @@ it runs: its N runs would be the same run.
 
 Writes seeds/ensemble.md, ensemble.csv and ensemble.png in the run's folder (each further seed's
 own run under seeds/seed<N>/), and `ensemble` in summary.json."""
-import json
-import math
 import os
 
 from ..config import ConfigError
-from ..io import ensure_dir, write_csv, write_json, write_text
+from ..io import ensure_dir, write_csv, write_text
 from ..measure.ensemble import ensemble_metrics
-from .convergence import QUIET
+from .convergence import QUIET, _num, add_to_summary, panels
 
 MAX_SEEDS = 100
 
@@ -62,16 +60,7 @@ def study(scene, config, overrides, cfg, summary, out, n, log=print):
               [(k, m["n"], m["mean"], m["std"], m["stderr"], *m["values"]) for k, m in entry["metrics"].items()])
     if varying(entry):
         figure(entry, os.path.join(folder, "ensemble.png"))
-    path = os.path.join(out, "summary.json")
-    with open(path) as f:
-        full = json.load(f)
-    full["ensemble"] = entry
-    write_json(path, full)
-    return entry
-
-
-def _num(v, fmt=".4g"):
-    return "-" if v is None else format(v, fmt)
+    return add_to_summary(out, "ensemble", entry)
 
 
 def report(entry):
@@ -101,14 +90,9 @@ def varying(entry):
 
 def figure(entry, path):
     """Each metric that moved: its value by seed, its mean and the band of one standard error."""
-    from ..measure.plots import pyplot, save
-    plt = pyplot()
-    names = varying(entry)[:16]
-    cols = min(4, len(names))
-    rows = math.ceil(len(names) / cols)
-    fig, axes = plt.subplots(rows, cols, figsize=(3.0 * cols, 2.2 * rows + 0.4), squeeze=False)
     seeds = entry["seeds_ok"]
-    for ax, k in zip(axes.flat, names):
+
+    def draw(ax, k):
         m = entry["metrics"][k]
         pts = [(s, v) for s, v in zip(seeds, m["values"]) if v is not None]
         ax.plot([p[0] for p in pts], [p[1] for p in pts], "o", color="C0", ms=4)
@@ -119,8 +103,4 @@ def figure(entry, path):
         se = f" +- {m['stderr']:.3g}" if m["stderr"] is not None else ""
         ax.set_title(f"{k}\n{_num(m['mean'], '.3g')}{se}", fontsize=7)
         ax.set_xticks(seeds)
-        ax.tick_params(labelsize=6)
-        ax.set_xlabel("sediment.seed", fontsize=6)
-    for ax in list(axes.flat)[len(names):]:
-        ax.axis("off")
-    save(fig, path)
+    panels(varying(entry)[:16], path, draw, "sediment.seed")
