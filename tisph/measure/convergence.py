@@ -33,14 +33,17 @@ def verdict(name, f1, f2, f3, r21, r32):
     """One metric's entry: its three values (fine first), the observed order, the Richardson
     estimate and the fine grid's GCI where the three are in the asymptotic range; otherwise
     the reason there is none: the same on the three grids, oscillatory (the changes alternate
-    in sign) or not converging yet (the change does not shrink as the spacing does)."""
+    in sign) or not converging yet (the change does not shrink as the spacing does: an observed
+    order of zero or less, for any two ratios)."""
     out = {"values": [f1, f2, f3], "order": None, "richardson": None, "gci_fine": None, "reason": ""}
     e21, e32 = f2 - f1, f3 - f2
     if e21 == 0 and e32 == 0:
         out.update(gci_fine=0.0, richardson=f1, reason="the same on the three spacings")
     elif e21 * e32 < 0:
         out["reason"] = "oscillatory: the changes alternate in sign, so no order or GCI"
-    elif abs(e21) >= abs(e32):
+    elif abs(e32 / e21) <= math.log(r32) / math.log(r21):
+        # f = f0 + C dx^p gives e32 / e21 = r21^p (r32^p - 1) / (r21^p - 1), which falls to
+        # ln r32 / ln r21 as p falls to 0 (to 1 where the ratios are equal): at or under it, p <= 0
         out["reason"] = ("not converging yet: the change does not shrink as the spacing does (no asymptotic range), "
                          "so no order or GCI")
     elif f1 == 0:
