@@ -204,8 +204,9 @@ def test_validate_quick_one_case_writes_its_row_figure_and_cost(tmp_path):
     md, readme = _validate(tmp_path, "tank")
     row = next(line for line in md.splitlines() if line.startswith("| Still water in a tank |"))
     cells = [c.strip() for c in row.strip("|").split("|")]
-    assert cells[4] == "0.05" and int(cells[5]) == 340 and int(cells[6]) > 100
-    assert float(cells[3]) < 0.1                       # the pressure error of a still tank
+    assert cells[5] == "0.05" and int(cells[6]) == 340 and int(cells[7]) > 100
+    assert float(cells[4]) < 0.1                       # the pressure error of a still tank
+    assert cells[3] == "one spacing: no GCI"           # a quick run has one spacing
     assert (tmp_path / "docs" / "validation" / "still_water_in_a_tank.png").stat().st_size > 5000
     assert (tmp_path / "docs" / "validation" / "cost.png").exists()
     assert "A quick run" in md and "old" in readme

@@ -71,8 +71,9 @@ def add_to_summary(out, key, entry):
     return entry
 
 
-def _num(v, fmt=".4g"):
-    return "-" if v is None else format(v, fmt)
+def fmt(v, spec=".4g"):
+    """A number for a table; '-' for none."""
+    return "-" if v is None else format(v, spec)
 
 
 def report(entry):
@@ -87,8 +88,8 @@ def report(entry):
     lines += ["| metric | fine | middle | coarse | order | Richardson | GCI (fine) | why none |", "|---|---|---|---|---|---|---|---|"]
     for k, m in entry["metrics"].items():
         why = "; ".join(x for x in (m["reason"], m.get("note", "")) if x)
-        lines.append(f"| {k} | {' | '.join(_num(v) for v in m['values'])} | {_num(m['order'], '.2f')} | "
-                     f"{_num(m['richardson'])} | {_num(m['gci_fine'], '.2%') if m['gci_fine'] is not None else '-'} | {why} |")
+        lines.append(f"| {k} | {' | '.join(fmt(v) for v in m['values'])} | {fmt(m['order'], '.2f')} | "
+                     f"{fmt(m['richardson'])} | {fmt(m['gci_fine'], '.2%') if m['gci_fine'] is not None else '-'} | {why} |")
     return "\n".join(lines) + "\n"
 
 

@@ -10,7 +10,7 @@ import os
 from ..config import ConfigError
 from ..io import ensure_dir, write_csv, write_text
 from ..measure.ensemble import ensemble_metrics
-from .convergence import QUIET, _num, add_to_summary, panels
+from .convergence import QUIET, add_to_summary, fmt, panels
 
 MAX_SEEDS = 100
 
@@ -77,8 +77,8 @@ def report(entry):
     lines[2] += (f" {len(moved)} of the {len(entry['metrics'])} metrics moved between the seeds"
                  + (" (ensemble.png)." if moved else "."))
     for k, m in entry["metrics"].items():
-        lines.append(f"| {k} | {m['n']} | {_num(m['mean'])} | {_num(m['std'])} | {_num(m['stderr'])} | "
-                     + " | ".join(_num(v) for v in m["values"]) + " |")
+        lines.append(f"| {k} | {m['n']} | {fmt(m['mean'])} | {fmt(m['std'])} | {fmt(m['stderr'])} | "
+                     + " | ".join(fmt(v) for v in m["values"]) + " |")
     return "\n".join(lines) + "\n"
 
 
@@ -101,6 +101,6 @@ def figure(entry, path):
             if m["stderr"] is not None:
                 ax.axhspan(m["mean"] - m["stderr"], m["mean"] + m["stderr"], color="C3", alpha=0.15, lw=0)
         se = f" +- {m['stderr']:.3g}" if m["stderr"] is not None else ""
-        ax.set_title(f"{k}\n{_num(m['mean'], '.3g')}{se}", fontsize=7)
+        ax.set_title(f"{k}\n{fmt(m['mean'], '.3g')}{se}", fontsize=7)
         ax.set_xticks(seeds)
     panels(varying(entry)[:16], path, draw, "sediment.seed")
