@@ -22,10 +22,6 @@ class DualCriteria(Module):
               "dt_vis": Param(1e30, "s", (0.0, None), "this step's viscous limit (the kernel's)")}
     maxima = {"vmax2": "real"}
 
-    @staticmethod
-    def enabled(S):
-        return S.physics.time_stepping == "dual"
-
     def fields(self, real):
         # the advection terms' acceleration and density rate, held between their evaluations
         return {"a_adv": ti.types.vector(2, real), "drho_adv": real}
