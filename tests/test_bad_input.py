@@ -2,6 +2,7 @@
 what is allowed; none reaches Taichi or prints a traceback."""
 import pytest
 
+from tisph.case import as_scene
 from tisph.runner import run_scene
 from tisph.scenes import beach, dam_break, flume, pipeline_scour, tank, tunnel
 
@@ -110,7 +111,7 @@ CASES = [
 
 
 @pytest.mark.parametrize("scene, argv, toml, words", CASES,
-                         ids=[f"{c[0].NAME}:{' '.join(c[1]) or c[2].splitlines()[-1]}" for c in CASES])
+                         ids=[f"{as_scene(c[0]).NAME}:{' '.join(c[1]) or c[2].splitlines()[-1]}" for c in CASES])
 def test_bad_input(scene, argv, toml, words, tmp_path, capsys, monkeypatch):
     monkeypatch.chdir(tmp_path)
     args = list(argv)

@@ -187,7 +187,7 @@ def test_tunnel_bedload_moves_the_bed_particles_and_keeps_the_sand(tmp_path):
     runtime.init("cpu", "f32")
     log = Log(str(tmp_path / "run.log"), True)
     case = build_case(tunnel, cfg, log)
-    r = Run(case, cfg, str(tmp_path), log, tunnel.NAME)
+    r = Run(case, cfg, str(tmp_path), log, tunnel.SCENE.NAME)
     r.arch = "x64"
     summary = r.execute()
     assert summary["status"] == "ok" and summary["leaked_particles"] == 0
@@ -557,7 +557,7 @@ def test_a_ripple_under_the_resolved_spacings_is_warned_about():
         cfg = resolve(tunnel, None, {"numerics.dx": dx})
         with warnings.catch_warnings(record=True) as w:
             warnings.simplefilter("always")
-            tunnel.build(cfg)
+            tunnel.SCENE.build(cfg)
         msgs = [str(x.message) for x in w if "predicted ripple" in str(x.message)]
         assert bool(msgs) == warned, msgs
         if warned:
@@ -582,12 +582,12 @@ def test_a_tunnel_run_too_short_for_its_period_says_the_end_time_it_needs():
     for ov, warned in (({}, False), ({"geometry.period": 3.0}, True), ({"run.end_time": 20.0}, True)):
         with warnings.catch_warnings(record=True) as w:
             warnings.simplefilter("always")
-            tunnel.build(resolve(tunnel, None, ov))
+            tunnel.SCENE.build(resolve(tunnel, None, ov))
         msgs = [str(x.message) for x in w if "periods of bed change" in str(x.message)]
         assert bool(msgs) == warned, (ov, msgs)
     with warnings.catch_warnings(record=True) as w:
         warnings.simplefilter("always")
-        tunnel.build(resolve(tunnel, None, {"geometry.period": 3.0}))
+        tunnel.SCENE.build(resolve(tunnel, None, {"geometry.period": 3.0}))
     assert any("run.end_time = 60 s gives 200" in str(x.message) for x in w)
 
 
@@ -622,7 +622,7 @@ def test_a_tunnel_bed_faster_than_the_default_s_says_the_morfac_that_keeps_it_as
                               (beach, {}, None), (beach, {"sediment.morfac": 30.0}, "morfac = 20.2 keeps")):
         with warnings.catch_warnings(record=True) as w:
             warnings.simplefilter("always")
-            scene.build(resolve(scene, None, ov))
+            scene.SCENE.build(resolve(scene, None, ov))
         msgs = [str(x.message) for x in w if "sediment.morfac" in str(x.message)]
         assert (warned in msgs[0]) if warned else not msgs, msgs
 
@@ -659,7 +659,7 @@ def test_water_starts_half_a_spacing_over_a_rough_bed_in_every_column(scene, con
     import os
     from tisph.particles import BED, FLUID
     from tisph.runner import resolve
-    mod = importlib.import_module(f"tisph.scenes.{scene}")
+    mod = importlib.import_module(f"tisph.scenes.{scene}").SCENE
     root = os.path.join(os.path.dirname(__file__), "..")
     over = {"sediment.model": "bedload"} if scene == "beach" else {}
     cfg = resolve(mod, config and os.path.join(root, config), over)

@@ -1,6 +1,7 @@
 """The shared CLI: every flag parses, the scene runs from the command line, frames show water."""
 import json
 import os
+from collections.abc import Mapping
 import subprocess
 import sys
 
@@ -9,6 +10,7 @@ import pytest
 
 from tisph.cli import make_parser, overrides_from_args, FLAG_KEYS
 from tisph.config import build_config
+from tisph.resolved import freeze
 from tisph.scenes import dam_break
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -34,7 +36,7 @@ def test_every_flag_parses_to_its_config_key():
     assert ov == {"numerics.dx": 0.05, "run.end_time": 0.3, "run.max_steps": 7, "output.dir": "o",
                   "run.arch": "gpu", "output.fps": 12, "output.frame_interval": 0.05,
                   "output.render": False, "output.quiet": True}
-    cfg = build_config(dam_break.DEFAULTS, None, ov)     # every key exists in the schema
+    cfg = freeze(build_config(dam_break.SCENE.DEFAULTS, None, ov))     # every key exists in the schema
     assert cfg["numerics"]["dx"] == 0.05 and cfg["output"]["render"] is False
     assert set(FLAG_KEYS) <= set(vars(a))
 
@@ -103,8 +105,8 @@ def test_rendered_run_writes_frames_and_movie(tmp_path):
 def test_frame_shows_water_where_the_column_stands():
     from tisph.config import build_config
     from tisph.viz.render import Renderer, colormap
-    cfg = build_config(dam_break.DEFAULTS, None, {"numerics.dx": 0.05})
-    case = dam_break.build(cfg)
+    cfg = freeze(build_config(dam_break.SCENE.DEFAULTS, None, {"numerics.dx": 0.05}))
+    case = dam_break.SCENE.build(cfg)
     ps = case.particles
     st = dict(x=ps.x, v=np.zeros_like(ps.x), p=np.zeros(len(ps.x)), rho=ps.rho, kind=ps.kind, mat=ps.mat)
     r = Renderer(case.picture.view, 480, 0.05, case.u_max)
@@ -131,8 +133,8 @@ def test_every_output_field_draws_a_frame(field):
     range, a flat (material) frame has none."""
     from tisph.config import build_config
     from tisph.viz.render import Renderer
-    cfg = build_config(dam_break.DEFAULTS, None, {"numerics.dx": 0.05})
-    case = dam_break.build(cfg)
+    cfg = freeze(build_config(dam_break.SCENE.DEFAULTS, None, {"numerics.dx": 0.05}))
+    case = dam_break.SCENE.build(cfg)
     ps = case.particles
     rng = np.random.default_rng(0)
     st = dict(x=ps.x, v=rng.normal(size=ps.x.shape), p=1e4 * rng.random(len(ps.x)), rho=ps.rho, kind=ps.kind,
@@ -148,11 +150,11 @@ def test_describe_lists_every_key_with_default_range_and_meaning():
     its allowed values, and the comment written beside the default."""
     from tisph.describe import describe, rows
     from tisph.scenes import beach, flume, hatch, pipeline_scour, tank, tunnel, erodible_bed
-    for scene in (beach, dam_break, flume, hatch, pipeline_scour, tank, tunnel, erodible_bed):
+    for scene in (s.SCENE for s in (beach, dam_break, flume, hatch, pipeline_scour, tank, tunnel, erodible_bed)):
         r = rows(scene)
-        cfg = build_config(scene.DEFAULTS, None, {}, getattr(scene, "RANGES", None), getattr(scene, "CHOICES", None))
-        n = sum(1 for t in cfg.values() for v in t.values() if not isinstance(v, dict)) + \
-            sum(len(v) for t in cfg.values() for v in t.values() if isinstance(v, dict))
+        cfg = freeze(build_config(scene.DEFAULTS, None, {}, scene.RANGES, scene.CHOICES))
+        n = sum(1 for t in cfg.values() for v in t.values() if not isinstance(v, Mapping)) + \
+            sum(len(v) for t in cfg.values() for v in t.values() if isinstance(v, Mapping))
         assert len(r) == n
         assert sum(bool(m) for *_, m in r) > 0.7 * n, scene.NAME     # most keys say what they mean
     text = describe(beach)
@@ -173,7 +175,7 @@ def test_every_scene_has_a_current_case_file_of_all_its_keys():
     for scene in scenes():
         path = os.path.join(ROOT, "scenes", "defaults", f"{scene.NAME}.toml")
         assert open(path).read() == as_toml(scene), f"{path} is stale: python -m tisph.describe --write scenes/defaults"
-        cfg = build_config(scene.DEFAULTS, None, {}, getattr(scene, "RANGES", None), getattr(scene, "CHOICES", None))
+        cfg = freeze(build_config(scene.DEFAULTS, None, {}, getattr(scene, "RANGES", None), getattr(scene, "CHOICES", None)))
         with open(path, "rb") as f:
             assert flatten(tomllib.load(f)) == flatten(cfg)
         names.append(scene.NAME)
@@ -214,9 +216,9 @@ def test_every_key_has_one_description_of_its_own(name):
     is not the frame's width in pixels, sediment.seed and paddle.seed keep their own words, and no
     description leans on the line above it ("its ...", "or ...")."""
     from tisph.describe import rows
-    from tisph.sweep import scene_module
+    from tisph.sweep import scene_named
     seen = {}
-    for key, _, _, meaning in rows(scene_module(name)):
+    for key, _, _, meaning in rows(scene_named(name)):
         assert meaning, f"{name}: {key} has no description"
         assert meaning.split()[0].lower() not in ("its", "their", "and", "or", "that"), (key, meaning)
         seen[key] = meaning

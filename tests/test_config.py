@@ -4,6 +4,7 @@ import os
 import pytest
 
 from tisph.config import ConfigError, build_config, dump_toml, merge, read_toml
+from tisph.resolved import freeze
 from tisph.scenes import dam_break, tank
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -26,8 +27,8 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 ])
 def test_bad_input_names_field_and_allowed(ov, field, text):
     with pytest.raises(ConfigError) as e:
-        cfg = build_config(dam_break.DEFAULTS, None, ov, dam_break.RANGES)
-        dam_break.check(cfg)
+        cfg = freeze(build_config(dam_break.SCENE.DEFAULTS, None, ov, dam_break.SCENE.RANGES))
+        dam_break.SCENE.check(cfg)
     assert e.value.field == field
     assert text in str(e.value)
 
@@ -42,13 +43,13 @@ def test_toml_errors(tmp_path):
 
 
 def test_shipped_case_file_reproduces_defaults():
-    a = build_config(dam_break.DEFAULTS, os.path.join(ROOT, "scenes", "dam_break.toml"))
-    b = build_config(dam_break.DEFAULTS)
+    a = freeze(build_config(dam_break.SCENE.DEFAULTS, os.path.join(ROOT, "scenes", "dam_break.toml")))
+    b = freeze(build_config(dam_break.SCENE.DEFAULTS))
     assert a == b
 
 
 def test_dump_round_trips(tmp_path):
-    cfg = build_config(tank.DEFAULTS)
+    cfg = freeze(build_config(tank.SCENE.DEFAULTS))
     f = tmp_path / "c.toml"
     f.write_text(dump_toml(cfg))
     assert merge(cfg, read_toml(f)) == cfg
@@ -60,7 +61,7 @@ def test_every_bad_key_is_reported_at_once(tmp_path):
     f = tmp_path / "c.toml"
     f.write_text('[numerics]\ndxx = 0.1\ndx = "fine"\n[run]\nend_time = -1.0\n')
     with pytest.raises(ConfigError) as e:
-        build_config(dam_break.DEFAULTS, f, {"numerics.xsph": 0.7}, dam_break.RANGES)
+        build_config(dam_break.SCENE.DEFAULTS, f, {"numerics.xsph": 0.7}, dam_break.SCENE.RANGES)
     lines = str(e.value).splitlines()
     assert len(lines) == 4
     for field in ("numerics.dxx", "numerics.dx", "run.end_time", "numerics.xsph"):
@@ -70,7 +71,7 @@ def test_every_bad_key_is_reported_at_once(tmp_path):
 def test_summary_says_why_laminar_viscosity_is_on_when_the_config_says_off():
     from tisph.config import physics_from_config
     from tisph.runner.summary import physics_notes
-    cfg = build_config(tank.DEFAULTS, None, {"geometry.sediment_depth": 0.2, "numerics.laminar_viscosity": False})
+    cfg = freeze(build_config(tank.SCENE.DEFAULTS, None, {"geometry.sediment_depth": 0.2, "numerics.laminar_viscosity": False}))
     assert cfg["numerics"]["laminar_viscosity"] is False
     ph = physics_from_config(cfg)
     assert ph.laminar_viscosity and "rheology" in physics_notes(cfg, ph)[0]

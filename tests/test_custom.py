@@ -154,10 +154,10 @@ def test_a_level_the_lattice_rounds_is_said_with_the_dx_that_keeps_it(tmp_path):
     text = TANK.replace("dx = 0.05", "dx = 0.03") + WATER.replace("level = 0.5", "level = 0.4")
     with pytest.warns(UserWarning, match=r"water\[0\]\.level = 0\.4 m fills whole rows of particles up to 0\.39 m.*"
                                          r"numerics\.dx = 0\.02857 m \(14 rows"):
-        custom.build(custom_cfg(tmp_path, text))
+        custom.SCENE.build(custom_cfg(tmp_path, text))
     with warnings.catch_warnings():   # 0.5 at dx 0.05: kept, nothing said
         warnings.filterwarnings("error", message=".*fills whole rows.*")
-        custom.build(custom_cfg(tmp_path, TANK + WATER))
+        custom.SCENE.build(custom_cfg(tmp_path, TANK + WATER))
 
 
 def test_a_paddle_at_the_boxs_edge_is_told_where_its_room_ends(tmp_path, capsys):
@@ -327,3 +327,67 @@ def test_an_irregular_sea_gets_hm0_and_tp_at_each_surface_gauge():
     m = cg.metrics({"t": t, "eta_a": eta}, 2.0, 0.5)
     assert m["a_hm0"] == pytest.approx(0.1, rel=0.05) and m["a_tp"] == pytest.approx(2.0, rel=0.02)
     assert "a_wave_height" not in m and "a_harmonic_1" not in m
+
+
+def test_a_load_record_is_low_passed_beside_its_raw_peaks():
+    """A force or pressure gauge reports the extremes of its record low-passed at the case's
+    cutoff (half the water's lowest acoustic mode) beside the raw ones: acoustic ringing at 20 Hz
+    on a 1 Hz load lifts the raw peak 12 %, the filtered one reads the load's own; a step (an
+    impact's rise) overshoots by at most 4 %; a point dry in the window gives nulls, not NaN."""
+    from tisph.measure.gauges import GaugeSet, PressureGauge
+    from tisph.measure.records import low_pass
+    from tisph.scenes.custom.gauges import load_cutoff
+    cutoff = load_cutoff(10 * np.sqrt(9.81 * 0.4), 0.4)
+    assert cutoff == pytest.approx(1.25 * np.sqrt(9.81 / 0.4))
+    t = np.arange(0.0, 10.0, 0.01)
+    load = 4000 + 1000 * np.sin(2 * np.pi * t)
+    ring = 110 * np.sin(2 * np.pi * 20 * t) + 30 * np.sin(2 * np.pi * 23 * t + 1)
+    gs = GaugeSet([PressureGauge("wall", 1.0, 0.1)], 0.02, 0.05, cutoff)
+    m = gs.metrics({"t": t, "p_wall": load + ring}, 1.0)
+    assert m["wall_max"] > 5100 and m["wall_filtered_max"] == pytest.approx(5000, rel=1e-3)
+    assert m["wall_filtered_min"] == pytest.approx(3000, rel=2e-3) and m["wall_filter_hz"] == cutoff
+    assert abs(m["wall_filtered_time_of_max"] % 1.0 - 0.25) < 0.02
+    step = low_pass(t, np.where(t > 5, 1.0, 0.0), cutoff)
+    assert 1.0 < step.max() < 1.04 and step[t > 6].mean() == pytest.approx(1.0, abs=1e-3)
+    dry = gs.metrics({"t": t, "p_wall": np.where(t > 4, np.nan, load)}, 1.0)
+    assert dry["wall_filtered_max"] is None and "wall_filter_hz" in dry
+
+
+def test_surface_gauges_named_as_an_array_split_the_incident_and_reflected_waves(tmp_path, capsys):
+    """Surface gauges given one `array` name report the incident and reflected heights and the
+    reflection coefficient at the paddle's frequency (Mansard & Funke): a synthetic partial
+    standing wave of 4 cm incident and 1 cm reflected reads back from three gauges and from two;
+    an array of one gauge, or on a pressure gauge, is refused by name."""
+    import math
+    from tisph.scenes.custom.gauges import CaseGauges
+    from tisph.waves.theory import wavenumber
+    T, d = 1.2, 0.4
+    k, w = wavenumber(2 * math.pi / T, d, 9.81), 2 * math.pi / T
+    t = np.arange(0.0, 30.0, 0.01)
+    xs = (2.0, 2.17, 2.41)
+    base = {"type": "surface", "z": None, "line": None, "from_time": 5.0, "index": 0, "crest": None,
+            "cot_slope": 0.0, "toe_gauges": []}
+    for labels in (("a", "b", "c"), ("a", "b")):
+        specs = [dict(base, label=lab, x=x, name=f"gauge[{i}]", array="front") for i, (lab, x) in
+                 enumerate(zip(labels, xs))]
+        cg = CaseGauges(specs, 0.02, 0.05, 9.81, lambda p: p * 0, lambda x: d)
+        eta = {f"eta_{q['label']}": 0.02 * np.cos(k * q["x"] - w * t) + 0.005 * np.cos(k * q["x"] + w * t + 0.7)
+               for q in specs}
+        m = cg.metrics({"t": t, **eta}, T, d)
+        assert m["front_incident_height"] == pytest.approx(0.04, rel=1e-3), labels
+        assert m["front_reflected_height"] == pytest.approx(0.01, rel=1e-2)
+        assert m["front_reflection_coefficient"] == pytest.approx(0.25, rel=1e-2)
+    one = TANK + WATER + '[[gauge]]\nx = 1.0\narray = "front"\n'
+    assert "gauge[0].array = 'front'" in refused(tmp_path, capsys, one)
+    wrong = TANK + WATER + '[[gauge]]\ntype = "pressure"\nx = 1.0\nz = 0.1\narray = "front"\n'
+    assert "gauge[0].array = 'front'" in refused(tmp_path, capsys, wrong)
+
+
+def test_a_case_file_names_its_movie_and_frames(tmp_path):
+    """The movie and the frames' title are the case file's name, not the scene's (custom)."""
+    path = tmp_path / "my_tank.toml"
+    path.write_text(TANK + WATER)
+    out = tmp_path / "o"
+    assert custom.main(["--config", str(path), "--out", str(out), "--quiet", "--max-steps", "3",
+                              "--frame-interval", "0.0005"]) == 0
+    assert (out / "my_tank.mp4").exists() and not (out / "custom.mp4").exists()

@@ -1,6 +1,8 @@
 """A tank at rest keeps hydrostatic pressure, stays still and keeps its water, for both wall types."""
 import pytest
 
+from tisph.resolved import freeze
+
 from tisph.runner import simulate
 from tisph.scenes import tank
 
@@ -35,9 +37,9 @@ def test_extrapolated_wall_carries_the_hydrostatic_pressure_below_the_water():
     from tisph.constants import G
     from tisph.engine.solver import Solver
     from tisph.particles import FLUID
-    cfg = build_config(tank.DEFAULTS, None, {"numerics.wall": "adami", "numerics.dx": 0.025,
-                                             "numerics.wall_layers": 3})
-    case = tank.build(cfg)
+    cfg = freeze(build_config(tank.SCENE.DEFAULTS, None, {"numerics.wall": "adami", "numerics.dx": 0.025,
+                                             "numerics.wall_layers": 3}))
+    case = tank.SCENE.build(cfg)
     s = Solver(case.physics, case.particles, case.materials, case.domain, case.params)
     assert s.module("extrapolated_wall") is not None and s.module("dynamic_wall") is None
     for _ in range(2):

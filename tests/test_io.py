@@ -11,6 +11,8 @@ import h5py
 import numpy as np
 import pytest
 
+from tisph.resolved import freeze
+
 from tisph import io as tio
 from tisph.config import tomllib
 from tisph.runner import simulate
@@ -227,7 +229,7 @@ def test_snapshots_say_their_units_and_codes_and_the_run_its_disk(tmp_path):
     log = (tmp_path / "run.log").read_text()
     assert "disk: about" in log and "snapshots" in log
     assert s["snapshots"] == 3
-    cfg = {"output": {"frame_interval": 0.04}, "run": {"end_time": 16.0}}
+    cfg = freeze({"output": {"frame_interval": 0.04}, "run": {"end_time": 16.0}})
     assert default_snapshot_interval(cfg) == pytest.approx(0.32)       # 50 snapshots over 16 s, on frames
-    cfg = {"output": {"frame_interval": 0.05}, "run": {"end_time": 1.0}}
+    cfg = freeze({"output": {"frame_interval": 0.05}, "run": {"end_time": 1.0}})
     assert default_snapshot_interval(cfg) == pytest.approx(0.05)       # never finer than the frames

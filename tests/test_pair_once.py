@@ -94,11 +94,10 @@ def test_auto_takes_each_pair_once_where_the_run_repays_its_compile():
     steps = cfg["run"]["end_time"] / (cfg["numerics"]["cfl"] * h / c0)
     assert pair_once_wanted(cfg, n, h, c0) == (n * steps >= PAIR_ONCE_MIN) is False   # a short run: 1.1e7
     assert pair_once_wanted(cfg, 10 * n, h, c0)
-    cfg["run"]["max_steps"] = 100          # a segment of a run chooses as the whole run (restarts)
+    cfg = cfg.replace({"run.max_steps": 100})          # a segment of a run chooses as the whole run (restarts)
     assert pair_once_wanted(cfg, 10 * n, h, c0)
     for mode, want in (("on", True), ("off", False)):
-        cfg["run"]["pair_once"] = mode
-        assert pair_once_wanted(cfg, n, h, c0) is want
+        assert pair_once_wanted(cfg.replace({"run.pair_once": mode}), n, h, c0) is want
     runtime.init("cpu", "f32")
     case = build_case(dam_break, resolve(dam_break, overrides={"numerics.dx": 0.04, "run.pair_once": "on",
                                                                "numerics.density_diffusion": "fourtakas",

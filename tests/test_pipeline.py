@@ -192,7 +192,7 @@ def test_bedload_pipeline_scours_the_gap_under_the_pipe(tmp_path):
     m = s["metrics"]
     assert m["sediment_model"] == "bedload"
     assert m["gap_shear_over_far_field"] > 1.5, m
-    bed_time = (s["sim_time"] - pipeline_scour.DEFAULTS["sediment"]["morph_start"]) * m["morfac"]
+    bed_time = (s["sim_time"] - pipeline_scour.SCENE.DEFAULTS["sediment"]["morph_start"]) * m["morfac"]
     assert (m["scour_depth_over_D"] - m["initial_scour_depth_over_D"]) / bed_time > 1.5e-4, m
     assert m["sand_volume_error"] < 1e-6
 

@@ -3,8 +3,9 @@ import numpy as np
 import pytest
 
 from tisph.config import build_config
+from tisph.resolved import freeze
 from tisph.viz.render import Renderer, make_renderer, nice_ticks
-from tisph.sweep import scene_module
+from tisph.sweep import scene_named
 
 
 def test_nice_ticks_are_round_and_inside():
@@ -29,10 +30,9 @@ SCENES = [("dam_break", {"numerics.dx": 0.06}), ("tunnel", {"numerics.dx": 0.02}
 def test_every_scene_frame_has_metre_axes(name, ov):
     """Ticks under each particle panel (x) and left of it (z) at the round metre values of the
     panel's view, each with its label beside it; the beach adds its true-scale window."""
-    mod = scene_module(name)
-    cfg = build_config(mod.DEFAULTS, None, ov)
-    if hasattr(mod, "check"):
-        mod.check(cfg)
+    mod = scene_named(name)
+    cfg = freeze(build_config(mod.DEFAULTS, None, ov))
+    mod.check(cfg)
     case = mod.build(cfg)
     ps = case.particles
     st = dict(x=ps.x, v=np.zeros_like(ps.x), p=np.zeros(len(ps.x)), rho=ps.rho, kind=ps.kind, mat=ps.mat)
@@ -97,8 +97,8 @@ def test_fields_are_drawn_continuous_and_end_at_the_free_surface():
 def test_zoom_window_from_the_config_and_its_outline():
     """output.zoom sets the window; the main panel outlines where it is."""
     from tisph.scenes import dam_break
-    cfg = build_config(dam_break.DEFAULTS, None, {"numerics.dx": 0.06, "output.zoom": [0.0, 1.0, 0.0, 0.5]})
-    case = dam_break.build(cfg)
+    cfg = freeze(build_config(dam_break.SCENE.DEFAULTS, None, {"numerics.dx": 0.06, "output.zoom": [0.0, 1.0, 0.0, 0.5]}))
+    case = dam_break.SCENE.build(cfg)
     ps = case.particles
     st = dict(x=ps.x, v=np.zeros_like(ps.x), p=np.zeros(len(ps.x)), rho=ps.rho, kind=ps.kind, mat=ps.mat)
     r = make_renderer(case.picture, cfg["output"], 0.06, "t", 1.0)
@@ -116,7 +116,7 @@ def test_gauges_are_marked_on_the_flume_frame():
     from tisph.runner import resolve
     from tisph.scenes import flume
     cfg = resolve(flume, None, {"numerics.dx": 0.025})
-    case = flume.build(cfg)
+    case = flume.SCENE.build(cfg)
     ps = case.particles
     st = dict(x=ps.x, v=np.zeros_like(ps.x), p=np.zeros(len(ps.x)), rho=ps.rho, kind=ps.kind, mat=ps.mat)
     r = make_renderer(case.picture, cfg["output"], 0.025, "flume", case.u_max)
@@ -136,7 +136,7 @@ def test_the_beach_colours_by_its_waves_own_speed():
     from tisph.scenes import beach
     from tisph.waves.theory import linear_wave
     cfg = resolve(beach)
-    case = beach.build(cfg)
+    case = beach.SCENE.build(cfg)
     omega, k, _, _, hs = linear_wave(cfg, 0.3)
     u = 1.5 * hs * cfg["paddle"]["stroke"] * omega / math.sinh(k * 0.3)
     assert case.picture.speed_scale == pytest.approx(u) and 0.9 < u < 1.1

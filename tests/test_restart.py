@@ -5,6 +5,7 @@ import os
 
 import pytest
 
+from tisph.case import as_scene
 from tisph.runner import simulate
 from tisph.scenes import beach, erodible_bed, flume, pipeline_scour, tunnel
 
@@ -48,7 +49,7 @@ def csvs(d):
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("scene, ov, t2", CASES, ids=[c[0].NAME for c in CASES])
+@pytest.mark.parametrize("scene, ov, t2", CASES, ids=[as_scene(c[0]).NAME for c in CASES])
 def test_restart_continues_every_output(scene, ov, t2, tmp_path):
     base = dict(FAST, **ov, **{"run.end_time": t2, "output.checkpoint_every": t2 / 8})
     full = simulate(scene, base, out=str(tmp_path / "full"))

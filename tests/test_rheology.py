@@ -99,7 +99,7 @@ def test_newtonian_tank_compiles_no_rheology(tmp_path):
 
 def _heap_case(tau, unyielded="rest"):
     """A block of Bingham material, 0.3 m wide and 0.15 m high, released on a floor in air."""
-    import types
+    from tisph.case import Scene
     from tisph.config import physics_from_config
     from tisph.particles import ParticleSet, block, box_walls, hydrostatic_density, tait_B, FLUID, WALL
     from tisph.runner import common_params
@@ -126,7 +126,7 @@ def _heap_case(tau, unyielded="rest"):
                     view=((-0.05, -0.05), (1.05, 0.45)), u_max=c0 / 10,
                     probe_columns=("runout",), probe=lambda st: (st["x"][st["kind"] == FLUID, 0].max() + 0.005,),
                     container=(0.0, 0.0, 1.0, float("inf")))
-    return types.SimpleNamespace(NAME="heap", DEFAULTS=defaults, build=build)
+    return type("Heap", (Scene,), {"NAME": "heap", "SCHEMA": defaults, "build": lambda self, cfg: build(cfg)})()
 
 
 @pytest.mark.slow

@@ -1,20 +1,18 @@
 """The numerics schemes (tisph/schemes.py): every scene on its scheme but for the departures it
 names, a scheme named in a case file, and the extrapolated wall's guard against penetration."""
-import importlib
-
 import numpy as np
 import pytest
 
-from tisph.registry import REGISTRY
+from tisph.registry import REGISTRY, load
 from tisph.runner import resolve
 from tisph.schemes import SCHEME_KEYS, SCHEMES
 
 
 @pytest.mark.parametrize("name", sorted(REGISTRY))
 def test_every_scene_runs_its_scheme_but_where_it_says_why(name):
-    scene = importlib.import_module(REGISTRY[name])
+    scene = load(name)
     num = scene.DEFAULTS["numerics"]
-    departs = getattr(scene, "DEPARTS", {})
+    departs = scene.DEPARTS
     scheme = SCHEMES[num["scheme"]]
     for key in SCHEME_KEYS:
         if key in departs:
@@ -26,7 +24,7 @@ def test_every_scene_runs_its_scheme_but_where_it_says_why(name):
 
 def test_the_waves_and_impacts_run_the_default_scheme():
     for name in ("dam_break", "tank", "flume", "custom"):
-        assert importlib.import_module(REGISTRY[name]).DEFAULTS["numerics"]["scheme"] == "default"
+        assert load(name).DEFAULTS["numerics"]["scheme"] == "default"
 
 
 def test_a_scheme_named_in_a_case_sets_the_keys_it_leaves_unset():

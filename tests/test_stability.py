@@ -48,7 +48,7 @@ def test_wall_crossing_stops_the_run(tmp_path):
     assert s["status"] == "unstable", s["message"]
     assert "a fluid particle crossed a wall" in s["message"] and "penetrated the wall" in s["message"]
     x = [float(v) for v in re.search(r"at x = \(([-0-9.e]+), ([-0-9.e]+)\)", s["message"]).groups()]
-    W, half = dam_break.DEFAULTS["geometry"]["tank_width"], 0.03   # dx / 2: the first wall row
+    W, half = dam_break.SCENE.DEFAULTS["geometry"]["tank_width"], 0.03   # dx / 2: the first wall row
     assert x[0] < -half or x[0] > W + half or x[1] < -half
     arrays, attrs = tio.load(out / "snapshots" / "last_good.h5")
     p = arrays["position"][arrays["kind"] == 0]
@@ -70,7 +70,7 @@ def test_overtopping_is_told_apart_from_penetration(tmp_path):
     assert any("sound speed" in w for w in s["warnings"])
     assert s["status"] == "unstable" and "went over a side wall" in s["message"], s["message"]
     x = float(re.search(r"at x = \(([-0-9.e]+),", s["message"]).group(1))
-    assert x > dam_break.DEFAULTS["geometry"]["tank_width"] + 0.06
+    assert x > dam_break.SCENE.DEFAULTS["geometry"]["tank_width"] + 0.06
 
 
 def _droplets(tmp_path, n, spray):
@@ -83,7 +83,7 @@ def _droplets(tmp_path, n, spray):
                              run={"end_time": 0.02}, output={"render": False, "quiet": True})
     cfg = case.config()
     from tisph.scenes import custom
-    built = custom.build(cfg)
+    built = custom.SCENE.build(cfg)
     x = np.column_stack([0.1 + (0.12 * np.arange(n)) % 0.8, 0.6 + 0.1 * (np.arange(n) // 7)])
     built.particles.add(x, FLUID, 0, 600.0, 1000 * 0.05 ** 2)
     out = str(tmp_path / f"o{n}_{spray}")

@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 from tisph.config import Physics, build_config, physics_from_config
+from tisph.resolved import freeze
 from tisph.hooks.module import HOOKS
 from tisph.engine.registry import MODULES
 from tisph.particles import FLUID, MOVING, WALL, ParticleSet
@@ -79,8 +80,8 @@ def test_module_only_when_switched_on(cls, off_solvers):
 @pytest.mark.slow
 def test_switched_off_terms_change_the_result():
     def make(**ov):
-        cfg = build_config(dam_break.DEFAULTS, None, dict({"numerics.dx": 0.06}, **ov))
-        case = dam_break.build(cfg)
+        cfg = freeze(build_config(dam_break.SCENE.DEFAULTS, None, dict({"numerics.dx": 0.06}, **ov)))
+        case = dam_break.SCENE.build(cfg)
         return Solver(case.physics, case.particles, case.materials, case.domain, case.params)
     off = make(**{"numerics.artificial_viscosity": 0.0, "numerics.artificial_viscosity_surface": 0.0,
                   "numerics.xsph": 0.0,
@@ -99,16 +100,16 @@ def test_switched_off_terms_change_the_result():
 
 
 def test_physics_follows_config():
-    cfg = build_config(dam_break.DEFAULTS, None, {"numerics.kernel": "wendland", "numerics.wall": "repulsive",
-                                                  "numerics.shepard_every": 20})
+    cfg = freeze(build_config(dam_break.SCENE.DEFAULTS, None, {"numerics.kernel": "wendland", "numerics.wall": "repulsive",
+                                                  "numerics.shepard_every": 20}))
     ph = physics_from_config(cfg)
     assert ph.kernel == "wendland" and ph.wall == "repulsive" and ph.shepard
     # the default scheme: no alpha but in sheets and droplets, renormalised diffusion
     assert ph.artificial_viscosity and ph.surface_viscosity and ph.density_diffusion == "antuono" and not ph.xsph
     # the surface alpha compiles the term in on its own, and only above alpha
     for alpha, surface, want in ((0.0, 0.1, (True, True)), (0.1, 0.05, (True, False)), (0.0, 0.0, (False, False))):
-        ph = physics_from_config(build_config(dam_break.DEFAULTS, None, {"numerics.artificial_viscosity": alpha,
-                                                                         "numerics.artificial_viscosity_surface": surface}))
+        ph = physics_from_config(freeze(build_config(dam_break.SCENE.DEFAULTS, None, {"numerics.artificial_viscosity": alpha,
+                                                                                "numerics.artificial_viscosity_surface": surface})))
         assert (ph.artificial_viscosity, ph.surface_viscosity) == want
 
 
@@ -116,9 +117,9 @@ def test_shepard_filter_smooths_noise_and_keeps_the_mean():
     """Paper 002 eqs. 13-15: one Shepard pass over a density field with 2 % particle-to-particle
     noise removes most of the noise and keeps the mean (a normalised average). A Wendland dam
     break, filtered every step, the noise added at the start."""
-    cfg = build_config(dam_break.DEFAULTS, None, {"numerics.dx": 0.06, "numerics.kernel": "wendland",
-                                                  "numerics.shepard_every": 1, "numerics.h_factor": 1.5})
-    case = dam_break.build(cfg)
+    cfg = freeze(build_config(dam_break.SCENE.DEFAULTS, None, {"numerics.dx": 0.06, "numerics.kernel": "wendland",
+                                                  "numerics.shepard_every": 1, "numerics.h_factor": 1.5}))
+    case = dam_break.SCENE.build(cfg)
     fl = case.particles.kind == FLUID
     rho0 = case.particles.rho.copy()
     noise = 20.0 * np.random.default_rng(3).standard_normal(len(rho0))

@@ -32,7 +32,7 @@ def patch(seed=3, walls=False):
 
 def solver(ps, kernel, h_factor, **phys):
     h = h_factor * DX
-    params = dict(dx=DX, h=h, c0=C0, alpha=0.1, alpha_s=0.5, xsph=0.5, delta=0.1, g=(0.0, -9.81), wall_D=5.0,
+    params = dict(dx=DX, h=h, c0=C0, alpha=0.1, alpha_s=0.5, div_s=1.5, xsph=0.5, delta=0.1, g=(0.0, -9.81), wall_D=5.0,
                   cfl=0.4, dt_max=1e-3, density_band=0.5)
     mats = [dict(name="water", rho0=RHO0, viscosity=MU, B=B)]
     ph = dict(kernel=kernel, wall="dynamic", artificial_viscosity=False)

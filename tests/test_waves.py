@@ -6,6 +6,8 @@ import os
 import numpy as np
 import pytest
 
+from tisph.resolved import freeze
+
 
 from tisph.measure.records import crossing_period_and_level
 from tisph.waves import irregular, theory as wm
@@ -375,12 +377,12 @@ def test_beach_runs_and_writes_a_frame_and_bed_statistics(tmp_path):
     assert (out / "stills" / "t0.000.png").exists()
     header = (out / "bed_profile.csv").read_text().splitlines()[0].split(",")
     assert header[0] == "t" and len(header) > 100
-    gauges = tuple(f"eta_x{x:.2f}" for x in beach.DEFAULTS["geometry"]["gauges_x"])
+    gauges = tuple(f"eta_x{x:.2f}" for x in beach.SCENE.DEFAULTS["geometry"]["gauges_x"])
     assert (out / "probes.csv").read_text().splitlines()[0] == "t," + ",".join(beach_bed.BeachBed.COLUMNS + gauges)
-    assert s["metrics"]["gauges_x"] == beach.DEFAULTS["geometry"]["gauges_x"]
+    assert s["metrics"]["gauges_x"] == beach.SCENE.DEFAULTS["geometry"]["gauges_x"]
     assert (out / "ripple_prediction.csv").exists() and (out / "bed_profile.png").exists()
     m = s["metrics"]
-    assert m["sediment_model"] == "bedload" and m["morfac"] == beach.DEFAULTS["sediment"]["morfac"]
+    assert m["sediment_model"] == "bedload" and m["morfac"] == beach.SCENE.DEFAULTS["sediment"]["morfac"]
     assert m["sand_volume_error"] < 1e-9
     assert np.isfinite(m["bed_change_rms"]) and m["bed_change_rms"] < 0.001   # 0.12 s: the bed has barely moved
     import imageio.v2 as imageio
@@ -497,7 +499,7 @@ def test_the_paddle_check_reads_the_config_and_the_resolved_stroke_is_said_in_ru
     import copy
     from tisph.config import build_config
     from tisph.waves.paddle import check_paddle, stroke_for
-    cfg = build_config(flume.DEFAULTS, None, {"paddle.wave_height": 0.05}, flume.RANGES, flume.CHOICES)
+    cfg = freeze(build_config(flume.SCENE.DEFAULTS, None, {"paddle.wave_height": 0.05}, flume.SCENE.RANGES, flume.SCENE.CHOICES))
     before = copy.deepcopy(cfg)
     check_paddle(cfg, 0.25, 4.5, default_stroke=0.04)
     assert cfg == before
@@ -653,7 +655,7 @@ def test_absorbing_paddle_is_refused_where_its_target_is_not_defined(tmp_path):
 def test_flume_water_stops_at_the_end_wall_whatever_the_length():
     """A length that is not a whole number of spacings (3.23 m at dx = 0.02 m: 161.5) puts no water
     particle inside the end wall: the last column ends before it."""
-    case = flume.build(resolve(flume, None, {"numerics.dx": 0.02, "geometry.length": 3.23,
+    case = flume.SCENE.build(resolve(flume, None, {"numerics.dx": 0.02, "geometry.length": 3.23,
                                              "geometry.gauges_wavelengths": [1.0]}))
     x = case.particles.x[case.particles.kind == FLUID]
     assert x[:, 0].max() + 0.01 <= 3.23 + 1e-9

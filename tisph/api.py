@@ -23,15 +23,12 @@ import numpy as np
 from . import registry as scenes
 from .config import ConfigError, read_toml, set_path
 from .geometry import Circle, Polygon, Polyline
-from .runner.entry import output_dir, simulate, resolve
+from .runner import output_dir, simulate, resolve
+from .runner.reading import resolved_notes
 from .describe import describe
 from .io import read_csv, snapshot_files, load
 
 SCENES = scenes.names()
-
-
-def _scene(name):
-    return scenes.load(name)
 
 
 def _entry(shape):
@@ -52,7 +49,7 @@ class Case:
 
     def __init__(self, scene: str = "custom", settings: dict | None = None, base_dir: str = ".") -> None:
         self.scene = scene
-        self.module = _scene(scene)
+        self.spec = scenes.load(scene)      # its Scene (tisph.case.Scene)
         self.settings = copy.deepcopy(settings or {})
         self.base_dir = os.path.abspath(base_dir)
 
@@ -86,7 +83,7 @@ class Case:
 
     def config(self, **overrides: Any) -> dict:
         """The resolved, checked config (ConfigError naming every bad key)."""
-        return resolve(self.module, self.file_settings(), overrides)
+        return resolve(self.spec, self.file_settings(), overrides)
 
     def file_settings(self) -> dict:
         """A copy of the case file's settings, a custom case's CSVs looked for beside it."""
@@ -97,7 +94,7 @@ class Case:
 
     def describe(self) -> str:
         """Every key of the case's scene with its default, what is allowed and what it means."""
-        return describe(self.module)
+        return describe(self.spec, resolved_notes(self.spec))
 
 
 class Result:
@@ -168,13 +165,13 @@ def run(case: Case | str, out: str | os.PathLike | None = None, render: bool = F
         if convergence:
             raise ConfigError("seeds", seeds, "one study a run: seeds or convergence, not both")
         check_seeds(cfg, seeds)
-    out = output_dir(case.module, cfg)
-    summary = simulate(case.module, cfg=cfg, out=out, restart=restart, force=force, echo=progress)
+    out = output_dir(case.spec, cfg)
+    summary = simulate(case.spec, cfg=cfg, out=out, restart=restart, force=force, echo=progress)
     if convergence and summary["status"] == "ok":
         from .runner.convergence import study
-        study(case.module, case.file_settings(), ov, cfg, summary, out, print if progress else (lambda m: None))
+        study(case.spec, case.file_settings(), ov, cfg, summary, out, print if progress else (lambda m: None))
     if seeds and summary["status"] == "ok":
         from .runner import ensemble
-        ensemble.study(case.module, case.file_settings(), ov, cfg, summary, out, seeds,
+        ensemble.study(case.spec, case.file_settings(), ov, cfg, summary, out, seeds,
                        print if progress else (lambda m: None))
     return Result(out)

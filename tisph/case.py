@@ -1,10 +1,23 @@
-"""What a scene's build(cfg) returns: the solver's input (Model), what is measured and written
-while it runs (Observers) and how it is drawn (Picture), kept apart so the solver never sees a
-probe and a probe never writes the solver's fields."""
+"""A scene's contract (Scene: one class a scene, registered by one line in tisph/registry.py;
+docs/engine.md, "Adding a scene") and what its build(cfg) returns: the solver's input (Model),
+what is measured and written while it runs (Observers) and how it is drawn (Picture), kept apart
+so the solver never sees a probe and a probe never writes the solver's fields. The runner,
+--describe, the sweep and the viewer read a scene only through the contract; importing a scene
+imports no Taichi.
+
+After PySPH's Application (create_particles, the scheme, post_process), with the settings resolved
+before anything is built: derive and check see the whole case, build turns it into particles,
+physics, observers and a picture.
+"""
+from __future__ import annotations
+
 import dataclasses
+import sys
 from typing import Callable
 
 from .config import Physics
+from .errors import ConfigError
+from .schema import choices, ranges, values
 
 
 @dataclasses.dataclass
@@ -91,3 +104,74 @@ def make_case(name, notes=None, **parts):
         kw[owner][k] = v
     return Case(name, Model(**kw[Model]), Observers(**kw[Observers]), Picture(**kw[Picture]),
                 notes=list(notes or []))
+
+
+class Scene:
+    """A scene: its keys (SCHEMA; DEFAULTS, RANGES and CHOICES are derived from it once, here),
+    the values it derives, its checks and its build. Override what the scene needs:
+
+      NAME        its name, as registered
+      SCHEMA      its keys (tisph/schema.py's Keys) laid on the shared ones
+      DEPARTS     {numerics key: why} where it leaves its scheme (tests/test_schemes.py)
+      ELEMENTS    the keys of each entry of its lists of tables (a case of one's own: [[solid]])
+      derive(cfg, given) -> ({dotted key: value}, notes): values it chooses for keys the user left
+                  unset (given: the keys the user set); each with run.log's line saying why
+      check(cfg)  refuses a case it cannot run with a ConfigError naming the key
+      build(cfg)  -> tisph.case.Case: particles, physics, parameters, observers, picture
+    Its module holds the instance as SCENE and `main = partial(run_scene, SCENE)`, which
+    `python -m tisph.scenes.NAME` runs.
+    """
+    NAME: str = ""
+    SCHEMA: dict = {}
+    DEPARTS: dict = {}
+    ELEMENTS: dict = {}
+    DEFAULTS: dict = {}
+    RANGES: dict = {}
+    CHOICES: dict = {}
+
+    def __init_subclass__(cls, **kw):
+        super().__init_subclass__(**kw)
+        if "SCHEMA" in cls.__dict__:
+            cls.DEFAULTS, cls.RANGES, cls.CHOICES = values(cls.SCHEMA), ranges(cls.SCHEMA), choices(cls.SCHEMA)
+
+    @property
+    def doc(self) -> str:
+        """What the scene is: its module's docstring (the command line's description)."""
+        return (sys.modules[type(self).__module__].__doc__ or type(self).__doc__ or "").strip()
+
+    @property
+    def module(self) -> str:
+        """The module `python -m` runs it as."""
+        return type(self).__module__
+
+    def derive(self, cfg, given):
+        return {}, []
+
+    def check(self, cfg):
+        return None
+
+    def build(self, cfg):
+        raise NotImplementedError(f"{type(self).__name__}.build")
+
+    def __repr__(self):
+        return f"<scene {self.NAME}>"
+
+
+def resolves(length, n, what, dx, key="numerics.dx", value=None):
+    """The one refusal of a length the spacing cannot resolve: under n particles across `what`.
+    key: the key to name (numerics.dx, or the length's own key with its value)."""
+    if length / dx >= n - 1e-9:
+        return
+    if key == "numerics.dx":
+        raise ConfigError(key, dx, f"at most {length / n:.4g} m ({n} particles across {what})")
+    raise ConfigError(key, value, f"at least {n} dx ({n * dx:.4g} m: {n} particles across {what})")
+
+
+def as_scene(scene):
+    """The Scene of a scene or of its module (tisph.scenes.dam_break: its SCENE)."""
+    if isinstance(scene, Scene):
+        return scene
+    found = getattr(scene, "SCENE", None)
+    if isinstance(found, Scene):
+        return found
+    raise TypeError(f"not a scene: {scene!r} (a tisph.case.Scene, or a module with one as SCENE)")

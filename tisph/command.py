@@ -22,10 +22,10 @@ from . import registry
 from .config import read_toml
 from .errors import ConfigError
 
-def scene_line(module, width=100):
+def scene_line(scene, width=100):
     """What a scene is, in one line: its docstring's first sentence, cut at a word (importing a
     scene imports no Taichi)."""
-    para = " ".join((module.__doc__ or module.__name__).strip().split("\n\n")[0].split())
+    para = " ".join((scene.doc or scene.NAME).split("\n\n")[0].split())
     first = re.split(r"\.\s+(?=[A-Z])", para)[0].rstrip(".")   # not at "Fig. 3"
     return first if len(first) <= width else first[:width - 3].rsplit(" ", 1)[0] + "..."
 
@@ -68,7 +68,9 @@ def describe(argv: list[str]) -> int:
     if len(argv) != 1 or argv[0] not in registry.REGISTRY:
         raise ConfigError("tisph describe", " ".join(argv), "one scene: " + ", ".join(registry.names()))
     from .describe import describe as text
-    print(text(registry.load(argv[0])))
+    from .runner.reading import resolved_notes
+    scene = registry.load(argv[0])
+    print(text(scene, resolved_notes(scene)))
     return 0
 
 

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import copy
 import difflib
+from collections.abc import Mapping
 import math
 import os
 import sys
@@ -19,6 +20,7 @@ else:  # pragma: no cover - exercised on 3.9/3.10 only
     import tomli as tomllib
 
 from . import schema
+from .resolved import thaw
 from .errors import ConfigError, ConfigErrors, raise_collected  # noqa: F401  (re-exported: every check raises them)
 from .shared_keys import MATERIAL, SHARED, TURBULENCE
 from .switches import Physics, physics_from_config  # noqa: F401  (re-exported: scenes import them here)
@@ -90,7 +92,7 @@ def merge(base: dict, override: dict, prefix: str = "", errors=None) -> dict:
     Every bad key is reported (errors: the list a caller collects them in; None: raise them)."""
     top = errors is None
     errors = [] if top else errors
-    out = copy.deepcopy(base)
+    out = thaw(base)
     for key, value in override.items():
         path = f"{prefix}{key}"
         try:
@@ -101,7 +103,7 @@ def merge(base: dict, override: dict, prefix: str = "", errors=None) -> dict:
                     hint = "a turbulence key: this scene has no SPS turbulence (the pipeline has)"
                 raise ConfigError(path, value, "one of: " + ", ".join(sorted(f"{prefix}{k}" for k in base)),
                                   hint or "unknown key")
-            if isinstance(base[key], dict):
+            if isinstance(base[key], Mapping):
                 if not isinstance(value, dict):
                     raise ConfigError(path, value, "a table")
                 out[key] = merge(base[key], value, path + ".", errors)
@@ -190,7 +192,7 @@ def flatten(d: dict, prefix: str = "") -> dict:
     """{dotted path: value} of a nested config (the inverse of set_path)."""
     out = {}
     for k, v in d.items():
-        if isinstance(v, dict):
+        if isinstance(v, Mapping):
             out.update(flatten(v, f"{prefix}{k}."))
         else:
             out[f"{prefix}{k}"] = v
@@ -258,13 +260,13 @@ def dump_toml(d: dict, notes=None) -> str:
             return repr(v)
         if isinstance(v, str):
             return '"' + v.replace("\\", "\\\\").replace('"', '\\"') + '"'
-        if isinstance(v, (list, dict)):   # a dict: an entry of a list of tables ([[solid]]), inline
-            return ("{%s}" % ", ".join(f"{k} = {fmt(x)}" for k, x in v.items() if x is not None) if isinstance(v, dict)
+        if isinstance(v, (list, Mapping)):   # a table: an entry of a list of tables ([[solid]]), inline
+            return ("{%s}" % ", ".join(f"{k} = {fmt(x)}" for k, x in v.items() if x is not None) if isinstance(v, Mapping)
                     else "[" + ", ".join(fmt(x) for x in v) + "]")
         raise TypeError(type(v))
 
     def table(prefix, t):
-        scalars = {k: v for k, v in t.items() if not isinstance(v, dict)}
+        scalars = {k: v for k, v in t.items() if not isinstance(v, Mapping)}
         if scalars and prefix:
             lines.append(f"[{prefix}]")
         for k, v in scalars.items():
@@ -273,7 +275,7 @@ def dump_toml(d: dict, notes=None) -> str:
         if scalars:
             lines.append("")
         for k, v in t.items():
-            if isinstance(v, dict):
+            if isinstance(v, Mapping):
                 table(f"{prefix}.{k}" if prefix else k, v)
 
     table("", d)

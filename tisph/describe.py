@@ -7,27 +7,30 @@ import sys
 
 from . import config, schema
 from .config import CHOICES, MATERIAL_CHOICES, MATERIAL_RANGES, RANGES, describe_range
-from .registry import modules as scene_modules
+from .registry import scenes as registered
+from .case import as_scene
 from .shared_keys import MATERIAL, SHARED, TURBULENCE
 from .io import ensure_dir, write_text
 
 
 def words(scene):
     """{dotted key: what it means} of every key the scene declares or shares."""
+    scene = as_scene(scene)
     out = dict(schema.docs(SHARED), **schema.docs(TURBULENCE, "numerics"))
-    out.update(schema.docs(getattr(scene, "SCHEMA", {})))   # the scene's own words win
+    out.update(schema.docs(scene.SCHEMA))   # the scene's own words win
     return out
 
 
 def rows(scene):
     """(key, default, allowed, meaning) of every key the scene's config has."""
-    cfg = config.build_config(scene.DEFAULTS, None, {}, getattr(scene, "RANGES", None), getattr(scene, "CHOICES", None))
-    ranges = dict(RANGES, **getattr(scene, "RANGES", {}))
-    choices = dict(CHOICES, **getattr(scene, "CHOICES", {}))
+    scene = as_scene(scene)
+    cfg = config.build_config(scene.DEFAULTS, None, {}, scene.RANGES, scene.CHOICES)
+    ranges = dict(RANGES, **scene.RANGES)
+    choices = dict(CHOICES, **scene.CHOICES)
     docs = words(scene)
     out = []
     for key, v in config.flatten(cfg).items():
-        if key in getattr(scene, "ELEMENTS", {}):
+        if key in scene.ELEMENTS:
             continue                             # a list of tables: element_rows has its keys
         leaf = key.split(".")[-1]
         material = key.startswith("materials.") and leaf in MATERIAL
@@ -50,18 +53,21 @@ def rows(scene):
 def element_rows(scene):
     """(list, key, default, meaning) of the keys of each entry of a scene's lists of tables
     ([[solid]], [[water]], [[gauge]] of a custom case)."""
+    scene = as_scene(scene)
     return [(table, k, "(not given)" if v.default is None else repr(v.default) if isinstance(v.default, str)
              else str(v.default), schema.words(v))
-            for table, spec in getattr(scene, "ELEMENTS", {}).items() for k, v in spec.items()]
+            for table, spec in scene.ELEMENTS.items() for k, v in spec.items()]
 
 
-def describe(scene):
-    """The table as text, one key per line, grouped by table."""
+def describe(scene, notes=()):
+    """The table as text, one key per line, grouped by table; then notes: what resolving the
+    defaults chose (tisph.runner.reading.resolved_notes: the tunnel's dx and morfac)."""
+    scene = as_scene(scene)
     lines = [f"Config keys of {scene.NAME} (defaults; set them in a case file with --config, "
              f"see scenes/*.toml):", ""]
     keyed = list(rows(scene))
     geometry = []
-    if getattr(scene, "ELEMENTS", None):   # a case of one's own: the domain and its entries first
+    if scene.ELEMENTS:   # a case of one's own: the domain and its entries first
         geometry = [r for r in keyed if r[0].startswith("domain.")]
         keyed = [r for r in keyed if not r[0].startswith("domain.")]
     last = None
@@ -81,19 +87,22 @@ def describe(scene):
             last = table
         lines.append(f"  {key} = {default}  {meaning}")
     keys(keyed)
+    if notes:
+        lines += ["", "Resolved from the defaults (run.log says the same for a run):"] + [f"  {n}" for n in notes]
     return "\n".join(lines)
 
 
 def as_toml(scene):
     """A case file that sets every key to its default, each with what is allowed and what it
     means beside it: scenes/defaults/NAME.toml (python -m tisph.describe --write scenes/defaults)."""
-    cfg = config.build_config(scene.DEFAULTS, None, {}, getattr(scene, "RANGES", None), getattr(scene, "CHOICES", None))
+    scene = as_scene(scene)
+    cfg = config.build_config(scene.DEFAULTS, None, {}, scene.RANGES, scene.CHOICES)
     notes = {key: f"{allowed}" + (f"; {meaning}" if meaning else "") for key, _, allowed, meaning in rows(scene)}
-    head = [f"# Every key of `python -m {scene.__name__}` at its default, with what is allowed and",
+    head = [f"# Every key of `python -m {scene.module}` at its default, with what is allowed and",
             "# what it means: generated from the code by `python -m tisph.describe --write scenes/defaults`",
             "# (tests/test_cli.py checks it is current). Copy the keys you change into a case file;",
-            f"#   python -m {scene.__name__} --config scenes/defaults/{scene.NAME}.toml",
-            "# runs the defaults." if not getattr(scene, "ELEMENTS", None) else
+            f"#   python -m {scene.module} --config scenes/defaults/{scene.NAME}.toml",
+            "# runs the defaults." if not scene.ELEMENTS else
             "# needs its own domain.box, [[solid]] and [[water]] (scenes/breakwater.toml is a whole case).", ""]
     tail, last = [], None
     for table, key, default, meaning in element_rows(scene):
@@ -105,8 +114,8 @@ def as_toml(scene):
 
 
 def scenes():
-    """Every registered scene module (tisph.registry.REGISTRY)."""
-    return scene_modules()
+    """Every registered Scene (tisph.registry.REGISTRY)."""
+    return registered()
 
 
 def main(argv=None):

@@ -28,7 +28,7 @@ URSELL_LINEAR = 26.0
 def unit_guess(cfg):
     """' (the lengths look like centimetres: ...)' or millimetres, or '' when they look like metres:
     from the depth and dx a scene has."""
-    g, dx = cfg.get("geometry", {}), cfg["numerics"]["dx"]
+    g, dx = cfg.get("geometry", {}), cfg.numerics.dx
     depth = next((g[k] for k in ("depth", "water_depth", "column_height", "height") if k in g), None)
     if depth is None:
         return ""
@@ -68,15 +68,15 @@ def check_regular_waves(cfg, key, H, k, depth):
     """Refuse waves no water can carry: steeper than Miche's breaking limit, or shorter than the
     kernel resolves. key: the paddle key that set the height (stroke or wave_height)."""
     L = 2.0 * math.pi / k
-    h = cfg["numerics"]["h_factor"] * cfg["numerics"]["dx"]
+    h = cfg.numerics.h_factor * cfg.numerics.dx
     limit = MICHE * math.tanh(k * depth)
     guess = unit_guess(cfg)
     if H / L > limit:
-        raise ConfigError(key, cfg["paddle"][key.split(".")[1]],
+        raise ConfigError(key, cfg.paddle[key.split(".")[1]],
                           f"a wave no steeper than Miche's breaking limit 0.142 tanh(kh) = {limit:.3g}: this one is "
                           f"H / L = {H:.3g} / {L:.3g} m = {H / L:.3g} (kh = {k * depth:.3g}){guess}")
     if L < MIN_WAVELENGTH_H * h:
-        raise ConfigError("numerics.dx", cfg["numerics"]["dx"],
+        raise ConfigError("numerics.dx", cfg.numerics.dx,
                           f"a dx whose smoothing length h = {h:.3g} m is at most a tenth of the wavelength, "
                           f"{L:.3g} m ({L / h:.3g} h){guess}")
 
@@ -84,7 +84,7 @@ def check_regular_waves(cfg, key, H, k, depth):
 def warn_waves(cfg, H, k, depth, linear_metric=True):
     """Warnings for waves the run carries but does not resolve well: a height under MIN_HEIGHT_DX
     spacings, and (where a Biesel height is the result) an Ursell number beyond linear theory."""
-    dx = cfg["numerics"]["dx"]
+    dx = cfg.numerics.dx
     L = 2.0 * math.pi / k
     if H < MIN_HEIGHT_DX * dx:
         warnings.warn(f"the wave height {H:.3g} m is {H / dx:.2g} dx: under {MIN_HEIGHT_DX:g} dx the waves lose "
@@ -115,7 +115,7 @@ def warn_gauges(cfg, gauges, depth_at):
     it (dry land: its wave height means nothing), a window that starts at or after the end, and a
     run too short for any gauge to record two readings. depth_at(x): the still water's depth there
     (NaN or <= 0 where dry)."""
-    end, dt = cfg["run"]["end_time"], cfg["output"]["probe_interval"]
+    end, dt = cfg.run.end_time, cfg.output.probe_interval
     dry = [q for q in gauges if q["type"] == "surface" and not depth_at(q["x"]) > 0]
     if dry:
         warnings.warn("surface gauges " + ", ".join(f"{q['label']} (x = {q['x']:g} m)" for q in dry) + " stand on "
@@ -133,5 +133,5 @@ def warn_case_waves(cfg, H, k, depth, xs, cg, period, arrival):
     """A case's regular waves: warn_waves for the height, and warn_window for the surface gauges at
     xs (m in front of the paddle)."""
     warn_waves(cfg, H, k, depth)
-    warn_window(cfg["paddle"], [x for x in xs if x > 0], cg, cfg["run"]["end_time"], period, arrival)
+    warn_window(cfg.paddle, [x for x in xs if x > 0], cg, cfg.run.end_time, period, arrival)
 

@@ -55,18 +55,19 @@ def derive_resolution(cfg, given, lam, d0, where="", limit=None, cap=None):
     """A ripple scene's dx and morfac where the user left them unset: dx puts the predicted ripple
     lam (Wiberg & Harris for d0) over RESOLVED_DX spacings; morfac is the largest, to a tenth, at
     which the bed turns over no faster per wave period than in the calibration tunnel (limit,
-    tisph/sediment/morfac.py; None: keep morfac), at most cap. Returns run.log's lines."""
-    notes = []
+    tisph/sediment/morfac.py; None: keep morfac), at most cap. A resolving step: returns the
+    values ({dotted key: value}) and run.log's lines."""
+    notes, changes = [], {}
     if "numerics.dx" not in given:
-        cfg["numerics"]["dx"] = dx = floor2(lam / RESOLVED_DX)
+        changes["numerics.dx"] = dx = floor2(lam / RESOLVED_DX)
         notes.append(f"numerics.dx = {dx:g} m: the predicted ripple{where} ({lam:.3g} m, Wiberg & Harris for d0 = "
                      f"{d0:.3g} m) over {RESOLVED_DX:g} spacings (set numerics.dx to choose)")
     if limit is not None and "sediment.morfac" not in given:
         m = max(1.0, min(cap or math.inf, math.floor(limit * 10 + 1e-6) / 10))
-        cfg["sediment"]["morfac"] = m
+        changes["sediment.morfac"] = m
         notes.append(f"sediment.morfac = {m:g}: the bed{where} turns over no faster per wave period than in the "
                      f"calibration tunnel ({f'at most {cap:g}; ' if cap else ''}set sediment.morfac to choose)")
-    return notes
+    return changes, notes
 
 
 def warn_unresolved(length, dx, where):

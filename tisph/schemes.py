@@ -46,12 +46,11 @@ def numerics(name, **values):
 
 
 def apply_scheme(cfg, given):
-    """A scheme the user named sets every scheme key they left unset; returns the note for run.log
-    (none when the scheme was not named)."""
-    num = cfg["numerics"]
+    """A resolving step: a scheme the user named sets every scheme key they left unset. Returns
+    ({dotted key: value}, run.log's note); nothing where the scheme was not named."""
     if "numerics.scheme" not in given:
-        return []
-    name = num["scheme"]
+        return {}, []
+    name = cfg.numerics.scheme
     mine = [k for k in SCHEME_KEYS if f"numerics.{k}" in given]
-    num.update({k: v for k, v in SCHEMES[name].items() if f"numerics.{k}" not in given})
-    return [f"numerics.scheme = {name!r}: its numerics" + (f", but {', '.join(mine)} as set" if mine else "")]
+    changes = {f"numerics.{k}": v for k, v in SCHEMES[name].items() if f"numerics.{k}" not in given}
+    return changes, [f"numerics.scheme = {name!r}: its numerics" + (f", but {', '.join(mine)} as set" if mine else "")]

@@ -6,8 +6,10 @@ import math
 
 from .errors import ConfigError
 from .hooks.keys import KEYED
-from .schema import NON_NEGATIVE, POSITIVE, K, with_defaults
+from .schema import NON_NEGATIVE, POSITIVE, K
 from .schemes import DEFAULT, SCHEMES
+
+_S = SCHEMES[DEFAULT]     # a key the numerics scheme sets: the default scheme's value, its one default
 
 SHARED = {
     "run": {
@@ -23,21 +25,21 @@ SHARED = {
         "scheme": K(DEFAULT, "the numerics scheme (tisph/schemes.py): default (waves, sloshing, impacts) | paper000 "
                     "(paper 000's Table 2) | paper002 (paper 002) | bed (the sand bed's calibration); named in a "
                     "case file, it sets every numerics key the file leaves unset", choices=tuple(SCHEMES)),
-        "h_factor": K(1.3, "smoothing length h = h_factor * dx", range=(1.0, 3.0, True, True)),
-        "kernel": K("cubic", "cubic (paper 000 eq. 5) | wendland (paper 002 eq. 6)", choices=("cubic", "wendland")),
-        "wall": K("dynamic", "dynamic (DBC) | repulsive (paper 000 eq. 6) | adami (pressure from the water, "
+        "h_factor": K(_S["h_factor"], "smoothing length h = h_factor * dx", range=(1.0, 3.0, True, True)),
+        "kernel": K(_S["kernel"], "cubic (paper 000 eq. 5) | wendland (paper 002 eq. 6)", choices=("cubic", "wendland")),
+        "wall": K(_S["wall"], "dynamic (DBC) | repulsive (paper 000 eq. 6) | adami (pressure from the water, "
                     "Adami et al. 2012)", choices=("dynamic", "repulsive", "adami")),
-        "wall_layers": K(3, "layers of wall particles (dynamic and extrapolated walls)", range=(1, 6, True, True)),
+        "wall_layers": K(_S["wall_layers"], "layers of wall particles (dynamic and extrapolated walls)", range=(1, 6, True, True)),
         "wall_strength": K(0.0, "D of the Lennard-Jones force (m^2/s^2): repulsive walls', and the extrapolated "
                               "walls' backstop at 0.75 dx; 0: auto = 5 g H (Monaghan 1994)", range=NON_NEGATIVE),
         "c0": K(0.0, "sound speed (m/s); 0: auto = c0_factor * u_max", range=NON_NEGATIVE),
         "c0_factor": K(10.0, "c0 = this x max(expected speed, sqrt(g depth)) when c0 = 0",
                          range=(1.0, None, True, True)),
         "u_max": K(0.0, "expected peak flow speed (m/s); 0: the scene's estimate", range=NON_NEGATIVE),
-        "laminar_viscosity": K(False, "paper 002 eq. 10 with the materials' viscosity"),
-        "density_diffusion": K("none", "none | molteni | fourtakas | antuono (renormalised gradients: waves)",
+        "laminar_viscosity": K(_S["laminar_viscosity"], "paper 002 eq. 10 with the materials' viscosity"),
+        "density_diffusion": K(_S["density_diffusion"], "none | molteni | fourtakas | antuono (renormalised gradients: waves)",
                                  choices=("none", "molteni", "fourtakas", "antuono")),
-        "time_stepping": K("single", "single: every term every step | dual: the viscous and diffusive terms at "
+        "time_stepping": K(_S["time_stepping"], "single: every term every step | dual: the viscous and diffusive terms at "
                            "the advection criterion, held over the acoustic steps inside it (Zhang et al. 2020)",
                            choices=("single", "dual")),
         "shepard_every": K(0, "Shepard density filter every N steps (paper 002 eq. 14); 0 off",
@@ -67,8 +69,6 @@ SHARED = {
     },
 }
 
-# the keys a scheme sets take the default scheme's values
-SHARED["numerics"] = with_defaults(SHARED["numerics"], **SCHEMES[DEFAULT])
 
 # The turbulence closure's keys: only a scene with SPS turbulence (the pipeline) has them, in its
 # SCHEMA's [numerics]; elsewhere they are refused by name.
@@ -110,18 +110,18 @@ def _wall_layers_fill_the_support(cfg, physics, particles):
     particle there sums a truncated kernel (the kernel's rule, not a measured fix: Mao's case at
     1.6 dx gave the same profiles with 3 and 4 layers); repulsive walls (paper 000 eq. 6) are one
     line of particles."""
-    num = cfg["numerics"]
-    need = math.ceil(2.0 * num["h_factor"] - 1e-9)
-    if physics.wall in ("dynamic", "adami") and num["wall_layers"] < need:
-        raise ConfigError("numerics.wall_layers", num["wall_layers"], f"at least {need} with numerics.h_factor = "
-                          f"{num['h_factor']}", f"dynamic wall particles must fill the kernel's support 2 h = "
-                          f"{2.0 * num['h_factor']:g} dx")
+    num = cfg.numerics
+    need = math.ceil(2.0 * num.h_factor - 1e-9)
+    if physics.wall in ("dynamic", "adami") and num.wall_layers < need:
+        raise ConfigError("numerics.wall_layers", num.wall_layers, f"at least {need} with numerics.h_factor = "
+                          f"{num.h_factor}", f"dynamic wall particles must fill the kernel's support 2 h = "
+                          f"{2.0 * num.h_factor:g} dx")
 
 
 def _turbulence_needs_sps(cfg, physics, particles):
     """The SPS's mixing length and the k equation need SPS turbulence on; the k equation needs a
     length, the scene's wall distance or the mixing length."""
-    num = cfg["numerics"]
+    num = cfg.numerics
     lm = num.get("mixing_length", 0.0)
     if lm > 0 and not physics.sps:
         raise ConfigError("numerics.mixing_length", lm, "0 in a case without SPS turbulence (the mixing length "
@@ -138,7 +138,7 @@ def _turbulence_needs_sps(cfg, physics, particles):
 
 def _k_options_need_the_k_equation(cfg, physics, particles):
     """The k equation's own options are off without it."""
-    num = cfg["numerics"]
+    num = cfg.numerics
     for name, off, what in (("length_scale", "prescribed", "omega is the k equation's length"),
                             ("stress_limiter", 0.0, "the limiter caps the k equation's eddy viscosity")):
         if num.get(name, off) != off and physics.turbulence != "k_equation":
@@ -147,7 +147,7 @@ def _k_options_need_the_k_equation(cfg, physics, particles):
 
 
 def _concentration_needs_suspension(cfg, physics, particles):
-    if cfg["output"]["field"] == "concentration" and not physics.suspension:
+    if cfg.output.field == "concentration" and not physics.suspension:
         raise ConfigError("output.field", "concentration", "a field this case has: concentration needs suspended "
                           "sand (sediment.suspended = true, the pipeline over the bed-load bed)")
 

@@ -5,11 +5,9 @@ or be refused with a clear error. Writes OUT/stress.csv and OUT/stress.md with o
 case, outcome, leaks, max density error, wall time.
 """
 import argparse
-import copy
 import os
 import sys
 import time
-import types
 
 import numpy as np
 
@@ -22,20 +20,19 @@ from .scenes import dam_break, tank
 
 
 def _variant(base, name, build):
-    """A scene module with another build(cfg), so a case runs through the ordinary path."""
-    m = types.SimpleNamespace(NAME=name, DEFAULTS=copy.deepcopy(base.DEFAULTS),
-                              RANGES=getattr(base, "RANGES", {}), build=build)
-    return m
+    """A scene with another build(cfg), so a case runs through the ordinary path."""
+    cls = type(type(base).__name__ + "Variant", (type(base),), {"NAME": name, "build": lambda self, cfg: build(cfg)})
+    return cls()
 
 
 def _single_particle(cfg):
     """One water particle dropped 0.2 m onto the floor of a tank."""
-    dx = cfg["numerics"]["dx"]
-    rho0 = cfg["materials"]["water"]["rho0"]
+    dx = cfg.numerics.dx
+    rho0 = cfg.materials.water.rho0
     c0, u = sound_speed(cfg, np.sqrt(2 * 9.81 * 0.3))
     ps = ParticleSet()
     ps.add([[0.25, 0.2]], FLUID, 0, rho0, rho0 * dx * dx)
-    ps.add(box_walls(0.0, 0.0, 0.5, 0.5, dx, cfg["numerics"]["wall_layers"]), WALL, 0, rho0, rho0 * dx * dx)
+    ps.add(box_walls(0.0, 0.0, 0.5, 0.5, dx, cfg.numerics.wall_layers), WALL, 0, rho0, rho0 * dx * dx)
     mats = [dict(name="water", rho0=rho0, viscosity=1e-3, B=tait_B(rho0, c0))]
     return make_case(name="single_particle", particles=ps, materials=mats, domain=((-0.2, -0.2), (0.7, 0.8)),
                 params=common_params(cfg, c0, 9.81, 0.3), physics=physics_from_config(cfg),
@@ -43,7 +40,7 @@ def _single_particle(cfg):
 
 
 def _empty(cfg):
-    case = tank.build(cfg)
+    case = tank.SCENE.build(cfg)
     keep = case.particles.kind != FLUID
     ps = ParticleSet()
     ps.add(case.particles.x[keep], WALL, 0, case.particles.rho[keep], case.particles.m[keep])
@@ -71,9 +68,9 @@ def cases(quick):
         ("long thin column (5 particles wide)", dam_break,
          {"numerics.dx": 0.02, "geometry.column_width": 0.1, "geometry.column_height": 2.0,
           "run.end_time": T(2.0, 0.5)}, "no leak, stays stable", ("ok",)),
-        ("single particle dropped on the floor", _variant(tank, "single_particle", _single_particle),
+        ("single particle dropped on the floor", _variant(tank.SCENE, "single_particle", _single_particle),
          {"run.end_time": T(2.0, 1.0), "numerics.dx": 0.02}, "lands, no leak", ("ok",)),
-        ("empty fluid set", _variant(tank, "empty", _empty), {}, "refused with a clear error", ("refused",)),
+        ("empty fluid set", _variant(tank.SCENE, "empty", _empty), {}, "refused with a clear error", ("refused",)),
         ("water over a sediment layer (1950 kg/m3) at rest, %g s" % T(20.0, 2.0), tank,
          {"geometry.sediment_depth": 0.2, "run.end_time": T(20.0, 2.0)},
          "no leak, interface moves < dx, peak speed < 1 % sqrt(gH)", ("ok",)),

@@ -33,8 +33,8 @@ from .measure.plots import pyplot, save
 CASE_FILE = "sweep_case.json"   # what a case folder was run with: --resume compares it
 
 
-def scene_module(name):
-    """The registered scene NAME (tisph.registry.REGISTRY), or a ConfigError naming the choices."""
+def scene_named(name):
+    """The Scene registered as NAME (tisph.registry.REGISTRY), or a ConfigError naming the choices."""
     try:
         return scenes.load(name)
     except ConfigError as e:
@@ -119,7 +119,7 @@ def run_case(scene_name, config, overrides, arch, threads):
     """One case on a worker: the ordinary scene run. Returns (status, message, summary or None).
     Taichi is initialised once per worker process with `threads` CPU threads."""
     os.environ.setdefault("TISPH_THREADS", str(threads))
-    scene = scene_module(scene_name)
+    scene = scene_named(scene_name)
     ov = dict(overrides)
     ov["run.arch"] = arch
     ov.setdefault("output.quiet", True)
@@ -333,7 +333,7 @@ def main(argv=None):
             raise ConfigError("--threads-per-worker", args.threads_per_worker, "at least 1")
         if args.workers < 0:
             raise ConfigError("--workers", args.workers, "0 (auto) or more")
-        scene = scene_module(args.scene)
+        scene = scene_named(args.scene)
         sets = parse_sets(args.set)
         if args.seeds:
             sets.append(seed_set(scene, args.config, sets, args.seeds))

@@ -1,5 +1,6 @@
 """The compile-time physics switches of a case (config.Physics): which terms the engine compiles
 in, from the config and what the scene uses."""
+from collections.abc import Mapping
 from dataclasses import dataclass, asdict
 
 
@@ -41,11 +42,11 @@ def physics_from_config(cfg: dict, periodic_x=False, noslip=False, materials_use
                         moving_bed=False, suspension=False) -> Physics:
     """The switches of a case. materials_used: names of the materials its particles carry (all
     configured materials if None); rheology is compiled only if one of them is non-Newtonian."""
-    n = cfg["numerics"]
+    n = cfg.numerics
     mats = cfg.get("materials", {})
     used = mats.keys() if materials_used is None else materials_used
     turb = n.get("turbulence", "smagorinsky") if sps else "smagorinsky"
-    rheo = any(isinstance(mats[k], dict) and mats[k].get("rheology", "newtonian") != "newtonian" for k in used)
+    rheo = any(isinstance(mats[k], Mapping) and mats[k].get("rheology", "newtonian") != "newtonian" for k in used)
     return Physics(
         rheology=rheo,
         periodic_x=periodic_x,
@@ -60,15 +61,15 @@ def physics_from_config(cfg: dict, periodic_x=False, noslip=False, materials_use
         dem=dem,
         moving_bed=moving_bed,
         suspension=suspension,
-        kernel=n["kernel"],
-        wall=n["wall"],
-        artificial_viscosity=n["artificial_viscosity"] > 0.0 or n["artificial_viscosity_surface"] > 0.0,
-        laminar_viscosity=bool(n["laminar_viscosity"]) or rheo,
-        xsph=n["xsph"] > 0.0,
-        shifting=n["shifting"] > 0.0,
-        surface_viscosity=n["artificial_viscosity_surface"] > n["artificial_viscosity"],
-        density_diffusion=n["density_diffusion"],
-        shepard=n["shepard_every"] > 0,
-        spray=n["spray_limit"] > 0.0,
+        kernel=n.kernel,
+        wall=n.wall,
+        artificial_viscosity=n.artificial_viscosity > 0.0 or n.artificial_viscosity_surface > 0.0,
+        laminar_viscosity=bool(n.laminar_viscosity) or rheo,
+        xsph=n.xsph > 0.0,
+        shifting=n.shifting > 0.0,
+        surface_viscosity=n.artificial_viscosity_surface > n.artificial_viscosity,
+        density_diffusion=n.density_diffusion,
+        shepard=n.shepard_every > 0,
+        spray=n.spray_limit > 0.0,
         time_stepping=n.get("time_stepping", "single"),
     )

@@ -53,7 +53,7 @@ def scene_picture(attrs):
         with warnings.catch_warnings():   # the run said its warnings; a view only frames its pictures
             warnings.simplefilter("ignore")
             cfg = resolve(scene, None, flatten(tomllib.loads(cfg_text)))
-            return scene.build(cfg).picture, cfg["numerics"]["dx"]
+            return scene.build(cfg).picture, cfg.numerics.dx
     except Exception:      # an old or foreign snapshot: frame the particles instead
         try:
             return None, float(tomllib.loads(cfg_text)["numerics"]["dx"])

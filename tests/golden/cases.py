@@ -77,7 +77,7 @@ def run(case_id, steps=STEPS, arch="cpu", arrays=False):
     from tisph import runtime
     from tisph.runner import Log, Run, build_case, resolve
     _, modname, cfile, ov = next(c for c in CASES if c[0] == case_id)
-    scene = importlib.import_module(modname)
+    scene = importlib.import_module(modname).SCENE
     overrides = dict(FAST, **ov)
     overrides["run.max_steps"] = steps
     # the gather pass, as the records were made: each pair once (run.pair_once) is held to it to

@@ -82,10 +82,10 @@ def analyse(tp, run_dir, cfg, g, info):
     """The held run in run_dir (its config cfg, geometry g): the shear and rates along the bed."""
     t, st, taus = read_station_rows(os.path.join(run_dir, "bed_shear.csv"))
     _, _, beds = read_station_rows(os.path.join(run_dir, "scour_profile.csv"))
-    keep = t >= average_from(cfg["run"]["end_time"])
+    keep = t >= average_from(cfg.run.end_time)
     tau_inf = g.rw * g.ustar ** 2
     x_rel = (st - g.xc) / g.D
-    rate = exner_rate(cfg["sediment"], st, beds[0], taus[keep], g.d50, g.rs, g.rw)
+    rate = exner_rate(cfg.sediment, st, beds[0], taus[keep], g.d50, g.rs, g.rw)
     m_rate, m_under = mao_rate(tp, st - g.xc, g.D)
     under = np.abs(x_rel) < 1.0
     return dict(info, time=tp, x=x_rel, bed=(beds[0] - g.hs) / g.D,

@@ -260,7 +260,7 @@ def main(a):
     plan_cases = cases(quick=a.quick or a.dry_run)
     keys = sorted({k for _, _, ov in plan_cases for k in ov})
     defaults = {"geometry.seed_ripple_length": 0.0, "geometry.seed_ripple_height": 0.0, "run.pair_once": "auto",
-                "geometry.sand_depth": tunnel.DEFAULTS["geometry"]["sand_depth"]}
+                "geometry.sand_depth": tunnel.SCENE.DEFAULTS["geometry"]["sand_depth"]}
     sets = [(k, [ov.get(k, defaults.get(k)) for _, _, ov in plan_cases]) for k in keys]
     argv = ["tunnel", "--zip", "--out", out, "--resume"] + sum(
         [["--set", f"{k}=" + ",".join(repr(v) for v in vals)] for k, vals in sets], [])

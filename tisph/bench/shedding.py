@@ -118,7 +118,7 @@ def run_gap(gap, D, dx, end_time, out, cfg_file):
     t, v = wake_series(run_dir, g.xc, g.yc, g.D, t_from)
     shutil.rmtree(os.path.join(run_dir, "snapshots"), ignore_errors=True)
     std, freq, share, best, sheds = judge(t, v, g)
-    return dict(gap_over_D=gap, dx=cfg["numerics"]["dx"], particles=s["particles"], steps=s["steps"],
+    return dict(gap_over_D=gap, dx=cfg.numerics.dx, particles=s["particles"], steps=s["steps"],
                 sim_time=s["sim_time"], wall_time_s=round(wall, 1), t_from=t_from, samples=len(t),
                 v_std_min=float(np.nanmin(std)), v_std_max=float(np.nanmax(std)),
                 peak_hz=float(freq[best]), strouhal=float(freq[best] * g.D / g.U),
@@ -161,20 +161,20 @@ def live_bed(a, cfg_file):
         ov["run.end_time"] = a.end_time
     run_dir = os.path.join(a.out, "runs", "shedding_live_bed")
     cfg, s, wall, g = run_pipeline(cfg_file, ov, a.dx, run_dir)
-    rows = wake_windows(run_dir, g, cfg["sediment"]["morph_start"])
+    rows = wake_windows(run_dir, g, cfg.sediment.morph_start)
     shutil.rmtree(os.path.join(run_dir, "snapshots"), ignore_errors=True)
     m = s["metrics"]
     cols = tuple(rows[0].keys())
     write_csv(os.path.join(a.out, "shedding.csv"), cols, [tuple(r[c] for c in cols) for r in rows])
-    nm = cfg["numerics"]
+    nm = cfg.numerics
     def f(key):
         x = m.get(key)
         return "-" if x is None or not np.isfinite(x) else f"{x:.3f}"
     errs = (f"Largest S/D error to 15 s on Mao's clock {f('mao_depth_max_error_15s')}, profiles at 11 / 18 / 25 s "
             + " / ".join(f(f"scour_profile_error_{k}s") for k in (11, 18, 25)) + " D RMS")
     md = ["# The wake over a scouring bed", "",
-          f"{time.strftime('%Y-%m-%d %H:%M')}; `{os.path.relpath(cfg_file)}` as written (scheme {nm['scheme']}, "
-          f"h = {nm['h_factor']:g} dx, turbulence {nm['turbulence']}), dx = {nm['dx']:g}: {s['particles']} particles, "
+          f"{time.strftime('%Y-%m-%d %H:%M')}; `{os.path.relpath(cfg_file)}` as written (scheme {nm.scheme}, "
+          f"h = {nm.h_factor:g} dx, turbulence {nm.turbulence}), dx = {nm.dx:g}: {s['particles']} particles, "
           f"{s['steps']} steps, {wall:.0f} s. The wake's vertical velocity {', '.join(f'{p:g}' for p in POINTS)} D "
           f"behind the pipe every {SAMPLE:g} s, its spectrum over each {WINDOW:g} s of flow; sheds as in the "
           f"fixed-bed table. {errs}.", "",

@@ -76,7 +76,7 @@ try:
 except ImportError:
     from tisph.engine.solver import Solver
 arch = runtime.init(sys.argv[4] if len(sys.argv) > 4 else "cpu", "f32")
-scene = importlib.import_module("tisph.scenes." + sys.argv[1])
+scene = importlib.import_module("tisph.scenes." + sys.argv[1]).SCENE
 ov = json.loads(sys.argv[2]); ov["output.quiet"] = True
 steps = int(sys.argv[3])
 cfg = resolve(scene, config=ov.pop("--config", None), overrides=ov)
@@ -106,7 +106,7 @@ try:
     from tisph.runner import simulate
 except ImportError:
     from tisph.run.entry import simulate
-scene = importlib.import_module("tisph.scenes." + sys.argv[1])
+scene = importlib.import_module("tisph.scenes." + sys.argv[1]).SCENE
 ov = json.loads(sys.argv[2])
 ov.update({"output.quiet": True, "output.render": False, "output.snapshot_every": 0.0})
 try:   # each pair once as the scene's whole run would take it (run.pair_once = auto), where known
@@ -169,7 +169,7 @@ def dx_for(scene_name, n):
     two corrections from the particles built, nothing compiled)."""
     import importlib
     from ..runner import Log, build_case, resolve
-    scene = importlib.import_module("tisph.scenes." + scene_name)
+    scene = importlib.import_module("tisph.scenes." + scene_name).SCENE
     dx = resolve(scene, overrides={"output.quiet": True})["numerics"]["dx"]
     for _ in range(2):
         cfg = resolve(scene, overrides={"output.quiet": True, "numerics.dx": dx})

@@ -93,13 +93,13 @@ def measure(case_id, steps=STEPS, arch="cpu"):
     from ..runner import Log, Run, build_case, resolve
     from tests.golden.cases import CASES as GOLDEN, FAST, ROOT
     _, modname, cfile, ov = next(c for c in GOLDEN if c[0] == case_id)
-    scene = importlib.import_module(modname)
+    scene = importlib.import_module(modname).SCENE
     counter = Counter()
     rows = []
     with tempfile.TemporaryDirectory() as out, counter.install():
         overrides = dict(FAST, **ov, **{"run.max_steps": steps, "output.dir": out, "output.probe_interval": 0.01})
         cfg = resolve(scene, os.path.join(ROOT, cfile) if cfile else None, overrides)
-        runtime.init(arch, cfg["run"]["precision"])
+        runtime.init(arch, cfg.run.precision)
         log = Log(os.path.join(out, "run.log"), True)
         case = build_case(scene, cfg, log)
         case.params["paddle_series"] = True   # as a GPU runs it (on the CPU the host gives the paddle,

@@ -48,13 +48,13 @@ MATCHED = dict(label="DualSPHysics, our settings", coefh=2.5 / math.sqrt(2.0), v
 def flume_setup(dx):
     """The default flume's depth, length, wall height, absorber, paddle and gauges at dx."""
     cfg = resolve(flume, overrides={"numerics.dx": dx})
-    geo, p = cfg["geometry"], cfg["paddle"]
-    d = geo["depth"]
+    geo, p = cfg.geometry, cfg.paddle
+    d = geo.depth
     omega, k, wavelength, cg, ratio = linear_wave(cfg, d)
-    return dict(depth=d, length=geo["length"], wall_height=geo["wall_height"], damping=geo["damping_length"],
-                period=p["period"], ramp=p["ramp_periods"], height=ratio * p["stroke"],
+    return dict(depth=d, length=geo.length, wall_height=geo.wall_height, damping=geo.damping_length,
+                period=p.period, ramp=p.ramp_periods, height=ratio * p.stroke,
                 gauges=flume.gauge_positions(geo, wavelength), wavelength=wavelength, cg=cg, paddle=p,
-                numerics=cfg["numerics"])
+                numerics=cfg.numerics)
 
 
 def flume_xml(dp, tmax, f, s):

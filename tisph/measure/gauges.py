@@ -11,9 +11,8 @@ discharge  V_<label>: the water beyond the vertical section at x (m3 per m); its
 front      front_<label>: the leading water along a floor at z (the largest x of the water within two
            spacings above it, plus half a spacing: the dam break's surge front)
 
-A new type is one subclass here (type, needs, prefixes, read or read_all, metrics, panel) and
-its entry in GAUGE_TYPES; the case file's [[gauge]] keys it needs are checked in
-tisph/scenes/custom/elements.py.
+A new type is one subclass here (type, needs, prefixes, read or read_all, metrics, panel) in
+GAUGE_TYPES; the [[gauge]] keys it needs are checked in tisph/scenes/custom/elements.py.
 """
 from __future__ import annotations
 
@@ -27,8 +26,8 @@ import numpy as np
 from ..particles import FLUID, SPRAY
 from .harmonics import harmonic_amplitudes
 from .field import lattice_offset, particle_surface, shepard_at, surface_heights
-from .plots import pyplot, save
-from .records import arrival_time, crossing_period_and_level, free_oscillation, height_at, wave_height
+from .plots import gauge_panels
+from .records import arrival_time, crossing_period_and_level, free_oscillation, height_at, low_pass, wave_height
 
 # a point reads the water only where the water fraction sum V W is at least this (DualSPHysics'
 # MeasureTool's KClimit): elsewhere it is dry (NaN; nothing in a force)
@@ -45,6 +44,11 @@ class Gauge:
     needs = {}
     prefixes = ()
     panel = None
+    cutoff = None        # a load gauge's low-pass (Hz): GaugeSet sets it from the case's sound speed
+
+    def filtered(self, c: dict):
+        """Its first column low-passed at cutoff (a load gauge's), or None."""
+        return None
 
     @classmethod
     def from_spec(cls, q: dict, dx: float, h: float, side) -> Gauge:
@@ -103,6 +107,7 @@ class SurfaceGauge(Gauge):
     needs = {"x": "a number (m): a surface gauge's position"}
     prefixes = ("eta",)
     panel = ("surface (m)", 1.0)
+    irregular = False        # an irregular sea (a case's paddle.spectrum): its spectrum's metrics instead
 
     def __init__(self, label, x, from_time=0.0, floor=-1e9, mat=None, level=0.0, column=None, still_start=False):
         super().__init__(label, from_time)
@@ -137,6 +142,8 @@ class SurfaceGauge(Gauge):
         wet = e[w][np.isfinite(e[w])]             # a dry gauge's readings are NaN
         out = {f"{self.label}_eta_max": float(wet.max()) if wet.size else float("nan"),
                f"{self.label}_eta_min": float(wet.min()) if wet.size else float("nan")}
+        if self.irregular:       # its spectrum's Hm0 and Tp instead (CaseGauges.spectra)
+            return out
         if period:
             H, n = wave_height(t, e, self.from_time, float(t[-1]), period)
             out[f"{self.label}_wave_height"] = H if n else float("nan")
@@ -190,7 +197,36 @@ def _peaks(label, col, t, w):
     return {f"{label}_max": float(col[k]), f"{label}_time_of_max": float(t[w][k]), f"{label}_mean": float(np.nanmean(col))}
 
 
-class PressureGauge(_PointGauge):
+def _load_metrics(g, col, t, w, period):
+    """A load's peaks, with a wave maker its harmonics; with a cutoff, the extremes of the record
+    low-passed there (records.low_pass: WCSPH's water rings at its acoustic modes, which a raw peak
+    carries) 1/cutoff from its ends, where a zero-phase filter is less sure. Raw peaks stay."""
+    label = g.label
+    out = _peaks(label, col, t, w)
+    if period:
+        out.update(harmonic_amplitudes(label, t, col, period, g.from_time))
+    if g.cutoff:
+        tw, y = t[w], low_pass(t[w], np.asarray(col)[w], g.cutoff)
+        inner = (tw - tw[0] > 1.0 / g.cutoff) & (tw[-1] - tw > 1.0 / g.cutoff) & (y is not None)
+        k = int(np.argmax(np.where(inner, y, -np.inf))) if inner.any() else None
+        out.update({f"{label}_filtered_max": None if k is None else float(y[k]),
+                    f"{label}_filtered_time_of_max": None if k is None else float(tw[k]),
+                    f"{label}_filtered_min": None if k is None else float(y[inner].min()),
+                    f"{label}_filter_hz": float(g.cutoff)})
+    return out
+
+
+class _LoadGauge(Gauge):
+    """A pressure or a force: its record low-passed for gauges.png and the filtered extremes."""
+
+    def filtered(self, c):
+        return low_pass(c["t"], c[self.columns[0]], self.cutoff) if self.cutoff else None
+
+    def metrics(self, c, t, w, period):
+        return _load_metrics(self, c[self.columns[0]], t, w, period)
+
+
+class PressureGauge(_PointGauge, _LoadGauge):
     type = "pressure"
     needs = {"x": "a number (m): a pressure gauge's position", "z": "a number (m): a pressure gauge's height"}
     prefixes = ("p",)
@@ -201,19 +237,8 @@ class PressureGauge(_PointGauge):
     def values(p):
         return [float(p)]
 
-    def metrics(self, c, t, w, period):
-        return _load_metrics(self.label, c[self.columns[0]], t, w, period, self.from_time)
 
-
-def _load_metrics(label, col, t, w, period, t0):
-    """A pressure's or a force's peaks, and with a wave maker its harmonics beside them."""
-    out = _peaks(label, col, t, w)
-    if period:
-        out.update(harmonic_amplitudes(label, t, col, period, t0))
-    return out
-
-
-class ForceGauge(Gauge):
+class ForceGauge(_LoadGauge):
     """The pressure integrated along a wall face: points a spacing apart, read half a smoothing
     length into the water (towards `side`, unit vectors), where the kernel is not cut by the wall."""
     type = "force"
@@ -237,9 +262,6 @@ class ForceGauge(Gauge):
     def read(self, st, site):
         p = shepard_at(st, self.points, site.h, "p", None, WET)
         return [float(np.nansum(p) * self.ds)]
-
-    def metrics(self, c, t, w, period):
-        return _load_metrics(self.label, c[self.columns[0]], t, w, period, self.from_time)
 
 
 class DischargeGauge(Gauge):
@@ -291,10 +313,13 @@ GAUGE_TYPES = {cls.type: cls for cls in (SurfaceGauge, VelocityGauge, PressureGa
 
 class GaugeSet:
     """A case's gauges: their columns in order, one read a probe (each type in one batch), their
-    metrics, and gauges.png (a panel a gauge)."""
+    metrics, and gauges.png (a panel a gauge); cutoff: the load gauges' low-pass (Hz) or None."""
 
-    def __init__(self, gauges: Iterable[Gauge], dx: float, h: float) -> None:
+    def __init__(self, gauges: Iterable[Gauge], dx: float, h: float, cutoff: float | None = None) -> None:
         self.gauges, self.site = list(gauges), Site(dx, h)
+        for g in self.gauges:
+            if isinstance(g, _LoadGauge):
+                g.cutoff = cutoff
         self.columns = tuple(c for g in self.gauges for c in g.columns)
         self.seen = None
         self.last_metrics = {}
@@ -324,34 +349,11 @@ class GaugeSet:
     def plot(self, path: str, title: str = "") -> None:
         """gauges.png: one panel a gauge (five surface gauges in one panel hid each other), the
         gauges of a type on one vertical scale so their records compare at a glance; the panel
-        names the gauge, where it stands and, for a surface gauge, its wave height and harmonics."""
-        c = self.seen
+        names the gauge, where it stands and, for a surface gauge, its wave height and harmonics;
+        a load gauge's low-passed record over its raw one."""
         shown = [g for cls, mine in self.by_type() for g in mine]
-        if not shown or c is None or len(c["t"]) < 2:
-            return
-        plt = pyplot()
-        fig, axes = plt.subplots(len(shown), 1, figsize=(7.5, 1.15 * len(shown) + 0.8), sharex=True, squeeze=False)
-        t = np.asarray(c["t"])
-        rec = [g.panel[1] * np.asarray(c[g.columns[0]], float) for g in shown]   # in the panel's unit
-        span = {}
-        for g, v in zip(shown, rec):   # one range a type
-            v = v[np.isfinite(v)]
-            if v.size:
-                lo, hi = span.get(type(g), (np.inf, -np.inf))
-                span[type(g)] = (min(lo, v.min()), max(hi, v.max()))
-        for ax, g, v in zip(axes[:, 0], shown, rec):
-            ax.plot(t, v, lw=0.8, color="C0")
-            lo, hi = span.get(type(g), (-1.0, 1.0))
-            pad = 0.08 * max(hi - lo, 1e-12)
-            ax.set_ylim(lo - pad, hi + pad)
-            ax.set_ylabel(g.panel[0], fontsize=7)
-            ax.tick_params(labelsize=7)
-            ax.text(0.005, 0.95, g.describe(self.last_metrics), transform=ax.transAxes, fontsize=7, va="top",
-                    bbox=dict(facecolor="white", edgecolor="none", alpha=0.8, pad=1.5))
-        axes[-1, 0].set_xlabel("t (s)", fontsize=8)
-        if title:
-            fig.suptitle(title, fontsize=9)
-        save(fig, path)
+        if shown and self.seen is not None and len(self.seen["t"]) >= 2:
+            gauge_panels(shown, self.seen, self.last_metrics, path, title)
 
 
 class WaveGauges(GaugeSet):
@@ -373,8 +375,7 @@ class WaveGauges(GaugeSet):
                           for x, col in zip(self.xs, cols)], dx, h)
 
     @property
-    def zero(self):
-        """Each gauge's first reading (the lattice's offset under the still-water level)."""
+    def zero(self):     # each gauge's first reading (the lattice's offset under the still water)
         return [g.zero for g in self.gauges if g.zero is not None]
 
     def metrics(self, c, p, cg):

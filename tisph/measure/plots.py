@@ -18,3 +18,36 @@ def save(fig, path, dpi=110, tight=True):
     with atomic_path(path) as tmp:
         fig.savefig(tmp, dpi=dpi, format="png", bbox_inches="tight", pad_inches=0.08)   # titles never clipped
     plt.close(fig)
+
+
+def gauge_panels(shown, c, metrics, path, title=""):
+    """gauges.png: a panel each gauge of `shown` (tisph.measure.gauges.GaugeSet.plot), the gauges
+    of a type on one vertical scale; a load gauge's low-passed record over its raw one."""
+    import numpy as np
+    plt = pyplot()
+    fig, axes = plt.subplots(len(shown), 1, figsize=(7.5, 1.15 * len(shown) + 0.8), sharex=True, squeeze=False)
+    t = np.asarray(c["t"])
+    rec = [g.panel[1] * np.asarray(c[g.columns[0]], float) for g in shown]   # in the panel's unit
+    span = {}
+    for g, v in zip(shown, rec):   # one range a type
+        v = v[np.isfinite(v)]
+        if v.size:
+            lo, hi = span.get(type(g), (np.inf, -np.inf))
+            span[type(g)] = (min(lo, v.min()), max(hi, v.max()))
+    for ax, g, v in zip(axes[:, 0], shown, rec):
+        ax.plot(t, v, lw=0.8, color="C0")
+        y = g.filtered(c)
+        if y is not None:
+            ax.plot(t, g.panel[1] * y, lw=0.9, color="C3", label=f"low-passed at {g.cutoff:.3g} Hz")
+            ax.legend(loc="upper right", fontsize=6, frameon=False)
+        lo, hi = span.get(type(g), (-1.0, 1.0))
+        pad = 0.08 * max(hi - lo, 1e-12)
+        ax.set_ylim(lo - pad, hi + pad)
+        ax.set_ylabel(g.panel[0], fontsize=7)
+        ax.tick_params(labelsize=7)
+        ax.text(0.005, 0.95, g.describe(metrics), transform=ax.transAxes, fontsize=7, va="top",
+                bbox=dict(facecolor="white", edgecolor="none", alpha=0.8, pad=1.5))
+    axes[-1, 0].set_xlabel("t (s)", fontsize=8)
+    if title:
+        fig.suptitle(title, fontsize=9)
+    save(fig, path)

@@ -9,6 +9,7 @@ import json
 import math
 import os
 
+from .start import simulate
 from ..config import ConfigError
 from ..io import ensure_dir, write_csv, write_json, write_text
 from ..measure.convergence import verdict
@@ -27,8 +28,7 @@ def scalars(metrics):
 def study(scene, config, overrides, cfg, summary, out, log=print):
     """Run the two coarser rungs, judge each metric, write the table, the figure and summary.json's
     `convergence`; returns that entry."""
-    from .entry import simulate
-    dx = cfg["numerics"]["dx"]
+    dx = cfg.numerics.dx
     rungs = [dx, dx * RATIO, dx * RATIO * RATIO]
     sums, refused = [summary], ""
     for d in rungs[1:]:

@@ -7,6 +7,7 @@ Writes seeds/ensemble.md, ensemble.csv and ensemble.png in the run's folder (eac
 own run under seeds/seed<N>/), and `ensemble` in summary.json."""
 import os
 
+from .start import simulate
 from ..config import ConfigError
 from ..io import ensure_dir, write_csv, write_text
 from ..measure.ensemble import ensemble_metrics
@@ -33,14 +34,13 @@ def random_bed(cfg):
 
 
 def seeds_of(cfg, n):
-    s0 = int(cfg["sediment"]["seed"])
+    s0 = int(cfg.sediment.seed)
     return [s0 + k for k in range(n)]
 
 
 def study(scene, config, overrides, cfg, summary, out, n, log=print):
     """Run the further seeds, write the table, the figure and summary.json's `ensemble`; returns
     that entry. A seed that ends unstable is listed with its status and left out of the statistics."""
-    from .entry import simulate
     seeds = seeds_of(cfg, n)
     runs = [(seeds[0], summary, out)]
     for s in seeds[1:]:

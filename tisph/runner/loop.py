@@ -27,8 +27,8 @@ DEFAULT_SNAPSHOTS = 50
 def default_snapshot_interval(cfg):
     """output.snapshot_every = -1: about DEFAULT_SNAPSHOTS over the run, on the frame times (a whole
     number of frame intervals)."""
-    f = cfg["output"]["frame_interval"]
-    return f * max(1, math.ceil(cfg["run"]["end_time"] / DEFAULT_SNAPSHOTS / f - 1e-9))
+    f = cfg.output.frame_interval
+    return f * max(1, math.ceil(cfg.run.end_time / DEFAULT_SNAPSHOTS / f - 1e-9))
 
 
 class Run(Outputs):
@@ -37,14 +37,17 @@ class Run(Outputs):
     def __init__(self, case: Case, cfg: dict, out: str, log: Log, scene_name: str,
                  restart=None, force=False):
         self.case, self.cfg, self.out, self.log, self.name = case, cfg, out, log, scene_name
+        # frames, the movie and the window say the case file's name (my_bar.mp4), else the scene's
+        case_file = getattr(cfg, "case_file", "")
+        self.title = os.path.splitext(os.path.basename(case_file))[0] if case_file else scene_name
         self.restart, self.force = restart, force
-        o = cfg["output"]
-        self.render = o["render"]
-        self.frame_dt = o["frame_interval"]
-        self.probe_dt = o["probe_interval"]
-        se = o["snapshot_every"]
+        o = cfg.output
+        self.render = o.render
+        self.frame_dt = o.frame_interval
+        self.probe_dt = o.probe_interval
+        se = o.snapshot_every
         self.snap_dt = default_snapshot_interval(cfg) if se < 0 else se
-        self.ckpt_dt = o["checkpoint_every"]
+        self.ckpt_dt = o.checkpoint_every
         self.probes, self.snapshots = [], []
         self.frame_no = 0
         self._xdmf_at = 0.0
@@ -64,7 +67,7 @@ class Run(Outputs):
     def disk_estimate(self):
         """Bytes the run's snapshots, frames (with the movie) and checkpoints will take, from the
         first of each written (at t = 0) and how many the run will write; printed at the start."""
-        t_end = self.cfg["run"]["end_time"]
+        t_end = self.cfg.run.end_time
 
         def first(folder, ext):
             d = os.path.join(self.out, folder)
@@ -115,13 +118,13 @@ class Run(Outputs):
         self.renderer = self.movie = self.live = None
         if not self.render:
             return
-        if self.cfg["output"]["live"]:
-            self.live = LiveWindow(f"tisph: {self.name}")
-        outc, pic = self.cfg["output"], self.case.picture
+        if self.cfg.output.live:
+            self.live = LiveWindow(f"tisph: {self.title}")
+        outc, pic = self.cfg.output, self.case.picture
         ensure_dir(os.path.join(self.out, "frames"))
         speed = outc["speed_scale"] if outc["speed_scale"] > 0 else (pic.speed_scale or pic.u_max)
-        self.renderer = make_renderer(pic, outc, self.solver.dx, self.name, speed)
-        self.movie = MovieWriter(os.path.join(self.out, f"{self.name}.mp4"), outc["fps"])
+        self.renderer = make_renderer(pic, outc, self.solver.dx, self.title, speed)
+        self.movie = MovieWriter(os.path.join(self.out, f"{self.title}.mp4"), outc["fps"])
         if self.restart:  # the movie is rebuilt from the frames already on disk
             import imageio.v2 as imageio
             for k in range(self.frame_no):
@@ -130,13 +133,13 @@ class Run(Outputs):
                     self.movie.append(imageio.imread(f))
 
     def _progress_bar(self):
-        if self.cfg["output"]["quiet"]:
+        if self.cfg.output.quiet:
             return None
         try:
             from tqdm import tqdm
         except ImportError:
             return None
-        return tqdm(total=self.cfg["run"]["end_time"], unit="sim s", disable=None, file=sys.stderr,
+        return tqdm(total=self.cfg.run.end_time, unit="sim s", disable=None, file=sys.stderr,
                     bar_format="{l_bar}{bar}| {n:.3f}/{total:.3f} s [{elapsed}<{remaining}{postfix}]")
 
     def _catch_signals(self):
@@ -189,7 +192,7 @@ class Run(Outputs):
             for sig, h in old.items():
                 _signal.signal(sig, h)
             if bar is not None:
-                bar.n = min(self.solver.time, self.cfg["run"]["end_time"])
+                bar.n = min(self.solver.time, self.cfg.run.end_time)
                 bar.close()
             if self.movie is not None:
                 self.movie.close()
@@ -208,10 +211,10 @@ class Run(Outputs):
 
     def _loop(self, bar):
         s, obs = self.solver, self.case.observers
-        t_end, max_steps = self.cfg["run"]["end_time"], self.cfg["run"]["max_steps"]
+        t_end, max_steps = self.cfg.run.end_time, self.cfg.run.max_steps
         last_bar = time.perf_counter()
         # off a terminal (a log being tailed, a batch job) a progress line every 5 % instead of the bar
-        report = not self.cfg["output"]["quiet"] and (bar is None or bar.disable)
+        report = not self.cfg.output.quiet and (bar is None or bar.disable)
         def next_pct():
             return (math.floor(20.0 * s.time / t_end + 1e-9) + 1) * t_end / 20.0
         t_report = next_pct()

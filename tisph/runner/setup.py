@@ -1,13 +1,14 @@
 """Run set-up: sound speed and common parameters, the log, building a case, the instability
 message, and what a restart may change."""
-import copy
 import sys
+from collections.abc import Mapping
 import warnings
 
 import numpy as np
 
 from ..hooks.errors import SimulationError, unstable  # noqa: F401  (the runner's: re-exported)
 from ..io import OutputError, write_text
+from ..resolved import thaw
 from ..particles import KIND_NAMES, RUN_BYTES_PER_PARTICLE, check_fits
 
 
@@ -18,20 +19,20 @@ def sound_speed(cfg, u_max, depth=0.0, g=9.81):
     flow under deep water is compressed g depth / c0^2 by its own weight alone (measured in the
     tunnel, 0.15 m of water at c0 = 7.1 m/s: largest density error 7.9 %; at 12.1 m/s, 2.9 %, and
     2.1 % once its water no longer starts with a gap over the bed: tisph/sediment/initial.py)."""
-    n = cfg["numerics"]
-    if n["u_max"] > 0:
-        u_max = n["u_max"]
-    c0 = n["c0"] if n["c0"] > 0 else n["c0_factor"] * max(u_max, (g * depth) ** 0.5)
+    n = cfg.numerics
+    if n.u_max > 0:
+        u_max = n.u_max
+    c0 = n.c0 if n.c0 > 0 else n.c0_factor * max(u_max, (g * depth) ** 0.5)
     return c0, u_max
 
 
 def common_params(cfg, c0, g=9.81, depth=1.0):
     """The numeric parameters every scene passes to the solver."""
-    n = cfg["numerics"]
-    dx = n["dx"]
-    wall_D = n["wall_strength"] if n["wall_strength"] > 0 else 5.0 * g * depth
-    return dict(dx=dx, h=n["h_factor"] * dx, c0=c0, g=(0.0, -g), wall_D=wall_D, wall_r0=dx,
-                shepard_every=n["shepard_every"], **keyed_params(cfg))
+    n = cfg.numerics
+    dx = n.dx
+    wall_D = n.wall_strength if n.wall_strength > 0 else 5.0 * g * depth
+    return dict(dx=dx, h=n.h_factor * dx, c0=c0, g=(0.0, -g), wall_D=wall_D, wall_r0=dx,
+                shepard_every=n.shepard_every, **keyed_params(cfg))
 
 
 def keyed_params(cfg):
@@ -44,7 +45,7 @@ def keyed_params(cfg):
         for name, p in decl.items():
             if p.key:
                 sec, key = p.key.split(".")
-                out[PARAM_ALIASES.get(name, name)] = cfg[sec].get(key, p.default)   # a scene without the key
+                out[PARAM_ALIASES.get(name, name)] = getattr(cfg, sec).get(key, p.default)   # a scene without the key
     return out
 
 
@@ -74,18 +75,19 @@ def pair_once_wanted(cfg, n, h, c0):
     """run.pair_once: on, off, or auto: on when the run's particle-steps to its end time,
     estimated from its acoustic step cfl h / c0, reach PAIR_ONCE_MIN. Not from run.max_steps:
     a segment stopped by it and the run restarted from its checkpoint must choose alike."""
-    mode = cfg["run"]["pair_once"]
+    mode = cfg.run.pair_once
     if mode != "auto":
         return mode == "on"
-    steps = cfg["run"]["end_time"] / (cfg["numerics"]["cfl"] * h / c0)
+    steps = cfg.run.end_time / (cfg.numerics.cfl * h / c0)
     return n * steps >= PAIR_ONCE_MIN
 
 
 def build_case(scene, cfg, log):
     """scene.build(cfg), with its warnings and the sound-speed check logged."""
+    from ..case import as_scene
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        case = scene.build(cfg)
+        case = as_scene(scene).build(cfg)
         c0 = case.params["c0"]
         case.params["pair_once"] = pair_once_wanted(cfg, len(case.particles), case.params["h"], c0)
         if c0 < 10.0 * case.u_max * (1 - 1e-9):
@@ -106,7 +108,7 @@ PARTICLE_STEPS_PER_S = 2.8e6
 def check_size(case, cfg):
     """Refuse a case that cannot fit in memory; warn when one will take very long."""
     n = len(case.particles)
-    dx = cfg["numerics"]["dx"]
+    dx = cfg.numerics.dx
     check_fits(n, RUN_BYTES_PER_PARTICLE, dx, "this case")
     p = case.params
     from ..engine.state import CORE_PARAMS
@@ -138,7 +140,7 @@ RESTART_FREE = ("run.end_time", "run.max_steps", "run.arch", "output")
 
 def run_settings(cfg):
     """The config less what a restart may change (RESTART_FREE): what must match to continue."""
-    c = copy.deepcopy(cfg)
+    c = thaw(cfg)
     for k in RESTART_FREE:
         parts = k.split(".")
         d = c
@@ -153,7 +155,7 @@ def config_changes(a, b, prefix=""):
     out = []
     for k in sorted(set(a) | set(b)):
         va, vb = a.get(k), b.get(k)
-        if isinstance(va, dict) and isinstance(vb, dict):
+        if isinstance(va, Mapping) and isinstance(vb, Mapping):
             out += config_changes(va, vb, f"{prefix}{k}.")
         elif va != vb:
             out.append(f"{prefix}{k}: {va!r} -> {vb!r}")

@@ -76,14 +76,14 @@ def summarize(run, status, message, wall, step_s, nsteps, compile_s, segment=Non
     if mass["spray_particles"]:
         density_notes.append(f"{mass['spray_particles']} particles ({mass['spray_mass'] / mass['initial_fluid_mass']:.2%} "
                              "of the water) left the density band as spray and were removed "
-                             f"(numerics.spray_limit = {cfg['numerics']['spray_limit']:g})")
+                             f"(numerics.spray_limit = {cfg.numerics.spray_limit:g})")
     crossed = crossed_wall(s, final)
     nb = int(np.sum(case.particles.kind != FLUID))
     seg_step = segment[1] if segment else step_s
     pps = (s.n * nsteps / seg_step) if seg_step > 0 else 0.0
     summary = dict(
         scene=run.name, status=status, message=message, tisph_version=__version__,
-        dx=float(cfg["numerics"]["dx"]), particles=int(s.n),
+        dx=float(cfg.numerics.dx), particles=int(s.n),
         fluid_particles=int(case.particles.count(FLUID)), boundary_particles=nb,
         steps=int(s.steps), sim_time=float(s.time), wall_time_s=wall, step_time_s=step_s,
         compile_time_s=compile_s, particle_steps_per_s=pps,
@@ -118,7 +118,7 @@ def summarize(run, status, message, wall, step_s, nsteps, compile_s, segment=Non
 def physics_notes(cfg, physics):
     """Why a compiled switch differs from what the config says."""
     notes = []
-    if physics.laminar_viscosity and not cfg["numerics"]["laminar_viscosity"] and physics.rheology:
+    if physics.laminar_viscosity and not cfg.numerics.laminar_viscosity and physics.rheology:
         notes.append("laminar_viscosity is on although numerics.laminar_viscosity = false: a non-Newtonian "
                      "material's stress is its rheology's viscosity, which the laminar term applies")
     return notes

@@ -21,16 +21,18 @@ free surface alone; a Wendland kernel with h = 2.5 dx, whose wider support carri
 less loss.
 """
 import math
+from functools import partial
 import os
 import sys
 
 import numpy as np
 
+from ..case import Scene, resolves
 from ..config import ConfigError, physics_from_config
-from ..schema import NON_NEGATIVE, POSITIVE, choices, K, ranges, values
+from ..schema import NON_NEGATIVE, POSITIVE, K
 from ..particles import ParticleSet, block, hydrostatic_density, tait_B, wall_density, FLUID, WALL, MOVING
 from ..case import make_case
-from ..runner import common_params, run_scene, sound_speed
+from ..runner import common_params, sound_speed, run_scene
 from ..constants import G
 from ..plausible import warn_waves, warn_window
 from ..measure import records, harmonics
@@ -38,190 +40,11 @@ from ..measure.gauges import WaveGauges
 from ..waves import theory
 from ..waves.absorb import with_control
 from ..waves.irregular import IRREGULAR, spectrum
-from ..waves.paddle import PADDLE, check_paddle, paddle, resolve_paddle
+from ..waves.paddle import PADDLE, check_paddle, paddle, stroke_step
 from ..waves.theory import linear_wave
 from ..measure.plots import pyplot, save
 from ..io import write_csv
 from ..schemes import numerics
-
-NAME = "flume"
-
-
-SCHEMA = {
-    "run": {"end_time": K(16.0, "long enough for the wave reflected from the far end to be back over the "
-                            "array (reflection)", "s")},
-    "numerics": numerics("default", dx=0.0125),
-    "geometry": {
-        "length": K(4.5, "paddle (x = 0) to the end wall", "m", range=POSITIVE),
-        "depth": K(0.25, "still water", "m", range=POSITIVE),
-        "wall_height": K(0.45, "the walls' height", "m", range=POSITIVE),
-        "damping_length": K(1.2, "absorbing zone at the far end (m); 0: none", range=NON_NEGATIVE),
-        "damping_rate": K(10.0, "the absorbing zone's strongest velocity relaxation rate", "1/s", range=NON_NEGATIVE),
-        "gauges_x": K([], "gauge positions (m from the paddle's mean position)"),
-        "gauges_wavelengths": K([1.0, 2.0, 3.0], "gauge positions in wavelengths from the paddle, when gauges_x is empty"),
-        "array_gauges": K(6, "gauges of the reflection and second-harmonic array", range=(0, 12, True, True)),
-    },
-    "paddle": dict(PADDLE, **IRREGULAR),
-    "materials": {"water": {"rho0": 1000.0, "viscosity": 1.0e-3}},
-    "output": {"frame_interval": 0.04, "probe_interval": 0.01},
-}
-DEFAULTS = values(SCHEMA)
-RANGES = ranges(SCHEMA)
-CHOICES = choices(SCHEMA)
-
-
-def check(cfg):
-    g, dx = cfg["geometry"], cfg["numerics"]["dx"]
-    if g["depth"] / dx < 8:
-        raise ConfigError("numerics.dx", dx, f"at most {g['depth'] / 8:.4g} m (8 particles across the depth)")
-    if g["depth"] >= g["wall_height"]:
-        raise ConfigError("geometry.depth", g["depth"], f"below geometry.wall_height = {g['wall_height']}")
-    if g["damping_length"] >= 0.8 * g["length"]:
-        raise ConfigError("geometry.damping_length", g["damping_length"], f"under 80 % of the flume length ({0.8 * g['length']:g} m)")
-    for key, unit in (("gauges_x", "m"), ("gauges_wavelengths", "wavelengths")):
-        if not isinstance(g[key], list) or any(not isinstance(v, (int, float)) or v <= 0 for v in g[key]):
-            raise ConfigError(f"geometry.{key}", g[key], f"a list of positive numbers ({unit} from the paddle)")
-    if 0 < g["array_gauges"] < 3:
-        raise ConfigError("geometry.array_gauges", g["array_gauges"], "0 (no array) or 3 to 12 (two waves "
-                          "are fitted at each frequency)")
-    resolve_paddle(cfg, check_paddle(cfg, g["depth"], g["length"], default_stroke=DEFAULTS["paddle"]["stroke"]))
-
-
-def build(cfg):
-    geo, num, p = cfg["geometry"], cfg["numerics"], cfg["paddle"]
-    dx, Lf, d, Hw = num["dx"], geo["length"], geo["depth"], geo["wall_height"]
-    rho0 = cfg["materials"]["water"]["rho0"]
-    omega, k, wavelength, cg, hs_ratio = linear_wave(cfg, d)
-    H_biesel = hs_ratio * p["stroke"]
-    c0, u_max = sound_speed(cfg, math.sqrt(G * d))   # shallow-water speed bounds the orbital speeds
-    L = num["wall_layers"]
-    T = L * dx
-    h = num["h_factor"] * dx
-    ps, extra, reach, x_left = _particles(cfg, c0)
-    pad = 3 * T + 4 * h
-    domain = ((x_left - pad, -pad), (Lf + pad, 2 * Hw + pad))
-    params = common_params(cfg, c0, G, depth=d)
-    params.update(extra)
-    damping = ()
-    if geo["damping_length"] > 0:
-        damping = (Lf - geo["damping_length"], Lf, geo["damping_rate"])
-    xg = gauge_positions(geo, wavelength)
-    xa = array_positions(geo, wavelength)
-    k2 = theory.wavenumber(2 * omega, d, G)
-    cg2 = theory.group_velocity(2 * omega, k2, d)
-    if not p["spectrum"] and not p["series"]:
-        warn_waves(cfg, H_biesel, k, d)
-        warn_window(p, xg, cg, cfg["run"]["end_time"], p["period"], records.arrival_time)
-        if p["order"] == 2 and xa:   # the free second harmonic is fitted once it is over the array
-            warn_window(p, xa[-1:], cg2, cfg["run"]["end_time"], p["period"], records.arrival_time,
-                        "the free second harmonic (at its group velocity) would")
-    cols = tuple(f"eta_{i}" for i in range(len(xg)))
-    acols = tuple(f"array_{i}" for i in range(len(xa)))
-    gauges = WaveGauges(xg + xa, dx, h, d, cols + acols)
-
-    seen, seen_spectra = {}, {}
-
-    def metrics(c):
-        seen.update(c)
-        out = dict(kh=k * d, wavelength=wavelength, group_velocity=cg, biesel_H_over_S=hs_ratio,
-                   gauges_x=xg, array_x=xa,
-                   gauge_zero_offset=list(gauges.zero[:len(xg)]))
-        if not p["spectrum"]:
-            out["biesel_wave_height"] = H_biesel
-        elif xg:
-            out.update(irregular_metrics(c, p, xg, cols, cg, seen_spectra))
-        if not xg or p["series"] or p["spectrum"]:
-            return out
-        t_end = float(c["t"][-1])
-        H, H1, err, err1, Tz, mean_level = [], [], [], [], [], []
-        for x, col in zip(xg, cols):
-            t0 = records.arrival_time(p, x, cg)
-            t1 = t_end
-            if geo["damping_length"] < 0.5 * wavelength:
-                # no absorbing zone worth the name: stop before the end wall's reflection is back
-                t1 = min(t1, (2 * Lf - x) / cg)
-            if p["duration"] > 0:   # and before the paddle's ramp down has arrived
-                t1 = min(t1, p["duration"] - p["ramp_periods"] * p["period"] + x / cg)
-            h_pp, n = records.wave_height(c["t"], c[col], t0, t1, p["period"])
-            per, level = records.crossing_period_and_level(c["t"], c[col], t0, t1)
-            Tz.append(per)
-            mean_level.append(level)
-            a = harmonics.harmonics(c["t"], c[col], omega, t0, t1, 1)
-            H.append(h_pp if n else float("nan"))
-            H1.append(2 * abs(a[0]) if a is not None else float("nan"))
-            err.append(abs(H[-1] - H_biesel) / H_biesel)
-            err1.append(abs(H1[-1] - H_biesel) / H_biesel)
-        out.update(wave_height_at_gauges=H, wave_period_at_gauges=Tz, mean_level_at_gauges=mean_level,
-                   first_harmonic_height_at_gauges=H1,
-                   wave_height_errors=err, first_harmonic_errors=err1,
-                   # the worst gauge: the target is Biesel's height everywhere in the flume
-                   wave_height_error=worst(err), first_harmonic_error=worst(err1))
-        if len(xg) > 1:
-            # decay per wavelength of the first harmonic, fitted over the gauges
-            ok = np.isfinite(H1)
-            if ok.sum() > 1:
-                slope = np.polyfit(np.asarray(xg)[ok] / wavelength, np.log(np.asarray(H1)[ok]), 1)[0]
-                out["decay_per_wavelength"] = float(1 - math.exp(slope))
-        if xa:
-            # the array: incident and reflected first harmonics once the wave reflected from the
-            # far end is back over it, and the second harmonic's bound and free parts
-            t0 = records.arrival_time(p, xa[-1], cg)
-            t_back = p["ramp_periods"] * p["period"] + (2 * Lf - xa[0]) / cg + p["period"]
-            amps = [harmonics.harmonics(c["t"], c[col], omega, max(t0, t_back), t_end, 2) for col in acols]
-            if all(a is not None for a in amps):
-                ai, ar, kr = harmonics.reflection(xa, [a[0] for a in amps], k)
-                out.update(reflection_coefficient=kr, reflection_window=[max(t0, t_back), t_end],
-                           incident_height=2 * ai, reflected_height=2 * ar)
-            # the free second harmonic travels at its own, slower group velocity: fit once it is there
-            t0 = records.arrival_time(p, xa[-1], cg2)
-            amps = [harmonics.harmonics(c["t"], c[col], omega, t0, t_end, 2) for col in acols]
-            if all(a is not None for a in amps):
-                out["second_harmonic_window"] = [t0, t_end]
-                b, f = harmonics.free_second_harmonic(xa, [a[1] for a in amps], k, k2)
-                ai = np.mean([abs(a[0]) for a in amps])
-                out.update(second_harmonic_bound=b, second_harmonic_free=f,
-                           second_harmonic_bound_stokes=harmonics.stokes_bound_ratio(k, d) * ai * ai)
-        return out
-
-    def finalize(out, metrics):
-        plt = pyplot()
-        data = seen
-        if not data or len(data["t"]) < 2:
-            return
-        fig, axes = plt.subplots(len(xg), 1, figsize=(7.5, 1.8 * len(xg) + 0.6), sharex=True, squeeze=False)
-        for i, ax in enumerate(axes[:, 0]):
-            ax.plot(data["t"], data[cols[i]], lw=0.8)
-            if not p["spectrum"]:
-                ax.axhline(0.5 * H_biesel, color="k", ls="--", lw=0.6)
-                ax.axhline(-0.5 * H_biesel, color="k", ls="--", lw=0.6)
-            ax.set_ylabel(f"eta (m) at {xg[i]:.2f} m")
-            ax.axvspan(records.arrival_time(p, xg[i], cg), data["t"][-1], color="0.9",
-                       label="measured from here: the fully ramped waves have arrived" if i == 0 else None)
-            if i == 0:
-                ax.legend(fontsize=7, loc="lower right")
-        axes[-1, 0].set_xlabel("t (s)")
-        if seen_spectra:
-            write_spectra(out, seen_spectra, p, xg)
-        fig.suptitle(f"{p['type']} paddle, {p['spectrum']} spectrum Hm0 {p['hs']:g} m, Tp {p['tp']:g} s" if p["spectrum"]
-                     else f"{p['type']} paddle: gauges against Biesel H = {H_biesel:.3g} m (dashed)", fontsize=10)
-        save(fig, os.path.join(out, "gauges.png"))
-
-    margin = T + dx
-    return make_case(name=NAME, particles=ps, materials=[dict(name="water", rho0=rho0,
-                viscosity=cfg["materials"]["water"]["viscosity"], B=tait_B(rho0, c0))],
-                domain=domain, params=params,
-                physics=physics_from_config(cfg, paddle=p["type"], damping=damping),
-                marks=[(x, f"g{i + 1}") for i, x in enumerate(xg)],
-                zones=[(damping[0], damping[1], "absorber")] if damping else [],
-                # the frame: the paddle to half a wavelength past the last gauge (a long flume drawn
-                # whole is a strip); output.view draws another region
-                view=((x_left - margin, -margin), (min(Lf + margin, max(xg, default=Lf) + 0.5 * wavelength),
-                                                   min(Hw, 1.6 * d) + margin)), u_max=u_max,
-                # colour top: twice the linear surface orbital speed, not the sound-speed bound
-                speed_scale=2.0 * 0.5 * (p["hs"] if p["spectrum"] else H_biesel) * omega / math.tanh(k * d),
-                probe_columns=cols + acols, probe=gauges.read, metrics=metrics, finalize=finalize,
-                container=(-reach - dx, 0.0, Lf, float("inf"), Hw), control=with_control(extra["motion"]),
-                persist=(gauges,) + ((extra["motion"],) if p["absorb"] else ()))
 
 
 def gauge_positions(geo, wavelength):
@@ -305,11 +128,11 @@ def array_positions(geo, wavelength):
 
 def _particles(cfg, c0):
     """Still water on a flat floor, the end wall and the paddle, hydrostatic densities."""
-    geo, num = cfg["geometry"], cfg["numerics"]
-    dx, Lf, d, Hw = num["dx"], geo["length"], geo["depth"], geo["wall_height"]
-    rho0 = cfg["materials"]["water"]["rho0"]
-    T = num["wall_layers"] * dx
-    h = num["h_factor"] * dx
+    geo, num = cfg.geometry, cfg.numerics
+    dx, Lf, d, Hw = num.dx, geo.length, geo.depth, geo.wall_height
+    rho0 = cfg.materials.water.rho0
+    T = num.wall_layers * dx
+    h = num.h_factor * dx
     ps = ParticleSet()
     # whole columns up to the end wall: a length that is not a whole number of spacings would round
     # the last column into the wall (3.23 m at dx 0.02 did, and stopped at once)
@@ -323,8 +146,187 @@ def _particles(cfg, c0):
     return ps, extra, reach, x_left
 
 
-def main(argv=None):
-    return run_scene(sys.modules[__name__], argv)
+class Flume(Scene):
+    """Wave flume: a piston or flap paddle makes waves over a flat bed (the module says the rest)."""
+    NAME = "flume"
+
+    SCHEMA = {
+        "run": {"end_time": K(16.0, "long enough for the wave reflected from the far end to be back over the "
+                                "array (reflection)", "s")},
+        "numerics": numerics("default", dx=0.0125),
+        "geometry": {
+            "length": K(4.5, "paddle (x = 0) to the end wall", "m", range=POSITIVE),
+            "depth": K(0.25, "still water", "m", range=POSITIVE),
+            "wall_height": K(0.45, "the walls' height", "m", range=POSITIVE),
+            "damping_length": K(1.2, "absorbing zone at the far end (m); 0: none", range=NON_NEGATIVE),
+            "damping_rate": K(10.0, "the absorbing zone's strongest velocity relaxation rate", "1/s", range=NON_NEGATIVE),
+            "gauges_x": K([], "gauge positions (m from the paddle's mean position)"),
+            "gauges_wavelengths": K([1.0, 2.0, 3.0], "gauge positions in wavelengths from the paddle, when gauges_x is empty"),
+            "array_gauges": K(6, "gauges of the reflection and second-harmonic array", range=(0, 12, True, True)),
+        },
+        "paddle": dict(PADDLE, **IRREGULAR),
+        "materials": {"water": {"rho0": 1000.0, "viscosity": 1.0e-3}},
+        "output": {"frame_interval": 0.04, "probe_interval": 0.01},
+    }
+
+    def derive(self, cfg, given):
+        """The stroke a wave height asks for (a resolving step: the values and run.log's line)."""
+        return stroke_step(cfg, cfg.geometry.depth, self.DEFAULTS["paddle"]["stroke"])
+
+    def check(self, cfg):
+        g, dx = cfg.geometry, cfg.numerics.dx
+        resolves(g.depth, 8, "the depth", dx)
+        if g.depth >= g.wall_height:
+            raise ConfigError("geometry.depth", g.depth, f"below geometry.wall_height = {g.wall_height}")
+        if g.damping_length >= 0.8 * g.length:
+            raise ConfigError("geometry.damping_length", g.damping_length, f"under 80 % of the flume length ({0.8 * g.length:g} m)")
+        for key, unit in (("gauges_x", "m"), ("gauges_wavelengths", "wavelengths")):
+            if not isinstance(g[key], list) or any(not isinstance(v, (int, float)) or v <= 0 for v in g[key]):
+                raise ConfigError(f"geometry.{key}", g[key], f"a list of positive numbers ({unit} from the paddle)")
+        if 0 < g.array_gauges < 3:
+            raise ConfigError("geometry.array_gauges", g.array_gauges, "0 (no array) or 3 to 12 (two waves "
+                              "are fitted at each frequency)")
+        check_paddle(cfg, g.depth, g.length, default_stroke=self.DEFAULTS["paddle"]["stroke"])
+
+    def build(self, cfg):
+        geo, num, p = cfg.geometry, cfg.numerics, cfg.paddle
+        dx, Lf, d, Hw = num.dx, geo.length, geo.depth, geo.wall_height
+        rho0 = cfg.materials.water.rho0
+        omega, k, wavelength, cg, hs_ratio = linear_wave(cfg, d)
+        H_biesel = hs_ratio * p.stroke
+        c0, u_max = sound_speed(cfg, math.sqrt(G * d))   # shallow-water speed bounds the orbital speeds
+        L = num.wall_layers
+        T = L * dx
+        h = num.h_factor * dx
+        ps, extra, reach, x_left = _particles(cfg, c0)
+        pad = 3 * T + 4 * h
+        domain = ((x_left - pad, -pad), (Lf + pad, 2 * Hw + pad))
+        params = common_params(cfg, c0, G, depth=d)
+        params.update(extra)
+        damping = ()
+        if geo.damping_length > 0:
+            damping = (Lf - geo.damping_length, Lf, geo.damping_rate)
+        xg = gauge_positions(geo, wavelength)
+        xa = array_positions(geo, wavelength)
+        k2 = theory.wavenumber(2 * omega, d, G)
+        cg2 = theory.group_velocity(2 * omega, k2, d)
+        if not p.spectrum and not p.series:
+            warn_waves(cfg, H_biesel, k, d)
+            warn_window(p, xg, cg, cfg.run.end_time, p.period, records.arrival_time)
+            if p.order == 2 and xa:   # the free second harmonic is fitted once it is over the array
+                warn_window(p, xa[-1:], cg2, cfg.run.end_time, p.period, records.arrival_time,
+                            "the free second harmonic (at its group velocity) would")
+        cols = tuple(f"eta_{i}" for i in range(len(xg)))
+        acols = tuple(f"array_{i}" for i in range(len(xa)))
+        gauges = WaveGauges(xg + xa, dx, h, d, cols + acols)
+
+        seen, seen_spectra = {}, {}
+
+        def metrics(c):
+            seen.update(c)
+            out = dict(kh=k * d, wavelength=wavelength, group_velocity=cg, biesel_H_over_S=hs_ratio,
+                       gauges_x=xg, array_x=xa,
+                       gauge_zero_offset=list(gauges.zero[:len(xg)]))
+            if not p.spectrum:
+                out["biesel_wave_height"] = H_biesel
+            elif xg:
+                out.update(irregular_metrics(c, p, xg, cols, cg, seen_spectra))
+            if not xg or p.series or p.spectrum:
+                return out
+            t_end = float(c["t"][-1])
+            H, H1, err, err1, Tz, mean_level = [], [], [], [], [], []
+            for x, col in zip(xg, cols):
+                t0 = records.arrival_time(p, x, cg)
+                t1 = t_end
+                if geo.damping_length < 0.5 * wavelength:
+                    # no absorbing zone worth the name: stop before the end wall's reflection is back
+                    t1 = min(t1, (2 * Lf - x) / cg)
+                if p.duration > 0:   # and before the paddle's ramp down has arrived
+                    t1 = min(t1, p.duration - p.ramp_periods * p.period + x / cg)
+                h_pp, n = records.wave_height(c["t"], c[col], t0, t1, p.period)
+                per, level = records.crossing_period_and_level(c["t"], c[col], t0, t1)
+                Tz.append(per)
+                mean_level.append(level)
+                a = harmonics.harmonics(c["t"], c[col], omega, t0, t1, 1)
+                H.append(h_pp if n else float("nan"))
+                H1.append(2 * abs(a[0]) if a is not None else float("nan"))
+                err.append(abs(H[-1] - H_biesel) / H_biesel)
+                err1.append(abs(H1[-1] - H_biesel) / H_biesel)
+            out.update(wave_height_at_gauges=H, wave_period_at_gauges=Tz, mean_level_at_gauges=mean_level,
+                       first_harmonic_height_at_gauges=H1,
+                       wave_height_errors=err, first_harmonic_errors=err1,
+                       # the worst gauge: the target is Biesel's height everywhere in the flume
+                       wave_height_error=worst(err), first_harmonic_error=worst(err1))
+            if len(xg) > 1:
+                # decay per wavelength of the first harmonic, fitted over the gauges
+                ok = np.isfinite(H1)
+                if ok.sum() > 1:
+                    slope = np.polyfit(np.asarray(xg)[ok] / wavelength, np.log(np.asarray(H1)[ok]), 1)[0]
+                    out["decay_per_wavelength"] = float(1 - math.exp(slope))
+            if xa:
+                # the array: incident and reflected first harmonics once the wave reflected from the
+                # far end is back over it, and the second harmonic's bound and free parts
+                t0 = records.arrival_time(p, xa[-1], cg)
+                t_back = p.ramp_periods * p.period + (2 * Lf - xa[0]) / cg + p.period
+                amps = [harmonics.harmonics(c["t"], c[col], omega, max(t0, t_back), t_end, 2) for col in acols]
+                if all(a is not None for a in amps):
+                    ai, ar, kr = harmonics.reflection(xa, [a[0] for a in amps], k)
+                    out.update(reflection_coefficient=kr, reflection_window=[max(t0, t_back), t_end],
+                               incident_height=2 * ai, reflected_height=2 * ar)
+                # the free second harmonic travels at its own, slower group velocity: fit once it is there
+                t0 = records.arrival_time(p, xa[-1], cg2)
+                amps = [harmonics.harmonics(c["t"], c[col], omega, t0, t_end, 2) for col in acols]
+                if all(a is not None for a in amps):
+                    out["second_harmonic_window"] = [t0, t_end]
+                    b, f = harmonics.free_second_harmonic(xa, [a[1] for a in amps], k, k2)
+                    ai = np.mean([abs(a[0]) for a in amps])
+                    out.update(second_harmonic_bound=b, second_harmonic_free=f,
+                               second_harmonic_bound_stokes=harmonics.stokes_bound_ratio(k, d) * ai * ai)
+            return out
+
+        def finalize(out, metrics):
+            plt = pyplot()
+            data = seen
+            if not data or len(data["t"]) < 2:
+                return
+            fig, axes = plt.subplots(len(xg), 1, figsize=(7.5, 1.8 * len(xg) + 0.6), sharex=True, squeeze=False)
+            for i, ax in enumerate(axes[:, 0]):
+                ax.plot(data["t"], data[cols[i]], lw=0.8)
+                if not p.spectrum:
+                    ax.axhline(0.5 * H_biesel, color="k", ls="--", lw=0.6)
+                    ax.axhline(-0.5 * H_biesel, color="k", ls="--", lw=0.6)
+                ax.set_ylabel(f"eta (m) at {xg[i]:.2f} m")
+                ax.axvspan(records.arrival_time(p, xg[i], cg), data["t"][-1], color="0.9",
+                           label="measured from here: the fully ramped waves have arrived" if i == 0 else None)
+                if i == 0:
+                    ax.legend(fontsize=7, loc="lower right")
+            axes[-1, 0].set_xlabel("t (s)")
+            if seen_spectra:
+                write_spectra(out, seen_spectra, p, xg)
+            fig.suptitle(f"{p.type} paddle, {p.spectrum} spectrum Hm0 {p.hs:g} m, Tp {p.tp:g} s" if p.spectrum
+                         else f"{p.type} paddle: gauges against Biesel H = {H_biesel:.3g} m (dashed)", fontsize=10)
+            save(fig, os.path.join(out, "gauges.png"))
+
+        margin = T + dx
+        return make_case(name=self.NAME, particles=ps, materials=[dict(name="water", rho0=rho0,
+                    viscosity=cfg.materials.water.viscosity, B=tait_B(rho0, c0))],
+                    domain=domain, params=params,
+                    physics=physics_from_config(cfg, paddle=p.type, damping=damping),
+                    marks=[(x, f"g{i + 1}") for i, x in enumerate(xg)],
+                    zones=[(damping[0], damping[1], "absorber")] if damping else [],
+                    # the frame: the paddle to half a wavelength past the last gauge (a long flume drawn
+                    # whole is a strip); output.view draws another region
+                    view=((x_left - margin, -margin), (min(Lf + margin, max(xg, default=Lf) + 0.5 * wavelength),
+                                                       min(Hw, 1.6 * d) + margin)), u_max=u_max,
+                    # colour top: twice the linear surface orbital speed, not the sound-speed bound
+                    speed_scale=2.0 * 0.5 * (p.hs if p.spectrum else H_biesel) * omega / math.tanh(k * d),
+                    probe_columns=cols + acols, probe=gauges.read, metrics=metrics, finalize=finalize,
+                    container=(-reach - dx, 0.0, Lf, float("inf"), Hw), control=with_control(extra["motion"]),
+                    persist=(gauges,) + ((extra["motion"],) if p.absorb else ()))
+
+
+SCENE = Flume()
+main = partial(run_scene, SCENE)
 
 
 if __name__ == "__main__":

@@ -10,59 +10,21 @@ The discharge coefficient is the measured discharge over a sqrt(2 g dh) in the q
 limit of a slot is pi / (pi + 2) = 0.611.
 """
 import math
+from functools import partial
 import os
 import sys
 
 import numpy as np
 
+from ..case import Scene, resolves
 from ..constants import G
 from ..config import ConfigError, physics_from_config
-from ..schema import NON_NEGATIVE, POSITIVE, choices, K, ranges, values
+from ..schema import NON_NEGATIVE, POSITIVE, K
 from ..particles import ParticleSet, block, hydrostatic_density, tait_B, wall_density, FLUID, WALL
 from ..profiles import surface_profile, write_profile, plot_profiles
 from ..case import make_case
-from ..runner import common_params, run_scene, sound_speed
+from ..runner import common_params, sound_speed, run_scene
 from ..schemes import numerics
-
-NAME = "hatch"
-
-
-SCHEMA = {
-    "run": {"end_time": 0.3},
-    # Paper Table 1: 900 water particles at 0.005 m (30 x 30); h = 1.5 dx as in its Table 2.
-    "numerics": numerics("default", dx=0.005),
-    "geometry": {
-        "reservoir_length": K(0.15, "the reservoir behind the gate", "m", range=POSITIVE),
-        "water_depth": K(0.15, "the water in it at the start", "m", range=POSITIVE),
-        "wall_height": K(0.2, "the walls' height", "m", range=POSITIVE),
-        "opening_bottom": K(0.0, "hatch: at the floor; orifice: 0.045", range=NON_NEGATIVE),
-        "opening_height": K(0.035, "hatch: 0.035; orifice: 0.055", range=POSITIVE),
-        "downstream_length": K(0.15, "floor beyond the gate, then the outflow boundary", range=POSITIVE),
-        "cd_window": K([0.05, 0.25], "quasi-steady stage for the discharge coefficient", "s"),
-        "still_times": K([0.0, 0.04, 0.1, 0.14], "the paper's Fig. 3 times"),
-    },
-    "materials": {"water": {"rho0": 1000.0, "viscosity": 1.0e-3}},
-    "output": {"frame_interval": 0.005, "probe_interval": 0.0025, "width": 560},
-}
-DEFAULTS = values(SCHEMA)
-RANGES = ranges(SCHEMA)
-CHOICES = choices(SCHEMA)
-
-def check(cfg):
-    g, dx = cfg["geometry"], cfg["numerics"]["dx"]
-    top = g["opening_bottom"] + g["opening_height"]
-    if top >= g["wall_height"]:
-        raise ConfigError("geometry.opening_height", g["opening_height"],
-                          f"an opening whose top ({top:g} m) stays below geometry.wall_height = {g['wall_height']}")
-    if g["water_depth"] > g["wall_height"]:
-        raise ConfigError("geometry.water_depth", g["water_depth"], f"at most geometry.wall_height = {g['wall_height']}")
-    if g["water_depth"] <= top:
-        raise ConfigError("geometry.water_depth", g["water_depth"], f"above the opening's top ({top:g} m)")
-    if g["opening_height"] / dx < 4:
-        raise ConfigError("numerics.dx", dx, f"at most {g['opening_height'] / 4:.4g} m (4 particles across the opening)")
-    w = g["cd_window"]
-    if len(w) != 2 or not (0 <= w[0] < w[1]):
-        raise ConfigError("geometry.cd_window", w, "[start, end] in seconds with 0 <= start < end")
 
 
 def discharge_coefficient(t, level, a, b, L, window, g=G):
@@ -81,80 +43,117 @@ def discharge_coefficient(t, level, a, b, L, window, g=G):
     return float(np.mean(cd)), float(np.mean(q[ok]))
 
 
-def build(cfg):
-    geo, num = cfg["geometry"], cfg["numerics"]
-    dx, L, H = num["dx"], geo["reservoir_length"], geo["water_depth"]
-    Wh, b, a = geo["wall_height"], geo["opening_bottom"], geo["opening_height"]
-    Ld = geo["downstream_length"]
-    layers = num["wall_layers"]
-    T = layers * dx
-    water = cfg["materials"]["water"]
-    rho0 = water["rho0"]
-    c0, u_max = sound_speed(cfg, math.sqrt(2 * G * H))
+class Hatch(Scene):
+    """Outflow through a submerged hatch (paper 000 section 4.1, Table 1, Fig. 3)."""
+    NAME = "hatch"
 
-    ps = ParticleSet()
-    fluid = block(0.0, 0.0, L, H, dx)
-    ps.add(fluid, FLUID, 0, hydrostatic_density(H - fluid[:, 1], rho0, c0, G), rho0 * dx * dx)
-    x_end = L + T + Ld
-    parts = [block(-T, -T, x_end, 0.0, dx),          # floor, under the reservoir and downstream
-             block(-T, 0.0, 0.0, Wh, dx),            # left wall
-             block(L, b + a, L + T, Wh, dx)]         # the gate, above the opening
-    if b > 0:
-        parts.append(block(L, 0.0, L + T, b, dx))    # below an orifice
-    walls = np.vstack([p for p in parts if len(p)])
-    h = num["h_factor"] * dx
-    ps.add(walls, WALL, 0, wall_density(walls, fluid, dx, h, rho0, c0, G), rho0 * dx * dx)
+    SCHEMA = {
+        "run": {"end_time": 0.3},
+        # Paper Table 1: 900 water particles at 0.005 m (30 x 30); h = 1.5 dx as in its Table 2.
+        "numerics": numerics("default", dx=0.005),
+        "geometry": {
+            "reservoir_length": K(0.15, "the reservoir behind the gate", "m", range=POSITIVE),
+            "water_depth": K(0.15, "the water in it at the start", "m", range=POSITIVE),
+            "wall_height": K(0.2, "the walls' height", "m", range=POSITIVE),
+            "opening_bottom": K(0.0, "hatch: at the floor; orifice: 0.045", range=NON_NEGATIVE),
+            "opening_height": K(0.035, "hatch: 0.035; orifice: 0.055", range=POSITIVE),
+            "downstream_length": K(0.15, "floor beyond the gate, then the outflow boundary", range=POSITIVE),
+            "cd_window": K([0.05, 0.25], "quasi-steady stage for the discharge coefficient", "s"),
+            "still_times": K([0.0, 0.04, 0.1, 0.14], "the paper's Fig. 3 times"),
+        },
+        "materials": {"water": {"rho0": 1000.0, "viscosity": 1.0e-3}},
+        "output": {"frame_interval": 0.005, "probe_interval": 0.0025, "width": 560},
+    }
 
-    pad = T + 4 * h
-    domain = ((-pad, -pad - 0.1), (x_end + pad + 0.05, Wh + pad))
-    outflow = [(x_end, -1.0, x_end + 1.0, Wh + 1.0),           # off the end of the floor
-               (-1.0, -1.0, x_end + 1.0, -T - 2 * dx)]         # (and anything that falls below it)
-    materials = [dict(name="water", rho0=rho0, viscosity=water["viscosity"], B=tait_B(rho0, c0))]
-    surfaces = []
+    def check(self, cfg):
+        g, dx = cfg.geometry, cfg.numerics.dx
+        top = g.opening_bottom + g.opening_height
+        if top >= g.wall_height:
+            raise ConfigError("geometry.opening_height", g.opening_height,
+                              f"an opening whose top ({top:g} m) stays below geometry.wall_height = {g.wall_height}")
+        if g.water_depth > g.wall_height:
+            raise ConfigError("geometry.water_depth", g.water_depth, f"at most geometry.wall_height = {g.wall_height}")
+        if g.water_depth <= top:
+            raise ConfigError("geometry.water_depth", g.water_depth, f"above the opening's top ({top:g} m)")
+        resolves(g.opening_height, 4, "the opening", dx)
+        w = g.cd_window
+        if len(w) != 2 or not (0 <= w[0] < w[1]):
+            raise ConfigError("geometry.cd_window", w, "[start, end] in seconds with 0 <= start < end")
 
-    def probe(st):
-        fl = st["kind"] == FLUID
-        x = st["x"][fl]
-        vol = st["m"][fl] / st["rho"][fl]
-        level = float(vol[x[:, 0] < L].sum() / L)
-        prev, t = probe.prev, st["t"]
-        q = (prev[1] - level) * L / (t - prev[0]) if prev and t > prev[0] else 0.0
-        probe.prev = (t, level)
-        out_m = float(st["m"][st["kind"] == -2].sum())
-        return level, q, out_m
-    probe.prev = None
+    def build(self, cfg):
+        geo, num = cfg.geometry, cfg.numerics
+        dx, L, H = num.dx, geo.reservoir_length, geo.water_depth
+        Wh, b, a = geo.wall_height, geo.opening_bottom, geo.opening_height
+        Ld = geo.downstream_length
+        layers = num.wall_layers
+        T = layers * dx
+        water = cfg.materials.water
+        rho0 = water.rho0
+        c0, u_max = sound_speed(cfg, math.sqrt(2 * G * H))
 
-    def surface_event(state, t):
-        xs, ys = surface_profile(state, -T, x_end, 2 * dx, dx)
-        surfaces.append((t, xs, ys))
+        ps = ParticleSet()
+        fluid = block(0.0, 0.0, L, H, dx)
+        ps.add(fluid, FLUID, 0, hydrostatic_density(H - fluid[:, 1], rho0, c0, G), rho0 * dx * dx)
+        x_end = L + T + Ld
+        parts = [block(-T, -T, x_end, 0.0, dx),          # floor, under the reservoir and downstream
+                 block(-T, 0.0, 0.0, Wh, dx),            # left wall
+                 block(L, b + a, L + T, Wh, dx)]         # the gate, above the opening
+        if b > 0:
+            parts.append(block(L, 0.0, L + T, b, dx))    # below an orifice
+        walls = np.vstack([p for p in parts if len(p)])
+        h = num.h_factor * dx
+        ps.add(walls, WALL, 0, wall_density(walls, fluid, dx, h, rho0, c0, G), rho0 * dx * dx)
 
-    def metrics(cols):
-        cd, q = discharge_coefficient(cols["t"], cols["reservoir_level"], a, b, L, geo["cd_window"])
-        return dict(discharge_coefficient=cd, mean_discharge=q, contraction_limit=math.pi / (math.pi + 2),
-                    reservoir_level_end=float(cols["reservoir_level"][-1]))
+        pad = T + 4 * h
+        domain = ((-pad, -pad - 0.1), (x_end + pad + 0.05, Wh + pad))
+        outflow = [(x_end, -1.0, x_end + 1.0, Wh + 1.0),           # off the end of the floor
+                   (-1.0, -1.0, x_end + 1.0, -T - 2 * dx)]         # (and anything that falls below it)
+        materials = [dict(name="water", rho0=rho0, viscosity=water.viscosity, B=tait_B(rho0, c0))]
+        surfaces = []
 
-    def finalize(out, metrics):
-        os.makedirs(os.path.join(out, "profiles"), exist_ok=True)
-        for t, xs, ys in surfaces:
-            write_profile(os.path.join(out, "profiles", f"surface_t{t:.3f}.csv"), xs, ys, names=("x", "y_surface"))
-        if surfaces:
-            plot_profiles(os.path.join(out, "profiles", "surface.png"),
-                          [(f"t = {t:.3f} s", xs, ys, None, None) for t, xs, ys in surfaces],
-                          "x (m)", "free surface (m)", f"{NAME}: free surface")
+        def probe(st):
+            fl = st["kind"] == FLUID
+            x = st["x"][fl]
+            vol = st["m"][fl] / st["rho"][fl]
+            level = float(vol[x[:, 0] < L].sum() / L)
+            prev, t = probe.prev, st["t"]
+            q = (prev[1] - level) * L / (t - prev[0]) if prev and t > prev[0] else 0.0
+            probe.prev = (t, level)
+            out_m = float(st["m"][st["kind"] == -2].sum())
+            return level, q, out_m
+        probe.prev = None
 
-    margin = T + dx
-    case = make_case(name=NAME, particles=ps, materials=materials, domain=domain,
-                params=common_params(cfg, c0, G, depth=H), physics=physics_from_config(cfg),
-                view=((-margin, -margin), (x_end + margin, Wh + margin)), u_max=u_max,
-                probe_columns=("reservoir_level", "discharge", "outflow_mass"), probe=probe,
-                metrics=metrics, outflow=tuple(outflow), stills=tuple(geo["still_times"]),
-                events=[(t, surface_event) for t in geo["still_times"]], finalize=finalize,
-                container=(0.0, 0.0, x_end, float("inf")), persist=(surfaces,))
-    return case
+        def surface_event(state, t):
+            xs, ys = surface_profile(state, -T, x_end, 2 * dx, dx)
+            surfaces.append((t, xs, ys))
+
+        def metrics(cols):
+            cd, q = discharge_coefficient(cols["t"], cols["reservoir_level"], a, b, L, geo.cd_window)
+            return dict(discharge_coefficient=cd, mean_discharge=q, contraction_limit=math.pi / (math.pi + 2),
+                        reservoir_level_end=float(cols["reservoir_level"][-1]))
+
+        def finalize(out, metrics):
+            os.makedirs(os.path.join(out, "profiles"), exist_ok=True)
+            for t, xs, ys in surfaces:
+                write_profile(os.path.join(out, "profiles", f"surface_t{t:.3f}.csv"), xs, ys, names=("x", "y_surface"))
+            if surfaces:
+                plot_profiles(os.path.join(out, "profiles", "surface.png"),
+                              [(f"t = {t:.3f} s", xs, ys, None, None) for t, xs, ys in surfaces],
+                              "x (m)", "free surface (m)", f"{self.NAME}: free surface")
+
+        margin = T + dx
+        case = make_case(name=self.NAME, particles=ps, materials=materials, domain=domain,
+                    params=common_params(cfg, c0, G, depth=H), physics=physics_from_config(cfg),
+                    view=((-margin, -margin), (x_end + margin, Wh + margin)), u_max=u_max,
+                    probe_columns=("reservoir_level", "discharge", "outflow_mass"), probe=probe,
+                    metrics=metrics, outflow=tuple(outflow), stills=tuple(geo.still_times),
+                    events=[(t, surface_event) for t in geo.still_times], finalize=finalize,
+                    container=(0.0, 0.0, x_end, float("inf")), persist=(surfaces,))
+        return case
 
 
-def main(argv=None):
-    return run_scene(sys.modules[__name__], argv)
+SCENE = Hatch()
+main = partial(run_scene, SCENE)
 
 
 if __name__ == "__main__":

@@ -107,13 +107,13 @@ class AbsorbingMotion:
 def absorbing(motion, cfg, depth, still_level, x_paddle=0.0):
     """Wrap a paddle's Motion for paddle.absorb: the gauge moves with the paddle, a smoothing length
     in front of its face (the paddle's mean position is x_paddle)."""
-    p, dx = cfg["paddle"], cfg["numerics"]["dx"]
-    h = cfg["numerics"]["h_factor"] * dx
+    p, dx = cfg.paddle, cfg.numerics.dx
+    h = cfg.numerics.h_factor * dx
     omega, k, _, _, F = linear_wave(cfg, depth)   # the paddle's transfer; the peak's
     target = None
     if p.get("spectrum"):
-        target = irregular_elevation(p, depth, cfg["run"]["end_time"], h)
-    return AbsorbingMotion(motion, F * p["stroke"], k, depth, omega / F, h, x_paddle, still_level, dx, h, target)
+        target = irregular_elevation(p, depth, cfg.run.end_time, h)
+    return AbsorbingMotion(motion, F * p.stroke, k, depth, omega / F, h, x_paddle, still_level, dx, h, target)
 
 
 def check_absorb(p):

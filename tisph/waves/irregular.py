@@ -86,30 +86,30 @@ def _irregular_series(kind, name, hs, tp, gamma, seed, band, ramp_periods, depth
 
 
 def check_irregular(cfg, depth):
-    p, dx = cfg["paddle"], cfg["numerics"]["dx"]
-    if not p["spectrum"]:
+    p, dx = cfg.paddle, cfg.numerics.dx
+    if not p.spectrum:
         return
-    h = cfg["numerics"]["h_factor"] * dx
+    h = cfg.numerics.h_factor * dx
     for key in ("hs", "tp"):
         if p[key] <= 0:
-            raise ConfigError(f"paddle.{key}", p[key], f"> 0 with paddle.spectrum = {p['spectrum']!r}")
-    b = p["band"]
+            raise ConfigError(f"paddle.{key}", p[key], f"> 0 with paddle.spectrum = {p.spectrum!r}")
+    b = p.band
     if (not isinstance(b, list) or len(b) != 2 or any(isinstance(v, bool) or not isinstance(v, (int, float)) for v in b)
             or not 0 < b[0] < 1 < b[1]):
         raise ConfigError("paddle.band", b, "[lo, hi] multiples of the peak frequency, 0 < lo < 1 < hi")
-    if p["series"] or p["order"] == 2:
-        key = "paddle.series" if p["series"] else "paddle.order"
-        raise ConfigError(key, p["series"] or 2, f"{'' if p['series'] else '1'} with a spectrum (a spectrum makes its own "
+    if p.series or p.order == 2:
+        key = "paddle.series" if p.series else "paddle.order"
+        raise ConfigError(key, p.series or 2, f"{'' if p.series else '1'} with a spectrum (a spectrum makes its own "
                           "first-order paddle signal)".lstrip())
-    if p["hs"] < 2 * dx:
-        raise ConfigError("paddle.hs", p["hs"], f"at least 2 dx = {2 * dx:g} m (a wave under two particle spacings "
+    if p.hs < 2 * dx:
+        raise ConfigError("paddle.hs", p.hs, f"at least 2 dx = {2 * dx:g} m (a wave under two particle spacings "
                           "high is not resolved)")
-    shortest = 2 * math.pi / wavenumber(2 * math.pi * b[1] / p["tp"], depth, G)
+    shortest = 2 * math.pi / wavenumber(2 * math.pi * b[1] / p.tp, depth, G)
     if shortest < 8 * h:
         raise ConfigError("paddle.band", b, f"a highest frequency whose wavelength is at least 8 h = {8 * h:.3g} m, "
-                          f"which the kernel does not smooth away (at {b[1]:g} fp = {b[1] / p['tp']:.3g} Hz the wave is "
+                          f"which the kernel does not smooth away (at {b[1]:g} fp = {b[1] / p.tp:.3g} Hz the wave is "
                           f"{shortest:.3g} m long; lower the band's top or dx)")
-    t, x = irregular_series(p, depth, cfg["run"]["end_time"])
+    t, x = irregular_series(p, depth, cfg.run.end_time)
     if np.abs(x).max() > 0.5 * depth:
-        raise ConfigError("paddle.hs", p["hs"], f"a spectrum the paddle can make: it would travel {np.abs(x).max():.3g} m "
+        raise ConfigError("paddle.hs", p.hs, f"a spectrum the paddle can make: it would travel {np.abs(x).max():.3g} m "
                           f"from its mean position, more than half the depth ({0.5 * depth:g} m)")

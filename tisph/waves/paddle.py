@@ -37,17 +37,17 @@ def stroke_for(cfg, depth, default_stroke=None):
     """The full stroke the paddle runs: paddle.stroke, or with paddle.wave_height > 0 the stroke
     Biesel's first-order H / S gives for the paddle type and kh (a stroke given beside it, other
     than the scene's default, is refused)."""
-    p = cfg["paddle"]
+    p = cfg.paddle
     H = p.get("wave_height", 0.0)
     if H <= 0:
-        return p["stroke"]
-    if p.get("spectrum") or p["series"]:
+        return p.stroke
+    if p.get("spectrum") or p.series:
         key = "paddle.spectrum" if p.get("spectrum") else "paddle.series"
         raise ConfigError("paddle.wave_height", H, f"0 with {key} (irregular waves are asked for by paddle.hs, a "
                           "series by its own displacements)")
     S = H / linear_wave(cfg, depth)[4]
-    if default_stroke is not None and not (math.isclose(p["stroke"], default_stroke) or math.isclose(p["stroke"], S)):
-        raise ConfigError("paddle.stroke", p["stroke"], f"left out with paddle.wave_height = {H:g} (give one of "
+    if default_stroke is not None and not (math.isclose(p.stroke, default_stroke) or math.isclose(p.stroke, S)):
+        raise ConfigError("paddle.stroke", p.stroke, f"left out with paddle.wave_height = {H:g} (give one of "
                           f"the two: that height needs a stroke of {S:.4g} m by Biesel)")
     if S > depth:
         raise ConfigError("paddle.wave_height", H, f"a height whose stroke is at most the depth ({depth:g} m): "
@@ -55,31 +55,27 @@ def stroke_for(cfg, depth, default_stroke=None):
     return S
 
 
-def resolve_paddle(cfg, stroke):
-    """Write the stroke check_paddle returned into the config (a resolved value where a wave
-    height asked for it: run.log says where it came from, paddle_notes)."""
-    cfg["paddle"]["stroke"] = stroke
-
-
-def paddle_notes(cfg):
-    """run.log's lines on the paddle's resolved values."""
-    p = cfg.get("paddle")
-    if not p or p.get("wave_height", 0.0) <= 0:
-        return []
-    return [f"# paddle.stroke = {p['stroke']:.6g} m: resolved from paddle.wave_height = {p['wave_height']:g} m "
-            f"by Biesel's first-order transfer for a {p['type']}"]
+def stroke_step(cfg, depth, default_stroke=None):
+    """A resolving step: the stroke a wave height asks for (stroke_for) as paddle.stroke, with
+    run.log's line on where it came from; nothing where the stroke was given."""
+    p = cfg.paddle
+    if p.get("wave_height", 0.0) <= 0:
+        return {}, []
+    S = stroke_for(cfg, depth, default_stroke)
+    return {"paddle.stroke": S}, [f"paddle.stroke = {S:.6g} m: resolved from paddle.wave_height = "
+                                  f"{p.wave_height:g} m by Biesel's first-order transfer for a {p.type}"]
 
 
 def check_paddle(cfg, depth, length, default_stroke=None):
     """The paddle's keys against the depth and dx, for the stroke it will run (stroke_for), which
-    it returns; the config is read, not written (resolve_paddle writes the stroke)."""
-    p, dx = cfg["paddle"], cfg["numerics"]["dx"]
+    it returns (the resolved stroke: stroke_step wrote it)."""
+    p, dx = cfg.paddle, cfg.numerics.dx
     check_absorb(p)
     H = p.get("wave_height", 0.0)
     stroke = stroke_for(cfg, depth, default_stroke)
-    ramp = p["ramp_periods"] * wave_period(p)
+    ramp = p.ramp_periods * wave_period(p)
     if 0 < p.get("duration", 0.0) < 2 * ramp:
-        raise ConfigError("paddle.duration", p["duration"], f"0 or at least twice the ramp ({2 * ramp:g} s: "
+        raise ConfigError("paddle.duration", p.duration, f"0 or at least twice the ramp ({2 * ramp:g} s: "
                           "paddle.ramp_periods periods up and as many down)")
     if p.get("spectrum"):
         check_irregular(cfg, depth)
@@ -87,20 +83,20 @@ def check_paddle(cfg, depth, length, default_stroke=None):
     # a shallow-water piston moves the whole column: a stroke beyond the depth makes a bore, not a wave
     if stroke > depth:
         raise ConfigError("paddle.stroke", stroke, f"at most the depth at the paddle ({depth:g} m){unit_guess(cfg)}")
-    if not p["series"] and stroke < dx:
+    if not p.series and stroke < dx:
         if H > 0:   # the user asked for a height: name it, and the stroke it asks for
             raise ConfigError("paddle.wave_height", H, f"a height whose stroke is at least dx = {dx:g} m (Biesel "
                               f"gives {stroke:.3g} m for it; the paddle must move a particle spacing): a higher "
                               "wave, or a smaller numerics.dx")
         raise ConfigError("paddle.stroke", stroke, f"at least dx = {dx:g} m (the paddle must move a particle spacing)")
-    if p["series"]:
-        if p["order"] == 2:
+    if p.series:
+        if p.order == 2:
             raise ConfigError("paddle.order", 2, "1 with a series (the second-order stroke is for regular waves)")
-        read_series(p["series"])
+        read_series(p.series)
     else:
         omega, k, _, _, ratio = linear_wave(cfg, depth)
         check_regular_waves(cfg, "paddle.wave_height" if H > 0 else "paddle.stroke", ratio * stroke, k, depth)
-        k2h = wavenumber(2 * omega, depth, G) * depth if p["order"] == 2 else 0.0
+        k2h = wavenumber(2 * omega, depth, G) * depth if p.order == 2 else 0.0
         if k2h > 100:   # cosh k2 (z + h) spans e^100 over the depth: the integrals lose it
             raise ConfigError("paddle.order", 2, f"1 for this wave: its second harmonic is in deep water (k2 h = "
                               f"{k2h:.0f}, at most 100), where the second-order stroke is not computed")
@@ -110,20 +106,20 @@ def check_paddle(cfg, depth, length, default_stroke=None):
 def paddle(cfg, depth, height, floor_y=0.0):
     """The paddle's particles (wall_layers columns left of x = 0 from the floor to `height`), its
     motion and the solver parameters it needs. depth: still water over the hinge."""
-    p, num = cfg["paddle"], cfg["numerics"]
-    dx, L = num["dx"], num["wall_layers"]
+    p, num = cfg.paddle, cfg.numerics
+    dx, L = num.dx, num.wall_layers
     pts = block(-L * dx, floor_y, 0.0, height, dx)
-    series = read_series(p["series"]) if p["series"] else None
+    series = read_series(p.series) if p.series else None
     if p.get("spectrum"):
-        series = irregular_series(p, depth, cfg["run"]["end_time"])
+        series = irregular_series(p, depth, cfg.run.end_time)
     second = ()
-    if p["order"] == 2:
-        second = second_order_stroke(p["type"], p["stroke"], 2 * math.pi / p["period"], depth)
+    if p.order == 2:
+        second = second_order_stroke(p.type, p.stroke, 2 * math.pi / p.period, depth)
     # a series or a spectrum ramps down over ramp_periods of its own (peak) period
-    motion = Motion(p["type"], p["stroke"], wave_period(p), p["ramp_periods"], lever=depth, series=series,
+    motion = Motion(p.type, p.stroke, wave_period(p), p.ramp_periods, lever=depth, series=series,
                     duration=p.get("duration", 0.0),
                     second=second)
-    reach = 0.5 * (p["stroke"] if series is None else 2 * float(np.abs(series[1]).max()))
+    reach = 0.5 * (p.stroke if series is None else 2 * float(np.abs(series[1]).max()))
     if p.get("absorb"):   # the correction may take the piston as far again as its stroke
         motion, reach = absorbing(motion, cfg, depth, floor_y + depth), 2 * reach
     return pts, motion, dict(motion=motion, pivot=(0.0, floor_y)), reach

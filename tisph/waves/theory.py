@@ -49,8 +49,8 @@ def group_velocity(omega, k, depth):
 def linear_wave(cfg, depth):
     """(omega, k, wavelength, group velocity, Biesel H/S) of the configured paddle (at the peak
     period with a spectrum)."""
-    p = cfg["paddle"]
+    p = cfg.paddle
     omega = 2 * math.pi / wave_period(p)
     k = wavenumber(omega, depth, G)
-    hs = biesel_piston(k * depth) if p["type"] == "piston" else biesel_flap(k * depth)
+    hs = biesel_piston(k * depth) if p.type == "piston" else biesel_flap(k * depth)
     return omega, k, 2 * math.pi / k, group_velocity(omega, k, depth), hs

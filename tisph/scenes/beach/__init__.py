@@ -31,155 +31,51 @@ near-bed orbital motion measured along the beach) and stills at t = 0, 0.7, 2, 4
 Bingham beach adds streamline panels, stills/streamlines_t*.png).
 """
 import math
+from functools import partial
 import os
-import sys
 
 import numpy as np
 
+from ...case import Scene, resolves
 from ...constants import G
 from ...config import ConfigError, physics_from_config
-from ...schema import POSITIVE, choices, K, ranges, values, with_defaults
+from ...schema import POSITIVE, K, with_defaults
 from ...io import write_csv, write_station_rows
 from ...particles import ParticleSet, block, density_from_pressure, layered_pressure, tait_B, FLUID, WALL, MOVING
 from ...viz.render import SAND
 from ...profiles import streamlines_png
 from ...ripples import MIN_HEIGHT_DX, MIN_LENGTH_DX, last_finite, orbital_diameter, ripple_stats, wiberg_harris
 from ...case import make_case
-from ...runner import common_params, run_scene, sound_speed
+from ...runner import common_params, sound_speed, run_scene
 from ...materials import BINGHAM_SAND, WATER
 from ...measure.field import surface_at, surface_heights
 from ...measure.gauges import WaveGauges
 from ...measure.records import arrival_time, height_at
-from ...waves.paddle import PADDLE, check_paddle, paddle, resolve_paddle
+from ...waves.paddle import PADDLE, check_paddle, paddle, stroke_step
 from ...waves.theory import linear_wave
 from ...measure.plots import pyplot, save
 from ...sediment import coupling
 from ...waves.absorb import with_control
-from .bedload import build_bedload, derive_bedload
+from .bedload import build_bedload, derive_bedload, paddle_depth
 from ...schemes import numerics
 
-NAME = "beach"
-# where the scene departs from its scheme (tisph/schemes.py), and why: breaking waves (below)
-DEPARTS = {"artificial_viscosity": "breaking waves compress the water without it (below)",
-           "artificial_viscosity_surface": "droplets and the swash's film ring without it (below)",
-           "laminar_viscosity": "alpha's viscosity is 500 times the water's; the bed was calibrated so"}
 # Bedforms longer than this many wavelengths (bars, the shoreline's retreat) are filtered out before
 # the ripples are counted; shorter than 3 dx or lower than dx / 2 is not a ripple (tisph/ripples.py).
 RIPPLE_WINDOW = 0.25
 
 
-SCHEMA = {
-    "run": {"end_time": 16.0},
-    # the tunnel's numerics (the bed scheme) but for breaking waves: without artificial
-    # viscosity the breakers compress the water (99.9th percentile of the density error 3.5 %, 1.1 %
-    # with alpha 0.01); the bed's outer scaling takes away the slower near-bed flow alpha's Stokes
-    # layer makes. At the free surface, 0.1: droplets torn off a breaker and the swash's thin film
-    # ring under the Tait tension (largest density error 20-25 % at 0.01, 7.7 % at 0.05, 2.1 % at
-    # 0.1; a constant alpha of 0.03 holds them but takes 13-18 % off the breaking height;
-    # docs/waves.md). The Bingham beaches set their own alpha.
-    # A breaker may throw a droplet out of the density band: removed and counted as spray (at most
-    # 0.2 % of the water), not a stop. dx: the derived value at these defaults (derive, below).
-    "numerics": numerics("bed", dx=0.0093, artificial_viscosity=0.01, artificial_viscosity_surface=0.1,
-                         laminar_viscosity=False, spray_limit=0.002),
-    "geometry": {
-        "length": K(4.5, "paddle (x = 0) to the end wall", "m", range=POSITIVE),
-        "depth": K(0.3, "still water over the flat sand", "m", range=POSITIVE),
-        "sand_thickness": K(0.1, "the sand's level above the floor (m): the flat bed, and under the ramp", range=POSITIVE),
-        "toe_x": K(1.0, "where the beach starts to rise", "m", range=POSITIVE),
-        "slope": K(10.0, "1 : slope (horizontal run per unit rise)", range=(1.0, None, True, True)),
-        "wall_height": K(0.6, "the side walls' height above the floor", "m", range=POSITIVE),
-        "grain_diameter": K(0.0003, "d50: the bed load's grain, and the Wiberg & Harris ripple prediction; a medium sand", "m", range=POSITIVE),
-        "gauges_x": K([0.8, 2.0, 3.0, 3.6], "wave gauges (m from the paddle's mean position): probes.csv eta_x..., and the wave height at each in summary.json (wave_height_at_gauges)"),
-        "roughness": K(0.01, "the bed-load bed's random RMS over the linear-wave d0 at the toe where sediment.seed_rms = 0 (2.7 mm at the default), as the tunnel's (docs/sediment.md)", range=(0.0, 0.1, True, True)),
-    },
-    "paddle": with_defaults(PADDLE, stroke=0.28, period=2.5, ramp_periods=1.0),
-    "materials": {"water": dict(WATER), "sand": dict(BINGHAM_SAND)},
-    # sediment.model = "bedload": the bed below particle scale (tisph/sediment, scenes/beach.toml);
-    # "particles": the paper's Bingham sand (scenes/beach_bingham_tau200.toml)
-    # the tunnel's bed parameters, the outer scaling included: the beach's near-wall layer is as thick
-    # (at 1.5 dx the velocity amplitude is half of that 6 dx up) and the flow above it carries the
-    # waves' flux at 0.89-1.02 of (H / 2) sqrt(g h) up the slope (docs/sediment.md)
-    "sediment": with_defaults(coupling.SEDIMENT, **coupling.WAVE_RIPPLES, morfac=20.2),
-    "output": {"frame_interval": 0.04, "probe_interval": 0.04, "width": 1280},
-}
-DEFAULTS = values(SCHEMA)
-RANGES = ranges(SCHEMA)
-CHOICES = choices(SCHEMA)
 STILLS = (0.0, 0.7, 2.0, 4.0, 8.0, 12.0, 16.0)
-
-
-def derive(cfg, given):
-    """The bed-load beach's dx and morfac from its wave where the user left them unset
-    (bedload.derive_bedload); run.log's lines."""
-    return derive_bedload(cfg, given) if cfg["sediment"]["model"] == "bedload" else []
-
-
-def check(cfg):
-    g, dx = cfg["geometry"], cfg["numerics"]["dx"]
-    if g["sand_thickness"] / dx < 3:
-        raise ConfigError("geometry.sand_thickness", g["sand_thickness"], f"at least 3 dx = {3 * dx:g} m")
-    if g["depth"] / dx < 6:
-        raise ConfigError("numerics.dx", dx, f"at most {g['depth'] / 6:.4g} m (6 particles across the water depth)")
-    top = g["sand_thickness"] + g["depth"]
-    if top + 0.1 >= g["wall_height"]:
-        raise ConfigError("geometry.wall_height", g["wall_height"], f"above the water surface + 0.1 m ({top + 0.1:g} m)")
-    shore = g["toe_x"] + g["depth"] * g["slope"]
-    if shore >= g["length"] - 0.2:
-        raise ConfigError("geometry.length", g["length"],
-                          f"longer than the shoreline position + 0.2 m ({shore + 0.2:.3g} m) for this toe_x and slope")
-    if not isinstance(g["gauges_x"], list) or any(isinstance(x, bool) or not isinstance(x, (int, float))
-                                                   or not 0 < x < g["length"] for x in g["gauges_x"]):
-        raise ConfigError("geometry.gauges_x", g["gauges_x"], f"a list of positions in m, each in (0, {g['length']:g})")
-    if g["toe_x"] < 1.0:
-        raise ConfigError("geometry.toe_x", g["toe_x"], "at least 1 m (room for the waves to form)")
-    # the bed-load bed's paddle stands on the bed, the Bingham bed's on the floor under the sand
-    bedload = cfg["sediment"]["model"] == "bedload"
-    depth = g["depth"] + (0.0 if bedload else g["sand_thickness"])
-    resolve_paddle(cfg, check_paddle(cfg, depth, g["length"], default_stroke=DEFAULTS["paddle"]["stroke"]))
-
-
-def build(cfg):
-    if cfg["sediment"]["model"] == "bedload":
-        return build_bedload(cfg, NAME, STILLS)
-    geo, num, p = cfg["geometry"], cfg["numerics"], cfg["paddle"]
-    dx, Lf, d, ts, Hw = num["dx"], geo["length"], geo["depth"], geo["sand_thickness"], geo["wall_height"]
-    yw = ts + d                                   # still-water level
-    omega, k, wavelength, cg, hs_ratio = linear_wave(cfg, d)
-    H_biesel = hs_ratio * p["stroke"]
-    c0, u_max = sound_speed(cfg, math.sqrt(G * (d + H_biesel)))   # bore speed of the broken wave
-    T = num["wall_layers"] * dx
-    h = num["h_factor"] * dx
-    ps, extra, reach, x_left = _particles(cfg, c0)
-    materials = [dict(dict(cfg["materials"][n]), name=n, B=tait_B(cfg["materials"][n]["rho0"], c0))
-                 for n in ("water", "sand")]
-    pad = 3 * T + 4 * h
-    domain = ((x_left - pad, -pad), (Lf + pad, 2 * Hw + pad))
-    params = common_params(cfg, c0, G, depth=yw)
-    params.update(extra)
-    bed = BedRecord(cfg, h, (omega, k, wavelength, cg, H_biesel))
-    events = []
-    if cfg["output"]["render"]:
-        events = [(t, _streamlines_event(yw, Lf, dx)) for t in STILLS]
-    margin = T + dx
-    return make_case(name=NAME, particles=ps, materials=materials, domain=domain, params=params,
-                     physics=physics_from_config(cfg, paddle=p["type"]),
-                     view=((x_left - margin, -margin), (Lf + margin, min(Hw, yw + 0.35) + margin)), u_max=u_max,
-                     probe_columns=("ripple_length", "ripple_height", "bed_change_rms", "eta_toe") + bed.gauges.columns,
-                     probe=bed.probe, metrics=bed.metrics, finalize=bed.finalize, events=events, stills=STILLS,
-                     container=(-reach - dx, 0.0, Lf, float("inf"), Hw),
-                     render_modes=("phase",), mat_colors=(None, SAND), control=with_control(extra["motion"]),
-                     persist=(bed,) + ((extra["motion"],) if p["absorb"] else ()))
 
 
 def _particles(cfg, c0):
     """Water over a sand layer on the floor and a 1:slope ramp, walls, and the paddle; each
     particle at the hydrostatic density of the layers above it."""
-    geo, num = cfg["geometry"], cfg["numerics"]
-    dx, Lf, d, ts = num["dx"], geo["length"], geo["depth"], geo["sand_thickness"]
-    toe, sl, Hw = geo["toe_x"], geo["slope"], geo["wall_height"]
+    geo, num = cfg.geometry, cfg.numerics
+    dx, Lf, d, ts = num.dx, geo.length, geo.depth, geo.sand_thickness
+    toe, sl, Hw = geo.toe_x, geo.slope, geo.wall_height
     yw = ts + d
-    rw, rs = cfg["materials"]["water"]["rho0"], cfg["materials"]["sand"]["rho0"]
-    L = num["wall_layers"]
+    rw, rs = cfg.materials.water.rho0, cfg.materials.sand.rho0
+    L = num.wall_layers
     T = L * dx
 
     def ramp(x):
@@ -243,17 +139,17 @@ class BedRecord:
     still-water shoreline."""
 
     def __init__(self, cfg, h, wave):
-        geo, num, self.p = cfg["geometry"], cfg["numerics"], cfg["paddle"]
-        self.cfg, self.h, self.dx = cfg, h, num["dx"]
+        geo, num, self.p = cfg.geometry, cfg.numerics, cfg.paddle
+        self.cfg, self.h, self.dx = cfg, h, num.dx
         self.omega, self.k, self.wavelength, self.cg, self.H_biesel = wave
-        self.d, self.toe, self.grain = geo["depth"], geo["toe_x"], geo["grain_diameter"]
-        self.yw = geo["sand_thickness"] + geo["depth"]
-        Lf = geo["length"]
+        self.d, self.toe, self.grain = geo.depth, geo.toe_x, geo.grain_diameter
+        self.yw = geo.sand_thickness + geo.depth
+        Lf = geo.length
         self.stations = np.arange(0.5, Lf - 0.25, self.dx)
-        shore = self.toe + self.d * geo["slope"]
+        shore = self.toe + self.d * geo.slope
         self.active = (self.stations >= max(0.5, self.toe - 0.5 * self.wavelength)) & (self.stations <= shore + 0.2)
         self.rows, self.bed0, self.u_near, self.pred_rows = [], None, [], None
-        self.gauges = WaveGauges(geo["gauges_x"], self.dx, h, self.yw, dry_from=shore)
+        self.gauges = WaveGauges(geo.gauges_x, self.dx, h, self.yw, dry_from=shore)
 
     def probe(self, st):
         dx, h, stations, active = self.dx, self.h, self.stations, self.active
@@ -359,7 +255,7 @@ class BedRecord:
             a3.set_ylabel("cm")
             a3.legend(fontsize=7, ncol=4, loc="upper left")
         axes[-1].set_xlabel("x (m)")
-        fig.suptitle(f"beach, tau_B = {self.cfg['materials']['sand']['yield_stress']:g} Pa: bed profile over "
+        fig.suptitle(f"beach, tau_B = {self.cfg.materials.sand.yield_stress:g} Pa: bed profile over "
                      f"time (grey: active zone)", fontsize=10)
         save(fig, path)
 
@@ -392,9 +288,110 @@ def _streamlines_event(yw, Lf, dx):
     return cb
 
 
-def main(argv=None):
-    return run_scene(sys.modules[__name__], argv)
+class Beach(Scene):
+    """Sand beach in front of a wave maker: waves shoal and break on it and reshape the bed."""
+    NAME = "beach"
+    # where the scene departs from its scheme (tisph/schemes.py), and why: breaking waves (below)
+    DEPARTS = {"artificial_viscosity": "breaking waves compress the water without it (below)",
+               "artificial_viscosity_surface": "droplets and the swash's film ring without it (below)",
+               "laminar_viscosity": "alpha's viscosity is 500 times the water's; the bed was calibrated so"}
+
+    SCHEMA = {
+        "run": {"end_time": 16.0},
+        # the tunnel's numerics (the bed scheme) but for breaking waves: without artificial
+        # viscosity the breakers compress the water (99.9th percentile of the density error 3.5 %, 1.1 %
+        # with alpha 0.01); the bed's outer scaling takes away the slower near-bed flow alpha's Stokes
+        # layer makes. At the free surface, 0.1: droplets torn off a breaker and the swash's thin film
+        # ring under the Tait tension (largest density error 20-25 % at 0.01, 7.7 % at 0.05, 2.1 % at
+        # 0.1; a constant alpha of 0.03 holds them but takes 13-18 % off the breaking height;
+        # docs/waves.md). The Bingham beaches set their own alpha.
+        # A breaker may throw a droplet out of the density band: removed and counted as spray (at most
+        # 0.2 % of the water), not a stop. dx: the derived value at these defaults (derive, below).
+        "numerics": numerics("bed", dx=0.0093, artificial_viscosity=0.01, artificial_viscosity_surface=0.1,
+                             laminar_viscosity=False, spray_limit=0.002),
+        "geometry": {
+            "length": K(4.5, "paddle (x = 0) to the end wall", "m", range=POSITIVE),
+            "depth": K(0.3, "still water over the flat sand", "m", range=POSITIVE),
+            "sand_thickness": K(0.1, "the sand's level above the floor (m): the flat bed, and under the ramp", range=POSITIVE),
+            "toe_x": K(1.0, "where the beach starts to rise", "m", range=POSITIVE),
+            "slope": K(10.0, "1 : slope (horizontal run per unit rise)", range=(1.0, None, True, True)),
+            "wall_height": K(0.6, "the side walls' height above the floor", "m", range=POSITIVE),
+            "grain_diameter": K(0.0003, "d50: the bed load's grain, and the Wiberg & Harris ripple prediction; a medium sand", "m", range=POSITIVE),
+            "gauges_x": K([0.8, 2.0, 3.0, 3.6], "wave gauges (m from the paddle's mean position): probes.csv eta_x..., and the wave height at each in summary.json (wave_height_at_gauges)"),
+            "roughness": K(0.01, "the bed-load bed's random RMS over the linear-wave d0 at the toe where sediment.seed_rms = 0 (2.7 mm at the default), as the tunnel's (docs/sediment.md)", range=(0.0, 0.1, True, True)),
+        },
+        "paddle": with_defaults(PADDLE, stroke=0.28, period=2.5, ramp_periods=1.0),
+        "materials": {"water": dict(WATER), "sand": dict(BINGHAM_SAND)},
+        # sediment.model = "bedload": the bed below particle scale (tisph/sediment, scenes/beach.toml);
+        # "particles": the paper's Bingham sand (scenes/beach_bingham_tau200.toml)
+        # the tunnel's bed parameters, the outer scaling included: the beach's near-wall layer is as thick
+        # (at 1.5 dx the velocity amplitude is half of that 6 dx up) and the flow above it carries the
+        # waves' flux at 0.89-1.02 of (H / 2) sqrt(g h) up the slope (docs/sediment.md)
+        "sediment": with_defaults(coupling.SEDIMENT, **coupling.WAVE_RIPPLES, morfac=20.2),
+        "output": {"frame_interval": 0.04, "probe_interval": 0.04, "width": 1280},
+    }
+
+    def derive(self, cfg, given):
+        """The resolving steps: the stroke a wave height asks for, then the bed-load beach's dx and
+        morfac from its wave where the user left them unset (bedload.derive_bedload). Returns the
+        values and run.log's lines."""
+        changes, notes = stroke_step(cfg, paddle_depth(cfg), self.DEFAULTS["paddle"]["stroke"])
+        if cfg.sediment.model == "bedload":
+            more, said = derive_bedload(cfg.replace(changes), given)
+            changes, notes = dict(changes, **more), notes + said
+        return changes, notes
+
+    def check(self, cfg):
+        g, dx = cfg.geometry, cfg.numerics.dx
+        resolves(g.sand_thickness, 3, "the sand", dx, "geometry.sand_thickness", g.sand_thickness)
+        resolves(g.depth, 6, "the water depth", dx)
+        top = g.sand_thickness + g.depth
+        if top + 0.1 >= g.wall_height:
+            raise ConfigError("geometry.wall_height", g.wall_height, f"above the water surface + 0.1 m ({top + 0.1:g} m)")
+        shore = g.toe_x + g.depth * g.slope
+        if shore >= g.length - 0.2:
+            raise ConfigError("geometry.length", g.length,
+                              f"longer than the shoreline position + 0.2 m ({shore + 0.2:.3g} m) for this toe_x and slope")
+        if not isinstance(g.gauges_x, list) or any(isinstance(x, bool) or not isinstance(x, (int, float))
+                                                       or not 0 < x < g.length for x in g.gauges_x):
+            raise ConfigError("geometry.gauges_x", g.gauges_x, f"a list of positions in m, each in (0, {g.length:g})")
+        if g.toe_x < 1.0:
+            raise ConfigError("geometry.toe_x", g.toe_x, "at least 1 m (room for the waves to form)")
+        check_paddle(cfg, paddle_depth(cfg), g.length, default_stroke=self.DEFAULTS["paddle"]["stroke"])
+
+    def build(self, cfg):
+        if cfg.sediment.model == "bedload":
+            return build_bedload(cfg, self.NAME, STILLS)
+        geo, num, p = cfg.geometry, cfg.numerics, cfg.paddle
+        dx, Lf, d, ts, Hw = num.dx, geo.length, geo.depth, geo.sand_thickness, geo.wall_height
+        yw = ts + d                                   # still-water level
+        omega, k, wavelength, cg, hs_ratio = linear_wave(cfg, d)
+        H_biesel = hs_ratio * p.stroke
+        c0, u_max = sound_speed(cfg, math.sqrt(G * (d + H_biesel)))   # bore speed of the broken wave
+        T = num.wall_layers * dx
+        h = num.h_factor * dx
+        ps, extra, reach, x_left = _particles(cfg, c0)
+        materials = [dict(dict(cfg.materials[n]), name=n, B=tait_B(cfg.materials[n]["rho0"], c0))
+                     for n in ("water", "sand")]
+        pad = 3 * T + 4 * h
+        domain = ((x_left - pad, -pad), (Lf + pad, 2 * Hw + pad))
+        params = common_params(cfg, c0, G, depth=yw)
+        params.update(extra)
+        bed = BedRecord(cfg, h, (omega, k, wavelength, cg, H_biesel))
+        events = []
+        if cfg.output.render:
+            events = [(t, _streamlines_event(yw, Lf, dx)) for t in STILLS]
+        margin = T + dx
+        return make_case(name=self.NAME, particles=ps, materials=materials, domain=domain, params=params,
+                         physics=physics_from_config(cfg, paddle=p.type),
+                         view=((x_left - margin, -margin), (Lf + margin, min(Hw, yw + 0.35) + margin)), u_max=u_max,
+                         probe_columns=("ripple_length", "ripple_height", "bed_change_rms", "eta_toe") + bed.gauges.columns,
+                         probe=bed.probe, metrics=bed.metrics, finalize=bed.finalize, events=events, stills=STILLS,
+                         container=(-reach - dx, 0.0, Lf, float("inf"), Hw),
+                         render_modes=("phase",), mat_colors=(None, SAND), control=with_control(extra["motion"]),
+                         persist=(bed,) + ((extra["motion"],) if p.absorb else ()))
 
 
-if __name__ == "__main__":
-    sys.exit(main())
+SCENE = Beach()
+main = partial(run_scene, SCENE)
+

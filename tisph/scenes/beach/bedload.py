@@ -42,11 +42,18 @@ def bed_profile(geo, x):
     return geo["sand_thickness"] + np.maximum(0.0, (np.asarray(x, float) - geo["toe_x"]) / geo["slope"])
 
 
+def paddle_depth(cfg):
+    """The water depth at the paddle: the bed-load bed's paddle stands on the bed, the Bingham
+    bed's on the floor under the sand."""
+    g = cfg.geometry
+    return g.depth + (0.0 if cfg.sediment.model == "bedload" else g.sand_thickness)
+
+
 def toe_wave(cfg):
     """(omega, k, Biesel H, d0) of the linear wave over the flat bed in front of the toe."""
-    d, p = cfg["geometry"]["depth"], cfg["paddle"]
+    d, p = cfg.geometry.depth, cfg.paddle
     omega, k, _, _, hs_ratio = linear_wave(cfg, d)
-    H = p["wave_height"] if p["wave_height"] > 0 else hs_ratio * p["stroke"]
+    H = p.wave_height if p.wave_height > 0 else hs_ratio * p.stroke
     return omega, k, H, orbital_diameter(H, k, d)
 
 
@@ -54,38 +61,38 @@ def derive_bedload(cfg, given):
     """dx and morfac from the wave where the user left them unset, as the tunnel's: dx resolves the
     ripple Wiberg & Harris predict for the toe's linear-wave d0 over RESOLVED_DX spacings, and
     morfac turns the bed there over no faster per wave period than in the calibration tunnel.
-    Returns run.log's lines."""
-    geo, sed = cfg["geometry"], cfg["sediment"]
-    if cfg["paddle"]["series"]:
-        return []                          # a measured signal: no wave to derive them from
+    Returns the values and run.log's lines."""
+    geo, sed = cfg.geometry, cfg.sediment
+    if cfg.paddle.series:
+        return {}, []                      # a measured signal: no wave to derive them from
     omega, _, H, d0 = toe_wave(cfg)
     if not (H > 0 and d0 > 0):
-        return []
-    rw = cfg["materials"]["water"]["rho0"]
-    turn = bed_turnover(d0, 2.0 * math.pi / omega, geo["grain_diameter"], sed["grain_density"] / rw, sed)
-    return derive_resolution(cfg, given, wiberg_harris(d0, geo["grain_diameter"])[0], d0, " at the toe",
+        return {}, []
+    rw = cfg.materials.water.rho0
+    turn = bed_turnover(d0, 2.0 * math.pi / omega, geo.grain_diameter, sed.grain_density / rw, sed)
+    return derive_resolution(cfg, given, wiberg_harris(d0, geo.grain_diameter)[0], d0, " at the toe",
                              limit=morfac_limit(sed, turn))
 
 
 def build_bedload(cfg, name, stills):
-    geo, num, p, sed = cfg["geometry"], cfg["numerics"], cfg["paddle"], cfg["sediment"]
-    dx, Lf, d, ts, Hw = num["dx"], geo["length"], geo["depth"], geo["sand_thickness"], geo["wall_height"]
+    geo, num, p, sed = cfg.geometry, cfg.numerics, cfg.paddle, cfg.sediment
+    dx, Lf, d, ts, Hw = num.dx, geo.length, geo.depth, geo.sand_thickness, geo.wall_height
     yw = ts + d
-    rw = cfg["materials"]["water"]["rho0"]
+    rw = cfg.materials.water.rho0
     omega, k, wavelength, cg, hs_ratio = linear_wave(cfg, d)
-    H_biesel = hs_ratio * p["stroke"]
+    H_biesel = hs_ratio * p.stroke
     d0_toe = orbital_diameter(H_biesel, k, d)
-    lam_toe, ripple_h_toe, _ = wiberg_harris(d0_toe, geo["grain_diameter"])
+    lam_toe, ripple_h_toe, _ = wiberg_harris(d0_toe, geo.grain_diameter)
     warn_unresolved(lam_toe, dx, "at the toe (Wiberg & Harris for the linear-wave d0)")
     T_wave = 2.0 * math.pi / omega
-    warn_fast_bed(sed, bed_turnover(d0_toe, T_wave, geo["grain_diameter"], sed["grain_density"] / rw, sed),
+    warn_fast_bed(sed, bed_turnover(d0_toe, T_wave, geo.grain_diameter, sed["grain_density"] / rw, sed),
                   f"at the toe's linear-wave d0 of {d0_toe:.3g} m")
     warn_waves(cfg, H_biesel, k, d, linear_metric=False)
     c0, u_max = sound_speed(cfg, math.sqrt(G * (d + H_biesel)))
-    L, h = num["wall_layers"], num["h_factor"] * dx
+    L, h = num.wall_layers, num.h_factor * dx
     T = L * dx
     stations = RIGID + (np.arange(int(round((Lf - RIGID) / dx))) + 0.5) * dx
-    sed = dict(sed, seed_rms=initial.random_bed_rms(sed, geo["roughness"], d0_toe))
+    sed = dict(sed, seed_rms=initial.random_bed_rms(sed, geo.roughness, d0_toe))
     z = initial.initial_bed(stations, bed_profile(geo, stations), sed, dx, periodic=False, top=yw)
 
     def density(y):
@@ -117,28 +124,28 @@ def build_bedload(cfg, name, stills):
     params["bed_stations"] = len(stations)
     pad = 3 * T + 4 * h
     domain = ((x_left - pad, floor - T - pad), (Lf + T + pad, 2 * Hw + pad))
-    physics = physics_from_config(cfg, paddle=p["type"], materials_used=["water"], moving_bed=True)
-    bed = coupling.BedCoupler(sed, stations, z, dx, h, geo["grain_diameter"], sed["grain_density"],
+    physics = physics_from_config(cfg, paddle=p.type, materials_used=["water"], moving_bed=True)
+    bed = coupling.BedCoupler(sed, stations, z, dx, h, geo.grain_diameter, sed["grain_density"],
                               amplitude=None, periodic=False, rho_w=rw, omega=omega, still_level=yw)
     rec = BeachBed(cfg, bed, stations, omega, k, wavelength, cg, H_biesel)
     # the frame: the whole beach from the paddle, where the bed changes, to the swash; under it a
     # metre of the ripple zone (from half a metre past the toe) at true scale (output.zoom)
     view = ((0.0, ts - 0.05), (Lf, min(Hw, yw + 0.1)))
     # tall enough for a shoaled crest (up to about a wave height above still water near breaking)
-    zx = geo["toe_x"] + 0.5
+    zx = geo.toe_x + 0.5
     zoom = ((zx, float(bed_profile(geo, zx)) - 0.04), (zx + 1.0, yw + max(0.06, H_biesel)))
     # colour top: three times the near-bed orbital speed at the paddle (linear waves), not the
     # bore speed that bounds the sound speed: the shoaling waves are what the frame shows
     u_col = 3.0 * 0.5 * H_biesel * omega / math.sinh(k * d)
-    return make_case(name=name, particles=ps, materials=[dict(cfg["materials"]["water"], name="water",
+    return make_case(name=name, particles=ps, materials=[dict(cfg.materials.water, name="water",
                                                                B=tait_B(rw, c0))],
                      domain=domain, params=params, physics=physics, view=view, zoom=zoom, u_max=u_max,
-                     marks=[(x, f"g{i + 1}") for i, x in enumerate(geo["gauges_x"])],
+                     marks=[(x, f"g{i + 1}") for i, x in enumerate(geo.gauges_x)],
                      speed_scale=u_col,
                      probe_columns=BeachBed.COLUMNS + rec.gauges.columns, probe=rec.probe, metrics=rec.metrics,
                      finalize=rec.finalize, stills=stills, container=(-reach - dx, floor - T, Lf, float("inf"), Hw),
                      control=with_control(motion, bed.update), control_every=sed["update_every"],
-                     persist=(bed, rec) + ((motion,) if p["absorb"] else ()),
+                     persist=(bed, rec) + ((motion,) if p.absorb else ()),
                      **bed.picture(left=ts, ripple_height=ripple_h_toe))
 
 
@@ -151,17 +158,17 @@ class BeachBed:
 
     def __init__(self, cfg, bed, stations, omega, k, wavelength, cg, H_biesel):
         self.cfg, self.bed, self.stations = cfg, bed, stations
-        self.dx = cfg["numerics"]["dx"]
+        self.dx = cfg.numerics.dx
         self.omega, self.k, self.wavelength, self.cg, self.H_biesel = omega, k, wavelength, cg, H_biesel
-        geo = cfg["geometry"]
-        self.yw = geo["sand_thickness"] + geo["depth"]
-        self.toe, self.grain = geo["toe_x"], geo["grain_diameter"]
+        geo = cfg.geometry
+        self.yw = geo.sand_thickness + geo.depth
+        self.toe, self.grain = geo.toe_x, geo.grain_diameter
         self.rows, self.zone = [], None
         self.lengths = (float("nan"), float("nan"))   # the last probe's measured and predicted means
-        self.gauges = WaveGauges(geo["gauges_x"], self.dx, cfg["numerics"]["h_factor"] * self.dx, self.yw,
-                             dry_from=geo["toe_x"] + geo["depth"] * geo["slope"])
+        self.gauges = WaveGauges(geo.gauges_x, self.dx, cfg.numerics.h_factor * self.dx, self.yw,
+                             dry_from=geo.toe_x + geo.depth * geo.slope)
         self.shoal = Shoaling(geo, lambda x: self.yw - float(bed_profile(geo, x)), self.yw, self.dx,
-                              cfg["numerics"]["h_factor"] * self.dx)
+                              cfg.numerics.h_factor * self.dx)
 
     def predicted(self):
         """Wiberg & Harris length at every station for the measured d0 = 2 A (0 where dry)."""
@@ -192,15 +199,15 @@ class BeachBed:
             count = int(round((x[-1] - x[0]) / lam)) if np.isfinite(lam) and lam > 0 else 0
             self.zone = zone
         rms = float(np.sqrt(np.mean((zb - self.bed.z0) ** 2)))
-        eta = surface_at(st, self.toe, self.dx, self.cfg["numerics"]["h_factor"] * self.dx, mat=0) - self.yw
+        eta = surface_at(st, self.toe, self.dx, self.cfg.numerics.h_factor * self.dx, mat=0) - self.yw
         lp = float(lam_p[zone].mean()) if zone.any() else float("nan")
         self.lengths = (lam, lp)
         self.shoal.read(st)
         return (lam, hr, count, rms, eta, lp, float(np.abs(self.bed.tau).max())) + self.gauges.read(st)
 
     def metrics(self, c):
-        p, sed = self.cfg["paddle"], self.cfg["sediment"]
-        out = dict(kh_paddle=self.k * self.cfg["geometry"]["depth"], wavelength=self.wavelength,
+        p, sed = self.cfg.paddle, self.cfg.sediment
+        out = dict(kh_paddle=self.k * self.cfg.geometry.depth, wavelength=self.wavelength,
                    biesel_wave_height=self.H_biesel, sediment_model="bedload", morfac=sed["morfac"],
                    theta_cr=self.bed.bed.theta_cr, sand_volume_error=self.bed.volume_error())
         out.update(last_finite(c, ("ripple_length", "ripple_height", "bed_change_rms", "predicted_ripple_length")))
@@ -254,5 +261,5 @@ class BeachBed:
         a2.set_ylabel("ripple length (cm)")
         a2.set_xlabel("x (m)")
         a2.legend(fontsize=7, loc="lower left", ncol=2)
-        fig.suptitle(f"beach over a bed-load sand bed (morfac {self.cfg['sediment']['morfac']:g})", fontsize=10)
+        fig.suptitle(f"beach over a bed-load sand bed (morfac {self.cfg.sediment.morfac:g})", fontsize=10)
         save(fig, path)

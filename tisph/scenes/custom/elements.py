@@ -38,6 +38,7 @@ ELEMENTS = {
         "from_time": K(0.0, "the gauge's statistics start here (wave height, mean discharge)", 's'),
         "crest": K(None, "a discharge gauge's crest level: EurOtop's mean overtopping beside the measured one", 'm'),
         "cot_slope": K(0.0, "the structure's seaward slope (cot alpha) for EurOtop; 0: no EurOtop"),
+        "array": K("", "surface gauges given one name form an array: the incident and reflected waves at the paddle's frequency from two or more of them (Mansard & Funke 1980, as the flume's), a tenth of a wavelength or so apart"),
         "toe_gauges": K([], 'the surface gauges in front of the structure whose incident wave height EurOtop reads: one (its wave height, incident and reflected together) or three or more on a flat stretch, a tenth of a wavelength or so apart (the incident first harmonic, separated from the reflected one)'),
     },
 }
@@ -160,6 +161,8 @@ def _gauge(g, base_dir):
     if g["cot_slope"] > 0 and (t != "discharge" or g["crest"] is None or not g["toe_gauges"]):
         raise ConfigError(f"{n}.cot_slope", g["cot_slope"], "0 unless the gauge is a discharge gauge with crest and "
                           "toe_gauges given (EurOtop needs the freeboard and the wave height at the toe)")
+    if g["array"] and t != "surface":
+        raise ConfigError(f"{n}.array", g["array"], '"" for a ' + t + " gauge (an array is of surface gauges)")
     if g["toe_gauges"] and len(g["toe_gauges"]) == 2:
         raise ConfigError(f"{n}.toe_gauges", g["toe_gauges"], "one surface gauge's label, or three or more (two "
                           "waves, incident and reflected, are fitted)")

@@ -12,10 +12,22 @@ from ...validation import eurotop
 from ...waves.theory import wavenumber
 
 
+def load_cutoff(c0, height):
+    """The load gauges' low-pass (Hz): half the water's lowest acoustic mode, c0 / (4 height) (a
+    column of water of this height, closed at the floor and open at the surface). WCSPH's water is
+    compressible at c0, and a force or a pressure read from it rings at these modes (a wall under
+    standing waves: 11 N/m RMS at 17-25 Hz); at c0 = 10 sqrt(g height) the cutoff is 1.25
+    sqrt(g / height), 6 Hz in 0.4 m of water, above a wave's first harmonics."""
+    return c0 / (8.0 * height)
+
+
 class CaseGauges(GaugeSet):
-    def __init__(self, specs, dx, h, g, wall_side, depth_at, band=None):
-        """band: (lo, hi) in Hz of an irregular sea's spectrum (paddle.spectrum), else None."""
-        super().__init__(case_gauges(specs, dx, h, wall_side), dx, h)
+    def __init__(self, specs, dx, h, g, wall_side, depth_at, band=None, cutoff=None):
+        """band: (lo, hi) in Hz of an irregular sea's spectrum (paddle.spectrum), else None;
+        cutoff: the load gauges' low-pass (load_cutoff)."""
+        super().__init__(case_gauges(specs, dx, h, wall_side), dx, h, cutoff)
+        for gauge in self.gauges:
+            gauge.irregular = band is not None      # a surface gauge's Hm0 and Tp come from spectra
         self.specs, self.g, self.band = specs, g, band
         self.depth = {q["label"]: depth_at(q["x"]) for q in specs if q["type"] == "surface"}
 
@@ -26,10 +38,16 @@ class CaseGauges(GaugeSet):
         out = super().metrics(c, period)
         if self.band and period:
             self.spectra(c, period, out)
+        for name in sorted({q["array"] for q in self.specs if q["array"]} if period and not self.band else ()):
+            split = self.split([q["label"] for q in self.specs if q["array"] == name], period)
+            if split is not None:
+                ai, ar, kr = split
+                out.update({f"{name}_incident_height": 2 * ai, f"{name}_reflected_height": 2 * ar,
+                            f"{name}_reflection_coefficient": kr})
         for q in self.specs:
             if q["type"] == "discharge" and q["cot_slope"] > 0 and period:
                 lab = q["label"]
-                H = self.incident(c, q, period, out)
+                H = self.incident(q, period, out)
                 out[f"{lab}_freeboard"] = q["crest"] - still_level
                 if math.isfinite(H) and H > 0:
                     qe, regime = eurotop.mean_discharge(H, period, q["cot_slope"], q["crest"] - still_level, self.g)
@@ -49,31 +67,37 @@ class CaseGauges(GaugeSet):
             if q["type"] != "surface":
                 continue
             lab = q["label"]
-            for k in ("wave_height", "waves", "harmonic_1", "harmonic_2", "harmonic_3"):
-                out.pop(f"{lab}_{k}", None)
             f, S, n = harmonics.welch(c["t"], c[f"eta_{lab}"], q["from_time"], t_end, 16 * tp)
             hm0, tpk = harmonics.spectral_height_and_peak(f, S, *self.band) if n else (None, None)
             out[f"{lab}_hm0"] = float(hm0) if n else None
             out[f"{lab}_tp"] = float(tpk) if n else None
             out[f"{lab}_spectrum_segments"] = int(n)
 
-    def incident(self, c, q, period, out):
+    def incident(self, q, period, out):
         """The incident wave height at the toe for EurOtop: one gauge's wave height, or with three or
-        more the incident first harmonic separated from the reflected one (Mansard & Funke 1980) at
-        the wavenumber of the gauges' mean still depth; out gets the reflection coefficient."""
+        more the incident first harmonic separated from the reflected one (split); out gets the
+        reflection coefficient."""
         labs = q["toe_gauges"]
         if len(labs) == 1:
             return out.get(f"{labs[0]}_wave_height", float("nan"))
-        omega = 2 * math.pi / period
+        split = self.split(labs, period)
+        if split is None:
+            return float("nan")
+        out[f"{q['label']}_reflection_coefficient"] = split[2]
+        return 2 * split[0]
+
+    def split(self, labs, period):
+        """(incident amplitude, reflected amplitude, reflection coefficient) of the first harmonic
+        at the surface gauges labs (Mansard & Funke 1980) at the wavenumber of their mean still
+        depth, over the whole periods from the latest from_time; None under two periods."""
+        c, omega = self.seen, 2 * math.pi / period
         g = {p["label"]: p for p in self.specs if p["type"] == "surface"}
         k = wavenumber(omega, float(np.mean([self.depth[lab] for lab in labs])), self.g)
         t0 = max(g[lab]["from_time"] for lab in labs)
         amps = [harmonics.harmonics(c["t"], c[f"eta_{lab}"], omega, t0, float(c["t"][-1]), 1) for lab in labs]
         if any(a is None for a in amps):
-            return float("nan")
-        ai, ar, kr = harmonics.reflection([g[lab]["x"] for lab in labs], [a[0] for a in amps], k)
-        out[f"{q['label']}_reflection_coefficient"] = kr
-        return 2 * ai
+            return None
+        return harmonics.reflection([g[lab]["x"] for lab in labs], [a[0] for a in amps], k)
 
 
 def check_sites(gauges, lay, errors):

@@ -27,14 +27,14 @@ SAND_DEFAULTS = values(SAND)
 
 def check(cfg, solids, box, errors):
     """The [sand] table against the solids and the box: the stations and the line's level there."""
-    s, dx = cfg["sand"], cfg["numerics"]["dx"]
-    if not s["x"]:
+    s, dx = cfg.sand, cfg.numerics.dx
+    if not s.x:
         base = SEDIMENT_DEFAULTS
         errors += [ConfigError(f"sediment.{k}", v, f"its default ({base[k]!r}) without a sand bed",
                                "the [sediment] keys set the bed-load bed; give sand.x and sand.solid")
-                   for k, v in cfg["sediment"].items() if v != base[k]]
+                   for k, v in cfg.sediment.items() if v != base[k]]
         return None
-    x = s["x"]
+    x = s.x
     if not (isinstance(x, list) and len(x) == 2 and all(isinstance(v, (int, float)) for v in x) and x[0] < x[1]):
         errors.append(ConfigError("sand.x", x, "[x0, x1] in m with x0 < x1"))
         return None
@@ -44,17 +44,17 @@ def check(cfg, solids, box, errors):
     if (x[1] - x[0]) < 16 * dx:
         errors.append(ConfigError("sand.x", x, f"a stretch at least 16 dx = {16 * dx:g} m long"))
         return None
-    line = next((e for e in solids if e["label"] == s["solid"] and e.get("shape") == "line"), None)
+    line = next((e for e in solids if e["label"] == s.solid and e.get("shape") == "line"), None)
     if line is None:
-        errors.append(ConfigError("sand.solid", s["solid"], "the label of a [[solid]] line or csv: "
+        errors.append(ConfigError("sand.solid", s.solid, "the label of a [[solid]] line or csv: "
                                   + ", ".join(repr(e["label"]) for e in solids if e.get("shape") == "line")))
         return None
-    if cfg["paddle"]["type"] == "none":
+    if cfg.paddle.type == "none":
         errors.append(ConfigError("sand.x", x, "[] without a paddle", "the bed's shear is the waves' (Swart's "
                                   "friction factor on the near-bed orbital motion): a sand bed needs [paddle] type"))
         return None
-    if s["grain_diameter"] <= 0:
-        errors.append(ConfigError("sand.grain_diameter", s["grain_diameter"], "a number > 0 (m)"))
+    if s.grain_diameter <= 0:
+        errors.append(ConfigError("sand.grain_diameter", s.grain_diameter, "a number > 0 (m)"))
         return None
     pts = np.asarray(line["line"])
     cover = (pts[1:, 0] > x[0]) & (pts[:-1, 0] < x[1])
@@ -75,11 +75,11 @@ class SandBed:
     """The bed, its bed particles, probes and outputs."""
 
     def __init__(self, cfg, stations, z, line, lay, level, omega, h, rho_w, c0, g):
-        self.cfg, self.dx = cfg, cfg["numerics"]["dx"]
-        sed = cfg["sediment"]
+        self.cfg, self.dx = cfg, cfg.numerics.dx
+        sed = cfg.sediment
         self.stations = stations
         z0 = initial.initial_bed(stations, z, sed, self.dx, periodic=False)
-        x0, x1 = cfg["sand"]["x"]
+        x0, x1 = cfg.sand.x
         shape = next(sh for e, sh in lay.shapes if e is line)
         stretch = (lay.pts[:, 0] > x0) & (lay.pts[:, 0] < x1)
         lay.wall &= ~(stretch & shape.band(lay.pts, lay.T))   # the bed particles stand in for them
@@ -88,8 +88,8 @@ class SandBed:
         over = stretch & lay.water        # its columns down onto the bed (initial.water_columns)
         lay.pts[over, 1] -= initial.drop_onto_bed(lay.pts[over, 1], zl[over], self.dx)
         self.level, self.rho_w, self.c0, self.g = level, rho_w, c0, g
-        self.coupler = coupling.BedCoupler(sed, stations, z0, self.dx, h, cfg["sand"]["grain_diameter"],
-                                           sed["grain_density"], amplitude=None, periodic=False, rho_w=rho_w,
+        self.coupler = coupling.BedCoupler(sed, stations, z0, self.dx, h, cfg.sand.grain_diameter,
+                                           sed.grain_density, amplitude=None, periodic=False, rho_w=rho_w,
                                            omega=omega, still_level=level)
         self.rows = []
 
@@ -114,7 +114,7 @@ class SandBed:
         dz = b.bed.z - b.z0
         out = dict(sand_volume_error=b.volume_error(), bed_change_rms=float(np.sqrt(np.mean(dz * dz))),
                    bed_erosion_max=float(-dz.min()), bed_deposition_max=float(dz.max()),
-                   morfac=self.cfg["sediment"]["morfac"])
+                   morfac=self.cfg.sediment.morfac)
         return out
 
     def finalize(self, out):
@@ -135,7 +135,7 @@ class SandBed:
         a2.axhline(0.0, color="k", lw=0.5)
         a2.set_ylabel("bed change (mm)")
         a2.set_xlabel("x (m)")
-        fig.suptitle(f"sand bed, morfac {self.cfg['sediment']['morfac']:g}", fontsize=10)
+        fig.suptitle(f"sand bed, morfac {self.cfg.sediment.morfac:g}", fontsize=10)
         save(fig, os.path.join(out, "bed_profile.png"))
 
 

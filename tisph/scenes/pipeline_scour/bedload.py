@@ -62,7 +62,7 @@ def far_field(g, stations, inflow_length):
 
 
 def build_bedload(cfg):
-    geo, sed = cfg["geometry"], cfg["sediment"]
+    geo, sed = cfg.geometry, cfg.sediment
     g = geometry(cfg)
     dx, L, h, rw = g.dx, g.L, g.h, g.rw
     c0, u_max = sound_speed(cfg, 2.5 * g.U)      # the gap jet runs at up to about twice U
@@ -74,31 +74,31 @@ def build_bedload(cfg):
     pad = 4 * h
     floor = -(L + 2) * dx - 0.5 * g.hs           # room for the bed's columns as the hole deepens
     domain = ((0.0, floor - pad), (g.Lx, 2.0 * g.ytop + pad))
-    inflow = (0.0, geo["inflow_length"], geo["inflow_rate"], 0, g.hs, g.ustar, g.z0) \
-        if geo["inflow_length"] > 0 and geo["inflow_rate"] > 0 else ()
-    physics = physics_from_config(cfg, periodic_x=True, noslip=True, materials_used=["water"], sps=geo["sps"],
-                                  moving_bed=True, inflow=inflow, suspension=sed["suspended"])
-    if sed["shear"] == "wall_function" and physics.turbulence != "k_equation":
-        raise ConfigError("sediment.shear", sed["shear"], "'log_far_field' unless numerics.turbulence = "
+    inflow = (0.0, geo.inflow_length, geo.inflow_rate, 0, g.hs, g.ustar, g.z0) \
+        if geo.inflow_length > 0 and geo.inflow_rate > 0 else ()
+    physics = physics_from_config(cfg, periodic_x=True, noslip=True, materials_used=["water"], sps=geo.sps,
+                                  moving_bed=True, inflow=inflow, suspension=sed.suspended)
+    if sed.shear == "wall_function" and physics.turbulence != "k_equation":
+        raise ConfigError("sediment.shear", sed.shear, "'log_far_field' unless numerics.turbulence = "
                           f"'k_equation' (the wall function reads its k; here '{physics.turbulence}')")
-    far = far_field(g, stations, geo["inflow_length"])
+    far = far_field(g, stations, geo.inflow_length)
     bed = coupling.BedCoupler(sed, stations, z, dx, h, g.d50, g.rs, amplitude=0.0, periodic=True, rho_w=rw,
                               z0=g.z0, far_field=(far, rw * g.ustar ** 2), surface=g.ytop)
     params["w_s"] = bed.w_s
-    if sed["suspended"]:
+    if sed.suspended:
         ps.concentration = equilibrium_suspension(g, bed, ps)
         bed.carrying(float(np.sum(ps.concentration * ps.m)) / rw)
     if physics.turbulence == "k_equation":
         ps.tke, ps.turbulence_length = equilibrium_turbulence(g, bed, ps)
     rec = BedScourRecord(cfg, g, bed)
-    t_end = cfg["run"]["end_time"]
+    t_end = cfg.run.end_time
     events = [(t, rec.on_profile_sample) for t in np.arange(0.5 * t_end, t_end + 1e-9, 0.05)]
     stills_at = (0.0, 0.5 * t_end, t_end)
-    if cfg["output"]["render"]:
+    if cfg.output.render:
         events += [(t, streamlines_event(g)) for t in stills_at]
     # frames: the pipe and its hole, 4 D upstream to 8 D downstream, to the surface
     x0, x1 = max(0.0, g.xc - 4 * g.D), min(g.Lx, g.xc + 8 * g.D)
-    return make_case(name=NAME, particles=ps, materials=[dict(cfg["materials"]["water"], name="water",
+    return make_case(name=NAME, particles=ps, materials=[dict(cfg.materials.water, name="water",
                                                                B=tait_B(rw, c0))],
                      domain=domain, params=params, physics=physics,
                      view=((x0, g.hs - 1.2 * g.D), (x1, g.ytop + 2 * dx)), u_max=u_max,
@@ -107,8 +107,8 @@ def build_bedload(cfg):
                      probe=rec.probe, metrics=rec.metrics, finalize=rec.finalize,
                      events=sorted(events, key=lambda e: e[0]), stills=stills_at,
                      container=(-1e9, floor, 1e9, float("inf")), control=rec.control,
-                     render_modes=("speed", "concentration") if sed["suspended"] else ("speed",),
-                     control_every=sed["update_every"], persist=(rec, bed), **bed.picture())
+                     render_modes=("speed", "concentration") if sed.suspended else ("speed",),
+                     control_every=sed.update_every, persist=(rec, bed), **bed.picture())
 
 
 def _particles(g, stations, z, c0):
@@ -197,15 +197,15 @@ class BedScourRecord(ScourRecord):
         self.under = np.abs(self.stations - g.xc) < g.D    # Mao's deepest point lies just downstream
         self.k_pipe = int(np.argmin(np.abs(self.stations - g.xc)))
         self.scale = transport_scale(g.d50, g.rs / g.rw, G)
-        self.morfac = cfg["sediment"]["morfac"]
-        self.mao = cfg["geometry"]["reference"] == "mao"
+        self.morfac = cfg.sediment.morfac
+        self.mao = cfg.geometry.reference == "mao"
         # Mao's profiles are from his pipe's centre, D/2 above the undisturbed bed; a gap raises
         # ours, so the comparison is made from where his centre was
         self.y_ref = g.hs + g.R
         self.shear_rows = []      # (t, the bed shear at each station), at the probes' times
         # the experiment's clock starts where Mao's hole was as deep as the initial dip, or at the
         # time of his bed the run starts from
-        start = profile_time(cfg["geometry"])
+        start = profile_time(cfg.geometry)
         self.t0_mao = mao.time_of_depth(float(self.depth(bed.z0))) if start is None else start
 
     def depth(self, z):

@@ -20,7 +20,7 @@ def profile_time(geo):
 
 def has_bedload(cfg):
     """Whether the sand is the bed-load bed (a rigid bed, sand_depth = 0, has no sand model)."""
-    return cfg["sediment"]["model"] == "bedload" and cfg["geometry"]["sand_depth"] > 0
+    return cfg.sediment.model == "bedload" and cfg.geometry.sand_depth > 0
 
 
 def log_law(z, ustar, z0):
@@ -42,20 +42,20 @@ def ring(cx, cy, radius, dx):
 
 def geometry(cfg):
     """The case's derived quantities: pipe centre, water top, friction velocity and roughness."""
-    geo, num = cfg["geometry"], cfg["numerics"]
-    g = types.SimpleNamespace(dx=num["dx"], D=geo["pipe_diameter"], hw=geo["water_depth"], hs=geo["sand_depth"],
-                              Lx=geo["length"], U=geo["mean_velocity"], d50=geo["grain_diameter"],
-                              L=num["wall_layers"], h=num["h_factor"] * num["dx"], geo=geo)
-    mats = cfg["materials"]
-    g.rw, g.rs = mats["water"]["rho0"], mats["sand"]["rho0"]
+    geo, num = cfg.geometry, cfg.numerics
+    g = types.SimpleNamespace(dx=num.dx, D=geo.pipe_diameter, hw=geo.water_depth, hs=geo.sand_depth,
+                              Lx=geo.length, U=geo.mean_velocity, d50=geo.grain_diameter,
+                              L=num.wall_layers, h=num.h_factor * num.dx, geo=geo)
+    mats = cfg.materials
+    g.rw, g.rs = mats.water["rho0"], mats.sand["rho0"]
     if has_bedload(cfg):   # the bed's grains, not the two-phase model's bulk sand
-        g.rs = cfg["sediment"]["grain_density"]
+        g.rs = cfg.sediment.grain_density
     g.R = 0.5 * g.D
     g.xc = 0.5 * g.Lx
-    g.yc = g.hs + geo["gap"] + g.R
+    g.yc = g.hs + geo.gap + g.R
     g.ytop = g.hs + g.hw
-    if geo["shields"] > 0:
-        g.ustar = math.sqrt(geo["shields"] * (g.rs / g.rw - 1) * G * g.d50)
+    if geo.shields > 0:
+        g.ustar = math.sqrt(geo.shields * (g.rs / g.rw - 1) * G * g.d50)
         g.z0 = g.hw * math.exp(-(KAPPA * g.U / g.ustar + 1.0))
     else:
         g.z0 = 2.5 * g.d50 / 30.0                 # Nikuradse roughness 2.5 d50

@@ -33,7 +33,7 @@ class ScourRecord:
         self.stations = np.arange(0.5 * g.dx, g.Lx, g.dx)
         self.under = np.abs(self.stations - g.xc) < 0.5 * g.D
         self.rows, self.bed0 = [], None
-        self.offsets = cfg["geometry"]["profile_offsets"]
+        self.offsets = cfg.geometry.profile_offsets
         self.prof = {o: [] for o in self.offsets}
 
     def control(self, s):

@@ -19,19 +19,20 @@ cores. geometry.seed_ripple_height > 0 starts the bed rippled (at the predicted 
 geometry.seed_ripple_length), to ask whether the bed keeps them, merges or splits them.
 """
 import os
-import sys
+from functools import partial
 
 import numpy as np
 
+from ...case import Scene, resolves
 from ...constants import G
 from ...config import ConfigError, physics_from_config
-from ...schema import NON_NEGATIVE, POSITIVE, choices, K, ranges, values, with_defaults
+from ...schema import NON_NEGATIVE, POSITIVE, K, with_defaults
 from ...io import write_station_rows
 from ...particles import ParticleSet, block, density_from_pressure, layered_pressure, tait_B, FLUID, WALL
 from ...viz.render import SAND
 from ...ripples import MIN_HEIGHT_DX, MIN_LENGTH_DX, derive_resolution, last_finite, ripple_stats, wiberg_harris
 from ...case import make_case
-from ...runner import common_params, run_scene, sound_speed
+from ...runner import common_params, sound_speed, run_scene
 from ...materials import BINGHAM_SAND, WATER
 from ...measure.field import surface_heights
 from ...measure.ripple_plots import plot_bed
@@ -43,131 +44,14 @@ from .drive import (BED_PERIODS, CREST_SPEED, TunnelDrive, free_stream, morfac_l
                     seed_rms, turnover_periods)
 from ...schemes import numerics
 
-NAME = "tunnel"
-# periods of bed change (wave periods x morfac) a run needs: the ripples' growth and 100 held
-
-
-SCHEMA = {
-    "run": {"end_time": 40.0},
-    "numerics": numerics("bed", dx=0.01),
-    "geometry": {
-        "length": K(1.2, "periodic length", "m", range=POSITIVE),
-        "water_depth": K(0.15, "water above the bed", "m", range=POSITIVE),
-        "sand_depth": K(0.08, "sand layer on the rigid floor", "m", range=POSITIVE),
-        "orbital_diameter": K(CALIBRATION["orbital_diameter"], "d0 = 2 U_m / omega", "m", range=POSITIVE),
-        "period": K(CALIBRATION["period"], "T", "s", range=POSITIVE),
-        "grain_diameter": K(CALIBRATION["grain_diameter"], "for the Wiberg & Harris prediction", "m", range=POSITIVE),
-        "seed_ripple_height": K(0.0, "> 0: the bed starts rippled, crest to trough this high (m), at the predicted length rounded to fit the periodic length: does the bed keep, grow or lose them?", range=NON_NEGATIVE),
-        "seed_ripple_length": K(0.0, "m; 0: the predicted length (rounded to fit the periodic length)", range=NON_NEGATIVE),
-        "roughness": K(0.01, "the random bed's RMS roughness over d0 where sediment.seed_rms = 0 (3 mm at the default d0): where the ripples end depends on it (docs/sediment.md), so it follows d0; 0 and seed_rms = 0: a flat bed", range=(0.0, 0.1, True, True)),
-    },
-    "materials": {"water": dict(WATER), "sand": dict(BINGHAM_SAND)},     # the beach's water and sand
-    # the bed below particle scale (tisph/sediment), the wave-ripple set; seed_rms: geometry.roughness
-    "sediment": with_defaults(coupling.SEDIMENT, **coupling.WAVE_RIPPLES, morfac=CALIBRATION["morfac"]),
-    "output": {"frame_interval": 0.05, "probe_interval": 0.05, "width": 960},
-}
-DEFAULTS = values(SCHEMA)
-RANGES = ranges(SCHEMA)
-CHOICES = choices(SCHEMA)
-
-
-def derive(cfg, given):
-    """dx and morfac from the physics where the user left them at their defaults: dx resolves the
-    predicted ripple (Wiberg & Harris for d0 and d50) over RESOLVED_DX spacings, and morfac turns
-    the bed over no faster than in the calibration tunnel (tisph/sediment/morfac.py), at most its
-    10. The calibration tunnel itself keeps dx 0.01 and morfac 10. Returns run.log's lines."""
-    g = cfg["geometry"]
-    limit = morfac_limit(cfg) if cfg["sediment"]["model"] == "bedload" else None
-    return derive_resolution(cfg, given, wiberg_harris(g["orbital_diameter"], g["grain_diameter"])[0],
-                             g["orbital_diameter"], limit=limit, cap=CALIBRATION["morfac"])
-
-
-def check(cfg):
-    g, dx = cfg["geometry"], cfg["numerics"]["dx"]
-    if g["sand_depth"] < 4 * dx:
-        raise ConfigError("geometry.sand_depth", g["sand_depth"], f"at least 4 dx ({4 * dx:g} m)")
-    if g["water_depth"] < 6 * dx:
-        raise ConfigError("geometry.water_depth", g["water_depth"], f"at least 6 dx ({6 * dx:g} m)")
-    if g["length"] < 20 * dx:
-        raise ConfigError("geometry.length", g["length"], f"at least 20 dx ({20 * dx:g} m)")
-    if g["seed_ripple_height"] > g["sand_depth"] - 2 * dx:
-        raise ConfigError("geometry.seed_ripple_height", g["seed_ripple_height"],
-                          f"at most sand_depth - 2 dx ({g['sand_depth'] - 2 * dx:.3g} m)")
-
-
-def build(cfg):
-    if cfg["sediment"]["model"] == "bedload":
-        return build_bedload(cfg, NAME)
-    geo, num = cfg["geometry"], cfg["numerics"]
-    dx, Lx, hw, hs = num["dx"], geo["length"], geo["water_depth"], geo["sand_depth"]
-    Tp = geo["period"]
-    drive = TunnelDrive(geo)
-    Um = drive.Um
-    mats = cfg["materials"]
-    c0, u_max = sound_speed(cfg, CREST_SPEED * Um, hw + hs, G)
-    L = num["wall_layers"]
-    h = num["h_factor"] * dx
-    ytop = hs + hw
-    lam_wh, eta_wh, regime = wiberg_harris(geo["orbital_diameter"], geo["grain_diameter"])
-    n_seed = seed_count(geo, lam_wh)
-    a_seed = 0.5 * geo["seed_ripple_height"]
-
-    ps = _particles(cfg, c0, a_seed, n_seed)
-    materials = [dict(dict(mats[n]), name=n, B=tait_B(mats[n]["rho0"], c0)) for n in ("water", "sand")]
-    params = common_params(cfg, c0, G, depth=ytop)
-    pad = 4 * h
-    domain = ((0.0, -L * dx - pad), (Lx, 2.0 * ytop + pad))
-    physics = physics_from_config(cfg, periodic_x=True)
-
-    stations = np.arange(0.5 * dx, Lx, dx)
-    bed_rows, bed0 = [], {}
-
-    def probe(st):
-        b = surface_heights(st, stations, dx, h, mat=1)
-        if "b" not in bed0:
-            bed0["b"] = b
-        bed_rows.append((st["t"],) + tuple(b))
-        # ripples on the bed change; on a seeded bed, on the bed itself (its seeded ripples included)
-        z = b - (hs if a_seed > 0 else bed0["b"])
-        lam, hr, _ = ripple_stats(stations, z, window=0.5 * Lx, min_length=MIN_LENGTH_DX * dx,
-                                  min_height=MIN_HEIGHT_DX * dx)
-        rms = float(np.sqrt(np.mean((b - bed0["b"]) ** 2)))
-        return lam, hr, rms, drive.u_free(st), drive.target(st["t"])
-
-    def metrics(c):
-        out = dict(velocity_amplitude=Um, predicted_ripple_length=lam_wh, predicted_ripple_height=eta_wh,
-                   predicted_regime=regime, predicted_ripple_length_in_dx=lam_wh / dx)
-        t = c["t"]
-        after = t >= Tp                                  # the ramp is over
-        if after.sum() > 4:
-            err = c["u_free"][after] - c["u_target"][after]
-            out["free_stream_error"] = float(np.sqrt(np.mean(err ** 2)) / Um)   # rms, relative to U_m
-        out.update(last_finite(c, ("ripple_length", "ripple_height", "bed_change_rms")))
-        out["ripple_length_over_prediction"] = out["ripple_length"] / lam_wh if lam_wh > 0 else float("nan")
-        out["bed_change_rms_over_dx"] = out["bed_change_rms"] / dx
-        return out
-
-    def finalize(out, metrics):
-        if not bed_rows:
-            return
-        write_station_rows(os.path.join(out, "bed_profile.csv"), stations, bed_rows)
-        plot_bed(os.path.join(out, "bed_profile.png"), np.array(bed_rows), stations, geo, dx, lam_wh, eta_wh)
-
-    return make_case(name=NAME, particles=ps, materials=materials, domain=domain, params=params, physics=physics,
-                view=((0.0, -L * dx), (Lx, ytop + 2 * dx)), u_max=u_max,
-                probe_columns=("ripple_length", "ripple_height", "bed_change_rms", "u_free", "u_target"),
-                probe=probe, metrics=metrics, finalize=finalize,
-                container=(-1e9, -0.5 * dx, 1e9, float("inf")),
-                render_modes=("phase",), mat_colors=(None, SAND), control=drive.update, control_every=10,
-                persist=(drive.ctl, bed_rows, bed0))
 
 
 def _particles(cfg, c0, a_seed, n_seed):
     """Water over a sand layer (seeded with n_seed ripples of amplitude a_seed) on a floor."""
-    geo, num = cfg["geometry"], cfg["numerics"]
-    dx, Lx, hw, hs = num["dx"], geo["length"], geo["water_depth"], geo["sand_depth"]
-    rw, rs = cfg["materials"]["water"]["rho0"], cfg["materials"]["sand"]["rho0"]
-    L = num["wall_layers"]
+    geo, num = cfg.geometry, cfg.numerics
+    dx, Lx, hw, hs = num.dx, geo.length, geo.water_depth, geo.sand_depth
+    rw, rs = cfg.materials.water.rho0, cfg.materials.sand.rho0
+    L = num.wall_layers
     ytop = hs + hw
 
     def bed_level(x):
@@ -190,9 +74,116 @@ def _particles(cfg, c0, a_seed, n_seed):
     return ps
 
 
-def main(argv=None):
-    return run_scene(sys.modules[__name__], argv)
+class Tunnel(Scene):
+    """Oscillating water tunnel over a sand bed: the laboratory set-up for wave ripples."""
+    NAME = "tunnel"
+
+    SCHEMA = {
+        "run": {"end_time": 40.0},
+        "numerics": numerics("bed", dx=0.01),
+        "geometry": {
+            "length": K(1.2, "periodic length", "m", range=POSITIVE),
+            "water_depth": K(0.15, "water above the bed", "m", range=POSITIVE),
+            "sand_depth": K(0.08, "sand layer on the rigid floor", "m", range=POSITIVE),
+            "orbital_diameter": K(CALIBRATION["orbital_diameter"], "d0 = 2 U_m / omega", "m", range=POSITIVE),
+            "period": K(CALIBRATION["period"], "T", "s", range=POSITIVE),
+            "grain_diameter": K(CALIBRATION["grain_diameter"], "for the Wiberg & Harris prediction", "m", range=POSITIVE),
+            "seed_ripple_height": K(0.0, "> 0: the bed starts rippled, crest to trough this high (m), at the predicted length rounded to fit the periodic length: does the bed keep, grow or lose them?", range=NON_NEGATIVE),
+            "seed_ripple_length": K(0.0, "m; 0: the predicted length (rounded to fit the periodic length)", range=NON_NEGATIVE),
+            "roughness": K(0.01, "the random bed's RMS roughness over d0 where sediment.seed_rms = 0 (3 mm at the default d0): where the ripples end depends on it (docs/sediment.md), so it follows d0; 0 and seed_rms = 0: a flat bed", range=(0.0, 0.1, True, True)),
+        },
+        "materials": {"water": dict(WATER), "sand": dict(BINGHAM_SAND)},     # the beach's water and sand
+        # the bed below particle scale (tisph/sediment), the wave-ripple set; seed_rms: geometry.roughness
+        "sediment": with_defaults(coupling.SEDIMENT, **coupling.WAVE_RIPPLES, morfac=CALIBRATION["morfac"]),
+        "output": {"frame_interval": 0.05, "probe_interval": 0.05, "width": 960},
+    }
+
+    def derive(self, cfg, given):
+        """dx and morfac from the physics where the user left them at their defaults: dx resolves the
+        predicted ripple (Wiberg & Harris for d0 and d50) over RESOLVED_DX spacings, and morfac turns
+        the bed over no faster than in the calibration tunnel (tisph/sediment/morfac.py), at most its
+        10. The calibration tunnel itself keeps dx 0.01 and morfac 10. Returns run.log's lines."""
+        g = cfg.geometry
+        limit = morfac_limit(cfg) if cfg.sediment.model == "bedload" else None
+        return derive_resolution(cfg, given, wiberg_harris(g.orbital_diameter, g.grain_diameter)[0],
+                                 g.orbital_diameter, limit=limit, cap=CALIBRATION["morfac"])
+
+    def check(self, cfg):
+        g, dx = cfg.geometry, cfg.numerics.dx
+        resolves(g.sand_depth, 4, "the sand", dx, "geometry.sand_depth", g.sand_depth)
+        resolves(g.water_depth, 6, "the water", dx, "geometry.water_depth", g.water_depth)
+        resolves(g.length, 20, "the tunnel", dx, "geometry.length", g.length)
+        if g.seed_ripple_height > g.sand_depth - 2 * dx:
+            raise ConfigError("geometry.seed_ripple_height", g.seed_ripple_height,
+                              f"at most sand_depth - 2 dx ({g.sand_depth - 2 * dx:.3g} m)")
+
+    def build(self, cfg):
+        if cfg.sediment.model == "bedload":
+            return build_bedload(cfg, self.NAME)
+        geo, num = cfg.geometry, cfg.numerics
+        dx, Lx, hw, hs = num.dx, geo.length, geo.water_depth, geo.sand_depth
+        Tp = geo.period
+        drive = TunnelDrive(geo)
+        Um = drive.Um
+        mats = cfg.materials
+        c0, u_max = sound_speed(cfg, CREST_SPEED * Um, hw + hs, G)
+        L = num.wall_layers
+        h = num.h_factor * dx
+        ytop = hs + hw
+        lam_wh, eta_wh, regime = wiberg_harris(geo.orbital_diameter, geo.grain_diameter)
+        n_seed = seed_count(geo, lam_wh)
+        a_seed = 0.5 * geo.seed_ripple_height
+
+        ps = _particles(cfg, c0, a_seed, n_seed)
+        materials = [dict(dict(mats[n]), name=n, B=tait_B(mats[n]["rho0"], c0)) for n in ("water", "sand")]
+        params = common_params(cfg, c0, G, depth=ytop)
+        pad = 4 * h
+        domain = ((0.0, -L * dx - pad), (Lx, 2.0 * ytop + pad))
+        physics = physics_from_config(cfg, periodic_x=True)
+
+        stations = np.arange(0.5 * dx, Lx, dx)
+        bed_rows, bed0 = [], {}
+
+        def probe(st):
+            b = surface_heights(st, stations, dx, h, mat=1)
+            if "b" not in bed0:
+                bed0["b"] = b
+            bed_rows.append((st["t"],) + tuple(b))
+            # ripples on the bed change; on a seeded bed, on the bed itself (its seeded ripples included)
+            z = b - (hs if a_seed > 0 else bed0["b"])
+            lam, hr, _ = ripple_stats(stations, z, window=0.5 * Lx, min_length=MIN_LENGTH_DX * dx,
+                                      min_height=MIN_HEIGHT_DX * dx)
+            rms = float(np.sqrt(np.mean((b - bed0["b"]) ** 2)))
+            return lam, hr, rms, drive.u_free(st), drive.target(st["t"])
+
+        def metrics(c):
+            out = dict(velocity_amplitude=Um, predicted_ripple_length=lam_wh, predicted_ripple_height=eta_wh,
+                       predicted_regime=regime, predicted_ripple_length_in_dx=lam_wh / dx)
+            t = c["t"]
+            after = t >= Tp                                  # the ramp is over
+            if after.sum() > 4:
+                err = c["u_free"][after] - c["u_target"][after]
+                out["free_stream_error"] = float(np.sqrt(np.mean(err ** 2)) / Um)   # rms, relative to U_m
+            out.update(last_finite(c, ("ripple_length", "ripple_height", "bed_change_rms")))
+            out["ripple_length_over_prediction"] = out["ripple_length"] / lam_wh if lam_wh > 0 else float("nan")
+            out["bed_change_rms_over_dx"] = out["bed_change_rms"] / dx
+            return out
+
+        def finalize(out, metrics):
+            if not bed_rows:
+                return
+            write_station_rows(os.path.join(out, "bed_profile.csv"), stations, bed_rows)
+            plot_bed(os.path.join(out, "bed_profile.png"), np.array(bed_rows), stations, geo, dx, lam_wh, eta_wh)
+
+        return make_case(name=self.NAME, particles=ps, materials=materials, domain=domain, params=params, physics=physics,
+                    view=((0.0, -L * dx), (Lx, ytop + 2 * dx)), u_max=u_max,
+                    probe_columns=("ripple_length", "ripple_height", "bed_change_rms", "u_free", "u_target"),
+                    probe=probe, metrics=metrics, finalize=finalize,
+                    container=(-1e9, -0.5 * dx, 1e9, float("inf")),
+                    render_modes=("phase",), mat_colors=(None, SAND), control=drive.update, control_every=10,
+                    persist=(drive.ctl, bed_rows, bed0))
 
 
-if __name__ == "__main__":
-    sys.exit(main())
+SCENE = Tunnel()
+main = partial(run_scene, SCENE)
+

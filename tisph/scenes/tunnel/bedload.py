@@ -22,28 +22,28 @@ from .drive import BED_PERIODS, CREST_SPEED, TunnelDrive, seed_count, seed_rms, 
 
 def build_bedload(cfg, name):
     """The tunnel over a morphodynamic bed: water only, over BED particles that follow z_b."""
-    geo, num, sed = cfg["geometry"], cfg["numerics"], cfg["sediment"]
-    dx, Lx, hw, hs = num["dx"], geo["length"], geo["water_depth"], geo["sand_depth"]
-    d0 = geo["orbital_diameter"]
+    geo, num, sed = cfg.geometry, cfg.numerics, cfg.sediment
+    dx, Lx, hw, hs = num.dx, geo.length, geo.water_depth, geo.sand_depth
+    d0 = geo.orbital_diameter
     drive = TunnelDrive(geo)
     Um = drive.Um
-    rw = cfg["materials"]["water"]["rho0"]
+    rw = cfg.materials.water.rho0
     c0, u_max = sound_speed(cfg, CREST_SPEED * Um, hw, G)
-    L, h = num["wall_layers"], num["h_factor"] * dx
+    L, h = num.wall_layers, num.h_factor * dx
     ytop = hs + hw
-    lam_wh, eta_wh, regime = wiberg_harris(d0, geo["grain_diameter"])
+    lam_wh, eta_wh, regime = wiberg_harris(d0, geo.grain_diameter)
     warn_unresolved(lam_wh, dx, "(Wiberg & Harris for d0)")
-    bed_periods = cfg["run"]["end_time"] / geo["period"] * sed["morfac"]
+    bed_periods = cfg.run.end_time / geo.period * sed["morfac"]
     if bed_periods < 0.99 * BED_PERIODS:            # a rounded end time is not short
-        warnings.warn(f"run.end_time = {cfg['run']['end_time']:g} s is {bed_periods:.0f} periods of bed change "
+        warnings.warn(f"run.end_time = {cfg.run.end_time:g} s is {bed_periods:.0f} periods of bed change "
                       f"(wave periods x morfac {sed['morfac']:g}): ripples take about 100 to reach their length and "
                       f"a run should show 100 more that it holds; run.end_time = "
-                      f"{BED_PERIODS * geo['period'] / sed['morfac']:g} s gives {BED_PERIODS}")
+                      f"{BED_PERIODS * geo.period / sed['morfac']:g} s gives {BED_PERIODS}")
     turnover = turnover_periods(cfg)
     limit = warn_fast_bed(sed, turnover, f"at d0 = {d0:g} m")
     n_seed = seed_count(geo, lam_wh)
     stations = (np.arange(int(round(Lx / dx))) + 0.5) * dx
-    z = hs + 0.5 * geo["seed_ripple_height"] * np.sin(2 * np.pi * n_seed * stations / Lx)
+    z = hs + 0.5 * geo.seed_ripple_height * np.sin(2 * np.pi * n_seed * stations / Lx)
     sed = dict(sed, seed_rms=seed_rms(cfg))
     z = initial.initial_bed(stations, z, sed, dx, periodic=True, top=ytop)
     ps = _bedload_particles(cfg, stations, z, c0)
@@ -52,7 +52,7 @@ def build_bedload(cfg, name):
     pad = 4 * h
     domain = ((0.0, float(z.min()) - (L + 2) * dx - pad), (Lx, 2.0 * ytop + pad))
     physics = physics_from_config(cfg, periodic_x=True, materials_used=["water"], moving_bed=True)
-    bed = coupling.BedCoupler(sed, stations, z, dx, h, geo["grain_diameter"], sed["grain_density"],
+    bed = coupling.BedCoupler(sed, stations, z, dx, h, geo.grain_diameter, sed["grain_density"],
                               amplitude=0.5 * d0, periodic=True, rho_w=rw, omega=drive.omega, still_level=ytop)
     rows = []
 
@@ -80,7 +80,7 @@ def build_bedload(cfg, name):
         out = dict(velocity_amplitude=Um, predicted_ripple_length=lam_wh, predicted_ripple_height=eta_wh,
                    predicted_regime=regime, morfac=sed["morfac"], sediment_model="bedload",
                    theta_cr=bed.bed.theta_cr, sand_volume_error=bed.volume_error(),
-                   mobility_number=Um ** 2 / ((sed["grain_density"] / rw - 1) * G * geo["grain_diameter"]),
+                   mobility_number=Um ** 2 / ((sed["grain_density"] / rw - 1) * G * geo.grain_diameter),
                    bed_turnover_periods=turnover, morfac_limit=limit)
         out.update(last_finite(c, ("ripple_length", "ripple_height", "bed_change_rms")))
         lam = out["ripple_length"]
@@ -100,7 +100,7 @@ def build_bedload(cfg, name):
                       level=hs)
             plot_growth(os.path.join(out, "ripple_growth.png"), seen, geo, sed["morfac"])
 
-    return make_case(name=name, particles=ps, materials=[dict(cfg["materials"]["water"], name="water",
+    return make_case(name=name, particles=ps, materials=[dict(cfg.materials.water, name="water",
                                                                B=tait_B(rw, c0))],
                      domain=domain, params=params, physics=physics, view=((0.0, hs - 0.1), (Lx, ytop + 2 * dx)),
                      u_max=u_max, probe_columns=("ripple_length", "ripple_height", "bed_change_rms", "u_free",
@@ -125,10 +125,10 @@ def near_bed_ratio(t, u, Um, period):
 
 def _bedload_particles(cfg, stations, z, c0):
     """Water in columns from dx/2 above the bed z and the bed's BED particle columns."""
-    geo, num = cfg["geometry"], cfg["numerics"]
-    dx, L = num["dx"], num["wall_layers"]
-    ytop = geo["sand_depth"] + geo["water_depth"]
-    rw = cfg["materials"]["water"]["rho0"]
+    geo, num = cfg.geometry, cfg.numerics
+    dx, L = num.dx, num.wall_layers
+    ytop = geo.sand_depth + geo.water_depth
+    rw = cfg.materials.water.rho0
     xw = initial.water_columns(stations, z, dx, ytop)
 
     def density(y):

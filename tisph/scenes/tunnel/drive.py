@@ -40,20 +40,20 @@ class TunnelDrive:
 
 def turnover_periods(cfg):
     """bed_turnover for the tunnel's d0, T and sand."""
-    g, sed = cfg["geometry"], cfg["sediment"]
-    return bed_turnover(g["orbital_diameter"], g["period"], g["grain_diameter"],
-                        sed["grain_density"] / cfg["materials"]["water"]["rho0"], sed)
+    g, sed = cfg.geometry, cfg.sediment
+    return bed_turnover(g.orbital_diameter, g.period, g.grain_diameter,
+                        sed.grain_density / cfg.materials.water.rho0, sed)
 
 
 def morfac_limit(cfg):
     """The largest morfac at which this tunnel's bed turns over no faster than the calibration
     tunnel's (tisph/sediment/morfac.py)."""
-    return morfac.morfac_limit(cfg["sediment"], turnover_periods(cfg))
+    return morfac.morfac_limit(cfg.sediment, turnover_periods(cfg))
 
 
 def seed_rms(cfg):
     """The random bed's RMS (m): initial.random_bed_rms for the tunnel's d0."""
-    return initial.random_bed_rms(cfg["sediment"], cfg["geometry"]["roughness"], cfg["geometry"]["orbital_diameter"])
+    return initial.random_bed_rms(cfg.sediment, cfg.geometry.roughness, cfg.geometry.orbital_diameter)
 
 
 def seed_count(geo, lam_wh):
