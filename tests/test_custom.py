@@ -384,10 +384,13 @@ def test_surface_gauges_named_as_an_array_split_the_incident_and_reflected_waves
 
 
 def test_a_case_file_names_its_movie_and_frames(tmp_path):
-    """The movie and the frames' title are the case file's name, not the scene's (custom)."""
+    """The movie, the frames' title and the gauges figure are the case file's name, not the
+    scene's (custom); a scene run from its defaults keeps its own."""
+    from tisph.runner import resolve
+    from tisph.runner.loop import run_title
     path = tmp_path / "my_tank.toml"
     path.write_text(TANK + WATER)
-    out = tmp_path / "o"
-    assert custom.main(["--config", str(path), "--out", str(out), "--quiet", "--max-steps", "3",
-                              "--frame-interval", "0.0005"]) == 0
-    assert (out / "my_tank.mp4").exists() and not (out / "custom.mp4").exists()
+    cfg = resolve(custom, str(path))
+    assert run_title(cfg, "custom") == "my_tank" and custom.run_title(cfg, "renders/x") == "my_tank: gauges"
+    from tisph.scenes import dam_break
+    assert run_title(resolve(dam_break), "dam_break") == "dam_break"

@@ -31,15 +31,20 @@ def default_snapshot_interval(cfg):
     return f * max(1, math.ceil(cfg.run.end_time / DEFAULT_SNAPSHOTS / f - 1e-9))
 
 
+def run_title(cfg, scene_name):
+    """What the frames, the movie and the window are called: the case file's name (my_bar.toml:
+    my_bar.mp4), else the scene's."""
+    case_file = getattr(cfg, "case_file", "")
+    return os.path.splitext(os.path.basename(case_file))[0] if case_file else scene_name
+
+
 class Run(Outputs):
     """One simulation run: the time loop and everything it writes."""
 
     def __init__(self, case: Case, cfg: dict, out: str, log: Log, scene_name: str,
                  restart=None, force=False):
         self.case, self.cfg, self.out, self.log, self.name = case, cfg, out, log, scene_name
-        # frames, the movie and the window say the case file's name (my_bar.mp4), else the scene's
-        case_file = getattr(cfg, "case_file", "")
-        self.title = os.path.splitext(os.path.basename(case_file))[0] if case_file else scene_name
+        self.title = run_title(cfg, scene_name)
         self.restart, self.force = restart, force
         o = cfg.output
         self.render = o.render
