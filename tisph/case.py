@@ -108,7 +108,8 @@ def make_case(name, notes=None, **parts):
 
 class Scene:
     """A scene: its keys (SCHEMA; DEFAULTS, RANGES and CHOICES are derived from it once, here),
-    the values it derives, its checks and its build. Override what the scene needs:
+    the values it derives, its checks and its build; its docstring, one line, is what `tisph
+    scenes` lists. Override what the scene needs:
 
       NAME        its name, as registered
       SCHEMA      its keys (tisph/schema.py's Keys) laid on the shared ones

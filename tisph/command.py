@@ -23,11 +23,9 @@ from .config import read_toml
 from .errors import ConfigError
 
 def scene_line(scene, width=100):
-    """What a scene is, in one line: its docstring's first sentence, cut at a word (importing a
-    scene imports no Taichi)."""
-    para = " ".join((scene.doc or scene.NAME).split("\n\n")[0].split())
-    first = re.split(r"\.\s+(?=[A-Z])", para)[0].rstrip(".")   # not at "Fig. 3"
-    return first if len(first) <= width else first[:width - 3].rsplit(" ", 1)[0] + "..."
+    """What a scene is, in one line: its class's docstring (importing a scene imports no Taichi)."""
+    line = " ".join((type(scene).__doc__ or scene.NAME).split()).rstrip(".")
+    return line if len(line) <= width else line[:width - 3].rsplit(" ", 1)[0] + "..."
 
 
 COMMANDS = ("run", "describe", "scenes", "view", "sweep", "bench", "stress")

@@ -147,7 +147,7 @@ def _particles(cfg, c0):
 
 
 class Flume(Scene):
-    """Wave flume: a piston or flap paddle makes waves over a flat bed (the module says the rest)."""
+    """Wave flume: a piston or flap paddle makes waves over a flat bed, measured against Biesel."""
     NAME = "flume"
 
     SCHEMA = {

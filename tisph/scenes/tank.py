@@ -45,7 +45,7 @@ def layer_pressure_errors(x, p, dx, rho0, g=G, skip_top=2, expected=None):
 
 
 class Tank(Scene):
-    """Still water in a closed tank, optionally over a sediment layer: the hydrostatic check."""
+    """Still water in a closed tank, over a sediment layer or not: the hydrostatic check."""
     NAME = "tank"
 
     SCHEMA = {
