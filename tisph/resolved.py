@@ -24,10 +24,9 @@ class Section(Mapping):
         return {f.name: getattr(self, f.name) for f in dataclasses.fields(self)}
 
     def __getitem__(self, key):
-        data = self._data()
-        if key not in data:
+        if key not in self.__dataclass_fields__:     # a field by name, no dict of them all built
             raise KeyError(key)
-        return data[key]
+        return getattr(self, key)
 
     def __iter__(self):
         return iter(self._data())
@@ -67,6 +66,9 @@ class Table(Section):
 
     def _data(self):
         return self._d
+
+    def __getitem__(self, key):
+        return self._d[key]
 
     def __getattr__(self, key):
         try:
