@@ -212,6 +212,39 @@ def test_validate_quick_one_case_writes_its_row_figure_and_cost(tmp_path):
     assert "A quick run" in md and "old" in readme
 
 
+def test_validate_jobs_runs_side_by_side_with_the_serial_values(tmp_path):
+    """--jobs 2: the table's runs in two worker processes of one thread each give the values and
+    steps of the same runs one after another, and the page says how they ran."""
+    import json
+    from tisph.runner.pool import plan
+    assert plan(0, 10, cores=2) == (2, 1) and plan(0, 1, cores=8) == (1, 8) and plan(3, 10, cores=8) == (3, 2)
+    (tmp_path / "serial").mkdir()
+    _validate(tmp_path / "serial", "tank")
+    common = ["--validate", "--quick", "--readme", "", "--only", "tank", "hatch"]
+    assert cli.main(common + ["--jobs", "2", "--docs", str(tmp_path / "par"), "--out", str(tmp_path / "runs2")]) == 0
+    rows = {d: json.loads((tmp_path / d / "docs" / "validation" / "results.json").read_text() if d == "serial" else
+                          (tmp_path / d / "validation" / "results.json").read_text()) for d in ("serial", "par")}
+    tank = [rows[d]["Still water in a tank"]["rows"][0] for d in ("serial", "par")]
+    assert tank[0]["value"] == tank[1]["value"] and tank[0]["steps"] == tank[1]["steps"]
+    assert tank[1]["threads"] == 1 and tank[1]["jobs"] == 2
+    assert rows["par"]["Hatch (paper 000 section 4.1)"]["rows"][0]["status"] == "ok"
+    assert "2 runs side by side on 1 CPU thread each" in (tmp_path / "par" / "validation.md").read_text()
+
+
+def test_a_stale_taichi_cache_lock_is_cleared_and_a_fresh_one_kept(tmp_path):
+    """A Taichi cache lock left by a killed process (older than a minute) is removed under tisph's
+    guard, so later runs write their cache again; a fresh one (a live writer) is left alone."""
+    import os
+    from tisph.runtime import clear_stale_lock
+    old, new = tmp_path / "old.lock", tmp_path / "new.lock"
+    old.write_text("")
+    new.write_text("")
+    os.utime(old, (0, 0))
+    clear_stale_lock(str(old))
+    clear_stale_lock(str(new))
+    assert not old.exists() and new.exists()
+
+
 @pytest.mark.slow
 def test_validate_quick_runs_every_case(tmp_path):
     """--validate --quick runs every validation case, writes a row and a figure for each and fills

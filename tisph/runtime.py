@@ -34,10 +34,23 @@ def cache_guard():
         return
     with f:
         fcntl.flock(f, fcntl.LOCK_EX)
+        clear_stale_lock(os.path.join(os.path.dirname(path), "ticache.lock"))
         try:
             yield
         finally:
             fcntl.flock(f, fcntl.LOCK_UN)
+
+
+def clear_stale_lock(path, age=60.0):
+    """Taichi's own lock left by a process killed while it held it (kill -9 during a cache write):
+    every later run would print "Lock ... failed" and never write its cache again. Under the guard
+    no tisph process holds it, so one older than `age` seconds is a dead process's."""
+    import time
+    try:
+        if time.time() - os.path.getmtime(path) > age:
+            os.remove(path)
+    except OSError:
+        pass
 
 
 def _finalize():

@@ -3,8 +3,9 @@ import sys
 from .cli import main
 from ..errors import ConfigError
 
-try:
-    sys.exit(main())
-except ConfigError as e:      # a bad case file given with --config: the message, not a traceback
-    print(f"python -m tisph.bench: {e}", file=sys.stderr)
-    sys.exit(2)
+if __name__ == "__main__":     # not again in a worker process of --jobs
+    try:
+        sys.exit(main())
+    except ConfigError as e:      # a bad case file given with --config: the message, not a traceback
+        print(f"python -m tisph.bench: {e}", file=sys.stderr)
+        sys.exit(2)

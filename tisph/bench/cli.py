@@ -86,6 +86,9 @@ def main(argv=None):
     p.add_argument("--validate", action="store_true",
                    help="run every validation case and write docs/validation.md, its figures and the README's "
                         "table (tisph/bench/validate.py; with --quick: coarse, short versions)")
+    p.add_argument("--jobs", type=int, default=0, metavar="N",
+                   help="with --validate: runs at a time, each in a process of its own on cores / N CPU threads "
+                        "(default 0: one a core; 1: one after another on every core)")
     p.add_argument("--docs", help="with --validate: the folder of validation.md (default the tree's docs/)")
     p.add_argument("--readme", help="with --validate: the README whose table to fill (default the tree's; '' none)")
     p.add_argument("--dry-run", action="store_true",
@@ -101,8 +104,12 @@ def main(argv=None):
         return standing.main(a)
     if a.convergence:
         return convergence.main(a)
+    if a.jobs < 0:
+        p.error(f"--jobs {a.jobs}: at least 0 (0: one a core)")
     if a.validate:
         return validate.main(a)
+    if a.jobs:
+        p.error("--jobs needs --validate")
     if a.docs is not None or a.readme is not None:
         p.error("--docs and --readme need --validate")
     if a.speed:
