@@ -5,8 +5,11 @@ it runs: its N runs would be the same run.
 
 Writes seeds/ensemble.md, ensemble.csv and ensemble.png in the run's folder (each further seed's
 own run under seeds/seed<N>/), and `ensemble` in summary.json."""
+import importlib
 import os
+import time
 
+from .pool import plan, run_all
 from .start import simulate
 from ..config import ConfigError
 from ..io import ensure_dir, write_csv, write_text
@@ -38,21 +41,40 @@ def seeds_of(cfg, n):
     return [s0 + k for k in range(n)]
 
 
-def study(scene, config, overrides, cfg, summary, out, n, log=print):
-    """Run the further seeds, write the table, the figure and summary.json's `ensemble`; returns
-    that entry. A seed that ends unstable is listed with its status and left out of the statistics."""
+def seed_run(module, config, overrides, out):
+    """One further seed's run (in a worker process where several run at once)."""
+    return simulate(importlib.import_module(module), overrides=overrides, config=config, out=out)
+
+
+def study(scene, config, overrides, cfg, summary, out, n, log=print, jobs=0):
+    """Run the further seeds, `jobs` at a time in worker processes of their own (0: one a core;
+    runner/pool.py), write the table, the figure and summary.json's `ensemble`; returns that
+    entry. A seed that ends unstable is listed with its status and left out of the statistics."""
     seeds = seeds_of(cfg, n)
-    runs = [(seeds[0], summary, out)]
+    done = {seeds[0]: summary}
+    tasks = []
     for s in seeds[1:]:
         sub = os.path.join(out, "seeds", f"seed{s}")
         ov = dict(overrides or {}, **QUIET, **{"sediment.seed": s, "output.dir": sub})
-        log(f"seeds: the case with sediment.seed = {s} ({sub})")
-        runs.append((s, simulate(scene, overrides=ov, config=config, out=sub), sub))
+        tasks.append((s, seed_run, (scene.module, config, ov, sub)))
+    jobs, threads = plan(jobs, len(tasks))
+    log(f"seeds: {len(tasks)} more runs, {jobs} at a time on {threads} CPU thread{'s' if threads > 1 else ''} "
+        f"each, in {os.path.join(out, 'seeds')}")
+
+    def finished(s, r, e):
+        if e is not None:
+            raise e
+        log(f"seeds: sediment.seed = {s}: {r['status']}")
+        done[s] = r
+
+    t0 = time.perf_counter()
+    run_all(tasks, jobs, threads, finished)
+    runs = [(s, done[s]) for s in seeds]
     ok = [r for r in runs if r[1]["status"] == "ok"]
-    entry = {"seeds": seeds, "status": {str(s): r["status"] for s, r, _ in runs},
+    entry = {"seeds": seeds, "status": {str(s): r["status"] for s, r in runs},
              "metrics": ensemble_metrics([r[1].get("metrics") for r in ok]),
-             "seeds_ok": [r[0] for r in ok],
-             "cost_over_run": sum(r["wall_time_s"] for _, r, _ in runs[1:]) / max(summary["wall_time_s"], 1e-9)}
+             "seeds_ok": [r[0] for r in ok], "jobs": jobs, "threads": threads,
+             "cost_over_run": (time.perf_counter() - t0) / max(summary["wall_time_s"], 1e-9)}
     folder = ensure_dir(os.path.join(out, "seeds"))
     write_text(os.path.join(folder, "ensemble.md"), report(entry))
     write_csv(os.path.join(folder, "ensemble.csv"),
@@ -69,7 +91,7 @@ def report(entry):
     lines = ["# Ensemble", "",
              f"The case with sediment.seed = {', '.join(str(s) for s in seeds)}: each metric's mean, standard "
              f"deviation (n - 1) and standard error of the mean over the {len(ok)} runs that finished. The further "
-             f"runs took {entry['cost_over_run']:.2f} of the first run's wall time."
+             f"runs, {entry.get('jobs', 1)} at a time, took {entry['cost_over_run']:.2f} of the first run's wall time."
              + (f" Left out: {', '.join(bad)}." if bad else ""), "",
              "| metric | n | mean | std | standard error | " + " | ".join(f"seed {s}" for s in ok) + " |",
              "|---|---|---|---|---|" + "---|" * len(ok)]
