@@ -58,7 +58,7 @@ CASES = [
     (tunnel, [], "[geometry]\nperiod = 0.0\n", ["geometry.period", "> 0"]),
     (tunnel, [], "[geometry]\nseed_ripple_height = 0.07\n", ["geometry.seed_ripple_height", "0.07", "sand_depth - 2 dx"]),
     (beach, [], "[geometry]\ngrain_diameter = -0.001\n", ["geometry.grain_diameter", "-0.001", "> 0"]),
-    (beach, [], "[geometry]\ngauges_x = [1.0, 9.0]\n", ["geometry.gauges_x", "9.0", "(0, 4.5)"]),
+    (beach, [], "[geometry]\ngauges_x = [1.0, 9.0]\n", ["geometry.gauges_x", "9.0", "(0, 5.3)"]),
     (tunnel, [], "[sediment]\nporosity = 1.5\n", ["sediment.porosity", "1.5", "<= 0.9"]),
     (tunnel, [], "[sediment]\nmodel = \"grains\"\n", ["sediment.model", "grains", "'bedload'"]),
     (tunnel, [], "[sediment]\nrepose_angle = 80.0\n", ["sediment.repose_angle", "80.0", "<= 60"]),

@@ -732,3 +732,34 @@ def test_first_order_modes_sum_to_the_paddles_velocity(kind):
         errs.append(np.abs(u.real - want).max() / np.abs(want).max())
         assert np.allclose(w * w, 9.81 * K * np.tanh(K * h), rtol=1e-9)
     assert errs[1] < 1e-4 and errs[0] > 10 * errs[1], errs
+
+
+def test_hunt_run_up_the_swash_probe_and_the_crest_warning():
+    """Hunt's run-up R = xi H0 = tan(beta) sqrt(H0 L0) in deep water (0.0988 m for H0 = 0.1 m, T =
+    2.5 s, 1:10), levelling off at 2.3 H0 where the waves surge; the swash probe reads the bed's
+    height at the furthest wet point past the shoreline, not a droplet above it; a crest under the
+    run-up warns with the length that clears it, and the default beach's does not."""
+    import math
+    import warnings
+    from tisph.runner import resolve
+    from tisph.scenes import beach
+    from tisph.scenes.beach.shoaling import run_up, warn_run_up
+    from tisph.waves.theory import hunt_run_up, linear_wave, wavenumber
+    om = 2 * math.pi / 2.5
+    k = wavenumber(om, 50.0)
+    assert hunt_run_up(0.1, om, k, 50.0, 10.0) == pytest.approx(0.1 * math.sqrt(0.1 * 9.81 * 2.5 ** 2 / (2 * math.pi)), rel=2e-3)
+    assert hunt_run_up(0.1, om, k, 50.0, 1.0) == pytest.approx(0.23, rel=2e-3)
+    stations = np.arange(0.0, 5.0, 0.01)
+    zb = 0.1 + np.maximum(0.0, stations - 1.0) / 10.0
+    xs = np.array([[3.0, 0.35], [4.2, 0.425], [4.5, 0.455], [4.9, 0.9]])     # the last a droplet
+    st = {"x": xs, "kind": np.zeros(4, int), "mat": np.zeros(4, int)}
+    assert run_up(st, stations, zb, 4.0, 0.4, 0.01) == pytest.approx(0.05, abs=1e-9)
+    cfg = resolve(beach.SCENE, None, {})
+    om, k, _, _, hs = linear_wave(cfg, cfg.geometry.depth)
+    H = hs * cfg.paddle.stroke
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert warn_run_up(cfg.geometry, H, om, k) == pytest.approx(0.105, abs=1e-3)
+    short = resolve(beach.SCENE, None, {"geometry.length": 4.5})
+    with pytest.warns(UserWarning, match=r"geometry.length = 4.5 m .* 0.05 m above still water.* at least 5.05 m"):
+        warn_run_up(short.geometry, H, om, k)

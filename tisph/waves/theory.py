@@ -54,3 +54,15 @@ def linear_wave(cfg, depth):
     k = wavenumber(omega, depth, G)
     hs = biesel_piston(k * depth) if p.type == "piston" else biesel_flap(k * depth)
     return omega, k, 2 * math.pi / k, group_velocity(omega, k, depth), hs
+
+
+def hunt_run_up(H, omega, k, depth, slope):
+    """Hunt's (1959) run-up of regular waves breaking on a plane slope of 1 : slope, R = xi H0
+    with the surf similarity xi = tan(beta) / sqrt(H0 / L0) (Battjes 1974); H0 is the deep-water
+    height of H at `depth` by linear shoaling (H0 = H / Ks, Ks = sqrt(cg0 / cg)). For xi above
+    about 2.3 the waves surge rather than break and R levels off near 2.3 H0 (EurOtop 2018)."""
+    cg0 = 0.5 * G / omega
+    H0 = H / math.sqrt(cg0 / group_velocity(omega, k, depth))
+    L0 = 2.0 * math.pi * G / omega ** 2
+    xi = (1.0 / slope) / math.sqrt(H0 / L0)
+    return min(xi, 2.3) * H0

@@ -310,7 +310,7 @@ class Beach(Scene):
         "numerics": numerics("bed", dx=0.0093, artificial_viscosity=0.01, artificial_viscosity_surface=0.1,
                              laminar_viscosity=False, spray_limit=0.002),
         "geometry": {
-            "length": K(4.5, "paddle (x = 0) to the end wall", "m", range=POSITIVE),
+            "length": K(5.3, "paddle (x = 0) to the end wall: the crest 0.13 m above still water, over Hunt's run-up of the default wave (0.105 m)", "m", range=POSITIVE),
             "depth": K(0.3, "still water over the flat sand", "m", range=POSITIVE),
             "sand_thickness": K(0.1, "the sand's level above the floor (m): the flat bed, and under the ramp", range=POSITIVE),
             "toe_x": K(1.0, "where the beach starts to rise", "m", range=POSITIVE),

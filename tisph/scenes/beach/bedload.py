@@ -23,7 +23,7 @@ from ...case import make_case
 from ...runner import common_params, sound_speed
 from ...measure.field import surface_at
 from ...measure.plots import pyplot, save
-from .shoaling import Shoaling
+from .shoaling import Shoaling, crest_height, run_up, warn_run_up
 from ...sediment.morfac import bed_turnover, morfac_limit, warn_fast_bed
 from ...plausible import warn_waves
 from ...sediment import coupling, initial
@@ -31,7 +31,7 @@ from ...measure.gauges import WaveGauges
 from ...measure.records import height_at
 from ...waves.absorb import with_control
 from ...waves.paddle import paddle
-from ...waves.theory import linear_wave
+from ...waves.theory import hunt_run_up, linear_wave
 
 RIGID = 0.5           # m of rigid floor in front of the paddle
 RIPPLE_WINDOW = 0.6   # m: bedforms longer than this (the profile's bar and shoreline) are not ripples
@@ -88,6 +88,7 @@ def build_bedload(cfg, name, stills):
     warn_fast_bed(sed, bed_turnover(d0_toe, T_wave, geo.grain_diameter, sed["grain_density"] / rw, sed),
                   f"at the toe's linear-wave d0 of {d0_toe:.3g} m")
     warn_waves(cfg, H_biesel, k, d, linear_metric=False)
+    warn_run_up(geo, H_biesel, omega, k)
     c0, u_max = sound_speed(cfg, math.sqrt(G * (d + H_biesel)))
     L, h = num.wall_layers, num.h_factor * dx
     T = L * dx
@@ -154,7 +155,7 @@ class BeachBed:
     over RIPPLE_WINDOW) over the zone where the measured near-bed motion predicts ripples of at
     least MIN_LENGTH_DX spacings, against Wiberg & Harris there."""
     COLUMNS = ("ripple_length", "ripple_height", "ripple_count", "bed_change_rms", "eta_toe",
-               "predicted_ripple_length", "max_bed_shear")
+               "predicted_ripple_length", "max_bed_shear", "run_up")
 
     def __init__(self, cfg, bed, stations, omega, k, wavelength, cg, H_biesel):
         self.cfg, self.bed, self.stations = cfg, bed, stations
@@ -167,6 +168,7 @@ class BeachBed:
         self.lengths = (float("nan"), float("nan"))   # the last probe's measured and predicted means
         self.gauges = WaveGauges(geo.gauges_x, self.dx, cfg.numerics.h_factor * self.dx, self.yw,
                              dry_from=geo.toe_x + geo.depth * geo.slope)
+        self.shore = geo.toe_x + geo.depth * geo.slope
         self.shoal = Shoaling(geo, lambda x: self.yw - float(bed_profile(geo, x)), self.yw, self.dx,
                               cfg.numerics.h_factor * self.dx)
 
@@ -203,7 +205,8 @@ class BeachBed:
         lp = float(lam_p[zone].mean()) if zone.any() else float("nan")
         self.lengths = (lam, lp)
         self.shoal.read(st)
-        return (lam, hr, count, rms, eta, lp, float(np.abs(self.bed.tau).max())) + self.gauges.read(st)
+        ru = run_up(st, self.stations, zb, self.shore, self.yw, self.dx)
+        return (lam, hr, count, rms, eta, lp, float(np.abs(self.bed.tau).max()), ru) + self.gauges.read(st)
 
     def metrics(self, c):
         p, sed = self.cfg.paddle, self.cfg.sediment
@@ -217,6 +220,12 @@ class BeachBed:
         out["ripple_steepness"] = out["ripple_height"] / lam if lam > 0 else float("nan")
         if self.zone is not None:
             out["ripple_zone"] = [float(self.stations[self.zone][0]), float(self.stations[self.zone][-1])]
+        geo = self.cfg.geometry
+        out["run_up_max"] = float(np.max(c["run_up"])) if len(c["run_up"]) else float("nan")
+        out["run_up_hunt"] = hunt_run_up(self.H_biesel, self.omega, self.k, geo.depth, geo.slope)
+        out["crest_above_still_water"] = crest_height(geo)
+        # the swash reached the end wall: wet within two stations of it
+        out["swash_at_end_wall"] = bool(out["run_up_max"] >= crest_height(geo) - 2.5 * self.dx / geo.slope)
         H, n = height_at(c, "eta_toe", self.toe, p, self.cg)
         out["wave_height_at_toe"] = H
         out["periods_measured_at_toe"] = n

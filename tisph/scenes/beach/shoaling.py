@@ -15,9 +15,44 @@ import numpy as np
 from ...constants import G
 from ...measure.gauges import WaveGauges
 from ...measure.records import arrival_time, wave_height
-from ...waves.theory import group_velocity, wavenumber
+from ...particles import FLUID
+from ...waves.theory import group_velocity, hunt_run_up, wavenumber
 
 STEP = 0.25         # m between the gauges of the line
+
+
+def crest_height(geo):
+    """The beach's crest (its slope at the end wall) above the still water."""
+    return (geo.length - geo.toe_x) / geo.slope - geo.depth
+
+
+def warn_run_up(geo, H, omega, k):
+    """A warning where Hunt's run-up of the paddle's linear wave (H at the flat bed's depth)
+    reaches above the crest: the swash would run against the end wall and reflect from it. Returns
+    Hunt's run-up (m above still water)."""
+    import warnings
+    R = hunt_run_up(H, omega, k, geo.depth, geo.slope)
+    top = crest_height(geo)
+    if R > top:
+        warnings.warn(f"geometry.length = {geo.length:g} m leaves the beach's crest {top:.3g} m above still water, "
+                      f"under Hunt's run-up of this wave ({R:.3g} m): the swash will run against the end wall "
+                      f"and reflect from it; geometry.length at least {geo.toe_x + (geo.depth + R) * geo.slope:.3g} m "
+                      "puts the crest above it")
+    return R
+
+
+def run_up(st, stations, zb, shore, still, dx):
+    """The swash's reach now: the bed's height above still water at the furthest point up the
+    slope (past the still shoreline `shore`) where water lies on the bed (within 2 dx of it); 0
+    where none is past the shoreline. A droplet in the air is not the swash."""
+    fl = (st["kind"] == FLUID) & (st["mat"] == 0)
+    p = st["x"][fl]
+    up = p[:, 0] > shore
+    if not up.any():
+        return 0.0
+    z = np.interp(p[up, 0], stations, zb)
+    wet = p[up, 1] < z + 2.0 * dx
+    return float(z[wet].max() - still) if wet.any() else 0.0
 
 
 def weggel_index(slope_m, Hb, period, g=G):
