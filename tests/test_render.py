@@ -157,3 +157,38 @@ def test_the_pressure_bar_holds_the_first_frames_range():
     first = r.bars[-1][1:3]
     r.frame(dict(st, p=3.0 * st["p"]), 0.1)
     assert r.bars[-1][1:3] == first and 1.5 < first[1] < 2.0     # kPa: rho g 0.19 m
+
+
+def test_a_case_file_s_slope_is_drawn_as_its_line_not_as_stairs():
+    """The breakwater's 1:2 seaward face (x 3.0 to 3.46 m, z 0.05 to 0.28 m) at dx 0.05: in each
+    pixel column over it the solid's grey ends within a pixel of the line, where its wall particles
+    (stairs a spacing high) would end up to half a spacing off; the same column is drawn grey
+    below the face and not above it."""
+    import os
+    from tisph.runner import resolve
+    from tisph.scenes import custom
+    from tisph.viz.colours import BOUNDARY
+    root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    cfg = resolve(custom, os.path.join(root, "scenes", "breakwater.toml"), {"numerics.dx": 0.05})
+    case = custom.SCENE.build(cfg)
+    ps = case.particles
+    st = dict(x=ps.x, v=np.zeros_like(ps.x), p=np.zeros(len(ps.x)), rho=ps.rho, kind=ps.kind, mat=ps.mat)
+    r = Renderer(((2.8, -0.1), (3.8, 0.4)), 800, 0.05, 1.0, axes=False, solid_region=case.picture.solid_region)
+    img = r.frame(st, 0.0)
+    top, H, ((x0, y0), _), _ = r.panels[0]
+    grey = (np.abs(img.astype(int) - (np.array(BOUNDARY) * 255).astype(int)).max(axis=2) <= 2)
+    off = []
+    for x in np.linspace(3.05, 3.4, 8):
+        col = int((x - x0) * r.scale)
+        rows = np.nonzero(grey[top:top + H, col])[0]
+        z_top = y0 + (H - rows.min()) / r.scale            # the highest grey pixel's top edge
+        off.append(abs(z_top - (0.05 + (x - 3.0) * 0.23 / 0.46)))
+    assert max(off) < 1.5 / r.scale
+    plain = Renderer(((2.8, -0.1), (3.8, 0.4)), 800, 0.05, 1.0, axes=False).frame(st, 0.0)
+    stairs = []
+    for x in np.linspace(3.05, 3.4, 8):
+        col = int((x - x0) * r.scale)
+        rows = np.nonzero((np.abs(plain[top:top + H, col].astype(int) - (np.array(BOUNDARY) * 255).astype(int))
+                           .max(axis=1) <= 2))[0]
+        stairs.append(abs(y0 + (H - rows.min()) / r.scale - (0.05 + (x - 3.0) * 0.23 / 0.46)))
+    assert max(stairs) > 4 / r.scale                       # the particles alone: stairs

@@ -70,6 +70,7 @@ class Picture:
     zoom: tuple = None                # ((x0, y0), (x1, y1)): a window at true scale under the frame
     marks: tuple = ()                 # (x, label) of gauges: a dotted line across the frame
     zones: tuple = ()                 # (x0, x1, label) of zones (an absorber): a bar under the frame
+    solid_region: Callable = None     # solid_region(points) -> mask: the solids filled as drawn, not as stairs
 
 
 _PARTS = {cls: {f.name for f in dataclasses.fields(cls)} for cls in (Model, Observers, Picture)}

@@ -5,10 +5,11 @@ the PNG frames and the MP4."""
 import numpy as np
 
 from ..io import OPTIONAL
-from ..particles import BED, FLUID
+from ..particles import BED, FLUID, WALL
 from .colours import (BACKGROUND, BOUNDARY, MODES, SAND, WATER, colormap, diverging,  # noqa: F401 (re-exported)
                       vorticity)
 from .interpolate import kernel_image
+from .ticks import nice_ticks  # noqa: F401 (re-exported)
 
 FIELDS = ("speed", "pressure", "density", "material", "vorticity", "concentration")   # output.field
 UNITS = {"speed": "|u| (m/s)", "pressure": "p (kPa)", "density": "rho (kg/m3)", "vorticity": "curl u (1/s)",
@@ -35,7 +36,8 @@ class Renderer:
 
     def __init__(self, view, width=640, dx=0.01, speed_scale=0.0, title="", modes=("speed",), mat_colors=None,
                  pressure_scale=0.0, bed_panel=None, bed_label="", vrange=None, min_height=0, bed_surface=None,
-                 zoom=None, zoom_field="vorticity", axes=True, marks=(), zones=(), bed_range=0.0, rows=True):
+                 zoom=None, zoom_field="vorticity", axes=True, marks=(), zones=(), bed_range=0.0, rows=True,
+                 solid_region=None):
         (x0, y0), (x1, y1) = view
         aspect = (x1 - x0) / (y1 - y0)                  # as asked, before any air is added
         W = max(16, int(width) // 16 * 16)
@@ -58,6 +60,8 @@ class Renderer:
         self.pressure_scale = float(pressure_scale)   # 0: from the water in view in the first frame
         self.mat_colors = list(mat_colors or [])
         self.bed_panel, self.bed_label, self.bed_surface = bed_panel, bed_label, bed_surface
+        # the solids filled as drawn, not their wall particles (a slope's are stairs a spacing high)
+        self.solid_region, self._solid_px = solid_region, None
         # m: the bed panel's half-height: the step that holds bed_range, fixed for the movie; or, with
         # none given, the step that holds the bed so far, only ever growing
         self.bed_fixed = bed_range > 0
@@ -79,7 +83,7 @@ class Renderer:
         if zoom is not None:
             self.zoom = Renderer(zoom, width=W, dx=dx,
                                  speed_scale=speed_scale, modes=(zoom_field,), vrange=None, axes=False,
-                                 bed_surface=bed_surface)
+                                 bed_surface=bed_surface, solid_region=solid_region)
         self.panels = []                # (top row, height, view, bar) of each panel of the last frame
         self.marks, self.zones = tuple(marks), tuple(zones)
         # a long view (a flume) in rows, each a stretch of it at a readable scale, where it is the
@@ -93,7 +97,7 @@ class Renderer:
             self.rows = [Renderer(((x0 + i * step, y0), (x0 + (i + 1) * step, y1)), width, dx, speed_scale, modes=modes,
                                   mat_colors=mat_colors, pressure_scale=pressure_scale, vrange=vrange,
                                   min_height=min_height, bed_surface=bed_surface, axes=axes, marks=marks, zones=zones,
-                                  rows=False) for i in range(n)]
+                                  rows=False, solid_region=solid_region) for i in range(n)]
 
     @property
     def left(self):
@@ -182,14 +186,12 @@ class Renderer:
             col[sel] = base * (shade[:, None] if mode == "phase" else 1.0)
         return col, field_image
 
-    ROW_ASPECT = 6.0   # a view longer than this many heights is drawn in rows (at most MAX_ROWS)
-    MAX_ROWS = 3
+    ROW_ASPECT, MAX_ROWS = 6.0, 3   # a view longer than ROW_ASPECT heights is drawn in rows (at most MAX_ROWS)
 
     def _splat(self, st, col, field_image=None):
         """The panel: sand under a bed surface, the field's fluid interpolated by the kernel onto
         the pixels (Shepard-normalised, cut where the water ends), every other particle a disc."""
-        img = np.empty((self.H, self.W, 3), np.uint8)
-        img[:] = (np.array(BACKGROUND) * 255).astype(np.uint8)
+        img = np.full((self.H, self.W, 3), (np.array(BACKGROUND) * 255).astype(np.uint8), np.uint8)
         (x0, y0), _ = self.view
         if self.bed_surface is not None:      # a bed below particle scale: sand under its surface
             zb = self.bed_surface(x0 + (np.arange(self.W) + 0.5) / self.scale)
@@ -202,10 +204,14 @@ class Renderer:
             val, inside = kernel_image(st["x"][smooth], s01[smooth], (x0, y0), self.scale, self.dx, self.W, self.H)
             lut = (np.clip(cmap(np.linspace(0.0, 1.0, 256)), 0, 1) * 255).astype(np.uint8)
             img[inside] = lut[(np.clip(val[inside], 0.0, 1.0) * 255 + 0.5).astype(np.uint8)]
+        hidden = np.zeros(len(st["kind"]), bool)
+        if self.solid_region is not None:     # over the water's field, which the kernel spreads into it
+            img[self._solid_pixels()], hidden = (np.array(BOUNDARY) * 255).astype(np.uint8), st["kind"] == WALL
+            hidden[hidden] = self.solid_region(st["x"][hidden])
         cx = np.floor((st["x"][:, 0] - x0) * self.scale).astype(int)
         cy = np.floor((st["x"][:, 1] - y0) * self.scale).astype(int)
         order = np.argsort(st["kind"] == FLUID, kind="stable")     # boundaries first, fluid on top
-        order = order[~smooth[order]]
+        order = order[~(smooth | hidden)[order]]
         inview = (cx[order] > -self.radius - 2) & (cx[order] < self.W + self.radius + 2) & \
                  (cy[order] > -self.radius - 2) & (cy[order] < self.H + self.radius + 2)
         order = order[inview]
@@ -215,6 +221,15 @@ class Renderer:
             ok = (px >= 0) & (px < self.W) & (py >= 0) & (py < self.H)
             img[self.H - 1 - py[ok], px[ok]] = c8[ok]
         return img
+
+    def _solid_pixels(self):
+        """The pixels (rows top to bottom) inside the solids, worked out once: they do not move."""
+        if self._solid_px is None:
+            (x0, y0), _ = self.view
+            X, Y = np.meshgrid(x0 + (np.arange(self.W) + 0.5) / self.scale, y0 + (np.arange(self.H) + 0.5) / self.scale)
+            inside = self.solid_region(np.column_stack([X.ravel(), Y.ravel()]))
+            self._solid_px = inside.reshape(self.H, self.W)[::-1]
+        return self._solid_px
 
     def frame(self, st, t):
         """RGB uint8 image (rows top to bottom) of the state st (arrays x, v, p, rho, kind, mat)."""
@@ -367,19 +382,6 @@ class Renderer:
         d.text((int(0.2 * fp), top + int(0.1 * fp)), "z (m)", fill=(0, 0, 0), font=font)
 
 
-def nice_ticks(lo, hi, n):
-    """About n round values (1, 2 or 5 times a power of ten apart) inside [lo, hi]."""
-    span = hi - lo
-    if not (span > 0) or n < 1:
-        return []
-    raw = span / n
-    p = 10.0 ** np.floor(np.log10(raw))
-    step = next(m * p for m in (1, 2, 5, 10) if m * p >= raw)
-    first = np.ceil(lo / step - 1e-9) * step
-    vals = np.arange(first, hi + 1e-9 * span, step)
-    return [float(round(v, 10)) + 0.0 for v in vals]
-
-
 def make_renderer(pic, outc, dx, title, speed_scale):
     """The Renderer for a scene's Picture and the [output] table (view, field, range, width)."""
     view = pic.view
@@ -395,4 +397,4 @@ def make_renderer(pic, outc, dx, title, speed_scale):
                     pressure_scale=pic.pressure_scale, bed_panel=pic.bed_panel, bed_label=pic.bed_label,
                     vrange=outc.get("range") or None, min_height=outc.get("min_height", 0),
                     bed_surface=pic.bed_surface, zoom=zoom, marks=pic.marks, zones=pic.zones,
-                    bed_range=pic.bed_range)
+                    bed_range=pic.bed_range, solid_region=pic.solid_region)

@@ -314,7 +314,8 @@ class Custom(Scene):
                          domain=domain, params=params, outflow=tuple((b[0], b[2], b[1], b[3]) for b in outflow),
                          physics=physics_from_config(cfg, **physics_kw), u_max=u_max,
                          view=((box[0] - margin, box[2] - margin), (box[1] + margin, box[3] + margin)),
-                         marks=[(q["x"], q["label"]) for q in gauges if q["type"] == "surface"], zones=zones, **parts)
+                         marks=[(q["x"], q["label"]) for q in gauges if q["type"] == "surface"], zones=zones,
+                         solid_region=lay.solid_region, **parts)
 
 
 SCENE = Custom()

@@ -75,6 +75,15 @@ class Layout:
         for w in waters:
             self._fill(w, errors)
 
+    def solid_region(self, p):
+        """Points inside the solids as drawn (a polygon or circle whole, a line's wall band): the
+        frames fill it in place of its particles, so a slope is drawn as the line it is."""
+        p = np.asarray(p, float).reshape(-1, 2)
+        out = np.zeros(len(p), bool)
+        for s, shape in self.shapes:
+            out |= shape.band(p, self.T) if s["shape"] == "line" else shape.inside(p)
+        return out
+
     def _fill(self, w, errors):
         p, dx = self.pts, self.dx
         if w["polygon"]:
