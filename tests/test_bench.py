@@ -433,3 +433,27 @@ def test_bench_bad_case_file_is_a_message_not_a_traceback(tmp_path):
     assert r.returncode == 2, r.stderr
     assert "sediment.shear = 'wall_function' is not allowed" in r.stderr and "Traceback" not in r.stderr
 
+
+
+def test_schemes_bench_writes_every_run_its_table_and_figure(tmp_path, monkeypatch):
+    """--schemes: every case at each of its spacings under every scheme, each run's keys the
+    case's own and the scheme's; the table lists them all, the figure has a panel a case. The runs
+    are stood in for (the real ones take about 25 minutes: a benchmark)."""
+    import json
+    from tisph.bench import schemes
+    seen = []
+
+    def fake(case, dx, out, quick):
+        seen.append((case.name, dict(case.overrides), dx))
+        return dict(case=case.name, dx=dx, particles=100, steps=10, wall=1.0 / dx, pps=1e6, value=0.1,
+                    error=dx, density=0.0, also={}, dir=out, status="ok", date="")
+    monkeypatch.setattr(schemes, "run_one", fake)
+    assert cli.main(["--schemes", "--jobs", "1", "--out", str(tmp_path)]) == 0
+    n = sum(len(v) for v in schemes.LADDERS.values()) * len(schemes.SCHEMES)
+    assert len(seen) == n
+    assert ("Sloshing, first mode (linear theory)", {"numerics.scheme": "paper000"}, 0.015) in seen
+    assert any(name.startswith("Dam break on a wet") and ov == {"numerics.h_factor": 2.0} for name, ov, _ in seen)
+    rows = json.loads((tmp_path / "schemes" / "schemes.json").read_text())
+    assert len(rows) == n and {r["scheme"] for r in rows} == set(schemes.SCHEMES)
+    assert (tmp_path / "schemes" / "schemes.png").stat().st_size > 20000
+    assert (tmp_path / "schemes" / "schemes.md").read_text().count("| Wave flume") == 2 * len(schemes.SCHEMES)

@@ -5,7 +5,7 @@ import os
 
 from .codes import PEERS
 from .ladder import __doc__ as LADDER_DOC
-from . import convergence, ladder, ripples, waves, standing, validate, speed, shedding, mao_held, traffic
+from . import convergence, ladder, ripples, schemes, waves, standing, validate, speed, shedding, mao_held, traffic
 
 
 def _peers(text):
@@ -86,9 +86,12 @@ def main(argv=None):
     p.add_argument("--validate", action="store_true",
                    help="run every validation case and write docs/validation.md, its figures and the README's "
                         "table (tisph/bench/validate.py; with --quick: coarse, short versions)")
+    p.add_argument("--schemes", action="store_true",
+                   help="run time against error by numerics scheme: four validation cases at two or three spacings "
+                        "under five schemes (tisph/bench/schemes.py; about 25 minutes on two cores)")
     p.add_argument("--jobs", type=int, default=0, metavar="N",
-                   help="with --validate: runs at a time, each in a process of its own on cores / N CPU threads "
-                        "(default 0: one a core; 1: one after another on every core)")
+                   help="with --validate or --schemes: runs at a time, each in a process of its own on cores / N CPU "
+                        "threads (default 0: one a core; 1: one after another on every core)")
     p.add_argument("--docs", help="with --validate: the folder of validation.md (default the tree's docs/)")
     p.add_argument("--readme", help="with --validate: the README whose table to fill (default the tree's; '' none)")
     p.add_argument("--dry-run", action="store_true",
@@ -108,8 +111,10 @@ def main(argv=None):
         p.error(f"--jobs {a.jobs}: at least 0 (0: one a core)")
     if a.validate:
         return validate.main(a)
+    if a.schemes:
+        return schemes.main(a)
     if a.jobs:
-        p.error("--jobs needs --validate")
+        p.error("--jobs needs --validate or --schemes")
     if a.docs is not None or a.readme is not None:
         p.error("--docs and --readme need --validate")
     if a.speed:
