@@ -104,12 +104,13 @@ def test_rendered_run_writes_frames_and_movie(tmp_path):
 
 def test_frame_shows_water_where_the_column_stands():
     from tisph.config import build_config
+    from tisph.viz.style import Style
     from tisph.viz.render import Renderer, colormap
     cfg = freeze(build_config(dam_break.SCENE.DEFAULTS, None, {"numerics.dx": 0.05}))
     case = dam_break.SCENE.build(cfg)
     ps = case.particles
     st = dict(x=ps.x, v=np.zeros_like(ps.x), p=np.zeros(len(ps.x)), rho=ps.rho, kind=ps.kind, mat=ps.mat)
-    r = Renderer(case.picture.view, 480, 0.05, case.u_max)
+    r = Renderer(case.picture.view, Style(width=480, dx=0.05, speed_scale=case.u_max))
     img = r.frame(st, 0.0)
     (x0, y0), _ = r.view
     head = r.panel_top                                        # the title strip above the panel
@@ -133,13 +134,14 @@ def test_every_output_field_draws_a_frame(field):
     range, a flat (material) frame has none."""
     from tisph.config import build_config
     from tisph.viz.render import Renderer
+    from tisph.viz.style import Style
     cfg = freeze(build_config(dam_break.SCENE.DEFAULTS, None, {"numerics.dx": 0.05}))
     case = dam_break.SCENE.build(cfg)
     ps = case.particles
     rng = np.random.default_rng(0)
     st = dict(x=ps.x, v=rng.normal(size=ps.x.shape), p=1e4 * rng.random(len(ps.x)), rho=ps.rho, kind=ps.kind,
               mat=ps.mat)
-    r = Renderer(case.picture.view, 320, 0.05, 2.0, modes=(field,))
+    r = Renderer(case.picture.view, Style(width=320, dx=0.05, speed_scale=2.0, modes=(field,)))
     img = r.frame(st, 0.5)
     assert img.shape == (img.shape[0], r.left + r.W + r.BAR, 3)
     assert (r.bars[0] is None) == (field == "material")

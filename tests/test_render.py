@@ -4,6 +4,7 @@ import pytest
 
 from tisph.config import build_config
 from tisph.resolved import freeze
+from tisph.viz.style import Style
 from tisph.viz.render import Renderer, make_renderer, nice_ticks
 from tisph.sweep import scene_named
 
@@ -65,7 +66,7 @@ def test_every_scene_frame_has_metre_axes(name, ov):
 def test_a_long_view_is_drawn_in_rows_that_cover_it():
     """A flume 16 heights long: rows of at most ROW_ASPECT heights' length, end to end, one colour
     bar; a short tank keeps one panel, and so does a frame of two fields."""
-    r = Renderer(((0.0, 0.0), (8.0, 0.5)), 640, 0.02, 1.0)
+    r = Renderer(((0.0, 0.0), (8.0, 0.5)), Style(width=640, dx=0.02, speed_scale=1.0))
     assert len(r.rows) == 2
     assert r.rows[0].view[0][0] == 0.0 and r.rows[0].view[1][0] == r.rows[1].view[0][0] and r.rows[-1].view[1][0] == 8.0
     n = 400
@@ -73,8 +74,9 @@ def test_a_long_view_is_drawn_in_rows_that_cover_it():
               rho=np.full(n, 1000.0), kind=np.zeros(n, int), mat=np.zeros(n, int))
     r.frame(st, 0.0)
     assert len(r.panels) == 2 and r.panels[0][3] is not None and r.panels[1][3] is None
-    assert Renderer(((0.0, 0.0), (2.0, 1.0)), 640, 0.02, 1.0).rows == []
-    assert Renderer(((0.0, 0.0), (8.0, 0.5)), 640, 0.02, 1.0, modes=("speed", "pressure")).rows == []
+    assert Renderer(((0.0, 0.0), (2.0, 1.0)), Style(width=640, dx=0.02, speed_scale=1.0)).rows == []
+    assert Renderer(((0.0, 0.0), (8.0, 0.5)),
+                    Style(width=640, dx=0.02, speed_scale=1.0, modes=("speed", "pressure"))).rows == []
 
 
 def test_fields_are_drawn_continuous_and_end_at_the_free_surface():
@@ -83,7 +85,7 @@ def test_fields_are_drawn_continuous_and_end_at_the_free_surface():
     dx = 0.02
     g = np.mgrid[0:50, 0:10].reshape(2, -1).T * dx + 0.5 * dx
     n = len(g)
-    r = Renderer(((0.0, 0.0), (1.0, 0.5)), 640, dx, 2.0, axes=False)
+    r = Renderer(((0.0, 0.0), (1.0, 0.5)), Style(width=640, dx=dx, speed_scale=2.0, axes=False))
     img = r.frame(dict(x=g, v=np.tile([1.0, 0.0], (n, 1)), p=np.zeros(n), rho=np.full(n, 1000.0),
                        kind=np.zeros(n, int), mat=np.zeros(n, int)), 0.0)
     top, H, _, _ = r.panels[0]
@@ -108,7 +110,7 @@ def test_zoom_window_from_the_config_and_its_outline():
     col = r.left + int(round((1.0 - x0) * r.scale))      # the box's right edge, inside the panel
     row = top + H - 1 - int(round((0.25 - y0) * r.scale))
     assert img[row, col].max() <= 60
-    plain = Renderer(case.picture.view, 480, 0.06, 1.0, axes=False)
+    plain = Renderer(case.picture.view, Style(width=480, dx=0.06, speed_scale=1.0, axes=False))
     assert plain.left == 0 and plain.frame(st, 0.0).shape[1] == 480 + plain.BAR
 
 
@@ -150,7 +152,7 @@ def test_the_pressure_bar_holds_the_first_frames_range():
     dx = 0.02
     g = np.mgrid[0:50, 0:10].reshape(2, -1).T * dx + 0.5 * dx
     n = len(g)
-    r = Renderer(((0.0, 0.0), (1.0, 0.5)), 320, dx, 1.0, modes=("pressure",), axes=False)
+    r = Renderer(((0.0, 0.0), (1.0, 0.5)), Style(width=320, dx=dx, speed_scale=1.0, modes=("pressure",), axes=False))
     st = dict(x=g, v=np.zeros((n, 2)), p=9810.0 * (0.2 - g[:, 1]), rho=np.full(n, 1000.0),
               kind=np.zeros(n, int), mat=np.zeros(n, int))
     r.frame(st, 0.0)
@@ -173,7 +175,8 @@ def test_a_case_file_s_slope_is_drawn_as_its_line_not_as_stairs():
     case = custom.SCENE.build(cfg)
     ps = case.particles
     st = dict(x=ps.x, v=np.zeros_like(ps.x), p=np.zeros(len(ps.x)), rho=ps.rho, kind=ps.kind, mat=ps.mat)
-    r = Renderer(((2.8, -0.1), (3.8, 0.4)), 800, 0.05, 1.0, axes=False, solid_region=case.picture.solid_region)
+    r = Renderer(((2.8, -0.1), (3.8, 0.4)),
+                 Style(width=800, dx=0.05, speed_scale=1.0, axes=False, solid_region=case.picture.solid_region))
     img = r.frame(st, 0.0)
     top, H, ((x0, y0), _), _ = r.panels[0]
     grey = (np.abs(img.astype(int) - (np.array(BOUNDARY) * 255).astype(int)).max(axis=2) <= 2)
@@ -184,7 +187,7 @@ def test_a_case_file_s_slope_is_drawn_as_its_line_not_as_stairs():
         z_top = y0 + (H - rows.min()) / r.scale            # the highest grey pixel's top edge
         off.append(abs(z_top - (0.05 + (x - 3.0) * 0.23 / 0.46)))
     assert max(off) < 1.5 / r.scale
-    plain = Renderer(((2.8, -0.1), (3.8, 0.4)), 800, 0.05, 1.0, axes=False).frame(st, 0.0)
+    plain = Renderer(((2.8, -0.1), (3.8, 0.4)), Style(width=800, dx=0.05, speed_scale=1.0, axes=False)).frame(st, 0.0)
     stairs = []
     for x in np.linspace(3.05, 3.4, 8):
         col = int((x - x0) * r.scale)

@@ -107,13 +107,14 @@ def test_concentration_panel_and_snapshot_field():
     it as "concentration" and tisph.view reads it back."""
     from tisph import view
     from tisph.io import SNAPSHOT_FIELDS
+    from tisph.viz.style import Style
     from tisph.viz.render import Renderer
     g = (np.arange(40) + 0.5) * 0.025
     x = np.array([(a, b) for a in g for b in g[:20]])
     n = len(x)
     st = dict(x=x, v=np.zeros((n, 2)), p=np.zeros(n), rho=np.full(n, 1000.0), kind=np.full(n, FLUID),
               mat=np.zeros(n, int), c=np.where(x[:, 0] > 0.5, 0.002, 0.0))
-    r = Renderer(((0.0, 0.0), (1.0, 0.5)), 320, dx=0.025, modes=("concentration",))
+    r = Renderer(((0.0, 0.0), (1.0, 0.5)), Style(width=320, dx=0.025, modes=("concentration",)))
     img = r.frame(st, 0.0).astype(int)
     unit, lo, hi, _ = r.bars[0]
     assert unit == "sand (%, log)" and hi == pytest.approx(0.2) and lo == pytest.approx(2e-4)   # three decades

@@ -5,6 +5,7 @@ import imageio.v2 as imageio
 import numpy as np
 
 from tisph import view
+from tisph.viz.style import Style
 from tisph.viz.render import Renderer
 from tisph.runner import simulate
 from tisph.scenes import dam_break
@@ -19,7 +20,7 @@ def test_view_renders_snapshots_to_png_and_mp4(tmp_path, capsys):
     name = next(n for n in os.listdir(out / "view") if n.startswith("pressure_t0.04"))
     png = out / "view" / name
     img = imageio.imread(png)
-    r = Renderer(((0, 0), (1, 1)), 480)
+    r = Renderer(((0, 0), (1, 1)), Style(width=480))
     assert img.shape[1] == r.left + 480 + r.BAR
     # the scene's own framing: the same as the live run's frames would have
     assert view.main([str(out), "--all", "--mp4", "--width", "320"]) == 0
@@ -59,6 +60,7 @@ def test_view_range_is_in_the_bars_unit_and_names_its_picture(tmp_path):
     """--range for pressure is in kPa, as the bar says; pictures with another range or view get
     their own names instead of overwriting; the default pressure range is the water's."""
     from tisph.viz.render import Renderer
+    from tisph.viz.style import Style
     out = tmp_path / "db"
     simulate(dam_break, {"numerics.dx": 0.06, "run.end_time": 0.02, "output.render": False, "output.quiet": True,
                          "output.snapshot_every": 0.02}, out=str(out))
@@ -71,11 +73,11 @@ def test_view_range_is_in_the_bars_unit_and_names_its_picture(tmp_path):
     x = np.column_stack([np.linspace(0.1, 0.9, n), np.linspace(0.1, 0.9, n)])
     st = dict(x=x, v=np.zeros((n, 2)), p=np.linspace(0, 4000.0, n), rho=np.full(n, 1000.0),
               kind=np.zeros(n, int), mat=np.zeros(n, int))
-    r = Renderer(((0, 0), (1, 1)), 320, dx=0.02, modes=("pressure",), vrange=(0.0, 4.5))
+    r = Renderer(((0, 0), (1, 1)), Style(width=320, dx=0.02, modes=("pressure",), vrange=(0.0, 4.5)))
     r.frame(st, 0.0)
     assert r.bars[0][1:3] == (0.0, 4.5)                 # the bar says 0 to 4.5 kPa ...
     assert r._colour_range("pressure", st["p"]) == (0.0, 4500.0)   # ... and colours 0 to 4500 Pa
-    auto = Renderer(((0, 0), (1, 1)), 320, dx=0.02, modes=("pressure",))
+    auto = Renderer(((0, 0), (1, 1)), Style(width=320, dx=0.02, modes=("pressure",)))
     lo, hi = auto._colour_range("pressure", st["p"])
     assert lo == 0.0 and 3900.0 < hi <= 4000.0          # the water's 99.5th percentile
 

@@ -2,6 +2,8 @@
 interpolated by the kernel (tisph/viz/interpolate.py), the rest as discs (no window, no GPU; the
 live run and tisph.view share it); PIL adds the labels and colour bars; tisph/viz/files.py writes
 the PNG frames and the MP4."""
+import dataclasses
+
 import numpy as np
 
 from ..io import OPTIONAL
@@ -9,6 +11,7 @@ from ..particles import BED, FLUID, WALL
 from .colours import (BACKGROUND, BOUNDARY, MODES, SAND, WATER, colormap, diverging,  # noqa: F401 (re-exported)
                       vorticity)
 from .interpolate import kernel_image
+from .style import Style
 from .ticks import nice_ticks  # noqa: F401 (re-exported)
 
 FIELDS = ("speed", "pressure", "density", "material", "vorticity", "concentration")   # output.field
@@ -34,38 +37,38 @@ class Renderer:
     percentiles of each frame. min_height: a panel shorter than this (px) gets more room
     above the view's top (air), not a squashed picture."""
 
-    def __init__(self, view, width=640, dx=0.01, speed_scale=0.0, title="", modes=("speed",), mat_colors=None,
-                 pressure_scale=0.0, bed_panel=None, bed_label="", vrange=None, min_height=0, bed_surface=None,
-                 zoom=None, zoom_field="vorticity", axes=True, marks=(), zones=(), bed_range=0.0, rows=True,
-                 solid_region=None):
+    def __init__(self, view, style=None):
+        s = style or Style()
+        dx, modes = s.dx, s.modes
         (x0, y0), (x1, y1) = view
         aspect = (x1 - x0) / (y1 - y0)                  # as asked, before any air is added
-        W = max(16, int(width) // 16 * 16)
+        W = max(16, int(s.width) // 16 * 16)
         self.scale = W / (x1 - x0)
         H = max(16, int(round((y1 - y0) * self.scale / 16)) * 16)
-        if H < min_height:
-            H = int(np.ceil(min_height / 16)) * 16
+        if H < s.min_height:
+            H = int(np.ceil(s.min_height / 16)) * 16
             y1 = y0 + H / self.scale
         self.view = ((float(x0), float(y0)), (float(x1), float(y1)))
         self.W, self.H = W, H
         self.radius = max(1.0, 0.9 * dx * self.scale)
         self.dx = dx
-        self.speed_scale = float(speed_scale)
-        self.title = title
+        self.speed_scale = float(s.speed_scale)
+        self.title = s.title
         for m in modes:
             if m not in MODES:
                 raise ValueError(f"render mode {m!r}: expected one of {sorted(MODES)}")
         self.modes = tuple(modes)
-        self.vrange = tuple(vrange) if vrange else None
-        self.pressure_scale = float(pressure_scale)   # 0: from the water in view in the first frame
-        self.mat_colors = list(mat_colors or [])
-        self.bed_panel, self.bed_label, self.bed_surface = bed_panel, bed_label, bed_surface
+        self.vrange = tuple(s.vrange) if s.vrange else None
+        self.pressure_scale = float(s.pressure_scale)   # 0: from the water in view in the first frame
+        self.mat_colors = list(s.mat_colors or [])
+        self.bed_panel, self.bed_label, self.bed_surface = s.bed_panel, s.bed_label, s.bed_surface
         # the solids filled as drawn, not their wall particles (a slope's are stairs a spacing high)
-        self.solid_region, self._solid_px = solid_region, None
+        self.solid_region, self._solid_px = s.solid_region, None
         # m: the bed panel's half-height: the step that holds bed_range, fixed for the movie; or, with
         # none given, the step that holds the bed so far, only ever growing
-        self.bed_fixed = bed_range > 0
-        self.bed_range = next((r for r in self.BED_RANGE if bed_range <= r), self.BED_RANGE[-1]) if self.bed_fixed else 0.0
+        self.bed_fixed = s.bed_range > 0
+        self.bed_range = (next((r for r in self.BED_RANGE if s.bed_range <= r), self.BED_RANGE[-1])
+                          if self.bed_fixed else 0.0)
         self.font_px = max(11, W // 85)
         self.BAR = int(np.ceil(7 * self.font_px / 16)) * 16     # strips in multiples of 16 px (the MP4's blocks)
         self.strip = int(np.ceil(1.8 * self.font_px / 16)) * 16
@@ -76,28 +79,25 @@ class Renderer:
         self.bars = []                  # (title, lo, hi, cmap) of each panel's colour bar, None: none
         self._speed_hi = max(self.speed_scale, 1e-6)
         # metre axes: a strip left of the panels for z, one under each particle panel for x
-        self.LEFT = int(np.ceil(4.2 * self.font_px / 16)) * 16 if axes else 0
-        self.AXIS = self.strip if axes else 0
+        self.LEFT = int(np.ceil(4.2 * self.font_px / 16)) * 16 if s.axes else 0
+        self.AXIS = self.strip if s.axes else 0
         # a window at true scale under the rest (the beach's ripples), its own colour field
         self.zoom = None
-        if zoom is not None:
-            self.zoom = Renderer(zoom, width=W, dx=dx,
-                                 speed_scale=speed_scale, modes=(zoom_field,), vrange=None, axes=False,
-                                 bed_surface=bed_surface, solid_region=solid_region)
+        if s.zoom is not None:
+            self.zoom = Renderer(s.zoom, Style(width=W, dx=dx, speed_scale=s.speed_scale, modes=(s.zoom_field,),
+                                               axes=False, bed_surface=s.bed_surface, solid_region=s.solid_region))
         self.panels = []                # (top row, height, view, bar) of each panel of the last frame
-        self.marks, self.zones = tuple(marks), tuple(zones)
+        self.marks, self.zones = tuple(s.marks), tuple(s.zones)
         # a long view (a flume) in rows, each a stretch of it at a readable scale, where it is the
         # frame's one panel (no second field, bed panel or zoom window along the whole length)
         self.rows = []
         n = int(np.ceil(np.sqrt(aspect / self.ROW_ASPECT)))
-        if n > 1 and rows and bed_panel is None and zoom is None and len(modes) == 1:
+        if n > 1 and s.rows and s.bed_panel is None and s.zoom is None and len(modes) == 1:
             n = min(n, self.MAX_ROWS)
             step = (x1 - x0) / n
             y1 = view[1][1]
-            self.rows = [Renderer(((x0 + i * step, y0), (x0 + (i + 1) * step, y1)), width, dx, speed_scale, modes=modes,
-                                  mat_colors=mat_colors, pressure_scale=pressure_scale, vrange=vrange,
-                                  min_height=min_height, bed_surface=bed_surface, axes=axes, marks=marks, zones=zones,
-                                  rows=False, solid_region=solid_region) for i in range(n)]
+            part = dataclasses.replace(s, title="", rows=False)
+            self.rows = [Renderer(((x0 + i * step, y0), (x0 + (i + 1) * step, y1)), part) for i in range(n)]
 
     @property
     def left(self):
@@ -393,8 +393,9 @@ def make_renderer(pic, outc, dx, title, speed_scale):
     if outc.get("zoom"):
         x0, x1, y0, y1 = outc["zoom"]
         zoom = ((x0, y0), (x1, y1))
-    return Renderer(view, outc["width"], dx, speed_scale, title=title, modes=modes, mat_colors=pic.mat_colors,
-                    pressure_scale=pic.pressure_scale, bed_panel=pic.bed_panel, bed_label=pic.bed_label,
-                    vrange=outc.get("range") or None, min_height=outc.get("min_height", 0),
-                    bed_surface=pic.bed_surface, zoom=zoom, marks=pic.marks, zones=pic.zones,
-                    bed_range=pic.bed_range, solid_region=pic.solid_region)
+    return Renderer(view, Style(width=outc["width"], dx=dx, speed_scale=speed_scale, title=title, modes=modes,
+                                mat_colors=pic.mat_colors, pressure_scale=pic.pressure_scale, bed_panel=pic.bed_panel,
+                                bed_label=pic.bed_label, vrange=outc.get("range") or None,
+                                min_height=outc.get("min_height", 0), bed_surface=pic.bed_surface, zoom=zoom,
+                                marks=pic.marks, zones=pic.zones, bed_range=pic.bed_range,
+                                solid_region=pic.solid_region))
