@@ -31,11 +31,9 @@ class Renderer:
     colour every fluid by that field. A header strip carries the title and time, a side strip
     the colour bar with its title; text scales with the width and never covers particles.
 
-    vrange: (lo, hi) of the colour bar; None: speed from speed_scale (the scene's expected peak
-    speed) or else the 99th percentile, pressure from pressure_scale or else the first frame's
-    (held for the movie), vorticity from speed_scale over 10 dx, density from robust
-    percentiles of each frame. min_height: a panel shorter than this (px) gets more room
-    above the view's top (air), not a squashed picture."""
+    How it draws is its Style (viz/style.py). The colour bars: the style's vrange, or speed from
+    speed_scale, pressure from pressure_scale or the first frame's (held for the movie), vorticity
+    from speed_scale over 10 dx, density from robust percentiles of each frame."""
 
     def __init__(self, view, style=None):
         s = style or Style()
