@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 
-from tisph.sediment.bed import Bed
+from tisph.sediment.bed import Bed, Sand
 from tisph.sediment.transport import (bedload_mpm, bedload_nielsen, shear_log_law, shields_critical,
                                       slope_factor, swart_friction_factor, transport_scale)
 
@@ -43,7 +43,7 @@ def test_uniform_current_threshold_and_mpm_flux(theta_over_cr):
     """A periodic flat bed under a uniform shear: no transport below theta_cr; above it the
     saturated flux is Meyer-Peter & Mueller's."""
     x = (np.arange(100) + 0.5) * 0.01
-    bed = Bed(x, np.full(100, 0.1), D50, RHO_S, saturation_length=0.03)
+    bed = Bed(x, np.full(100, 0.1), Sand(D50, RHO_S, saturation_length=0.03))
     theta = theta_over_cr * bed.theta_cr
     tau = theta * (RHO_S - 1000.0) * 9.81 * D50
     dz = bed.step(np.full(100, tau), 1.0)
@@ -64,7 +64,7 @@ def test_deposition_length_spreads_the_load_that_settles_out():
     tc = 0.0374 * (RHO_S - 1000.0) * 9.81 * D50
     tau = np.where((x > 0.25) & (x < 0.5), 20 * tc, 2 * tc)     # the fast 'gap' from 0.25 to 0.5 m
     for l_d in (None, 0.15):
-        bed = Bed(x, np.full(n, 0.1), D50, RHO_S, saturation_length=dx, deposition_length=l_d, periodic=False)
+        bed = Bed(x, np.full(n, 0.1), Sand(D50, RHO_S, saturation_length=dx, deposition_length=l_d), periodic=False)
         qb = bed.equilibrium_flux(tau)
         q = bed.saturate(qb)
         lo, hi = qb[x < 0.25].max(), qb[(x > 0.25) & (x < 0.5)].min()
@@ -91,7 +91,7 @@ def test_lee_transit_carries_the_load_over_a_reversed_zone():
     tau = np.where(gap, 20 * tc, np.where(bubble, -1.5 * tc, 2 * tc))
     flux = {}
     for lt in (False, True):
-        bed = Bed(x, np.full(n, 0.1), D50, RHO_S, saturation_length=dx, deposition_length=l_d, lee_transit=lt)
+        bed = Bed(x, np.full(n, 0.1), Sand(D50, RHO_S, saturation_length=dx, deposition_length=l_d, lee_transit=lt))
         for _ in range(3):                    # the sweeps start from the last flux: let it settle
             bed.q = bed.saturate(bed.equilibrium_flux(tau))
         flux[lt] = bed.q
@@ -101,7 +101,7 @@ def test_lee_transit_carries_the_load_over_a_reversed_zone():
         bed.step(tau, 0.5)
         assert abs(bed.volume() - v0) <= 1e-12 * abs(v0)
     assert np.allclose(up + back, flux[True], rtol=0, atol=1e-12 * abs(flux[True]).max())
-    qb = Bed(x, np.full(n, 0.1), D50, RHO_S).equilibrium_flux(tau)      # on the flat bed
+    qb = Bed(x, np.full(n, 0.1), Sand(D50, RHO_S)).equilibrium_flux(tau)      # on the flat bed
     k, m = int(np.argmax(bubble)), int(bubble.sum())   # the bubble's first station, its length
     hi = qb[gap].min()
     assert up[k - 1] == pytest.approx(hi, rel=1e-3)
@@ -118,7 +118,7 @@ def test_lee_transit_carries_the_load_over_a_reversed_zone():
     tau2 = np.abs(tau)
     same = []
     for lt in (False, True):
-        bed = Bed(x, np.full(n, 0.1), D50, RHO_S, saturation_length=dx, deposition_length=l_d, lee_transit=lt)
+        bed = Bed(x, np.full(n, 0.1), Sand(D50, RHO_S, saturation_length=dx, deposition_length=l_d, lee_transit=lt))
         for _ in range(3):
             bed.q = bed.saturate(bed.equilibrium_flux(tau2))
         same.append(bed.q)
@@ -128,7 +128,7 @@ def test_lee_transit_carries_the_load_over_a_reversed_zone():
 def test_volume_conserved_periodic():
     rng = np.random.default_rng(1)
     x = (np.arange(200) + 0.5) * 0.005
-    bed = Bed(x, 0.1 + 0.004 * rng.standard_normal(200), D50, RHO_S, morfac=10.0)
+    bed = Bed(x, 0.1 + 0.004 * rng.standard_normal(200), Sand(D50, RHO_S, morfac=10.0))
     v0 = bed.volume()
     tc = bed.theta_cr * (RHO_S - 1000.0) * 9.81 * D50
     for k in range(200):
@@ -140,7 +140,7 @@ def test_volume_conserved_periodic():
 
 def test_closed_bed_keeps_its_sand():
     x = (np.arange(80) + 0.5) * 0.01
-    bed = Bed(x, np.full(80, 0.05), D50, RHO_S, periodic=False)
+    bed = Bed(x, np.full(80, 0.05), Sand(D50, RHO_S), periodic=False)
     v0 = bed.volume()
     tc = bed.theta_cr * (RHO_S - 1000.0) * 9.81 * D50
     for _ in range(100):
@@ -152,7 +152,7 @@ def test_closed_bed_keeps_its_sand():
 def test_heap_relaxes_to_repose():
     x = (np.arange(101) - 50.0) * 0.005
     z = np.maximum(0.0, 0.1 - np.abs(x) * math.tan(math.radians(50)))   # 50 degree flanks
-    bed = Bed(x, z, D50, RHO_S, repose_deg=32.0, periodic=False)
+    bed = Bed(x, z, Sand(D50, RHO_S, repose_deg=32.0), periodic=False)
     v0 = bed.volume()
     bed.avalanche()
     assert bed.max_slope_deg() == pytest.approx(32.0, abs=2.0)
@@ -164,7 +164,7 @@ def test_rippled_bed_under_still_water_does_not_change():
     x = (np.arange(200) + 0.5) * 0.005
     lam = 0.1
     z = 0.1 + math.tan(math.radians(20)) * lam / (2 * np.pi) * np.sin(2 * np.pi * x / lam)
-    bed = Bed(x, z, D50, RHO_S)
+    bed = Bed(x, z, Sand(D50, RHO_S))
     assert 15 < bed.max_slope_deg() <= 21
     z0 = bed.z.copy()
     for _ in range(100):
@@ -413,7 +413,7 @@ def test_avalanche_visiting_only_steep_faces_equals_visiting_every_face(periodic
     for trial in range(12):
         z = 0.075 + np.cumsum(rng.standard_normal(len(x))) * 0.002 * rng.random()
         z[50:60] -= 0.02 * rng.random()                   # a hole with walls past the repose angle
-        bed = Bed(x, z, 0.00036, 2650.0, periodic=periodic)
+        bed = Bed(x, z, Sand(0.00036, 2650.0), periodic=periodic)
         tdx = bed.tan_repose * bed.dx
         if trial % 2:   # the seam's face gentle until the first face's avalanche lowers z[0]
             z[:] = 0.075 if trial == 1 else z
@@ -446,7 +446,7 @@ def test_wall_function_shear_is_the_log_law_where_k_is_in_equilibrium_and_grows_
     that it is 2 times the log law, signed with the flow (refused without the k equation:
     tests/test_bad_input.py)."""
     from tisph.constants import KAPPA
-    from tisph.sediment.coupling import DEFAULTS, BedCoupler
+    from tisph.sediment.coupling import DEFAULTS, BedCoupler, Drive, Stations, sand_of
     from tisph.constants import SQRT_CMU
     dx, z0 = 0.0025, 0.003
     x = (np.arange(40) + 0.5) * dx
@@ -458,8 +458,9 @@ def test_wall_function_shear_is_the_log_law_where_k_is_in_equilibrium_and_grows_
     taus = {}
     for shear, k in (("log_far_field", 0.0), ("wall_function", ustar ** 2 / SQRT_CMU),
                      ("wall_function", np.where(far, 1.0, 4.0) * ustar ** 2 / SQRT_CMU)):
-        b = BedCoupler(dict(sed, shear=shear), x, np.full(40, 0.05), dx, 1.6 * dx, 0.00036, 2650.0, z0=z0,
-                       far_field=(far, 1.5))
+        sd = dict(sed, shear=shear)
+        b = BedCoupler(sd, sand_of(sd, 0.00036, 2650.0), Stations(x, np.full(40, 0.05), dx, 1.6 * dx),
+                       Drive(z0=z0, far_field=(far, 1.5)))
         b.update(_FakeSolver(100.0, u, 0.01, 10, k))
         taus.setdefault(shear, []).append(b.tau.copy())
     log = taus["log_far_field"][0]
@@ -479,8 +480,8 @@ def test_settling_delay_lands_the_jet_s_load_half_a_deposition_length_on():
     tau = np.where((x > 0.2) & (x < end), 3.0, 0.0)             # a jet, then still water
     out = {}
     for delay in (False, True):
-        bed = Bed(x, np.full(n, 0.1), D50, RHO_S, saturation_length=dx, deposition_length=l_d, lee_transit=True,
-                  settling_delay=delay, gravity_coefficient=0.0)
+        bed = Bed(x, np.full(n, 0.1), Sand(D50, RHO_S, saturation_length=dx, deposition_length=l_d, lee_transit=True,
+                                           settling_delay=delay, gravity_coefficient=0.0))
         q = bed.saturate(bed.equilibrium_flux(tau))
         f = bed.face_fluxes(q)
         dep = -(f[1:] - f[:-1]) / dx
@@ -501,7 +502,7 @@ def test_wall_function_follows_the_mean_flow_in_a_sheltered_lee():
     reversed, k twice the far field's): the shear follows the mean flow's sign and stays below the
     far field's, so a reversed lee pushes back; jets either way exceed it."""
     from tisph.constants import KAPPA
-    from tisph.sediment.coupling import DEFAULTS, BedCoupler
+    from tisph.sediment.coupling import DEFAULTS, BedCoupler, Drive, Stations, sand_of
     from tisph.constants import SQRT_CMU
     dx, z0 = 0.0025, 0.003
     x = (np.arange(40) + 0.5) * dx
@@ -513,7 +514,8 @@ def test_wall_function_follows_the_mean_flow_in_a_sheltered_lee():
     sed = dict(DEFAULTS, filter_time=0.0, reference_height=3.0, morfac=1.0, shear="wall_function")
     ustar = KAPPA * 0.2 / np.log(sed["reference_height"] * dx / z0)
     k = np.where(far, 1.0, 2.0) * ustar ** 2 / SQRT_CMU           # the shear layer: twice the far field's k
-    b = BedCoupler(sed, x, np.full(40, 0.05), dx, 1.6 * dx, 0.00036, 2650.0, z0=z0, far_field=(far, 1.5))
+    b = BedCoupler(sed, sand_of(sed, 0.00036, 2650.0), Stations(x, np.full(40, 0.05), dx, 1.6 * dx),
+                   Drive(z0=z0, far_field=(far, 1.5)))
     b.update(_FakeSolver(100.0, u, 0.01, 10, k))
     plain = b.tau
     assert (plain[lee & (u < 0)] < 0).all() and (np.abs(plain[lee & ~jets]) < 1.5).all()
@@ -527,7 +529,7 @@ def test_bed_faster_than_the_water_allows_stops_the_run_with_a_message():
     message about its sound speed); with a sound speed that allows it the same bed moves its
     particles."""
     from tisph.runner.setup import SimulationError
-    from tisph.sediment.coupling import BED_MACH, DEFAULTS, BedCoupler
+    from tisph.sediment.coupling import BED_MACH, DEFAULTS, BedCoupler, Drive, Stations, sand_of
     dx = 0.0025
     x = (np.arange(80) + 0.5) * dx
     z = 0.05 + 0.01 * np.exp(-((x - 0.1) / 0.01) ** 2)            # a 1 cm bump under a 2 m/s current
@@ -535,7 +537,7 @@ def test_bed_faster_than_the_water_allows_stops_the_run_with_a_message():
 
     def run(c0):
         s = _FakeSolver(c0, 2.0, 0.002, 10)
-        BedCoupler(sed, x, z, dx, 1.6 * dx, 0.00036, 2650.0, z0=0.003).update(s)
+        BedCoupler(sed, sand_of(sed, 0.00036, 2650.0), Stations(x, z, dx, 1.6 * dx), Drive(z0=0.003)).update(s)
         return s
 
     fast = np.abs(run(1000.0).beds[-1]).max()

@@ -15,6 +15,7 @@ One update (Bed.step) with the bed shear at each station:
   5. avalanching: a face steeper than the angle of repose gives sand from its high side to its
      low side until it stands at that angle, volume conserved.
 """
+import dataclasses
 import math
 
 import numpy as np
@@ -23,30 +24,50 @@ from ..constants import G
 from .transport import (FORMULAE, shields_critical, shields_number, slope_factor, transport_scale)
 
 
+@dataclasses.dataclass(frozen=True)
+class Sand:
+    """The bed's grain and transport law, what a Bed needs beside its stations (the [sediment]
+    keys, coupling.sand_of): theta_cr None is Soulsby & Whitehouse's for the grain, a
+    saturation_length None one station spacing, a deposition_length None the saturation length."""
+    d50: float
+    rho_s: float = 2650.0
+    rho_w: float = 1000.0
+    porosity: float = 0.4
+    repose_deg: float = 32.0
+    theta_cr: float = None
+    formula: str = "mpm"
+    saturation_length: float = None
+    deposition_length: float = None
+    gravity_coefficient: float = 1.0
+    morfac: float = 1.0
+    lee_transit: bool = False
+    settling_delay: bool = False
+
+
 class Bed:
-    def __init__(self, x, z, d50, rho_s, rho_w=1000.0, porosity=0.4, repose_deg=32.0, theta_cr=None,
-                 formula="mpm", saturation_length=None, gravity_coefficient=1.0, morfac=1.0, periodic=True,
-                 deposition_length=None, lee_transit=False, settling_delay=False):
+    def __init__(self, x, z, sand, periodic=True):
+        d50, rho_s, rho_w, repose_deg = sand.d50, sand.rho_s, sand.rho_w, sand.repose_deg
+        theta_cr, saturation_length, deposition_length = sand.theta_cr, sand.saturation_length, sand.deposition_length
         self.x = np.asarray(x, float)
         self.dx = float(self.x[1] - self.x[0])
         self.z = np.array(z, float)
         self.d50, self.rho_s, self.rho_w = d50, rho_s, rho_w
         self.s = rho_s / rho_w
-        self.porosity, self.repose = porosity, repose_deg
+        self.porosity, self.repose = sand.porosity, repose_deg
         self.tan_repose = math.tan(math.radians(repose_deg))
         self.theta_cr = shields_critical(d50, self.s) if theta_cr is None else theta_cr
-        self.phi = FORMULAE[formula]
+        self.phi = FORMULAE[sand.formula]
         self.l_s = self.dx if saturation_length is None else saturation_length
         # where the load exceeds what the flow carries it settles out over its own length (sand
         # thrown up by a jet lands u h / w_s on); picking up stays at l_s
         self.l_d = self.l_s if deposition_length is None else deposition_length
-        self.K_g = gravity_coefficient
-        self.lee_transit = lee_transit
-        self.settling_delay = settling_delay
+        self.K_g = sand.gravity_coefficient
+        self.lee_transit = sand.lee_transit
+        self.settling_delay = sand.settling_delay
         self.q_settle = np.zeros_like(self.z)   # settling_delay: the first stage's load
         self.q_up = np.zeros_like(self.z)    # lee_transit: the load along the current, and against it
         self.q_back = np.zeros_like(self.z)
-        self.morfac = morfac
+        self.morfac = sand.morfac
         self.periodic = periodic
         self.q = np.zeros_like(self.z)       # the last flux at the stations (m2/s)
         self.theta = np.zeros_like(self.z)

@@ -13,12 +13,14 @@ Each update (every sediment.update_every steps):
   3. Bed.step (tisph/sediment/bed.py) over the elapsed time; the solver's bed particles move
      with the new z_b (solver.set_bed).
 """
+import dataclasses
+
 import numpy as np
 
 from ..constants import G, SQRT_CMU
 from ..hooks.errors import SimulationError, unstable
 from ..schema import choices, K, ranges, values
-from .bed import Bed
+from .bed import Bed, Sand
 from .lee import lee_vortex_shear, lee_zones, vortex_throw
 from .outer import Window, outer_heights, outer_scale
 from .transport import reference_concentration, settling_velocity, shear_log_law, shear_waves, shields_number
@@ -83,43 +85,72 @@ def refuse_unused_sediment_keys(cfg, scene_defaults):
                      for k, v in sed.items() if k != "model" and k in base and v != base[k]])
 
 
+def sand_of(sed, d50, rho_s, rho_w=1000.0, morfac=None):
+    """The Sand the [sediment] table sed describes (morfac: its own unless given)."""
+    return Sand(d50, rho_s, rho_w, porosity=sed["porosity"], repose_deg=sed["repose_angle"],
+                theta_cr=sed["shields_critical"] or None, formula=sed["formula"],
+                saturation_length=sed["saturation_length"] or None, deposition_length=sed["deposition_length"] or None,
+                gravity_coefficient=sed["gravity_coefficient"], morfac=sed["morfac"] if morfac is None else morfac,
+                lee_transit=sed["lee_transit"], settling_delay=sed["settling_delay"])
+
+
 def make_bed(sed, stations, z, d50, rho_s, rho_w=1000.0, periodic=True, morfac=None):
     """The Bed the [sediment] table sed describes (morfac: its own unless given)."""
-    return Bed(stations, z, d50, rho_s, rho_w, porosity=sed["porosity"], repose_deg=sed["repose_angle"],
-               theta_cr=sed["shields_critical"] or None, formula=sed["formula"],
-               saturation_length=sed["saturation_length"] or None,
-               deposition_length=sed["deposition_length"] or None,
-               gravity_coefficient=sed["gravity_coefficient"],
-               morfac=sed["morfac"] if morfac is None else morfac, periodic=periodic,
-               lee_transit=sed["lee_transit"], settling_delay=sed["settling_delay"])
+    return Bed(stations, z, sand_of(sed, d50, rho_s, rho_w, morfac), periodic)
+
+
+@dataclasses.dataclass(frozen=True)
+class Stations:
+    """Where a coupled bed lies: its stations' x and initial heights z, their spacing dx (the
+    particles'), the kernel's h, and whether the bed closes round (a periodic domain)."""
+    x: object
+    z: object
+    dx: float
+    h: float
+    periodic: bool = True
+
+
+@dataclasses.dataclass(frozen=True)
+class Drive:
+    """What the bed's shear needs of the flow over it. amplitude: the near-bed orbital amplitude A
+    (Swart's f_w, the lee zone's cap), a number; None: measured at each station from the
+    filtered near-bed velocity over the last wave period 2 pi / omega, A = (u_max - u_min) /
+    (2 omega): Wiberg & Harris's d0 = U_m T / pi with U_m the peak orbital velocity (a beach,
+    where A varies and the waves are not sines). z0: the log law's roughness for shear = "log"
+    (None: the grains', 2.5 d50 / 30). far_field: (mask of stations, tau_inf) for shear =
+    "log_far_field": the log-law shear is scaled so its median over those stations is tau_inf.
+    An SPH current over a wall at dx = D/20 does not keep a rough-wall log profile near the bed
+    (measured in the pipeline's Mao case: the log law through the SPH velocity 3 dx up gave 2.5
+    times the current's rho u*^2 on the undisturbed bed), so the current's u* is taken as given
+    and the SPH supplies the shear's amplification around the structure, tau / tau_inf = (u /
+    u_far)^2. surface: the water surface's height (m), for the suspended load's diffusivity; a
+    scene without it refuses sediment.suspended. still_level: the still water's level, which
+    caps the outer reading's height."""
+    amplitude: object = 0.0
+    omega: float = 0.0
+    z0: float = None
+    far_field: tuple = None
+    surface: float = None
+    still_level: float = None
 
 
 class BedCoupler:
-    def __init__(self, sed, stations, z, dx, h, d50, rho_s, amplitude=0.0, periodic=True, rho_w=1000.0,
-                 omega=0.0, z0=None, far_field=None, surface=None, still_level=None):
-        """amplitude: the near-bed orbital amplitude A (Swart's f_w, the lee zone's cap), a number;
-        None: measured at each station from the filtered near-bed velocity over the last wave
-        period 2 pi / omega, A = (u_max - u_min) / (2 omega): Wiberg & Harris's d0 = U_m T / pi
-        with U_m the peak orbital velocity (a beach, where A varies and the waves are not sines).
-        z0: the log law's roughness for shear = "log" (None: the grains', 2.5 d50 / 30).
-        far_field: (mask of stations, tau_inf) for shear = "log_far_field": the log-law shear is
-        scaled so its median over those stations is tau_inf. An SPH current over a wall at
-        dx = D/20 does not keep a rough-wall log profile near the bed (measured in the pipeline's
-        Mao case: the log law through the SPH velocity 3 dx up gave 2.5 times the current's
-        rho u*^2 on the undisturbed bed), so the current's u* is taken as given and the SPH
-        supplies the shear's amplification around the structure, tau / tau_inf = (u / u_far)^2.
-        surface: the water surface's height (m), for the suspended load's diffusivity; a scene
-        without it refuses sediment.suspended."""
+    def __init__(self, sed, sand, where, drive):
+        """The bed-load bed the [sediment] table sed describes, of sand (Sand), at the stations
+        `where` (Stations), under the flow `drive` describes (Drive)."""
+        stations, z, dx, h, periodic = where.x, where.z, where.dx, where.h, where.periodic
+        amplitude, omega, surface = drive.amplitude, drive.omega, drive.surface
+        d50, rho_w = sand.d50, sand.rho_w
         self.sed, self.dx, self.h, self.rho_w = sed, dx, h, rho_w
         self.stations = np.asarray(stations, float)
-        self.bed = make_bed(sed, stations, z, d50, rho_s, rho_w, periodic)
+        self.bed = Bed(stations, z, sand, periodic)
         self.z0 = self.bed.z.copy()
         self.v0 = self.bed.volume()
-        self.d50, self.omega, self.z0_log, self.far_field = d50, omega, z0, far_field
+        self.d50, self.omega, self.z0_log, self.far_field = d50, omega, drive.z0, drive.far_field
         self.measured = amplitude is None
         self.amplitude = np.zeros(len(stations)) if self.measured else amplitude
         self.history = Window(len(stations))   # (t, filtered u, u outer) over the last wave period
-        if sed["shear"] in FAR_FIELD_SHEARS and far_field is None:
+        if sed["shear"] in FAR_FIELD_SHEARS and drive.far_field is None:
             raise ConfigError("sediment.shear", sed["shear"], "'waves' or 'log' in this scene: the far-field "
                               "scaling needs the undisturbed bed and the current's u*, which the pipeline sets")
         if sed["suspended"] and surface is None:
@@ -133,7 +164,7 @@ class BedCoupler:
             raise ConfigError("sediment.settling_delay", True, "false unless sediment.lee_transit = true: the "
                               "delay is a stage of the load that crosses the lee with the current")
         self.water_top = surface
-        self.still_level = still_level       # the still water's level: caps the outer reading's height
+        self.still_level = drive.still_level
         self.w_s = sed["settling_velocity"] or settling_velocity(d50, self.bed.s)
         self.suspended = 0.0                 # sand volume in the water per unit width (m2)
         self.u = np.zeros(len(stations))

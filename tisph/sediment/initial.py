@@ -3,7 +3,7 @@
 import numpy as np
 
 from ..particles import BED, BUILD_BYTES_PER_POINT, check_fits
-from .bed import Bed
+from .bed import Bed, Sand
 
 
 def random_bed_rms(sed, roughness, d0):
@@ -32,8 +32,8 @@ def initial_bed(stations, z, sed, dx, periodic, top=None):
             e = k[0] * np.roll(e, 1) + k[1] * e + k[2] * np.roll(e, -1)
         e -= e.mean()
         z += sed["seed_rms"] * e / np.sqrt(np.mean(e * e))
-        bed = Bed(np.asarray(stations, float), z, 3e-4, 2650.0, repose_deg=sed["repose_angle"],   # the grain:
-                  periodic=periodic)                                                     # unused here
+        bed = Bed(np.asarray(stations, float), z, Sand(3e-4, repose_deg=sed["repose_angle"]),   # the grain:
+                  periodic=periodic)                                                   # unused here
         bed.avalanche()
         z = bed.z
     return z

@@ -126,8 +126,9 @@ def build_bedload(cfg, name, stills):
     pad = 3 * T + 4 * h
     domain = ((x_left - pad, floor - T - pad), (Lf + T + pad, 2 * Hw + pad))
     physics = physics_from_config(cfg, paddle=p.type, materials_used=["water"], moving_bed=True)
-    bed = coupling.BedCoupler(sed, stations, z, dx, h, geo.grain_diameter, sed["grain_density"],
-                              amplitude=None, periodic=False, rho_w=rw, omega=omega, still_level=yw)
+    bed = coupling.BedCoupler(sed, coupling.sand_of(sed, geo.grain_diameter, sed["grain_density"], rw),
+                              coupling.Stations(stations, z, dx, h, periodic=False),
+                              coupling.Drive(amplitude=None, omega=omega, still_level=yw))
     rec = BeachBed(cfg, bed, stations, omega, k, wavelength, cg, H_biesel)
     # the frame: the whole beach from the paddle, where the bed changes, to the swash; under it a
     # metre of the ripple zone (from half a metre past the toe) at true scale (output.zoom)

@@ -88,9 +88,10 @@ class SandBed:
         over = stretch & lay.water        # its columns down onto the bed (initial.water_columns)
         lay.pts[over, 1] -= initial.drop_onto_bed(lay.pts[over, 1], zl[over], self.dx)
         self.level, self.rho_w, self.c0, self.g = level, rho_w, c0, g
-        self.coupler = coupling.BedCoupler(sed, stations, z0, self.dx, h, cfg.sand.grain_diameter,
-                                           sed.grain_density, amplitude=None, periodic=False, rho_w=rho_w,
-                                           omega=omega, still_level=level)
+        sand = coupling.sand_of(sed, cfg.sand.grain_diameter, sed.grain_density, rho_w)
+        self.coupler = coupling.BedCoupler(sed, sand,
+                                           coupling.Stations(stations, z0, self.dx, h, periodic=False),
+                                           coupling.Drive(amplitude=None, omega=omega, still_level=level))
         self.rows = []
 
     def density(self, y):

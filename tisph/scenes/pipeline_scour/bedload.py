@@ -82,8 +82,8 @@ def build_bedload(cfg):
         raise ConfigError("sediment.shear", sed.shear, "'log_far_field' unless numerics.turbulence = "
                           f"'k_equation' (the wall function reads its k; here '{physics.turbulence}')")
     far = far_field(g, stations, geo.inflow_length)
-    bed = coupling.BedCoupler(sed, stations, z, dx, h, g.d50, g.rs, amplitude=0.0, periodic=True, rho_w=rw,
-                              z0=g.z0, far_field=(far, rw * g.ustar ** 2), surface=g.ytop)
+    bed = coupling.BedCoupler(sed, coupling.sand_of(sed, g.d50, g.rs, rw), coupling.Stations(stations, z, dx, h),
+                              coupling.Drive(z0=g.z0, far_field=(far, rw * g.ustar ** 2), surface=g.ytop))
     params["w_s"] = bed.w_s
     if sed.suspended:
         ps.concentration = equilibrium_suspension(g, bed, ps)

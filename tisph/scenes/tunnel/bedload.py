@@ -52,8 +52,9 @@ def build_bedload(cfg, name):
     pad = 4 * h
     domain = ((0.0, float(z.min()) - (L + 2) * dx - pad), (Lx, 2.0 * ytop + pad))
     physics = physics_from_config(cfg, periodic_x=True, materials_used=["water"], moving_bed=True)
-    bed = coupling.BedCoupler(sed, stations, z, dx, h, geo.grain_diameter, sed["grain_density"],
-                              amplitude=0.5 * d0, periodic=True, rho_w=rw, omega=drive.omega, still_level=ytop)
+    bed = coupling.BedCoupler(sed, coupling.sand_of(sed, geo.grain_diameter, sed["grain_density"], rw),
+                              coupling.Stations(stations, z, dx, h, periodic=True),
+                              coupling.Drive(amplitude=0.5 * d0, omega=drive.omega, still_level=ytop))
     rows = []
 
     def ripples_round(zb):
