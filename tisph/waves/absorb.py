@@ -24,6 +24,7 @@ With a spectrum (paddle.spectrum) the target is the components' linear waves sum
 number for the band, as DualSPHysics' long-wave gain is (for the flume's 0.9 s sea over 0.25 m,
 omega / F is 5.3 1/s at the peak, 6.0 at half its frequency and 7.0 at twice it).
 """
+import dataclasses
 import math
 
 import numpy as np
@@ -36,17 +37,39 @@ from .theory import linear_wave
 DRIFT_PERIODS = 5.0     # the correction's displacement relaxes to zero over this many wave periods
 
 
+@dataclasses.dataclass(frozen=True)
+class Aim:
+    """The wave the paddle makes, as the absorption compares with it: Biesel's height, the
+    wavenumber and depth, the gain omega / F(kh); series: (t, eta) at the gauge for irregular
+    waves (the height is then unused)."""
+    height: float
+    k: float
+    depth: float
+    gain: float
+    series: tuple = None
+
+
+@dataclasses.dataclass(frozen=True)
+class Sensor:
+    """The gauge that moves with the paddle: its distance in front of the paddle's mean position
+    x_paddle, the still-water level it reads from, the spacing and the smoothing length."""
+    x: float
+    x_paddle: float
+    level: float
+    dx: float
+    h: float
+
+
 class AbsorbingMotion:
     """A paddle's Motion plus the absorbing correction; callable as the Motion is (t -> X, V for a
     piston, angle and its rate for a flap)."""
     smooth = False   # each call integrates the correction: the solver calls it once a step
 
-    def __init__(self, motion, height, k, depth, gain, x_gauge, x_paddle, still_level, dx, h, target_series=None):
-        """x_gauge: the gauge's distance in front of the paddle's mean position x_paddle;
-        target_series: (t, eta) at the gauge for irregular waves (height is then unused)."""
-        self.target_series = target_series
-        self.motion, self.H, self.k, self.depth, self.gain = motion, float(height), k, depth, gain
-        self.x_gauge, self.x_abs, self.level, self.dx, self.h = x_gauge, x_paddle + x_gauge, still_level, dx, h
+    def __init__(self, motion, aim, sensor):
+        self.target_series = aim.series
+        self.motion, self.H, self.k, self.depth, self.gain = motion, float(aim.height), aim.k, aim.depth, aim.gain
+        self.x_gauge, self.x_abs, self.level = sensor.x, sensor.x_paddle + sensor.x, sensor.level
+        self.dx, self.h = sensor.dx, sensor.h
         self.xc = self.uc = 0.0     # the correction's displacement and velocity
         self.mean = 0.0             # the running mean of eta - eta_T over a period: a mean level is not a wave
         self.t_last = 0.0
@@ -113,7 +136,7 @@ def absorbing(motion, cfg, depth, still_level, x_paddle=0.0):
     target = None
     if p.get("spectrum"):
         target = irregular_elevation(p, depth, cfg.run.end_time, h)
-    return AbsorbingMotion(motion, F * p.stroke, k, depth, omega / F, h, x_paddle, still_level, dx, h, target)
+    return AbsorbingMotion(motion, Aim(F * p.stroke, k, depth, omega / F, target), Sensor(h, x_paddle, still_level, dx, h))
 
 
 def check_absorb(p):

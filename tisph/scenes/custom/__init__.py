@@ -32,7 +32,7 @@ from ...waves.theory import linear_wave
 from .elements import ELEMENTS, entries, numbers
 from .gauges import CaseGauges, check_sites, load_cutoff
 from .layout import Layout, who
-from .sand import SAND, SEDIMENT, SandBed, check as check_sand
+from .sand import SAND, SEDIMENT, SandBed, Still, check as check_sand
 from ...schemes import numerics
 
 
@@ -230,7 +230,7 @@ class Custom(Scene):
             physics_kw["paddle"] = p.type
             period = wave_period(p)
             if sand_site:
-                sand = SandBed(cfg, *sand_site, lay, level, 2 * math.pi / period, h, rho0, c0, g)
+                sand = SandBed(cfg, sand_site, lay, Still(level, rho0, c0, g), 2 * math.pi / period, h)
                 physics_kw.update(moving_bed=True, materials_used=["water"])
         water = lay.pts[lay.water]
         col = np.round(water[:, 0] / dx - 0.5).astype(int)

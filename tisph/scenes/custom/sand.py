@@ -6,6 +6,7 @@ a spacing; the bed's ends are closed (its sand is conserved). The shear is the w
 friction factor on the near-bed orbital motion measured at each station, as on the beach), so a
 sand bed needs the paddle. The bed may erode down to the bottom of domain.box.
 """
+import dataclasses
 import os
 
 import numpy as np
@@ -71,10 +72,23 @@ def check(cfg, solids, box, errors):
     return stations, z, line
 
 
+@dataclasses.dataclass(frozen=True)
+class Still:
+    """The still water over the bed: its level, density, sound speed and gravity (the bed
+    particles' hydrostatic density)."""
+    level: float
+    rho_w: float
+    c0: float
+    g: float
+
+
 class SandBed:
     """The bed, its bed particles, probes and outputs."""
 
-    def __init__(self, cfg, stations, z, line, lay, level, omega, h, rho_w, c0, g):
+    def __init__(self, cfg, site, lay, still, omega, h):
+        """site: (stations, their heights, the [[solid]] line it lies on) (sand_site)."""
+        stations, z, line = site
+        level, rho_w = still.level, still.rho_w
         self.cfg, self.dx = cfg, cfg.numerics.dx
         sed = cfg.sediment
         self.stations = stations
@@ -87,7 +101,7 @@ class SandBed:
         lay.water &= ~(stretch & (lay.pts[:, 1] < zl + 0.5 * self.dx))
         over = stretch & lay.water        # its columns down onto the bed (initial.water_columns)
         lay.pts[over, 1] -= initial.drop_onto_bed(lay.pts[over, 1], zl[over], self.dx)
-        self.level, self.rho_w, self.c0, self.g = level, rho_w, c0, g
+        self.level, self.rho_w, self.c0, self.g = level, rho_w, still.c0, still.g
         sand = coupling.sand_of(sed, cfg.sand.grain_diameter, sed.grain_density, rho_w)
         self.coupler = coupling.BedCoupler(sed, sand,
                                            coupling.Stations(stations, z0, self.dx, h, periodic=False),
