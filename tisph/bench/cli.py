@@ -16,7 +16,23 @@ def _peers(text):
     return names
 
 
-def main(argv=None):
+def table_options(p):
+    """The validation table's and the schemes' options."""
+    p.add_argument("--validate", action="store_true",
+                   help="run every validation case and write docs/validation.md, its figures and the README's "
+                        "table (tisph/bench/validate.py; with --quick: coarse, short versions)")
+    p.add_argument("--schemes", action="store_true",
+                   help="run time against error by numerics scheme: four validation cases at two or three spacings "
+                        "under five schemes (tisph/bench/schemes.py; about 25 minutes on two cores)")
+    p.add_argument("--jobs", type=int, default=0, metavar="N",
+                   help="with --validate or --schemes: runs at a time, each in a process of its own on cores / N CPU "
+                        "threads (default 0: one a core; 1: one after another on every core)")
+    p.add_argument("--docs", help="with --validate: the folder of validation.md (default the tree's docs/)")
+    p.add_argument("--readme", help="with --validate: the README whose table to fill (default the tree's; '' none)")
+
+
+def make_parser():
+    """Every benchmark's options (which benchmark each runs: main)."""
     p = argparse.ArgumentParser(prog="python -m tisph.bench", description=LADDER_DOC,
                                 formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--quick", action="store_true", help="coarse ladders and short runs (about 5 minutes)")
@@ -83,19 +99,14 @@ def main(argv=None):
     p.add_argument("--peer-finest", type=float, default=0.0125,
                    help="with --waves: the finest dp DualSPHysics runs at (default 0.0125, H/dx = 5; at 0.0075 its two "
                         "runs take about two hours)")
-    p.add_argument("--validate", action="store_true",
-                   help="run every validation case and write docs/validation.md, its figures and the README's "
-                        "table (tisph/bench/validate.py; with --quick: coarse, short versions)")
-    p.add_argument("--schemes", action="store_true",
-                   help="run time against error by numerics scheme: four validation cases at two or three spacings "
-                        "under five schemes (tisph/bench/schemes.py; about 25 minutes on two cores)")
-    p.add_argument("--jobs", type=int, default=0, metavar="N",
-                   help="with --validate or --schemes: runs at a time, each in a process of its own on cores / N CPU "
-                        "threads (default 0: one a core; 1: one after another on every core)")
-    p.add_argument("--docs", help="with --validate: the folder of validation.md (default the tree's docs/)")
-    p.add_argument("--readme", help="with --validate: the README whose table to fill (default the tree's; '' none)")
+    table_options(p)
     p.add_argument("--dry-run", action="store_true",
                    help="exercise every code path in seconds: one tiny case, tiny scaling, no profile (for tests)")
+    return p
+
+
+def main(argv=None):
+    p = make_parser()
     a = p.parse_args(argv)
     a.out_given = a.out is not None
     a.out = a.out or os.path.join("renders", "validate" if a.validate else "bench")
