@@ -216,8 +216,11 @@ def test_validate_jobs_runs_side_by_side_with_the_serial_values(tmp_path):
     """--jobs 2: the table's runs in two worker processes of one thread each give the values and
     steps of the same runs one after another, and the page says how they ran."""
     import json
-    from tisph.runner.pool import plan
+    from tisph.runner.pool import plan, stages
     assert plan(0, 10, cores=2) == (2, 1) and plan(0, 1, cores=8) == (1, 8) and plan(3, 10, cores=8) == (3, 2)
+    # a run of 20,000 particles or more alone on every core first, the rest side by side
+    assert stages(["a", "b", "c"], [50000, 100, 0], 0, cores=2) == [(["a"], 1, 2), (["b", "c"], 2, 1)]
+    assert stages(["a", "b"], [50000, 100], 1, cores=2) == [(["a", "b"], 1, 2)]
     (tmp_path / "serial").mkdir()
     _validate(tmp_path / "serial", "tank")
     common = ["--validate", "--quick", "--readme", "", "--only", "tank", "hatch"]

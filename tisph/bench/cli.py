@@ -27,6 +27,9 @@ def table_options(p):
     p.add_argument("--jobs", type=int, default=0, metavar="N",
                    help="with --validate or --schemes: runs at a time, each in a process of its own on cores / N CPU "
                         "threads (default 0: one a core; 1: one after another on every core)")
+    p.add_argument("--resume", action="store_true",
+                   help="with --validate: take a run whose summary.json under --out ended well as run (its wall "
+                        "time from it) instead of running it again")
     p.add_argument("--docs", help="with --validate: the folder of validation.md (default the tree's docs/)")
     p.add_argument("--readme", help="with --validate: the README whose table to fill (default the tree's; '' none)")
 

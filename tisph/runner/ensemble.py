@@ -9,7 +9,7 @@ import importlib
 import os
 import time
 
-from .pool import plan, run_all
+from .pool import run_all, stages
 from .start import simulate
 from ..config import ConfigError
 from ..io import ensure_dir, write_csv, write_text
@@ -48,7 +48,7 @@ def seed_run(module, config, overrides, out):
 
 def study(scene, config, overrides, cfg, summary, out, n, log=print, jobs=0):
     """Run the further seeds, `jobs` at a time in worker processes of their own (0: one a core;
-    runner/pool.py), write the table, the figure and summary.json's `ensemble`; returns that
+    one at a time on every core for a run of pool.WIDE particles or more; runner/pool.py), write the table, the figure and summary.json's `ensemble`; returns that
     entry. A seed that ends unstable is listed with its status and left out of the statistics."""
     seeds = seeds_of(cfg, n)
     done = {seeds[0]: summary}
@@ -57,7 +57,8 @@ def study(scene, config, overrides, cfg, summary, out, n, log=print, jobs=0):
         sub = os.path.join(out, "seeds", f"seed{s}")
         ov = dict(overrides or {}, **QUIET, **{"sediment.seed": s, "output.dir": sub})
         tasks.append((s, seed_run, (scene.module, config, ov, sub)))
-    jobs, threads = plan(jobs, len(tasks))
+    # the first run's size says whether the others go side by side or one at a time on every core
+    ((tasks, jobs, threads),) = stages(tasks, [summary["particles"]] * len(tasks), jobs)
     log(f"seeds: {len(tasks)} more runs, {jobs} at a time on {threads} CPU thread{'s' if threads > 1 else ''} "
         f"each, in {os.path.join(out, 'seeds')}")
 

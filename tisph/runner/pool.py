@@ -1,9 +1,12 @@
 """Several runs at once, each in a worker process of its own: a validation table, a seed ensemble.
 
-A step's parallel loops are short, and Taichi's CPU threads scale poorly on them (two threads
-1.2-1.3x one, docs/performance.md), so a set of runs finishes sooner as one-thread runs side by
-side than as one many-thread run after another: two dam breaks on two cores took 0.67 of the
-time that way (docs/performance.md, "Runs side by side").
+A step's parallel loops are short at a few thousand particles, and Taichi's CPU threads scale
+poorly on them (two threads 1.2-1.3x one, docs/performance.md), so a set of such runs finishes
+sooner as one-thread runs side by side than as one many-thread run after another: two dam breaks
+of 8,050 particles on two cores took 0.67 of the time that way. A large run's loops share out
+well: the pipeline case of 47,931 particles on one thread beside another run took 2.9 times as
+long as alone on two, so runs of WIDE particles or more go one at a time on every core
+(docs/performance.md, "Runs side by side").
 """
 import concurrent.futures as cf
 import multiprocessing
@@ -16,6 +19,22 @@ def plan(jobs, runs, cores=None):
     cores = cores or os.cpu_count() or 1
     n = max(1, min(jobs or cores, runs))
     return n, max(1, cores // n)
+
+
+WIDE = 20000    # particles: a run this large goes alone, on every core
+
+
+def stages(tasks, sizes, jobs, cores=None):
+    """[(tasks, jobs, threads), ...] to run one after another: the runs of WIDE particles or more
+    (sizes: each task's particles, 0 if unknown) alone on every core, then the rest `jobs` at a
+    time (plan). jobs 1: every run alone on every core."""
+    cores = cores or os.cpu_count() or 1
+    wide = [t for t, n in zip(tasks, sizes) if n >= WIDE or jobs == 1]
+    rest = [t for t, n in zip(tasks, sizes) if not (n >= WIDE or jobs == 1)]
+    out = [(wide, 1, cores)] if wide else []
+    if rest:
+        out.append((rest, *plan(jobs, len(rest), cores)))
+    return out
 
 
 def _start(threads):
