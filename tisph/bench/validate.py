@@ -388,7 +388,8 @@ def main(a):
     store = os.path.join(docs, "validation", "results.json")
     log = lambda m: print(m, file=sys.stderr, flush=True)
     cases = [c for c in CASES if not a.only or any(w.lower() in c.name.lower() for w in a.only)]
-    stored = load_results(store)
+    # the last run's rows: their wall times and sizes order and place this run's (the tree's where --out has none)
+    stored = load_results(store) or load_results(os.path.join(ROOT, "docs", "validation", "results.json"))
     # --only re-runs those cases and keeps the others' rows from the last run (the same kind of run)
     results = {k: v for k, v in (stored if a.only else {}).items() if k in CASES_BY_NAME and
                all(bool(r.get("quick")) == bool(a.quick) for r in v[0])}
