@@ -11,6 +11,8 @@ long as alone on two, so runs of WIDE particles or more go one at a time on ever
 import concurrent.futures as cf
 import multiprocessing
 import os
+import signal
+import threading
 
 
 def plan(jobs, runs, cores=None):
@@ -40,6 +42,17 @@ def stages(tasks, sizes, jobs, cores=None):
 def _start(threads):
     # read by runtime.init, before the worker's first run initialises Taichi
     os.environ["TISPH_THREADS"] = str(threads)
+    # a worker whose parent dies (kill, kill -9) is sent SIGTERM, which stops its run as a kill
+    # of a plain run does (its files complete), instead of running on alone (Linux prctl)
+    try:
+        import ctypes
+        ctypes.CDLL(None).prctl(1, signal.SIGTERM)      # PR_SET_PDEATHSIG
+    except (OSError, AttributeError):
+        pass
+
+
+def _term(signum, frame):
+    raise SystemExit(143)
 
 
 def run_all(tasks, jobs, threads, done):
@@ -57,6 +70,8 @@ def run_all(tasks, jobs, threads, done):
         return
     ctx = multiprocessing.get_context("spawn")   # a fresh interpreter: no Taichi state forked
     ex = cf.ProcessPoolExecutor(jobs, mp_context=ctx, initializer=_start, initargs=(threads,))
+    # a kill of this process stops the workers' runs too (below), not only this one
+    old = signal.signal(signal.SIGTERM, _term) if threading.current_thread() is threading.main_thread() else None
     try:
         futures = {ex.submit(fn, *args): key for key, fn, args in tasks}
         for f in cf.as_completed(futures):
@@ -65,5 +80,11 @@ def run_all(tasks, jobs, threads, done):
             except Exception as exc:        # noqa: BLE001
                 r, e = None, exc
             done(futures[f], r, e)
+    except BaseException:
+        for p in list(getattr(ex, "_processes", {}).values()):    # each running run stops as a killed run does
+            p.terminate()
+        raise
     finally:
         ex.shutdown(wait=True, cancel_futures=True)
+        if old is not None:
+            signal.signal(signal.SIGTERM, old)
