@@ -4,8 +4,8 @@ A step's parallel loops are short at a few thousand particles, and Taichi's CPU 
 poorly on them (two threads 1.2-1.3x one, docs/performance.md), so a set of such runs finishes
 sooner as one-thread runs side by side than as one many-thread run after another: two dam breaks
 of 8,050 particles on two cores took 0.67 of the time that way. A large run's loops share out
-well: the pipeline case of 47,931 particles on one thread beside another run took 2.9 times as
-long as alone on two, so runs of WIDE particles or more go one at a time on every core
+well: the pipeline case of 47,931 particles on one thread beside another run stepped at half its
+rate alone on two, so runs of WIDE particles or more go one at a time on every core
 (docs/performance.md, "Runs side by side").
 """
 import concurrent.futures as cf
