@@ -49,7 +49,7 @@ def test_convergence_from_the_command_line(tmp_path):
 
 def test_the_validation_page_s_interval_from_three_spacings_seeds_or_none():
     from tisph.bench.uncertainty import interval
-    from tisph.bench.validate import CASES_BY_NAME
+    from tisph.bench.validation_cases import CASES_BY_NAME
     slosh = CASES_BY_NAME["Sloshing, first mode (linear theory)"]
     ref = slosh.reference_value
     rows = [dict(dx=dx, value=ref * (1.0 - 0.5 * dx ** 2)) for dx in (0.0225, 0.015, 0.01)]

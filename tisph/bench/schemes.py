@@ -20,7 +20,8 @@ import numpy as np
 from ..io import ensure_dir, write_text
 from ..measure.plots import pyplot, save
 from .common import table
-from .validate import CASES_BY_NAME, run_one
+from .validate import run_one
+from .validation_cases import CASES_BY_NAME
 
 # name: the [numerics] keys a run sets over the case's own
 SCHEMES = {

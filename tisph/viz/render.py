@@ -11,7 +11,7 @@ from ..particles import BED, FLUID, WALL
 from .colours import (BACKGROUND, BOUNDARY, MODES, SAND, WATER, colormap, diverging,  # noqa: F401 (re-exported)
                       vorticity)
 from .interpolate import kernel_image
-from .style import Style
+from .style import Style, style_of
 from .ticks import nice_ticks  # noqa: F401 (re-exported)
 
 FIELDS = ("speed", "pressure", "density", "material", "vorticity", "concentration")   # output.field
@@ -61,7 +61,7 @@ class Renderer:
         self.mat_colors = list(s.mat_colors or [])
         self.bed_panel, self.bed_label, self.bed_surface = s.bed_panel, s.bed_label, s.bed_surface
         # the solids filled as drawn, not their wall particles (a slope's are stairs a spacing high)
-        self.solid_region, self._solid_px = s.solid_region, None
+        self.solid_region, self._solid_px, self._walls = s.solid_region, None, None
         # m: the bed panel's half-height: the step that holds bed_range, fixed for the movie; or, with
         # none given, the step that holds the bed so far, only ever growing
         self.bed_fixed = s.bed_range > 0
@@ -204,8 +204,8 @@ class Renderer:
             img[inside] = lut[(np.clip(val[inside], 0.0, 1.0) * 255 + 0.5).astype(np.uint8)]
         hidden = np.zeros(len(st["kind"]), bool)
         if self.solid_region is not None:     # over the water's field, which the kernel spreads into it
-            img[self._solid_pixels()], hidden = (np.array(BOUNDARY) * 255).astype(np.uint8), st["kind"] == WALL
-            hidden[hidden] = self.solid_region(st["x"][hidden])
+            img[self._solid_pixels()] = (np.array(BOUNDARY) * 255).astype(np.uint8)
+            hidden = self._hidden_walls(st)
         cx = np.floor((st["x"][:, 0] - x0) * self.scale).astype(int)
         cy = np.floor((st["x"][:, 1] - y0) * self.scale).astype(int)
         order = np.argsort(st["kind"] == FLUID, kind="stable")     # boundaries first, fluid on top
@@ -219,6 +219,16 @@ class Renderer:
             ok = (px >= 0) & (px < self.W) & (py >= 0) & (py < self.H)
             img[self.H - 1 - py[ok], px[ok]] = c8[ok]
         return img
+
+    def _hidden_walls(self, st):
+        """The wall particles inside the solids, worked out again only when the walls moved."""
+        walls = st["kind"] == WALL
+        xw = st["x"][walls]
+        if self._walls is None or not np.array_equal(self._walls[0], xw):
+            hidden = walls.copy()
+            hidden[walls] = self.solid_region(xw)
+            self._walls = (xw.copy(), hidden)
+        return self._walls[1]
 
     def _solid_pixels(self):
         """The pixels (rows top to bottom) inside the solids, worked out once: they do not move."""
@@ -382,18 +392,4 @@ class Renderer:
 
 def make_renderer(pic, outc, dx, title, speed_scale):
     """The Renderer for a scene's Picture and the [output] table (view, field, range, width)."""
-    view = pic.view
-    if outc.get("view"):
-        x0, x1, y0, y1 = outc["view"]
-        view = ((x0, y0), (x1, y1))
-    modes = (outc["field"],) if outc.get("field") else pic.render_modes
-    zoom = pic.zoom
-    if outc.get("zoom"):
-        x0, x1, y0, y1 = outc["zoom"]
-        zoom = ((x0, y0), (x1, y1))
-    return Renderer(view, Style(width=outc["width"], dx=dx, speed_scale=speed_scale, title=title, modes=modes,
-                                mat_colors=pic.mat_colors, pressure_scale=pic.pressure_scale, bed_panel=pic.bed_panel,
-                                bed_label=pic.bed_label, vrange=outc.get("range") or None,
-                                min_height=outc.get("min_height", 0), bed_surface=pic.bed_surface, zoom=zoom,
-                                marks=pic.marks, zones=pic.zones, bed_range=pic.bed_range,
-                                solid_region=pic.solid_region))
+    return Renderer(*style_of(pic, outc, dx, title, speed_scale))

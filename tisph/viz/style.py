@@ -36,3 +36,22 @@ class Style:
     zones: tuple = ()
     rows: bool = True
     solid_region: Callable = None
+
+
+def style_of(pic, outc, dx, title, speed_scale):
+    """(view, Style) of a scene's Picture and the [output] table (view, field, range, width, zoom)."""
+    view = pic.view
+    if outc.get("view"):
+        x0, x1, y0, y1 = outc["view"]
+        view = ((x0, y0), (x1, y1))
+    modes = (outc["field"],) if outc.get("field") else pic.render_modes
+    zoom = pic.zoom
+    if outc.get("zoom"):
+        x0, x1, y0, y1 = outc["zoom"]
+        zoom = ((x0, y0), (x1, y1))
+    return view, Style(width=outc["width"], dx=dx, speed_scale=speed_scale, title=title, modes=modes,
+                       mat_colors=pic.mat_colors, pressure_scale=pic.pressure_scale, bed_panel=pic.bed_panel,
+                       bed_label=pic.bed_label, vrange=outc.get("range") or None,
+                       min_height=outc.get("min_height", 0), bed_surface=pic.bed_surface, zoom=zoom,
+                       marks=pic.marks, zones=pic.zones, bed_range=pic.bed_range,
+                       solid_region=pic.solid_region)

@@ -31,7 +31,7 @@ from ...measure.gauges import WaveGauges
 from ...measure.records import height_at
 from ...waves.absorb import with_control
 from ...waves.paddle import paddle
-from ...waves.theory import hunt_run_up, linear_wave
+from ...waves.theory import linear_wave
 
 RIGID = 0.5           # m of rigid floor in front of the paddle
 RIPPLE_WINDOW = 0.6   # m: bedforms longer than this (the profile's bar and shoreline) are not ripples
@@ -88,7 +88,6 @@ def build_bedload(cfg, name, stills):
     warn_fast_bed(sed, bed_turnover(d0_toe, T_wave, geo.grain_diameter, sed["grain_density"] / rw, sed),
                   f"at the toe's linear-wave d0 of {d0_toe:.3g} m")
     warn_waves(cfg, H_biesel, k, d, linear_metric=False)
-    warn_run_up(geo, H_biesel, omega, k)
     c0, u_max = sound_speed(cfg, math.sqrt(G * (d + H_biesel)))
     L, h = num.wall_layers, num.h_factor * dx
     T = L * dx
@@ -170,6 +169,7 @@ class BeachBed:
         self.gauges = WaveGauges(geo.gauges_x, self.dx, cfg.numerics.h_factor * self.dx, self.yw,
                              dry_from=geo.toe_x + geo.depth * geo.slope)
         self.shore = geo.toe_x + geo.depth * geo.slope
+        self.hunt = warn_run_up(geo, H_biesel, omega, k)     # warns where the crest is under it
         self.shoal = Shoaling(geo, lambda x: self.yw - float(bed_profile(geo, x)), self.yw, self.dx,
                               cfg.numerics.h_factor * self.dx)
 
@@ -223,10 +223,10 @@ class BeachBed:
             out["ripple_zone"] = [float(self.stations[self.zone][0]), float(self.stations[self.zone][-1])]
         geo = self.cfg.geometry
         out["run_up_max"] = float(np.max(c["run_up"])) if len(c["run_up"]) else float("nan")
-        out["run_up_hunt"] = hunt_run_up(self.H_biesel, self.omega, self.k, geo.depth, geo.slope)
-        out["crest_above_still_water"] = crest_height(geo)
+        out["run_up_hunt"] = self.hunt
+        out["crest_above_still_water"] = top = crest_height(geo)
         # the swash reached the end wall: wet within two stations of it
-        out["swash_at_end_wall"] = bool(out["run_up_max"] >= crest_height(geo) - 2.5 * self.dx / geo.slope)
+        out["swash_at_end_wall"] = bool(out["run_up_max"] >= top - 2.5 * self.dx / geo.slope)
         H, n = height_at(c, "eta_toe", self.toe, p, self.cg)
         out["wave_height_at_toe"] = H
         out["periods_measured_at_toe"] = n
