@@ -12,7 +12,7 @@ from .outputs import Outputs
 from .setup import Log, SimulationError, describe_instability
 from .summary import summarize
 from ..io import ensure_dir, clean_stale_parts
-from ..viz.files import MovieWriter
+from .frames import open_frames
 from ..viz.render import make_renderer
 from ..viz.live import LiveWindow
 
@@ -120,22 +120,17 @@ class Run(Outputs):
         return compile_s
 
     def _open_movie(self):
-        self.renderer = self.movie = self.live = None
+        self.renderer = self.frames = None
         if not self.render:
             return
-        if self.cfg.output.live:
-            self.live = LiveWindow(f"tisph: {self.title}")
+        live = LiveWindow(f"tisph: {self.title}") if self.cfg.output.live else None
         outc, pic = self.cfg.output, self.case.picture
         ensure_dir(os.path.join(self.out, "frames"))
         speed = outc["speed_scale"] if outc["speed_scale"] > 0 else (pic.speed_scale or pic.u_max)
         self.renderer = make_renderer(pic, outc, self.solver.dx, self.title, speed)
-        self.movie = MovieWriter(os.path.join(self.out, f"{self.title}.mp4"), outc["fps"])
-        if self.restart:  # the movie is rebuilt from the frames already on disk
-            import imageio.v2 as imageio
-            for k in range(self.frame_no):
-                f = os.path.join(self.out, "frames", f"{k:05d}.png")
-                if os.path.exists(f):
-                    self.movie.append(imageio.imread(f))
+        # a restart's movie is rebuilt from the frames already on disk
+        rebuild = [os.path.join(self.out, "frames", f"{k:05d}.png") for k in range(self.frame_no if self.restart else 0)]
+        self.frames = open_frames(self.renderer, os.path.join(self.out, f"{self.title}.mp4"), outc["fps"], rebuild, live)
 
     def _progress_bar(self):
         if self.cfg.output.quiet:
@@ -179,6 +174,8 @@ class Run(Outputs):
             ensure_dir(os.path.join(self.out, "snapshots"))
         if not self.restart:
             self.outputs()
+            if self.frames is not None:
+                self.frames.sync()     # the first frame on disk: the estimate reads its size
             self._say_disk()
         self.solver.backup()
         bar = self._progress_bar()
@@ -199,10 +196,8 @@ class Run(Outputs):
             if bar is not None:
                 bar.n = min(self.solver.time, self.cfg.run.end_time)
                 bar.close()
-            if self.movie is not None:
-                self.movie.close()
-            if self.live is not None:
-                self.live.close()
+            if self.frames is not None:
+                self.frames.close()
         wall = time.perf_counter() - t0
         return summarize(self, status, message, wall + self.wall_before, self.step_s + self.step_before,
                          self.solver.steps - self.steps0, compile_s, segment=(wall, self.step_s))

@@ -11,7 +11,6 @@ import numpy as np
 from .. import __version__
 from ..config import ConfigError, dump_toml, tomllib as _toml
 from .setup import run_settings, config_changes
-from ..viz.files import write_png
 from ..viz.render import STATE
 from ..io import ensure_dir, write_csv, write_snapshot, SNAPSHOT_FIELDS, write_xdmf, atomic_path, OutputError, load
 
@@ -62,7 +61,7 @@ class Outputs:
     # -------------------------------------------------------------- outputs
     def _still(self, state, t):
         ensure_dir(os.path.join(self.out, "stills"))
-        write_png(os.path.join(self.out, "stills", f"t{t:.3f}.png"), self.renderer.frame(state, state["t"]))
+        self.frames.draw(os.path.join(self.out, "stills", f"t{t:.3f}.png"), state, state["t"], movie=False)
 
     def fire_events(self):
         while self.events and self.solver.time >= self.events[0][0] - 1e-12:
@@ -99,11 +98,8 @@ class Outputs:
 
     def frame(self):
         s = self.solver
-        img = self.renderer.frame(s.state(STATE + s.optional_members), s.time)
-        write_png(os.path.join(self.out, "frames", f"{self.frame_no:05d}.png"), img)
-        self.movie.append(img)
-        if self.live is not None:
-            self.live.show(img)
+        self.frames.draw(os.path.join(self.out, "frames", f"{self.frame_no:05d}.png"),
+                        s.state(STATE + s.optional_members), s.time)
         self.frame_no += 1
 
     def snapshot_attrs(self, time, step, dt):
@@ -142,6 +138,8 @@ class Outputs:
     def checkpoint(self, path=None):
         import h5py
         path = path or os.path.join(self.out, "checkpoint.h5")
+        if self.frames is not None:
+            self.frames.sync()      # the frames it counts on disk first
         arrays, scal = self.solver.raw_state()
         try:
             with atomic_path(path) as tmp:

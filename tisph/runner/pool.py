@@ -39,16 +39,21 @@ def stages(tasks, sizes, jobs, cores=None):
     return out
 
 
+def die_with_parent(sig):
+    """This process is sent `sig` when its parent dies (kill, kill -9) instead of running on
+    alone (Linux prctl PR_SET_PDEATHSIG; elsewhere nothing)."""
+    try:
+        import ctypes
+        ctypes.CDLL(None).prctl(1, sig)
+    except (OSError, AttributeError):
+        pass
+
+
 def _start(threads):
     # read by runtime.init, before the worker's first run initialises Taichi
     os.environ["TISPH_THREADS"] = str(threads)
-    # a worker whose parent dies (kill, kill -9) is sent SIGTERM, which stops its run as a kill
-    # of a plain run does (its files complete), instead of running on alone (Linux prctl)
-    try:
-        import ctypes
-        ctypes.CDLL(None).prctl(1, signal.SIGTERM)      # PR_SET_PDEATHSIG
-    except (OSError, AttributeError):
-        pass
+    # SIGTERM stops a worker's run as a kill of a plain run does (its files complete)
+    die_with_parent(signal.SIGTERM)
 
 
 def _term(signum, frame):

@@ -23,8 +23,8 @@ def run_case(case, cfg, out, log, scene_name, restart=None, force=False):
     try:
         return r.execute()
     except BaseException:
-        if getattr(r, "movie", None) is not None:
-            r.movie.abort()
+        if getattr(r, "frames", None) is not None:
+            r.frames.abort()
         raise
 
 

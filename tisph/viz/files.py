@@ -22,8 +22,7 @@ class MovieWriter:
     def __init__(self, path, fps):
         import imageio.v2 as imageio
         self.path = path
-        d = os.path.dirname(os.path.abspath(path))
-        self.tmp = os.path.join(d, "." + os.path.basename(path) + ".part.mp4")
+        self.tmp = self.tmp_path(path)
         self.writer = None
         try:
             self.writer = imageio.get_writer(self.tmp, format="FFMPEG", fps=fps, codec="libx264",
@@ -31,6 +30,11 @@ class MovieWriter:
                                              ffmpeg_log_level="error", quality=7)
         except Exception as e:  # no ffmpeg binary: frames are still written
             warnings.warn(f"MP4 disabled: {e}")
+
+    @staticmethod
+    def tmp_path(path):
+        d = os.path.dirname(os.path.abspath(path))
+        return os.path.join(d, "." + os.path.basename(path) + ".part.mp4")
 
     def append(self, img):
         if self.writer is not None:

@@ -12,7 +12,7 @@ from .colours import (BACKGROUND, BOUNDARY, MODES, SAND, WATER, colormap, diverg
                       vorticity)
 from .interpolate import kernel_image
 from .style import Style, style_of
-from .ticks import nice_ticks  # noqa: F401 (re-exported)
+from .ticks import draw_axes, nice_ticks  # noqa: F401 (re-exported)
 
 FIELDS = ("speed", "pressure", "density", "material", "vorticity", "concentration")   # output.field
 UNITS = {"speed": "|u| (m/s)", "pressure": "p (kPa)", "density": "rho (kg/m3)", "vorticity": "curl u (1/s)",
@@ -60,6 +60,7 @@ class Renderer:
         self.pressure_scale = float(s.pressure_scale)   # 0: from the water in view in the first frame
         self.mat_colors = list(s.mat_colors or [])
         self.bed_panel, self.bed_label, self.bed_surface = s.bed_panel, s.bed_label, s.bed_surface
+        self._live = (None, None)       # this frame's bed surface and bed change (live_inputs)
         # the solids filled as drawn, not their wall particles (a slope's are stairs a spacing high)
         self.solid_region, self._solid_px, self._walls = s.solid_region, None, None
         # m: the bed panel's half-height: the step that holds bed_range, fixed for the movie; or, with
@@ -192,7 +193,7 @@ class Renderer:
         img = np.full((self.H, self.W, 3), (np.array(BACKGROUND) * 255).astype(np.uint8), np.uint8)
         (x0, y0), _ = self.view
         if self.bed_surface is not None:      # a bed below particle scale: sand under its surface
-            zb = self.bed_surface(x0 + (np.arange(self.W) + 0.5) / self.scale)
+            zb = self._live[0]
             top = np.clip(np.floor((zb - y0) * self.scale).astype(int), 0, self.H)
             rows = np.arange(self.H)[:, None]
             img[(self.H - 1 - rows) < top[None, :]] = (np.array(SAND) * 255).astype(np.uint8)
@@ -239,8 +240,25 @@ class Renderer:
             self._solid_px = inside.reshape(self.H, self.W)[::-1]
         return self._solid_px
 
-    def frame(self, st, t):
-        """RGB uint8 image (rows top to bottom) of the state st (arrays x, v, p, rho, kind, mat)."""
+    def _tree(self):
+        return [self, *self.rows] + ([self.zoom] if self.zoom is not None else [])
+
+    def live_inputs(self):
+        """What a frame reads from the running case besides its particles: the bed below particle
+        scale (its surface at each panel's pixel columns, its change along the view). Read where
+        the case runs, so another process can draw the frame (runner/frames.py)."""
+        out = []
+        for r in self._tree():
+            (x0, _), (x1, _) = r.view
+            z = r.bed_surface(x0 + (np.arange(r.W) + 0.5) / r.scale) if r.bed_surface is not None else None
+            out.append((z, r.bed_panel(x0, x1, r.W) if r.bed_panel is not None else None))
+        return out
+
+    def frame(self, st, t, live=None):
+        """RGB uint8 image (rows top to bottom) of the state st (arrays x, v, p, rho, kind, mat);
+        live: live_inputs() as read with st (read now where not given)."""
+        for r, v in zip(self._tree(), live if live is not None else self.live_inputs()):
+            r._live = v
         self.bars = []
         st = {k: np.asarray(v) for k, v in st.items() if k in STATE or k in OPTIONAL}
         st["x"] = st["x"][:, :2]
@@ -298,9 +316,7 @@ class Renderer:
     def _bed_image(self):
         """The bed change along the view as a sand profile about a zero line, vertically
         exaggerated: the range grows in steps so the scale holds still while the bed changes."""
-        (x0, _), (x1, _) = self.view
-        xs, dz = self.bed_panel(x0, x1, self.W)
-        dz = np.asarray(dz, float)
+        dz = np.asarray(self._live[1][1], float)     # bed_panel(x0, x1, W): (x, change)
         peak = float(np.nanmax(np.abs(dz))) if np.isfinite(dz).any() else 0.0
         if not self.bed_fixed:
             rng = next((r for r in self.BED_RANGE if peak <= 0.9 * r), self.BED_RANGE[-1])
@@ -333,7 +349,7 @@ class Renderer:
         d.text((L + 6, int(0.35 * fp)), label, fill=(0, 0, 0), font=font)
         for top, H, view, bar in self.panels:    # one colour bar per coloured panel, beside it
             if self.LEFT:
-                self._axes(d, font, top, H, view)
+                draw_axes(self, d, font, top, H, view)
             if bar is None:
                 continue
             title, lo, hi, cmap = bar
@@ -356,39 +372,6 @@ class Renderer:
                    f"x = {a:g} to {c:g} m at true scale (the box above), coloured by {self.zoom.modes[0]}",
                    fill=(0, 0, 0), font=font)
         return np.asarray(im)
-
-    def _axes(self, d, font, top, H, view):
-        """Metre ticks: z on the left of a panel, x in the strip under it; the gauges' labels at
-        the panel's top and the zones as a bar along its foot."""
-        (x0, y0), (x1, y1) = view
-        fp = self.font_px
-        L = self.LEFT
-        scale = self.W / (x1 - x0)
-        if view == self.view or view in [r.view for r in self.rows]:
-            for x, label in self.marks:
-                px = int(round((x - x0) * scale))
-                if 0 <= px < self.W - 2 * fp:     # its dotted line drawn, and room for the label
-                    d.text((L + px + 2, top + 2), label, fill=(0, 0, 0), font=font)
-            for a, b, label in self.zones:
-                pa, pb = (L + int(round((min(max(v, x0), x1) - x0) * scale)) for v in (a, b))
-                if pb > pa:
-                    d.rectangle([pa, top + H - 4, pb, top + H - 1], fill=(200, 60, 60))
-                    d.text((pa + 2, top + H - 4 - int(1.2 * fp)), label, fill=(150, 30, 30), font=font)
-        for v in nice_ticks(x0, x1, max(2, self.W // (6 * fp))):
-            px = L + int(round((v - x0) * scale))
-            if px > L + self.W - int(3.0 * fp):
-                continue                                   # room for the axis's unit
-            d.line([(px, top + H), (px, top + H + int(0.3 * fp))], fill=(0, 0, 0))
-            d.text((px - int(0.6 * fp), top + H + int(0.3 * fp)), f"{v:g}", fill=(0, 0, 0), font=font)
-        for v in nice_ticks(y0, y1, max(2, H // (3 * fp))):
-            py = top + H - 1 - int(round((v - y0) * scale))
-            if py < top + int(1.6 * fp):
-                continue
-            d.line([(L - int(0.3 * fp), py), (L - 1, py)], fill=(0, 0, 0))
-            d.text((int(0.2 * fp), py - int(0.5 * fp)), f"{v:g}", fill=(0, 0, 0), font=font)
-        d.text((L + self.W - int(1.6 * fp), top + H + int(0.3 * fp)), "x (m)", fill=(0, 0, 0), font=font)
-        d.text((int(0.2 * fp), top + int(0.1 * fp)), "z (m)", fill=(0, 0, 0), font=font)
-
 
 def make_renderer(pic, outc, dx, title, speed_scale):
     """The Renderer for a scene's Picture and the [output] table (view, field, range, width)."""

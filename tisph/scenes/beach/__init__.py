@@ -7,7 +7,7 @@ ripples form on it. Why this geometry: Wiberg & Harris (1994) orbital ripples ar
 and in shallow water a piston moves the whole column, so the near-bed orbital diameter d0 is
 about the stroke, which is at most the depth: a ripple is about half the depth long, and the bed
 model resolves it over 18 dx, so the water is about 40 particles deep. Still water 0.3 m deep
-over 0.1 m of sand, flat to x = 1 m and then 1:10 to above the waterline at 4 m, 4.5 m long; T =
+over 0.1 m of sand, flat to x = 1 m and then 1:10 to the end wall at 5.3 m (the crest 0.13 m up); T =
 2.5 s (kh = 0.45), stroke 0.28 m, Biesel H = 0.127 m, d0 = 0.27 m at the toe, 0.3 mm quartz sand.
 dx and morfac follow from the wave where a case leaves them unset (derive): dx puts the ripple
 predicted at the toe over 18 spacings (0.0093 m), morfac turns the bed over no faster a wave
