@@ -15,18 +15,18 @@ from __future__ import annotations
 import copy
 import json
 import os
-
-from typing import Any, Iterable, Sequence
+from collections.abc import Iterable, Sequence
+from typing import Any
 
 import numpy as np
 
 from . import registry as scenes
 from .config import ConfigError, read_toml, set_path
-from .geometry import Circle, Polygon, Polyline
-from .runner import output_dir, simulate, resolve
-from .runner.reading import resolved_notes
 from .describe import describe
-from .io import read_csv, snapshot_files, load
+from .geometry import Circle, Polygon, Polyline
+from .io import load, read_csv, snapshot_files
+from .runner import output_dir, resolve, simulate
+from .runner.reading import resolved_notes
 
 SCENES = scenes.names()
 

@@ -114,7 +114,7 @@ class Scene:
 
       NAME        its name, as registered
       SCHEMA      its keys (tisph/schema.py's Keys) laid on the shared ones
-      DEPARTS     {numerics key: why} where it leaves its scheme (tests/test_schemes.py)
+      DEPARTS     {numerics key: why} where it leaves its scheme (tests/engine/test_schemes.py)
       ELEMENTS    the keys of each entry of its lists of tables (a case of one's own: [[solid]])
       derive(cfg, given) -> ({dotted key: value}, notes): values it chooses for keys the user left
                   unset (given: the keys the user set); each with run.log's line saying why

@@ -22,6 +22,7 @@ from . import registry
 from .config import read_toml
 from .errors import ConfigError
 
+
 def scene_line(scene, width=100):
     """What a scene is, in one line: its class's docstring (importing a scene imports no Taichi)."""
     line = " ".join((type(scene).__doc__ or scene.NAME).split()).rstrip(".")

@@ -9,10 +9,10 @@ from __future__ import annotations
 
 import copy
 import difflib
-from collections.abc import Mapping
 import math
 import os
 import sys
+from collections.abc import Mapping
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -20,11 +20,10 @@ else:  # pragma: no cover - exercised on 3.9/3.10 only
     import tomli as tomllib
 
 from . import schema
-from .resolved import thaw
 from .errors import ConfigError, ConfigErrors, raise_collected  # noqa: F401  (re-exported: every check raises them)
+from .resolved import thaw
 from .shared_keys import MATERIAL, SHARED, TURBULENCE
 from .switches import Physics, physics_from_config  # noqa: F401  (re-exported: scenes import them here)
-
 
 # The keys every scene shares, the turbulence closure's and every material's, as Keys
 # (tisph/shared_keys.py); a scene's SCHEMA lays its own on them. These are read from there.
@@ -261,7 +260,7 @@ def dump_toml(d: dict, notes=None) -> str:
         if isinstance(v, str):
             return '"' + v.replace("\\", "\\\\").replace('"', '\\"') + '"'
         if isinstance(v, (list, Mapping)):   # a table: an entry of a list of tables ([[solid]]), inline
-            return ("{%s}" % ", ".join(f"{k} = {fmt(x)}" for k, x in v.items() if x is not None) if isinstance(v, Mapping)
+            return ("{" + ", ".join(f"{k} = {fmt(x)}" for k, x in v.items() if x is not None) + "}" if isinstance(v, Mapping)
                     else "[" + ", ".join(fmt(x) for x in v) + "]")
         raise TypeError(type(v))
 

@@ -6,11 +6,11 @@ import os
 import sys
 
 from . import config, schema
-from .config import CHOICES, MATERIAL_CHOICES, MATERIAL_RANGES, RANGES, describe_range
-from .registry import scenes as registered
 from .case import as_scene
-from .shared_keys import MATERIAL, SHARED, TURBULENCE
+from .config import CHOICES, MATERIAL_CHOICES, MATERIAL_RANGES, RANGES, describe_range
 from .io import ensure_dir, write_text
+from .registry import scenes as registered
+from .shared_keys import MATERIAL, SHARED, TURBULENCE
 
 
 def words(scene):
@@ -100,7 +100,7 @@ def as_toml(scene):
     notes = {key: f"{allowed}" + (f"; {meaning}" if meaning else "") for key, _, allowed, meaning in rows(scene)}
     head = [f"# Every key of `python -m {scene.module}` at its default, with what is allowed and",
             "# what it means: generated from the code by `python -m tisph.describe --write scenes/defaults`",
-            "# (tests/test_cli.py checks it is current). Copy the keys you change into a case file;",
+            "# (tests/runner/test_cli.py checks it is current). Copy the keys you change into a case file;",
             f"#   python -m {scene.module} --config scenes/defaults/{scene.NAME}.toml",
             "# runs the defaults." if not scene.ELEMENTS else
             "# needs its own domain.box, [[solid]] and [[water]] (scenes/breakwater.toml is a whole case).", ""]

@@ -9,6 +9,7 @@ particles are the lattice points on its solid side within `layers` spacings of i
 import math
 
 import numpy as np
+
 from .particles import BUILD_BYTES_PER_POINT, check_fits
 
 CHUNK = 4096   # points per block in the point-to-segment distances (memory: CHUNK x segments)

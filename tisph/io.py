@@ -8,10 +8,9 @@ import json
 import math
 import os
 import tempfile
-
-import numpy as np
 from contextlib import contextmanager
 
+import numpy as np
 
 _UMASK = os.umask(0)
 os.umask(_UMASK)
@@ -53,11 +52,10 @@ def atomic_path(path, suffix=None):
 
 def write_bytes(path, data: bytes):
     try:
-        with atomic_path(path) as tmp:
-            with open(tmp, "wb") as f:
-                f.write(data)
-                f.flush()
-                os.fsync(f.fileno())
+        with atomic_path(path) as tmp, open(tmp, "wb") as f:
+            f.write(data)
+            f.flush()
+            os.fsync(f.fileno())
     except OSError as e:
         raise OutputError(f"cannot write {path!r}: {e.strerror}") from None
 
@@ -135,20 +133,19 @@ def write_snapshot(path, state: dict, attrs: dict):
     """One HDF5 file: every particle field (ordered by particle id) plus run attributes."""
     import h5py
     try:
-        with atomic_path(path) as tmp:
-            with h5py.File(tmp, "w") as f:
-                for k, a in state.items():
-                    name = SNAPSHOT_FIELDS.get(k, (k, None))[0]
-                    d = f.create_dataset(name, data=_pad3(np.asarray(a)))
-                    if name in SNAPSHOT_UNITS:
-                        d.attrs["units"] = SNAPSHOT_UNITS[name]
-                    if name == "kind":
-                        d.attrs["codes"] = KIND_CODES
-                    if name == "material" and "material_names" in attrs:
-                        d.attrs["codes"] = attrs["material_names"]
-                f.attrs["kind_codes"] = KIND_CODES
-                for k, v in attrs.items():
-                    f.attrs[k] = v
+        with atomic_path(path) as tmp, h5py.File(tmp, "w") as f:
+            for k, a in state.items():
+                name = SNAPSHOT_FIELDS.get(k, (k, None))[0]
+                d = f.create_dataset(name, data=_pad3(np.asarray(a)))
+                if name in SNAPSHOT_UNITS:
+                    d.attrs["units"] = SNAPSHOT_UNITS[name]
+                if name == "kind":
+                    d.attrs["codes"] = KIND_CODES
+                if name == "material" and "material_names" in attrs:
+                    d.attrs["codes"] = attrs["material_names"]
+            f.attrs["kind_codes"] = KIND_CODES
+            for k, v in attrs.items():
+                f.attrs[k] = v
     except OSError as e:
         raise OutputError(f"cannot write {path!r}: {e}") from None
 
@@ -161,8 +158,8 @@ def load(path):
     import h5py
     try:
         with h5py.File(path, "r") as f:
-            arrays = {k: f[k][()] for k in f.keys() if isinstance(f[k], h5py.Dataset)}
-            groups = {k: {kk: f[k][kk][()] for kk in f[k].keys()} for k in f.keys() if isinstance(f[k], h5py.Group)}
+            arrays = {k: f[k][()] for k in f if isinstance(f[k], h5py.Dataset)}
+            groups = {k: {kk: f[k][kk][()] for kk in f[k]} for k in f if isinstance(f[k], h5py.Group)}
             attrs = {k: (v.decode() if isinstance(v, bytes) else v) for k, v in f.attrs.items()}
     except FileNotFoundError:
         raise OutputError(f"{path!r} does not exist") from None

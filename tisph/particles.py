@@ -4,6 +4,7 @@ from __future__ import annotations
 import os
 
 import numpy as np
+
 from .config import ConfigError
 
 FLUID, WALL, MOVING, BED = 0, 1, 2, 3   # BED: boundary particles of a morphodynamic bed (they follow z_b)

@@ -71,11 +71,11 @@ def check_regular_waves(cfg, key, H, k, depth):
     h = cfg.numerics.h_factor * cfg.numerics.dx
     limit = MICHE * math.tanh(k * depth)
     guess = unit_guess(cfg)
-    if H / L > limit:
+    if limit < H / L:
         raise ConfigError(key, cfg.paddle[key.split(".")[1]],
                           f"a wave no steeper than Miche's breaking limit 0.142 tanh(kh) = {limit:.3g}: this one is "
                           f"H / L = {H:.3g} / {L:.3g} m = {H / L:.3g} (kh = {k * depth:.3g}){guess}")
-    if L < MIN_WAVELENGTH_H * h:
+    if MIN_WAVELENGTH_H * h > L:
         raise ConfigError("numerics.dx", cfg.numerics.dx,
                           f"a dx whose smoothing length h = {h:.3g} m is at most a tenth of the wavelength, "
                           f"{L:.3g} m ({L / h:.3g} h){guess}")
@@ -86,7 +86,7 @@ def warn_waves(cfg, H, k, depth, linear_metric=True):
     spacings, and (where a Biesel height is the result) an Ursell number beyond linear theory."""
     dx = cfg.numerics.dx
     L = 2.0 * math.pi / k
-    if H < MIN_HEIGHT_DX * dx:
+    if MIN_HEIGHT_DX * dx > H:
         warnings.warn(f"the wave height {H:.3g} m is {H / dx:.2g} dx: under {MIN_HEIGHT_DX:g} dx the waves lose "
                       f"height as they run (measured: 20 % at three wavelengths at 2.4 dx); numerics.dx at most "
                       f"{H / MIN_HEIGHT_DX:.3g} m resolves it")

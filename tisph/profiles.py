@@ -2,8 +2,8 @@
 import numpy as np
 
 from .io import write_csv
-from .particles import FLUID
 from .measure.plots import pyplot, save
+from .particles import FLUID
 from .viz.render import SAND
 
 

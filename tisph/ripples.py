@@ -14,9 +14,9 @@ grain diameter D: orbital ripples 0.62 d0 long and 0.17 of that high, anorbital 
 long, suborbital ripples in between.
 """
 import math
+import warnings
 
 import numpy as np
-import warnings
 
 # What counts as a ripple on a particle bed, in particle spacings: at least 3 long, and at least
 # half a spacing high. Lower bumps are rearrangements within the top particle row: a resting

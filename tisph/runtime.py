@@ -1,10 +1,10 @@
 """Taichi initialisation, once per process (or again when the arch or precision changes)."""
+import atexit
 import contextlib
 import io
 import os
 
 import taichi as ti
-import atexit
 
 _current = None
 _finalizer = False
@@ -28,7 +28,7 @@ def cache_guard():
         import fcntl
         path = cache_lock_path()
         os.makedirs(os.path.dirname(path), exist_ok=True)
-        f = open(path, "a")
+        f = open(path, "a")  # noqa: SIM115 (closed by the with below, once the guarded block is done)
     except (ImportError, OSError):
         yield
         return

@@ -11,7 +11,7 @@ be one more dependency for 40 lines.
 from __future__ import annotations
 
 import dataclasses
-from typing import Iterable, Iterator
+from collections.abc import Iterable, Iterator
 
 POSITIVE = (0.0, None, False, True)      # > 0
 NON_NEGATIVE = (0.0, None, True, True)   # >= 0

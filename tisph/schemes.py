@@ -2,7 +2,7 @@
 its width, the walls, the viscous terms, the density diffusion, the drift corrections).
 
 A scene's SCHEMA takes one with `numerics(NAME, dx=..., key=value)`; a key it sets beside dx is a
-departure from the scheme, and the scene says why in its DEPARTS ({key: reason}; tests/test_schemes.py
+departure from the scheme, and the scene says why in its DEPARTS ({key: reason}; tests/engine/test_schemes.py
 holds every scene to its scheme but for those). A user picks another with numerics.scheme in a
 case file: the keys they leave unset then take that scheme's values (docs/engine.md).
 """

@@ -11,10 +11,10 @@ import time
 
 import numpy as np
 
+from .case import make_case
 from .config import ConfigError, physics_from_config
 from .io import OutputError, ensure_dir, write_csv, write_text
-from .particles import ParticleSet, box_walls, FLUID, WALL, tait_B
-from .case import make_case
+from .particles import FLUID, WALL, ParticleSet, box_walls, tait_B
 from .runner import common_params, simulate, sound_speed
 from .scenes import dam_break, tank
 
@@ -54,7 +54,7 @@ def cases(quick):
     +warned where the run warned."""
     T = (lambda full, short: short if quick else full)
     res = (0.06,) if quick else (0.06, 0.04, 0.03)
-    out = [("still tank, %g s" % T(20.0, 2.0), tank, {"run.end_time": T(20.0, 2.0)},
+    out = [(f"still tank, {T(20.0, 2.0):g} s", tank, {"run.end_time": T(20.0, 2.0)},
             "no leak, peak speed < 1 % sqrt(gH), density within 1 %", ("ok",))]
     for dx in res:
         out.append((f"dam break to {T(5.0, 1.0):g} s, dx = {dx}", dam_break,
@@ -71,7 +71,7 @@ def cases(quick):
         ("single particle dropped on the floor", _variant(tank.SCENE, "single_particle", _single_particle),
          {"run.end_time": T(2.0, 1.0), "numerics.dx": 0.02}, "lands, no leak", ("ok",)),
         ("empty fluid set", _variant(tank.SCENE, "empty", _empty), {}, "refused with a clear error", ("refused",)),
-        ("water over a sediment layer (1950 kg/m3) at rest, %g s" % T(20.0, 2.0), tank,
+        (f"water over a sediment layer (1950 kg/m3) at rest, {T(20.0, 2.0):g} s", tank,
          {"geometry.sediment_depth": 0.2, "run.end_time": T(20.0, 2.0)},
          "no leak, interface moves < dx, peak speed < 1 % sqrt(gH)", ("ok",)),
     ]
@@ -127,7 +127,8 @@ def main(argv=None):
     from . import runtime
     runtime.init("cpu", "f32")
     rows = run(a.quick, a.out)
-    print(open(os.path.join(a.out, "stress.md")).read())
+    with open(os.path.join(a.out, "stress.md")) as f:
+        print(f.read())
     bad = [r for r in rows if r[1].startswith("CRASH") or (isinstance(r[2], int) and r[2] > 0)]
     return 1 if bad else 0
 

@@ -27,8 +27,8 @@ import time
 from . import registry as scenes
 from .config import ConfigError, tomllib
 from .io import OutputError, ensure_dir, write_csv, write_json, write_text
-from .runner import resolve, simulate
 from .measure.plots import pyplot, save
+from .runner import resolve, simulate
 
 CASE_FILE = "sweep_case.json"   # what a case folder was run with: --resume compares it
 
@@ -185,9 +185,7 @@ def flat_metrics(summary):
     for k, v in (summary or {}).get("metrics", {}).items():
         if isinstance(v, bool):
             out[k] = int(v)
-        elif isinstance(v, (int, float)):
-            out[k] = v
-        elif isinstance(v, str):
+        elif isinstance(v, (int, float, str)):
             out[k] = v
     return out
 

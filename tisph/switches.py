@@ -1,7 +1,7 @@
 """The compile-time physics switches of a case (config.Physics): which terms the engine compiles
 in, from the config and what the scene uses."""
 from collections.abc import Mapping
-from dataclasses import dataclass, asdict
+from dataclasses import asdict, dataclass
 
 
 @dataclass(frozen=True)

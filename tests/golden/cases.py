@@ -2,7 +2,7 @@
 fixed number of steps. A refactor of the engine must reproduce each final state bit for bit.
 
 `python -m tests.golden.cases --write` (from the repo root) records the hashes in states.json;
-tests/test_golden.py compares. Re-record only in a commit that says which case changed and why.
+tests/engine/test_golden.py compares. Re-record only in a commit that says which case changed and why.
 """
 import hashlib
 import importlib
@@ -71,9 +71,10 @@ CASES = [
 
 def run(case_id, steps=STEPS, arch="cpu", arrays=False):
     """Final state digest of one case: a hash of x, v, rho (by particle id) and of probes.csv.
-    arch: the Taichi backend ("gpu": Vulkan, CUDA or Metal; tests/test_gpu_path.py); arrays:
+    arch: the Taichi backend ("gpu": Vulkan, CUDA or Metal; tests/engine/test_vulkan.py); arrays:
     also return the final x, v, rho and kind by particle id under "arrays", the arch under "arch"."""
     import numpy as np
+
     from tisph import runtime
     from tisph.runner import Log, Run, build_case, resolve
     _, modname, cfile, ov = next(c for c in CASES if c[0] == case_id)
@@ -81,7 +82,7 @@ def run(case_id, steps=STEPS, arch="cpu", arrays=False):
     overrides = dict(FAST, **ov)
     overrides["run.max_steps"] = steps
     # the gather pass, as the records were made: each pair once (run.pair_once) is held to it to
-    # rounding by tests/test_pair_once.py, and a 120-step case would pay its longer compile
+    # rounding by tests/engine/test_pair_once.py, and a 120-step case would pay its longer compile
     overrides["run.pair_once"] = "off"
     with tempfile.TemporaryDirectory() as out:
         overrides["output.dir"] = out
@@ -120,6 +121,7 @@ def probe_fingerprint(text):
     """{column: fingerprint} of probes.csv's numeric columns."""
     import csv
     import io
+
     import numpy as np
     rows = list(csv.reader(io.StringIO(text.decode())))
     out = {}

@@ -1,5 +1,5 @@
 """Run golden cases on one backend and keep their final states, for a comparison across
-backends (tests/test_gpu_path.py runs this in a process of its own, one Taichi arch a process):
+backends (tests/engine/test_vulkan.py runs this in a process of its own, one Taichi arch a process):
 
     python -m tests.golden.dump --arch gpu --out states.npz CASE [CASE ...]
 

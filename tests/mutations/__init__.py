@@ -48,6 +48,7 @@ def _wrap(orig, how):
     import importlib.util
     import os
     import tempfile
+
     import taichi as ti
     params = list(inspect.signature(orig).parameters)
     args = ", ".join(params)

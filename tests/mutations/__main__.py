@@ -6,7 +6,7 @@ import tempfile
 from . import MUTATIONS
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-DEFAULT = ["-m", "not slow", "--deselect", "tests/test_golden.py", "-q", "-p", "no:cacheprovider"]
+DEFAULT = ["-m", "not slow", "--deselect", "tests/engine/test_golden.py", "-q", "-p", "no:cacheprovider"]
 
 
 def run(name, args):

@@ -1,7 +1,7 @@
 import sys
 
-from .cli import main
 from ..errors import ConfigError
+from .cli import main
 
 if __name__ == "__main__":     # not again in a worker process of --jobs
     try:

@@ -11,11 +11,11 @@ same way (peer.py, dualsphysics.py).
 """
 import os
 
-from . import dualsphysics, peer
-from .common import cache_dir
-from ..validation import martin_moyce
 from ..runner import resolve
 from ..scenes import dam_break
+from ..validation import martin_moyce
+from . import dualsphysics, peer
+from .common import cache_dir
 
 RUNS = ((0.03, 0.7), (0.015, 0.3))
 PEERS = ("pysph", "dualsphysics")

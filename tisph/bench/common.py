@@ -2,6 +2,7 @@
 import importlib
 import os
 import time
+
 from ..runner import simulate
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))

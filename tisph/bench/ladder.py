@@ -24,14 +24,13 @@ import time
 import numpy as np
 
 from ..io import ensure_dir, write_csv, write_text
-from .common import ROOT, run_case, table, this_tree_env
 from ..measure.plots import pyplot, save
-from .speed import measure
-from ..runner import build_case, Log, resolve
+from ..runner import Log, build_case, resolve
 from ..scenes import dam_break
-from . import peer
 from ..sweep import execute
-
+from . import peer
+from .common import ROOT, run_case, table, this_tree_env
+from .speed import measure
 
 
 @dataclasses.dataclass

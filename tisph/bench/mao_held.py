@@ -23,12 +23,12 @@ import time
 
 import numpy as np
 
-from .common import ROOT, table
-from ..io import read_station_rows, ensure_dir, write_csv, write_text
-from .shedding import SAMPLE, average_from, judge, run_pipeline, wake_series
+from ..io import ensure_dir, read_station_rows, write_csv, write_text
+from ..measure.plots import pyplot, save
 from ..sediment import coupling
 from ..validation import mao
-from ..measure.plots import pyplot, save
+from .common import ROOT, table
+from .shedding import SAMPLE, average_from, judge, run_pipeline, wake_series
 
 BINS = np.arange(-2.0, 6.01, 0.5)      # x / D from the pipe's centre: the CSV's bins' centres, D/2 wide
 REGIONS = (("upstream", -2.0, -0.5), ("hole", -0.5, 1.0), ("lee", 1.0, 3.0), ("dune", 3.0, 6.0))

@@ -20,9 +20,9 @@ import time
 
 import numpy as np
 
-from .common import cache_dir, this_tree_env
 from ..io import ensure_dir, write_text
 from ..validation import martin_moyce
+from .common import cache_dir, this_tree_env
 
 TF = 0.7
 DX = 0.03
@@ -111,7 +111,8 @@ def run_pysph(py, out, dx=DX, tf=TF):
         raise RuntimeError(f"reading PySPH output failed: {e.stderr[-2000:]}")
     rows = json.loads(e.stdout)
     try:   # PySPH's own timing of its time loop (after set-up and its cached compilation)
-        run_s = float(json.load(open(os.path.join(d, "dam_break_2d.info")))["cpu_time"])
+        with open(os.path.join(d, "dam_break_2d.info")) as f:
+            run_s = float(json.load(f)["cpu_time"])
     except (OSError, ValueError, KeyError):
         run_s = float("nan")
     t = np.array([r[0] for r in rows])

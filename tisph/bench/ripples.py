@@ -14,21 +14,23 @@ morfac) at morfac 10, or at the lower morfac that keeps the bed turning over no 
 period than in the default tunnel (tunnel.morfac_limit). Writes OUT/ripples.md, ripples.csv, ripples.png (length
 and steepness against d0 with the bands) and growth.png (the length against bed periods).
 """
+import json
 import math
 import os
 import sys
-import json
 import time
 
 import numpy as np
 
-from ..io import read_csv, write_csv, write_text, ensure_dir
-from ..ripples import ORBITAL_BAND as BAND, STEEPNESS_BAND as STEEP_BAND, wiberg_harris
-from .common import table
+from .. import sweep
+from ..io import ensure_dir, read_csv, write_csv, write_text
+from ..measure.plots import pyplot, save
+from ..ripples import ORBITAL_BAND as BAND
+from ..ripples import STEEPNESS_BAND as STEEP_BAND
+from ..ripples import wiberg_harris
 from ..runner import resolve
 from ..scenes import tunnel
-from ..measure.plots import pyplot, save
-from .. import sweep
+from .common import table
 
 GRAIN = 0.0003                 # d50 (m): the tunnel's default
 S_GRAIN = 2.65                 # quartz

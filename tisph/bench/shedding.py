@@ -24,11 +24,11 @@ import time
 
 import numpy as np
 
-from .common import ROOT, table
-from ..io import load, snapshot_files, ensure_dir, write_csv, write_text
+from ..io import ensure_dir, load, snapshot_files, write_csv, write_text
 from ..particles import FLUID
 from ..runner import resolve, simulate
 from ..scenes import pipeline_scour
+from .common import ROOT, table
 
 POINTS = (1.0, 1.5, 2.0, 3.0)     # x / D behind the pipe's centre, on its axis
 RADIUS = 0.15                     # the averaging disc, in D

@@ -25,9 +25,9 @@ import sys
 import tempfile
 import time
 
-from .common import ROOT
 from ..io import ensure_dir, write_csv, write_text
 from . import codes
+from .common import ROOT
 
 # (name, scene, overrides, steps): sizes from 3.4e3 to 6.5e5 particles, and the flume's paddle
 CASES = [
@@ -168,6 +168,7 @@ def dx_for(scene_name, n):
     """The dx at which a scene's default case has about n particles (the count scales as dx^-2;
     two corrections from the particles built, nothing compiled)."""
     import importlib
+
     from ..runner import Log, build_case, resolve
     scene = importlib.import_module("tisph.scenes." + scene_name).SCENE
     dx = resolve(scene, overrides={"output.quiet": True})["numerics"]["dx"]

@@ -22,16 +22,16 @@ import numpy as np
 
 from ..constants import G
 from ..io import ensure_dir, write_csv, write_text
-from .common import table
 from ..runner import resolve
 from ..scenes import flume
 from ..waves.theory import linear_wave
+from .common import table
 
 DEPTH, AMPLITUDE = 0.25, 0.03
 KINDS = ("fourtakas", "antuono")
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def mode():
     """Wave number, angular frequency, period, wavelength and group velocity of the tank's mode:
     the flume's wave (solved once: the case, the analysis and the report all ask)."""

@@ -89,9 +89,11 @@ class Counter:
 def measure(case_id, steps=STEPS, arch="cpu"):
     """Launches and transfers of each of a golden case's first `steps` steps, as its run loop takes
     them; returns the per-step records and what the costliest quiet step did."""
+    from tests.golden.cases import CASES as GOLDEN
+    from tests.golden.cases import FAST, ROOT
+
     from .. import runtime
     from ..runner import Log, Run, build_case, resolve
-    from tests.golden.cases import CASES as GOLDEN, FAST, ROOT
     _, modname, cfile, ov = next(c for c in GOLDEN if c[0] == case_id)
     scene = importlib.import_module(modname).SCENE
     counter = Counter()
@@ -179,6 +181,7 @@ def table(results):
 
 def main(a):
     import sys
+
     from ..io import ensure_dir
     root = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
     if not os.path.isdir(os.path.join(root, "tests", "golden")):

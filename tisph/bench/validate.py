@@ -20,10 +20,10 @@ import time
 import numpy as np
 
 from ..io import ensure_dir, read_csv, write_text
+from ..measure.plots import pyplot, save
 from .common import ROOT, run_case, table
 from .uncertainty import interval
 from .validation_cases import CASES, CASES_BY_NAME
-from ..measure.plots import pyplot, save
 
 README_START, README_END = "<!-- validation:start -->", "<!-- validation:end -->"
 

@@ -21,17 +21,17 @@ import time
 
 import numpy as np
 
+from ..config import ConfigError
+from ..constants import G
+from ..io import ensure_dir, write_csv, write_text
+from ..measure.plots import pyplot, save
+from ..measure.records import arrival_time, wave_height
+from ..runner import resolve
+from ..scenes import flume
+from ..waves.theory import linear_wave
 from . import dualsphysics
 from .common import cache_dir, run_case, table
 from .ladder import CASES
-from ..constants import G
-from ..measure.records import arrival_time, wave_height
-from ..waves.theory import linear_wave
-from ..io import ensure_dir, write_csv, write_text
-from ..measure.plots import pyplot, save
-from ..runner import resolve
-from ..scenes import flume
-from ..config import ConfigError
 
 # the flume as the bench ladder runs it (H / dx = 3, 5, 8, 12, to the end of the window at three
 # wavelengths), one case for both benches

@@ -5,12 +5,13 @@ import json
 import numpy as np
 import taichi as ti
 
-from ..io import OPTIONAL
-from .kernels import CubicSpline2D
-from ..particles import FLUID, SPRAY
 from ..hooks.health import BAD_NONE
+from ..io import OPTIONAL
+from ..particles import FLUID, SPRAY
 from .batch import paddle_fit
+from .kernels import CubicSpline2D
 from .state import ParticleFields, np_dtype, type_bytes
+
 
 class SolverAPI:
     @property

@@ -132,7 +132,7 @@ class Grid:
         self._visit(src, i, xi, task, acc, True)
 
     @ti.func
-    def _visit(self, src: ti.template(), i, xi, task: ti.template(), acc: ti.template(), forward: ti.template()):
+    def _visit(self, src: ti.template(), i, xi, task: ti.template(), acc: ti.template(), forward: ti.template()):  # noqa: C901 (ti.static branches: one is compiled)
         c = self.cell_of(xi)
         dy0 = -self.cdiv
         if ti.static(forward):

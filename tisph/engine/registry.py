@@ -2,16 +2,24 @@
 same sum (float addition is not associative): the order here is the order of the terms.
 
 Adding a term: write its Module, add it here, add its switch to config.Physics (and the
-config key that sets it), and test it (tests/test_terms.py).
+config key that sets it), and test it (tests/engine/test_terms.py).
 """
 from ..boundaries.bed import MovingBed
 from ..boundaries.paddle import Paddle
 from ..boundaries.walls import DynamicWall, ExtrapolatedWall, NoSlip, RepulsiveWall, WallImpact
 from ..boundaries.zones import Container, Damping, Drive, Inflow, Outflow, Spray
-from ..physics.fluid import (XSPH, ArtificialViscosity, Continuity, DensityDiffusion, LaminarViscosity,
-                             Pressure, Shifting, VelocityGradient)
-from ..physics.sediment import DEM, Drag, Rheology
 from ..physics.dual import DualCriteria
+from ..physics.fluid import (
+    XSPH,
+    ArtificialViscosity,
+    Continuity,
+    DensityDiffusion,
+    LaminarViscosity,
+    Pressure,
+    Shifting,
+    VelocityGradient,
+)
+from ..physics.sediment import DEM, Drag, Rheology
 from ..physics.shepard import Shepard
 from ..physics.suspension import Suspension
 from ..physics.turbulence import SPS, TKE, Omega

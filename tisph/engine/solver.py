@@ -29,16 +29,17 @@ import numpy as np
 import taichi as ti
 
 from ..config import Physics
-from .kernels import get_kernel
+from ..hooks.health import BAD_DENSITY, BAD_LEAK, BAD_NONE, fluid_code, report
+from ..hooks.module import HOOKS
 from ..particles import FLUID, MOVING, OUT, OUTFLOW
 from ..terms.pressure import tait
-from . import state as st_mod, pairs
-from .grid import Grid
-from ..hooks.health import BAD_DENSITY, BAD_LEAK, BAD_NONE, fluid_code, report
-from .limits import next_dt
+from . import pairs
+from . import state as st_mod
 from .access import SolverAPI
 from .batch import BATCH, CHEB, READ_ELEMENTS, chebyshev
-from ..hooks.module import HOOKS
+from .grid import Grid
+from .kernels import get_kernel
+from .limits import next_dt
 from .pairs import PairOnce
 from .registry import enabled_modules
 
@@ -182,7 +183,7 @@ class Solver(SolverAPI):
 
     # ------------------------------------------------------------------ loop bodies
     @ti.func
-    def advance(self, i, dt):
+    def advance(self, i, dt):  # noqa: C901 (ti.static branches, one a hook: only the case's are compiled)
         """Loop 1: drift and half kick, boundaries' motion, removals and checks, the cell key."""
         p = self.p
         k = p.kind[i]
@@ -280,7 +281,7 @@ class Solver(SolverAPI):
         return nb
 
     @ti.func
-    def forces(self, i, dt, mx: ti.template()):
+    def forces(self, i, dt, mx: ti.template()):  # noqa: C901 (ti.static branches, as advance)
         """Loop 5 for one particle: the neighbour pass and the closing half kick; raises the
         block's maxima mx."""
         prm = self.prm[None]
@@ -338,7 +339,7 @@ class Solver(SolverAPI):
 
     # ------------------------------------------------------------------ the step
     @ti.kernel
-    def _step(self, k: ti.i32, fit: ti.i32, pd: ti.f64, pv: ti.f64):
+    def _step(self, k: ti.i32, fit: ti.i32, pd: ti.f64, pv: ti.f64):  # noqa: C901 (one kernel: the step's loops in order)
         """One step; writes the next step's dt into dtlog[k] and the health code into the log's
         last slot (no value returned: a return waits for the device). Where the paddle module
         is on, its displacement and rate at the step's end: pd, pv as given (fit 0; the launch's

@@ -3,9 +3,9 @@ each composed from the declarations of the enabled modules."""
 import numpy as np
 import taichi as ti
 
-from ..runtime import arch_name
 from ..hooks.keys import KEYED
 from ..hooks.module import MatParam, Param
+from ..runtime import arch_name
 
 
 def types(real):

@@ -52,7 +52,7 @@ def surface_heights(st, xs, dx, h, floor=0.0, mat=0):
     return out
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def lattice_offset(dx, h):
     """What surface_heights reads above still water on the particle lattice, whose surface (the
     water's mass level) is half a spacing above its top row's centres: the gauge subtracts it, so

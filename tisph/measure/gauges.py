@@ -19,13 +19,13 @@ from __future__ import annotations
 import itertools
 import math
 import warnings
-from typing import Iterable
+from collections.abc import Iterable
 
 import numpy as np
 
 from ..particles import FLUID, SPRAY
-from .harmonics import harmonic_amplitudes
 from .field import lattice_offset, particle_surface, shepard_at, surface_heights
+from .harmonics import harmonic_amplitudes
 from .plots import gauge_panels
 from .records import arrival_time, crossing_period_and_level, free_oscillation, height_at, low_pass, wave_height
 

@@ -9,13 +9,16 @@ from ..hooks.keys import KEYED
 from ..hooks.module import Module, Param
 from ..particles import FLUID
 from ..terms.continuity import continuity
-from ..terms.diffusion import (density_diffusion, hydrostatic_density_difference, renormalisation_sums,
-                               renormalised_correction)
+from ..terms.diffusion import (
+    density_diffusion,
+    hydrostatic_density_difference,
+    renormalisation_sums,
+    renormalised_correction,
+)
 from ..terms.pressure import pressure_accel
 from ..terms.rheology import harmonic_pair
 from ..terms.viscosity import artificial_viscosity, laminar_viscosity, monaghan_mu
 from ..terms.xsph import xsph
-
 
 # DualSPHysics' 2D free-surface threshold on the position divergence -sum_j V_j r_ij . grad W_ij
 # (2 inside a fluid): the surface alpha and the shifting both read it

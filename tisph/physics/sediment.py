@@ -1,5 +1,6 @@
 """Sediment modules: rheology (Bingham, Cross), fluid-sediment drag and DEM contacts between
 sediment particles. The turbulence closures are in physics/turbulence.py."""
+import numpy as np
 import taichi as ti
 
 from ..hooks.module import MatParam, Module, Param
@@ -7,7 +8,6 @@ from ..particles import FLUID
 from ..terms.dem import contact_force, critical_step
 from ..terms.drag import drag_accel
 from ..terms.rheology import BINGHAM, CROSS, RHEOLOGY_CODES, bingham, cross, shear_rate
-import numpy as np
 
 DEM_SLOTS = 8   # contacts remembered per particle (a packed 2D lattice has at most 6 within dx)
 
@@ -124,8 +124,8 @@ class DEM(Module):
               "dc": Param("dx", "m", (0.0, None), "contact diameter"),
               "dt_dem": Param(lambda S, values: DEM.default_dt(S.materials, S.dx, values.get("kn", 0.0)), "s",
                               (0.0, None), "contact time step (default: eq. 27's critical step / 20)")}
-    acc = {"cid_old": ti.types.vector(DEM_SLOTS, ti.i32), "es_old": "vec%d" % DEM_SLOTS,
-           "cid_new": ti.types.vector(DEM_SLOTS, ti.i32), "es_new": "vec%d" % DEM_SLOTS,
+    acc = {"cid_old": ti.types.vector(DEM_SLOTS, ti.i32), "es_old": f"vec{DEM_SLOTS}",
+           "cid_new": ti.types.vector(DEM_SLOTS, ti.i32), "es_new": f"vec{DEM_SLOTS}",
            "nc": "int", "dem": "int", "mi": "real", "near": "int"}
     maxima = {"dem_near": "int"}
 

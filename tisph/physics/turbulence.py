@@ -1,15 +1,25 @@
 """Turbulence closures of the water: the Smagorinsky SPS (paper 002 eq. 10), the k equation
 (the k-l model of Launder & Spalding 1972 and Rodi 1993) and its transported omega length
 (Wilcox 2006)."""
+import numpy as np
 import taichi as ti
 
 from ..hooks.keys import KEYED
 from ..hooks.module import Module
 from ..particles import FLUID
 from ..terms.sps import sps_accel, sps_stress
-from ..terms.tke import (CMU14, K_FLOOR, SIGMA_K, SIGMA_W, eddy_viscosity, length_of_omega, omega_update, strain2,
-                         tke_stress, tke_update)
-import numpy as np
+from ..terms.tke import (
+    CMU14,
+    K_FLOOR,
+    SIGMA_K,
+    SIGMA_W,
+    eddy_viscosity,
+    length_of_omega,
+    omega_update,
+    strain2,
+    tke_stress,
+    tke_update,
+)
 
 
 @ti.data_oriented

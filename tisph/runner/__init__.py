@@ -10,8 +10,7 @@ What a run writes into OUT (the contract scenes and the benchmark rely on):
   run.log      the resolved config, warnings and timings
 """
 from .entry import run_scene  # noqa: F401
-from .reading import resolve  # noqa: F401
-from .start import output_dir, run_case, simulate  # noqa: F401
 from .loop import Run  # noqa: F401
-from .setup import (Log, SimulationError, build_case, common_params, config_changes,  # noqa: F401
-                    describe_instability, sound_speed)
+from .reading import resolve  # noqa: F401
+from .setup import Log, SimulationError, build_case, common_params, config_changes, describe_instability, sound_speed  # noqa: F401
+from .start import output_dir, run_case, simulate  # noqa: F401

@@ -9,10 +9,10 @@ import json
 import math
 import os
 
-from .start import simulate
 from ..config import ConfigError
 from ..io import ensure_dir, write_csv, write_json, write_text
 from ..measure.convergence import verdict
+from .start import simulate
 
 RATIO = 1.5
 QUIET = {"output.render": False, "output.quiet": True, "output.snapshot_every": 0.0, "output.checkpoint_every": 0.0,

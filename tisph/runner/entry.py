@@ -9,7 +9,8 @@ from ..config import ConfigError
 from ..describe import describe
 from ..io import OutputError
 from .convergence import study as convergence_study
-from .ensemble import check_seeds, study as seeds_study
+from .ensemble import check_seeds
+from .ensemble import study as seeds_study
 from .reading import resolve, resolved_notes
 from .start import output_dir, simulate
 

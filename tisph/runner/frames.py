@@ -59,12 +59,12 @@ def _rebuild(movie, frames):
                 movie.append(imageio.imread(f))
 
 
-def _drawer(renderer, movie_path, fps, rebuild, inbox, outbox):
+def _drawer(renderer, movie_path, fps, rebuild, inbox, outbox, parent):
     # the run's process stops this one (close, abort); a Ctrl-C or SIGTERM sent to the group
     # must not cut a frame or the movie short
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     signal.signal(signal.SIGTERM, signal.SIG_IGN)
-    die_with_parent(signal.SIGKILL)
+    die_with_parent(signal.SIGKILL, parent)
     movie = None
     try:
         movie = MovieWriter(movie_path, fps)
@@ -97,7 +97,7 @@ class Background:
         self.renderer = renderer
         self.inbox, self.outbox = ctx.Queue(AHEAD), ctx.Queue()
         self.proc = ctx.Process(target=_drawer, args=(renderer, movie_path, fps, list(rebuild), self.inbox,
-                                                      self.outbox), daemon=True)
+                                                      self.outbox, os.getpid()), daemon=True)
         with warnings.catch_warnings():
             # Python 3.12 warns of fork beside threads (Taichi's); the drawer touches none of
             # their state (NumPy, PIL and ffmpeg only)

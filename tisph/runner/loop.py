@@ -7,15 +7,14 @@ import sys
 import time
 
 from ..case import Case
+from ..io import clean_stale_parts, ensure_dir
 from ..particles import FLUID
+from ..viz.live import LiveWindow
+from ..viz.render import make_renderer
+from .frames import open_frames
 from .outputs import Outputs
 from .setup import Log, SimulationError, describe_instability
 from .summary import summarize
-from ..io import ensure_dir, clean_stale_parts
-from .frames import open_frames
-from ..viz.render import make_renderer
-from ..viz.live import LiveWindow
-
 
 # a run that will write more than this warns at its start
 DISK_WARN_BYTES = 1e9

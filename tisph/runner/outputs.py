@@ -3,17 +3,17 @@ checkpoints, and reading a checkpoint back. A mixin of run.loop.Run."""
 import json
 import math
 import os
-import time as time_mod
 import pickle
+import time as time_mod
 
 import numpy as np
 
 from .. import __version__
-from ..config import ConfigError, dump_toml, tomllib as _toml
-from .setup import run_settings, config_changes
+from ..config import ConfigError, dump_toml
+from ..config import tomllib as _toml
+from ..io import SNAPSHOT_FIELDS, OutputError, atomic_path, ensure_dir, load, write_csv, write_snapshot, write_xdmf
 from ..viz.render import STATE
-from ..io import ensure_dir, write_csv, write_snapshot, SNAPSHOT_FIELDS, write_xdmf, atomic_path, OutputError, load
-
+from .setup import config_changes, run_settings
 
 FLUSH_S = 0.5   # wall seconds between rewrites of probes.csv and run.log during a run
 
@@ -142,20 +142,19 @@ class Outputs:
             self.frames.sync()      # the frames it counts on disk first
         arrays, scal = self.solver.raw_state()
         try:
-            with atomic_path(path) as tmp:
-                with h5py.File(tmp, "w") as f:
-                    g = f.create_group("particles")
-                    for k, a in arrays.items():
-                        g.create_dataset(k, data=a)
-                    f.create_dataset("probes", data=np.array(self.probes, float).reshape(len(self.probes), -1))
-                    f.create_dataset("observers", data=np.frombuffer(observer_state(self.case.observers.persist),
-                                                                     np.uint8))
-                    for k, v in scal.items():
-                        f.attrs[k] = v
-                    f.attrs.update(dict(kind="tisph checkpoint", scene=self.name, tisph_version=__version__,
-                                        config=dump_toml(self.cfg), frame_no=self.frame_no,
-                                        next=json.dumps(self.next), snapshots=json.dumps(self.snapshots),
-                                        wall_time_s=self.wall_so_far(), step_time_s=self.step_s_so_far()))
+            with atomic_path(path) as tmp, h5py.File(tmp, "w") as f:
+                g = f.create_group("particles")
+                for k, a in arrays.items():
+                    g.create_dataset(k, data=a)
+                f.create_dataset("probes", data=np.array(self.probes, float).reshape(len(self.probes), -1))
+                f.create_dataset("observers", data=np.frombuffer(observer_state(self.case.observers.persist),
+                                                                 np.uint8))
+                for k, v in scal.items():
+                    f.attrs[k] = v
+                f.attrs.update(dict(kind="tisph checkpoint", scene=self.name, tisph_version=__version__,
+                                    config=dump_toml(self.cfg), frame_no=self.frame_no,
+                                    next=json.dumps(self.next), snapshots=json.dumps(self.snapshots),
+                                    wall_time_s=self.wall_so_far(), step_time_s=self.step_s_so_far()))
         except OSError as e:
             raise OutputError(f"cannot write checkpoint {path!r}: {e}") from None
         self.log(f"checkpoint at step {self.solver.steps}, t = {self.solver.time:.6g} s: {path}", file_only=True)

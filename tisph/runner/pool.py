@@ -39,14 +39,17 @@ def stages(tasks, sizes, jobs, cores=None):
     return out
 
 
-def die_with_parent(sig):
+def die_with_parent(sig, parent=None):
     """This process is sent `sig` when its parent dies (kill, kill -9) instead of running on
-    alone (Linux prctl PR_SET_PDEATHSIG; elsewhere nothing)."""
+    alone (Linux prctl PR_SET_PDEATHSIG; elsewhere nothing). parent: its pid, where known: a
+    parent that died before the prctl took hold cannot send it, so the process exits now."""
     try:
         import ctypes
         ctypes.CDLL(None).prctl(1, sig)
     except (OSError, AttributeError):
         pass
+    if parent is not None and os.getppid() != parent:
+        os._exit(1)
 
 
 def _start(threads):

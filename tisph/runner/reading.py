@@ -3,7 +3,7 @@ the resolving steps and one final check, frozen (tisph/resolved.py)."""
 import os
 
 from ..case import as_scene
-from ..config import ConfigError, ConfigErrors, build_config, raise_collected, flatten, read_toml, validate
+from ..config import ConfigError, ConfigErrors, build_config, flatten, raise_collected, read_toml, validate
 from ..plausible import check_materials
 from ..resolved import freeze, thaw
 from ..schemes import apply_scheme

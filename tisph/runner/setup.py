@@ -1,15 +1,15 @@
 """Run set-up: sound speed and common parameters, the log, building a case, the instability
 message, and what a restart may change."""
 import sys
-from collections.abc import Mapping
 import warnings
+from collections.abc import Mapping
 
 import numpy as np
 
 from ..hooks.errors import SimulationError, unstable  # noqa: F401  (the runner's: re-exported)
 from ..io import OutputError, write_text
-from ..resolved import thaw
 from ..particles import KIND_NAMES, RUN_BYTES_PER_PARTICLE, check_fits
+from ..resolved import thaw
 
 
 def sound_speed(cfg, u_max, depth=0.0, g=9.81):

@@ -3,7 +3,7 @@ its build and its time loop."""
 import os
 
 from ..case import as_scene
-from ..config import ConfigError, dump_toml, check_file
+from ..config import ConfigError, check_file, dump_toml
 from ..io import OutputError, ensure_dir
 from ..particles import FLUID
 from ..shared_keys import check_rules

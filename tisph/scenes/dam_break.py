@@ -10,22 +10,21 @@ beds, depth ratio 0.1 and 0.4, wall at the end), compared with Ritter's and Stok
 shallow-water solutions.
 """
 import math
-from functools import partial
 import os
 import sys
+from functools import partial
 
 import numpy as np
 
-from ..case import Scene, resolves
-from ..constants import G
+from ..case import Scene, make_case, resolves
 from ..config import ConfigError, physics_from_config
-from ..schema import NON_NEGATIVE, POSITIVE, K
-from ..particles import ParticleSet, block, hydrostatic_density, tait_B, wall_density, FLUID, WALL, OUTFLOW
+from ..constants import G
+from ..particles import FLUID, OUTFLOW, WALL, ParticleSet, block, hydrostatic_density, tait_B, wall_density
 from ..profiles import depth_profile, plot_profiles, write_profile
-from ..case import make_case
-from ..runner import common_params, sound_speed, run_scene
-from ..validation import martin_moyce, shallow_water
+from ..runner import common_params, run_scene, sound_speed
+from ..schema import NON_NEGATIVE, POSITIVE, K
 from ..schemes import numerics
+from ..validation import martin_moyce, shallow_water
 
 
 def _channel_case(cfg, common, front, a, H, W, hd, dx, margin):

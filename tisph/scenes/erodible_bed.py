@@ -15,25 +15,23 @@ surface and the bed (sediment surface) at t = 0.25, 0.5, 0.75 s as CSV and one P
 bed_drop_at_gate (m) and front_x at 0.75 s and eroded_area (m^2) at the end.
 """
 import math
-from functools import partial
 import os
 import sys
+from functools import partial
 
 import numpy as np
 
-from ..case import Scene, resolves
-from ..constants import G
+from ..case import Scene, make_case, resolves
 from ..config import ConfigError, physics_from_config
-from ..schema import POSITIVE, K
+from ..constants import G
 from ..io import write_csv
-from ..particles import ParticleSet, block, density_from_pressure, tait_B, FLUID, WALL
-from ..viz.render import SAND
-from ..case import make_case
-from ..runner import common_params, sound_speed, run_scene
 from ..measure.field import surface_heights
 from ..measure.plots import pyplot, save
+from ..particles import FLUID, WALL, ParticleSet, block, density_from_pressure, tait_B
+from ..runner import common_params, run_scene, sound_speed
+from ..schema import POSITIVE, K
 from ..schemes import numerics
-
+from ..viz.render import SAND
 
 PROFILE_TIMES = (0.25, 0.5, 0.75)
 

@@ -21,30 +21,29 @@ free surface alone; a Wendland kernel with h = 2.5 dx, whose wider support carri
 less loss.
 """
 import math
-from functools import partial
 import os
 import sys
+from functools import partial
 
 import numpy as np
 
-from ..case import Scene, resolves
+from ..case import Scene, make_case, resolves
 from ..config import ConfigError, physics_from_config
-from ..schema import NON_NEGATIVE, POSITIVE, K
-from ..particles import ParticleSet, block, hydrostatic_density, tait_B, wall_density, FLUID, WALL, MOVING
-from ..case import make_case
-from ..runner import common_params, sound_speed, run_scene
 from ..constants import G
-from ..plausible import warn_waves, warn_window
-from ..measure import records, harmonics
+from ..io import write_csv
+from ..measure import harmonics, records
 from ..measure.gauges import WaveGauges
+from ..measure.plots import pyplot, save
+from ..particles import FLUID, MOVING, WALL, ParticleSet, block, hydrostatic_density, tait_B, wall_density
+from ..plausible import warn_waves, warn_window
+from ..runner import common_params, run_scene, sound_speed
+from ..schema import NON_NEGATIVE, POSITIVE, K
+from ..schemes import numerics
 from ..waves import theory
 from ..waves.absorb import with_control
 from ..waves.irregular import IRREGULAR, spectrum
 from ..waves.paddle import PADDLE, check_paddle, paddle, stroke_step
 from ..waves.theory import linear_wave
-from ..measure.plots import pyplot, save
-from ..io import write_csv
-from ..schemes import numerics
 
 
 def gauge_positions(geo, wavelength):

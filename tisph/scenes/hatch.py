@@ -10,20 +10,19 @@ The discharge coefficient is the measured discharge over a sqrt(2 g dh) in the q
 limit of a slot is pi / (pi + 2) = 0.611.
 """
 import math
-from functools import partial
 import os
 import sys
+from functools import partial
 
 import numpy as np
 
-from ..case import Scene, resolves
-from ..constants import G
+from ..case import Scene, make_case, resolves
 from ..config import ConfigError, physics_from_config
+from ..constants import G
+from ..particles import FLUID, WALL, ParticleSet, block, hydrostatic_density, tait_B, wall_density
+from ..profiles import plot_profiles, surface_profile, write_profile
+from ..runner import common_params, run_scene, sound_speed
 from ..schema import NON_NEGATIVE, POSITIVE, K
-from ..particles import ParticleSet, block, hydrostatic_density, tait_B, wall_density, FLUID, WALL
-from ..profiles import surface_profile, write_profile, plot_profiles
-from ..case import make_case
-from ..runner import common_params, sound_speed, run_scene
 from ..schemes import numerics
 
 

@@ -7,19 +7,27 @@ particle that left the tank and, with sediment, how far the interface moved and 
 pressure is continuous across it.
 """
 import math
-from functools import partial
 import sys
+from functools import partial
 
 import numpy as np
 
-from ..case import Scene, resolves
-from ..constants import G
+from ..case import Scene, make_case, resolves
 from ..config import ConfigError, physics_from_config
+from ..constants import G
+from ..particles import (
+    FLUID,
+    WALL,
+    ParticleSet,
+    block,
+    box_walls,
+    density_from_pressure,
+    layered_pressure,
+    surface_above,
+    tait_B,
+)
+from ..runner import common_params, run_scene, sound_speed
 from ..schema import NON_NEGATIVE, POSITIVE, K
-from ..particles import (ParticleSet, block, box_walls, density_from_pressure, layered_pressure, surface_above, tait_B,
-                         FLUID, WALL)
-from ..case import make_case
-from ..runner import common_params, sound_speed, run_scene
 from ..schemes import numerics
 
 

@@ -21,7 +21,7 @@ import math
 import numpy as np
 
 from ..constants import G
-from .transport import (FORMULAE, shields_critical, shields_number, slope_factor, transport_scale)
+from .transport import FORMULAE, shields_critical, shields_number, slope_factor, transport_scale
 
 
 @dataclasses.dataclass(frozen=True)
@@ -199,7 +199,7 @@ class Bed:
         (Gauss-Seidel). Returns the sweeps. A sweep visits only the faces that were steep when it
         began and the face after each one it relaxed (the only ones that can be steep when
         reached; the periodic bed's last face too, as its far end is z[0]): the same result as
-        visiting every face (tests/test_bedload.py), 6x faster on the Mao case's beds."""
+        visiting every face (tests/sediment/test_bedload.py), 6x faster on the Mao case's beds."""
         dx, t = self.dx, self.tan_repose
         n = len(self.z)
         faces = n if self.periodic else n - 1

@@ -17,15 +17,14 @@ import dataclasses
 
 import numpy as np
 
-from ..constants import G, SQRT_CMU
+from ..config import ConfigError, raise_collected
+from ..constants import SQRT_CMU, G
 from ..hooks.errors import SimulationError, unstable
-from ..schema import choices, K, ranges, values
+from ..schema import K, choices, ranges, values
 from .bed import Bed, Sand
 from .lee import lee_vortex_shear, lee_zones, vortex_throw
 from .outer import Window, outer_heights, outer_scale
 from .transport import reference_concentration, settling_velocity, shear_log_law, shear_waves, shields_number
-from ..config import ConfigError, raise_collected
-
 
 SEDIMENT = {
     "model": K("particles", "particles: the paper's Bingham/Cross sand | bedload: a bed below particle scale", choices=('particles', 'bedload')),

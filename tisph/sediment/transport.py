@@ -1,13 +1,13 @@
 """Bed shear, threshold and bed-load flux: the formulae of the morphodynamic bed.
 
 Each function takes and returns NumPy arrays (or floats) in SI units and cites its source;
-tests/test_bedload.py checks them against the formulae and their published values.
+tests/sediment/test_bedload.py checks them against the formulae and their published values.
 """
 import math
 
 import numpy as np
 
-from ..constants import G, KAPPA
+from ..constants import KAPPA, G
 
 NU_WATER = 1.0e-6   # kinematic viscosity of water at about 20 C (m2/s)
 

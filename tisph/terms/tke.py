@@ -37,6 +37,7 @@ import taichi as ti
 
 from ..constants import SQRT_CMU
 from .sps import eddy_stress, strain2  # noqa: F401  (strain2: |S|^2, shared with the SPS)
+
 CMU14 = 0.5477226    # C_mu^(1/4)
 CMU34 = 0.1643168    # C_mu^(3/4)
 SIGMA_K = 1.0

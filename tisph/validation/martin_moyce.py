@@ -19,7 +19,7 @@ def front_rms_error(t, front_x, a, g=9.81, T_max=3.3):
     t = np.asarray(t, float)
     front_x = np.asarray(front_x, float)
     Ts = t * np.sqrt(2.0 * g / a)
-    sel = (T <= T_max) & (T <= Ts.max() + 1e-12)
+    sel = (T_max >= T) & (Ts.max() + 1e-12 >= T)
     if not sel.any():
         return float("nan"), 0
     Zs = np.interp(T[sel], Ts, front_x / a)

@@ -6,21 +6,19 @@ Steady state (Bird, Stewart & Lightfoot; Chhabra & Richardson for the Bingham pl
 tau_y < G b a plug of half-width y0 = tau_y / G moves at u_p = G (b - y0)^2 / (2 mu_p); outside it
 u(y) = G (b^2 - y^2) / (2 mu_p) - tau_y (b - |y|) / mu_p. tau_y = 0 is the Newtonian parabola.
 """
+import copy
 import os
 import sys
-import copy
 
 import numpy as np
 
-from ..case import Scene, resolves
+from ..case import Scene, make_case, resolves
 from ..config import ConfigError, physics_from_config
-from ..schema import POSITIVE, K
-from ..particles import ParticleSet, block, tait_B, FLUID, WALL
-from ..case import make_case
-from ..runner import common_params, run_scene, sound_speed
+from ..particles import FLUID, WALL, ParticleSet, block, tait_B
 from ..profiles import plot_profiles, write_profile
+from ..runner import common_params, run_scene, sound_speed
+from ..schema import POSITIVE, K
 from ..schemes import numerics
-
 
 
 def exact(y, G, b, mu_p, tau_y=0.0):

@@ -15,8 +15,6 @@ import numpy as np
 from ..constants import G
 
 
-
-
 def stoker_state(h0, hd, g=G):
     """(h_m, u_m, s): middle depth, middle velocity, bore speed. hd = 0 gives Ritter's limit."""
     c0 = math.sqrt(g * h0)

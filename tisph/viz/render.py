@@ -8,8 +8,7 @@ import numpy as np
 
 from ..io import OPTIONAL
 from ..particles import BED, FLUID, WALL
-from .colours import (BACKGROUND, BOUNDARY, MODES, SAND, WATER, colormap, diverging,  # noqa: F401 (re-exported)
-                      vorticity)
+from .colours import BACKGROUND, BOUNDARY, MODES, SAND, WATER, colormap, diverging, vorticity  # noqa: F401 (re-exported)
 from .interpolate import kernel_image
 from .style import Style, style_of
 from .ticks import draw_axes, nice_ticks  # noqa: F401 (re-exported)
@@ -43,7 +42,7 @@ class Renderer:
         W = max(16, int(s.width) // 16 * 16)
         self.scale = W / (x1 - x0)
         H = max(16, int(round((y1 - y0) * self.scale / 16)) * 16)
-        if H < s.min_height:
+        if s.min_height > H:
             H = int(np.ceil(s.min_height / 16)) * 16
             y1 = y0 + H / self.scale
         self.view = ((float(x0), float(y0)), (float(x1), float(y1)))

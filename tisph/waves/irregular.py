@@ -7,9 +7,8 @@ import numpy as np
 
 from ..config import ConfigError
 from ..constants import G
-from ..schema import choices, K, ranges, values
+from ..schema import K, choices, ranges, values
 from .theory import biesel_flap, biesel_piston, wavenumber
-
 
 IRREGULAR = {
     "spectrum": K("", '"": regular waves (stroke, period) | jonswap | pm (Pierson-Moskowitz)', choices=('', 'jonswap', 'pm')),

@@ -10,7 +10,7 @@ from ..constants import G
 from ..measure.records import wave_period
 from ..particles import block
 from ..plausible import check_regular_waves, height_guess, unit_guess
-from ..schema import choices, K, ranges, values
+from ..schema import K, choices, ranges, values
 from .absorb import absorbing, check_absorb
 from .irregular import check_irregular, irregular_series
 from .motion import Motion, read_series
@@ -49,7 +49,7 @@ def stroke_for(cfg, depth, default_stroke=None):
     if default_stroke is not None and not (math.isclose(p.stroke, default_stroke) or math.isclose(p.stroke, S)):
         raise ConfigError("paddle.stroke", p.stroke, f"left out with paddle.wave_height = {H:g} (give one of "
                           f"the two: that height needs a stroke of {S:.4g} m by Biesel)")
-    if S > depth:
+    if depth < S:
         raise ConfigError("paddle.wave_height", H, f"a height whose stroke is at most the depth ({depth:g} m): "
                           f"Biesel gives a stroke of {S:.4g} m for it{height_guess(H, depth)}")
     return S

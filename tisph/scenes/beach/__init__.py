@@ -31,33 +31,32 @@ near-bed orbital motion measured along the beach) and stills at t = 0, 0.7, 2, 4
 Bingham beach adds streamline panels, stills/streamlines_t*.png).
 """
 import math
-from functools import partial
 import os
+from functools import partial
 
 import numpy as np
 
-from ...case import Scene, resolves
-from ...constants import G
+from ...case import Scene, make_case, resolves
 from ...config import ConfigError, physics_from_config
-from ...schema import POSITIVE, K, with_defaults
+from ...constants import G
 from ...io import write_csv, write_station_rows
-from ...particles import ParticleSet, block, density_from_pressure, layered_pressure, tait_B, FLUID, WALL, MOVING
-from ...viz.render import SAND
-from ...profiles import streamlines_png
-from ...ripples import MIN_HEIGHT_DX, MIN_LENGTH_DX, last_finite, orbital_diameter, ripple_stats, wiberg_harris
-from ...case import make_case
-from ...runner import common_params, sound_speed, run_scene
 from ...materials import BINGHAM_SAND, WATER
 from ...measure.field import surface_at, surface_heights
 from ...measure.gauges import WaveGauges
+from ...measure.plots import pyplot, save
 from ...measure.records import arrival_time, height_at
+from ...particles import FLUID, MOVING, WALL, ParticleSet, block, density_from_pressure, layered_pressure, tait_B
+from ...profiles import streamlines_png
+from ...ripples import MIN_HEIGHT_DX, MIN_LENGTH_DX, last_finite, orbital_diameter, ripple_stats, wiberg_harris
+from ...runner import common_params, run_scene, sound_speed
+from ...schema import POSITIVE, K, with_defaults
+from ...schemes import numerics
+from ...sediment import coupling
+from ...viz.render import SAND
+from ...waves.absorb import with_control
 from ...waves.paddle import PADDLE, check_paddle, paddle, stroke_step
 from ...waves.theory import linear_wave
-from ...measure.plots import pyplot, save
-from ...sediment import coupling
-from ...waves.absorb import with_control
 from .bedload import build_bedload, derive_bedload, paddle_depth
-from ...schemes import numerics
 
 # Bedforms longer than this many wavelengths (bars, the shoreline's retreat) are filtered out before
 # the ripples are counted; shorter than 3 dx or lower than dx / 2 is not a ripple (tisph/ripples.py).

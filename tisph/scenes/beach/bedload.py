@@ -13,25 +13,34 @@ import os
 
 import numpy as np
 
-from ...constants import G
-from ...config import physics_from_config
-from ...io import write_csv, write_station_rows
-from ...particles import ParticleSet, block, density_from_pressure, tait_B, BED, FLUID, WALL, MOVING
-from ...ripples import (MIN_LENGTH_DX, RESOLVED_DX, derive_resolution, last_finite, orbital_diameter, ripple_stats, unresolved,
-                        warn_unresolved, wiberg_harris)
 from ...case import make_case
-from ...runner import common_params, sound_speed
+from ...config import physics_from_config
+from ...constants import G
+from ...io import write_csv, write_station_rows
 from ...measure.field import surface_at
-from ...measure.plots import pyplot, save
-from .shoaling import Shoaling, crest_height, run_up, warn_run_up
-from ...sediment.morfac import bed_turnover, morfac_limit, warn_fast_bed
-from ...plausible import warn_waves
-from ...sediment import coupling, initial
 from ...measure.gauges import WaveGauges
+from ...measure.plots import pyplot, save
 from ...measure.records import height_at
+from ...particles import BED, FLUID, MOVING, WALL, ParticleSet, block, density_from_pressure, tait_B
+from ...plausible import warn_waves
+from ...ripples import (
+    MIN_LENGTH_DX,
+    RESOLVED_DX,
+    derive_resolution,
+    last_finite,
+    orbital_diameter,
+    ripple_stats,
+    unresolved,
+    warn_unresolved,
+    wiberg_harris,
+)
+from ...runner import common_params, sound_speed
+from ...sediment import coupling, initial
+from ...sediment.morfac import bed_turnover, morfac_limit, warn_fast_bed
 from ...waves.absorb import with_control
 from ...waves.paddle import paddle
 from ...waves.theory import linear_wave
+from .shoaling import Shoaling, crest_height, run_up, warn_run_up
 
 RIGID = 0.5           # m of rigid floor in front of the paddle
 RIPPLE_WINDOW = 0.6   # m: bedforms longer than this (the profile's bar and shoreline) are not ripples

@@ -33,7 +33,7 @@ def warn_run_up(geo, H, omega, k):
     import warnings
     R = hunt_run_up(H, omega, k, geo.depth, geo.slope)
     top = crest_height(geo)
-    if R > top:
+    if top < R:
         warnings.warn(f"geometry.length = {geo.length:g} m leaves the beach's crest {top:.3g} m above still water, "
                       f"under Hunt's run-up of this wave ({R:.3g} m): the swash will run against the end wall "
                       f"and reflect from it; geometry.length at least {geo.toe_x + (geo.depth + R) * geo.slope:.3g} m "

@@ -6,9 +6,9 @@ import math
 import os
 
 from ...config import ConfigError
+from ...geometry import read_profile
 from ...measure.gauges import GAUGE_TYPES
 from ...schema import K, values
-from ...geometry import read_profile
 
 NUM = "a number"
 

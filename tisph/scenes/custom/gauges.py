@@ -5,11 +5,11 @@ import math
 import numpy as np
 
 from ...config import ConfigError
-from .layout import who
 from ...measure import harmonics
 from ...measure.gauges import GaugeSet, case_gauges
 from ...validation import eurotop
 from ...waves.theory import wavenumber
+from .layout import who
 
 
 def load_cutoff(c0, height):

@@ -13,10 +13,10 @@ import numpy as np
 
 from ...config import ConfigError
 from ...io import write_station_rows
+from ...measure.plots import pyplot, save
 from ...particles import density_from_pressure
 from ...schema import K, values, with_defaults
 from ...sediment import coupling, initial
-from ...measure.plots import pyplot, save
 
 SAND = {
     "x": K([], '[x0, x1] m: the stretch of the sand line that is a bed-load bed; []: no sand'),

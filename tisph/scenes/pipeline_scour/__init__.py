@@ -30,22 +30,20 @@ from functools import partial
 
 import numpy as np
 
-from ...case import Scene, resolves
-from ...constants import G
+from ...case import Scene, make_case, resolves
 from ...config import ConfigError, physics_from_config
+from ...constants import G
+from ...particles import FLUID, WALL, ParticleSet, block, density_from_pressure, layered_pressure, tait_B
+from ...runner import common_params, run_scene, sound_speed
 from ...schema import NON_NEGATIVE, POSITIVE, K, with_defaults
-from ...shared_keys import TURBULENCE
-from ...particles import ParticleSet, block, density_from_pressure, layered_pressure, tait_B, FLUID, WALL
-from ...viz.render import SAND
-from ...case import make_case
-from ...runner import common_params, sound_speed, run_scene
-from ...sediment import coupling
-from ...validation import mao
-from .common import (NAME, add_pipe, friction_velocity, geometry, has_bedload, initial_bed,  # noqa: F401
-                       log_law, profile_time, ring)
-from .record import ScourRecord, streamlines_event
-from .bedload import bed_stations, far_field, build_bedload
 from ...schemes import numerics
+from ...sediment import coupling
+from ...shared_keys import TURBULENCE
+from ...validation import mao
+from ...viz.render import SAND
+from .bedload import bed_stations, build_bedload, far_field
+from .common import NAME, add_pipe, friction_velocity, geometry, has_bedload, initial_bed, log_law, profile_time, ring  # noqa: F401
+from .record import ScourRecord, streamlines_event
 
 
 def _particles(g, c0):

@@ -27,18 +27,18 @@ import os
 
 import numpy as np
 
-from ...constants import G, KAPPA, SQRT_CMU
-from ...config import ConfigError, physics_from_config
-from ...io import write_csv, write_station_rows
-from ...particles import ParticleSet, block, density_from_pressure, tait_B, FLUID
 from ...case import make_case
-from ...runner import common_params, sound_speed
+from ...config import ConfigError, physics_from_config
+from ...constants import KAPPA, SQRT_CMU, G
+from ...io import write_csv, write_station_rows
 from ...measure.plots import pyplot, save
+from ...particles import FLUID, ParticleSet, block, density_from_pressure, tait_B
+from ...runner import common_params, sound_speed
 from ...sediment import coupling, initial
 from ...sediment.transport import rouse_profile, transport_scale
 from ...validation import mao
-from .record import ScourRecord, streamlines_event, water_velocity
 from .common import NAME, add_pipe, geometry, initial_bed, log_law, profile_time
+from .record import ScourRecord, streamlines_event, water_velocity
 
 APPROACH = 2.0   # the far field: the approach flow from the inflow zone's end to this many D before the pipe
 

@@ -5,7 +5,7 @@ import types
 
 import numpy as np
 
-from ...constants import G, KAPPA
+from ...constants import KAPPA, G
 from ...particles import WALL
 from ...validation import mao
 

@@ -5,12 +5,12 @@ import os
 
 import numpy as np
 
-from ...constants import G, KAPPA
+from ...constants import KAPPA, G
 from ...io import write_csv, write_station_rows
-from ...particles import FLUID
 from ...measure.control import PIDrive
 from ...measure.field import surface_heights
 from ...measure.plots import pyplot, save
+from ...particles import FLUID
 from ...profiles import streamlines_png
 from ...sediment.transport import transport_scale
 

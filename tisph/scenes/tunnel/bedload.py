@@ -5,18 +5,17 @@ import warnings
 
 import numpy as np
 
-from ...constants import G
-from ...config import physics_from_config
-from ...io import write_station_rows
-from ...particles import ParticleSet, density_from_pressure, tait_B, FLUID
-from ...ripples import (last_finite, periodic_ripples as ripples_counted,
-                       ripple_band, unresolved, warn_unresolved, wiberg_harris)
 from ...case import make_case
-from ...runner import common_params, sound_speed
+from ...config import physics_from_config
+from ...constants import G
+from ...io import write_station_rows
 from ...measure.ripple_plots import plot_bed, plot_growth
+from ...particles import FLUID, ParticleSet, density_from_pressure, tait_B
+from ...ripples import last_finite, ripple_band, unresolved, warn_unresolved, wiberg_harris
+from ...ripples import periodic_ripples as ripples_counted
+from ...runner import common_params, sound_speed
 from ...sediment import coupling, initial
 from ...sediment.morfac import warn_fast_bed
-
 from .drive import BED_PERIODS, CREST_SPEED, TunnelDrive, seed_count, seed_rms, turnover_periods
 
 

@@ -2,9 +2,8 @@
 rate (the random bed's roughness, the seeded ripples, the turnover against the calibration tunnel)."""
 import math
 
-
-from ...particles import FLUID
 from ...measure.control import PIDrive
+from ...particles import FLUID
 from ...sediment import initial, morfac
 from ...sediment.morfac import bed_turnover
 

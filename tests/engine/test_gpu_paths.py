@@ -1,0 +1,37 @@
+"""The engine's GPU paths, run on the CPU: with the CPU-only choices turned off (byte-sized
+flags, block maxima without atomics, serialised light loops, each pair once) a step gives the
+same state bit for bit as the CPU's gather pass (and each pair once gives it to rounding,
+tests/engine/test_pair_once.py), so a GPU build differs from the CPU build only in rounding."""
+import os
+
+import numpy as np
+
+from tisph import runtime
+from tisph.engine import grid, state
+from tisph.engine.solver import Solver
+from tisph.runner import Log, build_case, resolve
+from tisph.scenes import dam_break
+
+
+def _run(steps, **params):
+    cfg = resolve(dam_break, overrides={"numerics.dx": 0.04, "output.quiet": True})
+    case = build_case(dam_break, cfg, Log(os.devnull, True))
+    s = Solver(case.physics, case.particles, case.materials, case.domain, dict(case.params, **params))
+    for _ in range(steps):
+        s.step()
+    return s, s.state(("x", "v", "rho", "kind"))
+
+
+def test_gpu_layout_and_atomic_maxima_give_the_cpu_state(monkeypatch):
+    runtime.init("cpu", "f32")
+    cpu, a = _run(60, pair_once=False)
+    assert cpu.cpu and cpu.nblk >= min(cpu.n, 1024)   # 1,024 blocks or more: every thread takes a share
+    monkeypatch.setattr(state, "on_cpu", lambda: False)
+    monkeypatch.setattr(grid, "on_cpu", lambda: False)
+    gpu, b = _run(60)
+    assert not gpu.cpu and gpu.blk == 1 and gpu.pair_once is None and gpu.grid.fdtype != cpu.grid.fdtype
+    assert gpu.p.kind.dtype != cpu.p.kind.dtype
+    assert gpu.time == cpu.time and gpu.max_density_error == cpu.max_density_error
+    for k in ("x", "v", "rho"):
+        assert np.array_equal(a[k], b[k]), k
+    assert np.array_equal(a["kind"].astype(int), b["kind"].astype(int))
