@@ -21,12 +21,12 @@ from typing import Any
 import numpy as np
 
 from . import registry as scenes
-from .config import ConfigError, read_toml, set_path
 from .describe import describe
 from .geometry import Circle, Polygon, Polyline
 from .io import load, read_csv, snapshot_files
 from .runner import output_dir, resolve, simulate
 from .runner.reading import resolved_notes
+from .settings.config import ConfigError, read_toml, set_path
 
 SCENES = scenes.names()
 

@@ -15,9 +15,9 @@ import dataclasses
 import sys
 from typing import Callable
 
-from .config import Physics
 from .errors import ConfigError
-from .schema import choices, ranges, values
+from .settings.config import Physics
+from .settings.schema import choices, ranges, values
 
 
 @dataclasses.dataclass
@@ -113,7 +113,7 @@ class Scene:
     scenes` lists. Override what the scene needs:
 
       NAME        its name, as registered
-      SCHEMA      its keys (tisph/schema.py's Keys) laid on the shared ones
+      SCHEMA      its keys (tisph/settings/schema.py's Keys) laid on the shared ones
       DEPARTS     {numerics key: why} where it leaves its scheme (tests/engine/test_schemes.py)
       ELEMENTS    the keys of each entry of its lists of tables (a case of one's own: [[solid]])
       derive(cfg, given) -> ({dotted key: value}, notes): values it chooses for keys the user left

@@ -19,8 +19,8 @@ import re
 import sys
 
 from . import registry
-from .config import read_toml
 from .errors import ConfigError
+from .settings.config import read_toml
 
 
 def scene_line(scene, width=100):

@@ -1,16 +1,16 @@
 """`python -m tisph.scenes.NAME --describe`: every config key of a scene with its default, what is
-allowed and what it means, read from the scene's SCHEMA and the shared keys (tisph/schema.py's
+allowed and what it means, read from the scene's SCHEMA and the shared keys (tisph/settings/schema.py's
 Key: default, unit, range or choices, words), so it cannot go stale.
 """
 import os
 import sys
 
-from . import config, schema
 from .case import as_scene
-from .config import CHOICES, MATERIAL_CHOICES, MATERIAL_RANGES, RANGES, describe_range
 from .io import ensure_dir, write_text
 from .registry import scenes as registered
-from .shared_keys import MATERIAL, SHARED, TURBULENCE
+from .settings import config, schema
+from .settings.config import CHOICES, MATERIAL_CHOICES, MATERIAL_RANGES, RANGES, describe_range
+from .settings.shared_keys import MATERIAL, SHARED, TURBULENCE
 
 
 def words(scene):

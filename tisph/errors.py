@@ -1,5 +1,5 @@
 """Bad input: the error that names the key, the value and what is allowed (every error at once
-where several are found). tisph.config re-exports it; it sits below everything that raises it."""
+where several are found). tisph.settings.config re-exports it; it sits below everything that raises it."""
 
 
 class ConfigError(ValueError):

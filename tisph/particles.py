@@ -5,7 +5,7 @@ import os
 
 import numpy as np
 
-from .config import ConfigError
+from .settings.config import ConfigError
 
 FLUID, WALL, MOVING, BED = 0, 1, 2, 3   # BED: boundary particles of a morphodynamic bed (they follow z_b)
 # parked: left the domain (a leak), left through an open boundary, or torn off as spray and removed

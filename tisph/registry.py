@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import importlib
 
-from .config import ConfigError
+from .settings.config import ConfigError
 
 # name -> module: register a new scene here, once
 REGISTRY = {

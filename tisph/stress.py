@@ -12,11 +12,11 @@ import time
 import numpy as np
 
 from .case import make_case
-from .config import ConfigError, physics_from_config
 from .io import OutputError, ensure_dir, write_csv, write_text
 from .particles import FLUID, WALL, ParticleSet, box_walls, tait_B
 from .runner import common_params, simulate, sound_speed
 from .scenes import dam_break, tank
+from .settings.config import ConfigError, physics_from_config
 
 
 def _variant(base, name, build):

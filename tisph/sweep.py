@@ -25,10 +25,10 @@ import sys
 import time
 
 from . import registry as scenes
-from .config import ConfigError, tomllib
 from .io import OutputError, ensure_dir, write_csv, write_json, write_text
 from .measure.plots import pyplot, save
 from .runner import resolve, simulate
+from .settings.config import ConfigError, tomllib
 
 CASE_FILE = "sweep_case.json"   # what a case folder was run with: --resume compares it
 

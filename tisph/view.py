@@ -22,10 +22,10 @@ import numpy as np
 
 from . import registry as scenes
 from .case import Picture
-from .config import ConfigError, flatten, tomllib
 from .io import OPTIONAL, SNAPSHOT_FIELDS, OutputError, ensure_dir, load, load_attrs, snapshot_files
 from .particles import BED
 from .runner import resolve
+from .settings.config import ConfigError, flatten, tomllib
 from .viz.files import MovieWriter, write_png
 from .viz.live import LiveWindow, display_problem
 from .viz.render import FIELDS, STATE, make_renderer

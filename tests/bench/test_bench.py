@@ -371,7 +371,7 @@ def test_waves_bench_builds_dualsphysics_flume_and_reads_its_gauges(tmp_path):
     lattice, c0 as asked; the SWL records go through the flume scene's window and height."""
     import xml.etree.ElementTree as ET
 
-    from tisph.bench import waves
+    from tisph.bench import flume_peers as waves
     f = waves.flume_setup(0.0125)
     xml, info = waves.flume_xml(0.0125, 9.6, f, waves.MATCHED)
     root = ET.fromstring(xml)

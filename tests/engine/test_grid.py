@@ -2,9 +2,9 @@
 import numpy as np
 import pytest
 
-from tisph.config import Physics
 from tisph.engine.solver import Solver
 from tisph.particles import WALL, ParticleSet
+from tisph.settings.config import Physics
 
 
 def make_solver(x, lo, hi, h):

@@ -1,9 +1,9 @@
 """A tank at rest keeps hydrostatic pressure, stays still and keeps its water, for both wall types."""
 import pytest
 
-from tisph.resolved import freeze
 from tisph.runner import simulate
 from tisph.scenes import tank
+from tisph.settings.resolved import freeze
 
 # the tank's numerics before the default scheme: cubic h = 1.3 dx, dynamic walls, alpha 0.1
 CUBIC = {"numerics.scheme": "paper000", "numerics.h_factor": 1.3, "numerics.artificial_viscosity": 0.1,
@@ -33,10 +33,10 @@ def test_extrapolated_wall_carries_the_hydrostatic_pressure_below_the_water():
     rho g (d + dx/2) and the side wall's particles the water's pressure at their depth."""
     import numpy as np
 
-    from tisph.config import build_config
     from tisph.constants import G
     from tisph.engine.solver import Solver
     from tisph.particles import FLUID
+    from tisph.settings.config import build_config
     cfg = freeze(build_config(tank.SCENE.DEFAULTS, None, {"numerics.wall": "adami", "numerics.dx": 0.025,
                                              "numerics.wall_layers": 3}))
     case = tank.SCENE.build(cfg)

@@ -1,11 +1,11 @@
-"""The numerics schemes (tisph/schemes.py): every scene on its scheme but for the departures it
+"""The numerics schemes (tisph/settings/schemes.py): every scene on its scheme but for the departures it
 names, a scheme named in a case file, and the extrapolated wall's guard against penetration."""
 import numpy as np
 import pytest
 
 from tisph.registry import REGISTRY, load
 from tisph.runner import resolve
-from tisph.schemes import SCHEME_KEYS, SCHEMES
+from tisph.settings.schemes import SCHEME_KEYS, SCHEMES
 
 
 @pytest.mark.parametrize("name", sorted(REGISTRY))
@@ -39,8 +39,8 @@ def test_a_scheme_named_in_a_case_sets_the_keys_it_leaves_unset():
 
 
 def test_an_unknown_scheme_is_refused_with_the_choices():
-    from tisph.config import ConfigError
     from tisph.scenes import dam_break
+    from tisph.settings.config import ConfigError
     with pytest.raises(ConfigError, match="paper000"):
         resolve(dam_break, {"numerics": {"scheme": "fast"}})
 

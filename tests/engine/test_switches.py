@@ -5,13 +5,13 @@ compile and run them."""
 import numpy as np
 import pytest
 
-from tisph.config import Physics, build_config, physics_from_config
 from tisph.engine.registry import MODULES
 from tisph.engine.solver import Solver
 from tisph.hooks.module import HOOKS
 from tisph.particles import FLUID, MOVING, WALL, ParticleSet
-from tisph.resolved import freeze
 from tisph.scenes import dam_break
+from tisph.settings.config import Physics, build_config, physics_from_config
+from tisph.settings.resolved import freeze
 
 DX = 0.01
 SOLVER_ARGS = ("outflow", "container")   # switches that are solver arguments, not Physics fields

@@ -7,10 +7,10 @@ A term's part is the difference between the solver with it and without it.
 import numpy as np
 import pytest
 
-from tisph.config import Physics
 from tisph.engine.kernels import get_kernel
 from tisph.engine.solver import Solver
 from tisph.particles import FLUID, WALL, ParticleSet
+from tisph.settings.config import Physics
 
 DX, RHO0, C0 = 0.01, 1000.0, 20.0
 B = RHO0 * C0 ** 2 / 7.0

@@ -100,9 +100,9 @@ def test_newtonian_tank_compiles_no_rheology(tmp_path):
 def _heap_case(tau, unyielded="rest"):
     """A block of Bingham material, 0.3 m wide and 0.15 m high, released on a floor in air."""
     from tisph.case import Scene, make_case
-    from tisph.config import physics_from_config
     from tisph.particles import FLUID, WALL, ParticleSet, block, box_walls, hydrostatic_density, tait_B
     from tisph.runner import common_params
+    from tisph.settings.config import physics_from_config
     defaults = {"run": {"end_time": 0.4},
                 "numerics": {"dx": 0.01, "artificial_viscosity": 0.1, "density_diffusion": "fourtakas"},
                 "materials": {"mud": {"rho0": 1950.0, "viscosity": 0.1, "rheology": "bingham",

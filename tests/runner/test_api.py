@@ -23,7 +23,7 @@ def test_the_worked_example_of_docs_api_runs(tmp_path, monkeypatch):
 
 def test_a_bad_key_is_a_config_error_naming_it():
     import tisph
-    from tisph.config import ConfigError
+    from tisph.settings.config import ConfigError
     case = tisph.Case.from_toml(os.path.join(ROOT, "scenes", "dam_break_custom.toml"))
     case.set("numerics.dxx", 0.02)
     with pytest.raises(ConfigError, match="numerics.dxx"):

@@ -9,9 +9,9 @@ import numpy as np
 import pytest
 
 from tisph.cli import FLAG_KEYS, make_parser, overrides_from_args
-from tisph.config import build_config
-from tisph.resolved import freeze
 from tisph.scenes import dam_break
+from tisph.settings.config import build_config
+from tisph.settings.resolved import freeze
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
@@ -103,7 +103,7 @@ def test_rendered_run_writes_frames_and_movie(tmp_path):
 
 
 def test_frame_shows_water_where_the_column_stands():
-    from tisph.config import build_config
+    from tisph.settings.config import build_config
     from tisph.viz.render import Renderer, colormap
     from tisph.viz.style import Style
     cfg = freeze(build_config(dam_break.SCENE.DEFAULTS, None, {"numerics.dx": 0.05}))
@@ -132,7 +132,7 @@ def test_frame_shows_water_where_the_column_stands():
 def test_every_output_field_draws_a_frame(field):
     """output.field: each field colours the fluid; the colour bar of a coloured field spans its
     range, a flat (material) frame has none."""
-    from tisph.config import build_config
+    from tisph.settings.config import build_config
     from tisph.viz.render import Renderer
     from tisph.viz.style import Style
     cfg = freeze(build_config(dam_break.SCENE.DEFAULTS, None, {"numerics.dx": 0.05}))
@@ -172,8 +172,8 @@ def test_every_scene_has_a_current_case_file_of_all_its_keys():
     (python -m tisph.describe --write scenes/defaults). Loaded, it gives the defaults."""
     import tomllib
 
-    from tisph.config import flatten
     from tisph.describe import as_toml, scenes
+    from tisph.settings.config import flatten
     names = []
     for scene in scenes():
         path = os.path.join(ROOT, "scenes", "defaults", f"{scene.NAME}.toml")

@@ -3,9 +3,9 @@ import os
 
 import pytest
 
-from tisph.config import ConfigError, build_config, dump_toml, merge, read_toml
-from tisph.resolved import freeze
 from tisph.scenes import dam_break, tank
+from tisph.settings.config import ConfigError, build_config, dump_toml, merge, read_toml
+from tisph.settings.resolved import freeze
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
@@ -69,8 +69,8 @@ def test_every_bad_key_is_reported_at_once(tmp_path):
 
 
 def test_summary_says_why_laminar_viscosity_is_on_when_the_config_says_off():
-    from tisph.config import physics_from_config
     from tisph.runner.summary import physics_notes
+    from tisph.settings.config import physics_from_config
     cfg = freeze(build_config(tank.SCENE.DEFAULTS, None, {"geometry.sediment_depth": 0.2, "numerics.laminar_viscosity": False}))
     assert cfg["numerics"]["laminar_viscosity"] is False
     ph = physics_from_config(cfg)
@@ -83,10 +83,10 @@ def test_every_keyed_module_parameter_reaches_the_solver():
     """A module's Param with a config key is passed to the solver from that key (a key the scenes
     did not pass ran at its default: numerics.stress_limiter, found by a bench that changed nothing)."""
     from tisph.engine.state import PARAM_ALIASES
-    from tisph.hooks.keys import KEYED
     from tisph.runner import resolve
     from tisph.runner.setup import common_params
     from tisph.scenes import pipeline_scour
+    from tisph.settings.engine_keys import KEYED
     cfg = resolve(pipeline_scour, None, {"numerics.turbulence": "k_equation", "numerics.stress_limiter": 0.5,
                                          "numerics.mixing_length": 0.003, "numerics.delta": 0.05})
     prm = common_params(cfg, 10.0)

@@ -12,10 +12,10 @@ import numpy as np
 import pytest
 
 from tisph import io as tio
-from tisph.config import tomllib
-from tisph.resolved import freeze
 from tisph.runner import simulate
 from tisph.scenes import dam_break
+from tisph.settings.config import tomllib
+from tisph.settings.resolved import freeze
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 FAST = {"numerics.dx": 0.06, "output.render": False, "output.quiet": True}

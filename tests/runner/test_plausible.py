@@ -5,11 +5,11 @@ import math
 
 import pytest
 
-from tisph.config import ConfigError
 from tisph.measure.gauges import WaveGauges
 from tisph.runner import resolve
 from tisph.runner.setup import build_case
 from tisph.scenes import beach, flume, tunnel
+from tisph.settings.config import ConfigError
 from tisph.waves import theory as wm
 
 
@@ -92,7 +92,7 @@ def test_gauges_on_dry_land_are_warned_about_and_report_no_height():
 def test_a_wave_height_is_named_as_written_with_the_centimetre_guess():
     """A height the user gave is what the message names (not the stroke derived from it, with its
     round-off), and a height in centimetres is guessed as such."""
-    from tisph.config import ConfigError
+    from tisph.settings.config import ConfigError
     with pytest.raises(ConfigError) as e:
         resolve(flume, None, {"paddle.wave_height": 5.0})
     assert e.value.field == "paddle.wave_height" and "looks like centimetres" in str(e.value)

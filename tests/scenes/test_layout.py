@@ -1,5 +1,5 @@
 """The package's layout shows its architecture: no import cycle between tisph's modules, no
-private name imported from another module, and tisph.config usable without Taichi."""
+private name imported from another module, and tisph.settings.config usable without Taichi."""
 import ast
 import os
 import subprocess
@@ -80,7 +80,7 @@ def test_no_private_name_imported_from_another_module():
 
 
 def test_config_imports_without_taichi():
-    code = "import sys, tisph.config, tisph.describe; print('taichi' in sys.modules)"
+    code = "import sys, tisph.settings.config, tisph.describe; print('taichi' in sys.modules)"
     r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT)
     assert r.returncode == 0, r.stderr
     assert r.stdout.strip() == "False"

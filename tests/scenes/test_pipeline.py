@@ -7,10 +7,10 @@ import numpy as np
 import pytest
 import taichi as ti
 
-from tisph.config import Physics
 from tisph.engine.solver import Solver
 from tisph.particles import FLUID, ParticleSet, block, tait_B
 from tisph.runner import run_scene
+from tisph.settings.config import Physics
 from tisph.terms.sps import CI, CS, sps_stress
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))

@@ -1,4 +1,4 @@
-"""The scene contract (tisph/case.py) and the resolved case (tisph/resolved.py): a new scene
+"""The scene contract (tisph/case.py) and the resolved case (tisph/settings/resolved.py): a new scene
 is one class plus one registry line, a new key is one Key in its SCHEMA, and the case a scene
 sees is resolved once and frozen."""
 import dataclasses
@@ -9,20 +9,20 @@ import textwrap
 import pytest
 
 from tisph import registry
-from tisph.config import ConfigError
 from tisph.runner import resolve
+from tisph.settings.config import ConfigError
 
 PUDDLE = '''
 """A puddle: still water in a box (a scene written in one class for the contract's test)."""
 import numpy as np
 
 from tisph.case import make_case
-from tisph.config import physics_from_config
+from tisph.settings.config import physics_from_config
 from tisph.particles import ParticleSet, block, box_walls, hydrostatic_density, tait_B, FLUID, WALL
 from tisph.runner import common_params, sound_speed
-from tisph.schema import K, POSITIVE
+from tisph.settings.schema import K, POSITIVE
 from tisph.case import Scene, resolves
-from tisph.schemes import numerics
+from tisph.settings.schemes import numerics
 
 
 class Puddle(Scene):
@@ -122,9 +122,9 @@ def test_every_registered_scene_keeps_the_contract():
 def test_a_key_has_one_default():
     """A key the numerics scheme sets has the default scheme's value as its default everywhere it
     is declared: the shared keys, the engine's runtime parameters and every scene on that scheme."""
-    from tisph.hooks.keys import KEYED
-    from tisph.schemes import DEFAULT, SCHEMES
-    from tisph.shared_keys import SHARED
+    from tisph.settings.engine_keys import KEYED
+    from tisph.settings.schemes import DEFAULT, SCHEMES
+    from tisph.settings.shared_keys import SHARED
     for key, value in SCHEMES[DEFAULT].items():
         assert SHARED["numerics"][key].default == value, key
         if f"numerics.{key}" in KEYED:

@@ -328,9 +328,9 @@ def test_velocity_at_is_the_shepard_sph_interpolation():
 def _sampling_solver(**physics):
     """Fluid with random velocities, jittered, over a wall row, periodic in x; its state read
     with the particles copied one period left and right (the images the solver sees)."""
-    from tisph.config import Physics
     from tisph.engine.solver import Solver
     from tisph.particles import FLUID, WALL, ParticleSet
+    from tisph.settings.config import Physics
     rng = np.random.default_rng(5)
     dx, h, L = 0.01, 0.013, 0.4
     g = np.stack(np.meshgrid(np.arange(0.5 * dx, L, dx), np.arange(0.05, 0.15, dx)), -1).reshape(-1, 2)

@@ -2,8 +2,8 @@
 import numpy as np
 import pytest
 
-from tisph.config import build_config
-from tisph.resolved import freeze
+from tisph.settings.config import build_config
+from tisph.settings.resolved import freeze
 from tisph.sweep import scene_named
 from tisph.viz.render import Renderer, make_renderer, nice_ticks
 from tisph.viz.style import Style

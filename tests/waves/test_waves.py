@@ -10,11 +10,11 @@ from tisph.engine.solver import Solver
 from tisph.io import read_station_rows
 from tisph.measure.records import crossing_period_and_level
 from tisph.particles import FLUID, MOVING
-from tisph.resolved import freeze
 from tisph.ripples import orbital_diameter, ripple_stats, wiberg_harris
 from tisph.runner import Log, build_case, resolve, simulate
 from tisph.scenes import beach, flume, tunnel
 from tisph.scenes.beach import bedload as beach_bed
+from tisph.settings.resolved import freeze
 from tisph.waves import irregular
 from tisph.waves import theory as wm
 from tisph.waves.motion import Motion
@@ -496,7 +496,7 @@ def test_the_paddle_check_reads_the_config_and_the_resolved_stroke_is_said_in_ru
     resolve_paddle, a resolved value, and run.log says where it came from."""
     import copy
 
-    from tisph.config import build_config
+    from tisph.settings.config import build_config
     from tisph.waves.paddle import check_paddle, stroke_for
     cfg = freeze(build_config(flume.SCENE.DEFAULTS, None, {"paddle.wave_height": 0.05}, flume.SCENE.RANGES, flume.SCENE.CHOICES))
     before = copy.deepcopy(cfg)
@@ -515,7 +515,7 @@ def test_waves_asked_for_by_height_get_biesels_stroke():
     """paddle.wave_height sets the stroke through Biesel's first-order transfer of the paddle type
     at the case's kh; a stroke beside it, a height whose stroke passes the depth, or a height
     with a spectrum are refused by name."""
-    from tisph.config import ConfigError
+    from tisph.settings.config import ConfigError
     for kind in ("piston", "flap"):
         cfg = resolve(flume, None, {"paddle.wave_height": 0.05, "paddle.type": kind, "paddle.period": 1.2})
         _, k, _, _, ratio = wm.linear_wave(cfg, cfg["geometry"]["depth"])
@@ -645,7 +645,7 @@ def test_paddle_duration_ramps_down_and_stops():
 
 
 def test_absorbing_paddle_is_refused_where_its_target_is_not_defined(tmp_path):
-    from tisph.config import ConfigError
+    from tisph.settings.config import ConfigError
     for ov in ({"paddle.series": "x.csv"}, {"paddle.order": 2}):
         with pytest.raises(ConfigError, match="paddle.absorb"):
             resolve(flume, None, dict(ov, **{"paddle.absorb": True}))

@@ -6,9 +6,9 @@ import taichi as ti
 
 from ..constants import KAPPA
 from ..hooks.health import BAD_SPILL, BAD_SPRAY, BAD_WALL, report
-from ..hooks.keys import KEYED
 from ..hooks.module import MatParam, Module, Param
 from ..particles import FLUID, SPRAY
+from ..settings.engine_keys import KEYED
 
 
 @ti.data_oriented

@@ -19,7 +19,7 @@ from ..physics.fluid import (
     Shifting,
     VelocityGradient,
 )
-from ..physics.sediment import DEM, Drag, Rheology
+from ..physics.grains import DEM, Drag, Rheology
 from ..physics.shepard import Shepard
 from ..physics.suspension import Suspension
 from ..physics.turbulence import SPS, TKE, Omega

@@ -25,13 +25,12 @@ The step's loops, in order:
      boundary particles' own pass (dynamic walls)
   6. the next time step (engine/limits.py)
 """
-import numpy as np
 import taichi as ti
 
-from ..config import Physics
 from ..hooks.health import BAD_DENSITY, BAD_LEAK, BAD_NONE, fluid_code, report
 from ..hooks.module import HOOKS
 from ..particles import FLUID, MOVING, OUT, OUTFLOW
+from ..settings.config import Physics
 from ..terms.pressure import tait
 from . import pairs
 from . import state as st_mod
@@ -70,6 +69,23 @@ class Solver(SolverAPI):
             big = 1e30   # float32-safe stand-in for an open side
             self.container = (max(x0 - tol, -big), max(y0 - tol, -big), min(x1 + tol, big),
                               min(y1 + tol, big), min(top[0] if top else big, big))
+        self._build_fields(physics, domain)
+        self._build_tables(params, materials)
+        st_mod.load_particles(self.p, particles, self.np_real)
+        for m in self.modules:
+            m.setup(self)
+        self._reset_stats()
+        self.steps = 0
+        self.time = 0.0
+        self.rhodev_sum, self.rhodev_n, self.rhodev_p999 = 0.0, 0, 0.0   # the probe samples' (access.py)
+        self._primed = False
+        self._dt = None          # the next step's dt as the step kernel logged it (None: read prm)
+        self.health = BAD_NONE   # the health code the last batch of steps read back
+        self.health_read = False   # whether the last step_ahead read it (a single step: every 10th)
+
+    def _build_fields(self, physics, domain):
+        """The kernel's constants, the enabled modules and their hooks, the particle fields (the
+        state and its sorted copy) and the cell grid."""
         self.K = get_kernel(physics.kernel)
         self.real = ti.lang.impl.get_runtime().default_fp
         self.np_real = st_mod.float_type(self.real)
@@ -78,7 +94,6 @@ class Solver(SolverAPI):
         self.w_scale = self.K.sigma / self.h ** 2
         self.g_scale = self.K.sigma / self.h ** 4
         self.eta2 = 0.01 * self.h * self.h
-
         self.modules = enabled_modules(self)
         self.hooks = {k: [m for m in self.modules if m.has(k)] for k in HOOKS}
         # dual time stepping (physics/dual.py): the advection-rate modules' pair and finish hooks
@@ -101,6 +116,10 @@ class Solver(SolverAPI):
         self.domain = (tuple(float(v) for v in domain[0]), tuple(float(v) for v in domain[1]))
         self.lo, self.hi, self.period = self.grid.lo, self.grid.hi, self.grid.period
         self.support = self.grid.support
+
+    def _build_tables(self, params, materials):
+        """The runtime parameters and material table, the step's maxima and logs, the
+        accumulator's type, the pair-once pass, the modules' own fields."""
         self.param_decl, self.param_values = st_mod.param_struct(self, self.modules, params, self.dx)
         self.cfl = float(self.param_values["cfl"])   # the viscosity cap reads it (materials below)
         mat_writes = st_mod.material_table(self, self.modules, materials)
@@ -146,25 +165,6 @@ class Solver(SolverAPI):
         # where it costs microseconds, the host's, so the CPU's results stay as they were
         self.paddle_series = bool(params.get("paddle_series", not self.cpu))
         self.read_elements = int(params.get("read_elements", READ_ELEMENTS if self.cpu else 0))
-
-        fp = self.np_real
-        self.p.x.from_numpy(particles.x.astype(fp))
-        self.p.v.from_numpy(particles.v.astype(fp))
-        self.p.rho.from_numpy(particles.rho.astype(fp))
-        self.p.m.from_numpy(particles.m.astype(fp))
-        self.p.kind.from_numpy(particles.kind.astype(st_mod.np_dtype(self.p.kind)))
-        self.p.mat.from_numpy(particles.mat.astype(st_mod.np_dtype(self.p.mat)))
-        self.p.id.from_numpy(np.arange(self.n, dtype=np.int32))
-        for m in self.modules:
-            m.setup(self)
-        self._reset_stats()
-        self.steps = 0
-        self.time = 0.0
-        self.rhodev_sum, self.rhodev_n, self.rhodev_p999 = 0.0, 0, 0.0   # the probe samples' (access.py)
-        self._primed = False
-        self._dt = None          # the next step's dt as the step kernel logged it (None: read prm)
-        self.health = BAD_NONE   # the health code the last batch of steps read back
-        self.health_read = False   # whether the last step_ahead read it (a single step: every 10th)
 
     def has_stat(self, name):
         return name in self.stat_decl

@@ -3,9 +3,9 @@ each composed from the declarations of the enabled modules."""
 import numpy as np
 import taichi as ti
 
-from ..hooks.keys import KEYED
 from ..hooks.module import MatParam, Param
 from ..runtime import arch_name
+from ..settings.engine_keys import KEYED
 
 
 def types(real):
@@ -164,3 +164,14 @@ def stats_struct(S, modules):
 
 def float_type(real):
     return np.float64 if real == ti.f64 else np.float32
+
+
+def load_particles(p, particles, fp):
+    """A ParticleSet's initial state into the fields p (fp: the float type); ids in order."""
+    p.x.from_numpy(particles.x.astype(fp))
+    p.v.from_numpy(particles.v.astype(fp))
+    p.rho.from_numpy(particles.rho.astype(fp))
+    p.m.from_numpy(particles.m.astype(fp))
+    p.kind.from_numpy(particles.kind.astype(np_dtype(p.kind)))
+    p.mat.from_numpy(particles.mat.astype(np_dtype(p.mat)))
+    p.id.from_numpy(np.arange(len(particles), dtype=np.int32))

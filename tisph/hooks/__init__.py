@@ -1,3 +1,3 @@
-"""What the engine and its modules agree on, below both: the Module interface and its Param and
-MatParam declarations (module.py), the runtime parameters a config key sets (keys.py, read by
-tisph.config without Taichi), and the health codes a step reports (health.py)."""
+"""What the engine and its modules agree on, below both: the Module interface and its MatParam
+declarations (module.py; Param, a config Key, and the runtime parameters a config key sets are
+in tisph/settings, read without Taichi), and the health codes a step reports (health.py)."""

@@ -40,22 +40,10 @@ Hooks (define only those the module uses; `S` is the solver):
 """
 import dataclasses
 
-from ..schema import Key
+from ..settings.schema import Param  # noqa: F401 (re-exported: the modules declare theirs with it)
 
 HOOKS = ("drift", "move", "boundary_motion", "boundary_kick", "remove", "position_check", "prepare", "init_acc",
          "view", "pair", "pair2", "body_force", "relax", "finish", "boundary_pass", "dt_limit", "after_step")
-
-
-@dataclasses.dataclass(frozen=True)
-class Param(Key):
-    """A runtime parameter: a config Key (tisph/schema.py: the one default, its unit and allowed
-    range) the solver holds in a Taichi struct. A default may be 'dx' (the particle spacing) or a
-    function (S, values) -> value. `key`: the config key that sets it; config.py takes that
-    key's default, range and words from here, so they are written once."""
-    unit: str = "-"
-    range: tuple = (None, None, True, True)
-    vector: bool = False
-    key: str = ""
 
 
 @dataclasses.dataclass(frozen=True)

@@ -6,8 +6,8 @@ continuity, the walls and the artificial viscosity (acoustic damping: its coeffi
 The step kernel splits the sums (engine/solver.py, forces)."""
 import taichi as ti
 
-from ..hooks.keys import KEYED
 from ..hooks.module import Module, Param
+from ..settings.engine_keys import KEYED
 
 
 @ti.data_oriented

@@ -5,9 +5,9 @@ Each pair hook adds neighbour j's contribution to fluid particle i; `nb` is how 
 """
 import taichi as ti
 
-from ..hooks.keys import KEYED
 from ..hooks.module import Module, Param
 from ..particles import FLUID
+from ..settings.engine_keys import KEYED
 from ..terms.continuity import continuity
 from ..terms.diffusion import (
     density_diffusion,

@@ -4,9 +4,9 @@
 import numpy as np
 import taichi as ti
 
-from ..hooks.keys import KEYED
 from ..hooks.module import Module
 from ..particles import FLUID
+from ..settings.engine_keys import KEYED
 from ..terms.sps import sps_accel, sps_stress
 from ..terms.tke import (
     CMU14,

@@ -9,9 +9,9 @@ import json
 import math
 import os
 
-from ..config import ConfigError
 from ..io import ensure_dir, write_csv, write_json, write_text
 from ..measure.convergence import verdict
+from ..settings.config import ConfigError
 from .start import simulate
 
 RATIO = 1.5

@@ -9,9 +9,9 @@ import importlib
 import os
 import time
 
-from ..config import ConfigError
 from ..io import ensure_dir, write_csv, write_text
 from ..measure.ensemble import ensemble_metrics
+from ..settings.config import ConfigError
 from .convergence import QUIET, add_to_summary, fmt, panels
 from .pool import run_all, stages
 from .start import simulate

@@ -5,9 +5,9 @@ import sys
 
 from ..case import as_scene
 from ..cli import make_parser, overrides_from_args
-from ..config import ConfigError
 from ..describe import describe
 from ..io import OutputError
+from ..settings.config import ConfigError
 from .convergence import study as convergence_study
 from .ensemble import check_seeds
 from .ensemble import study as seeds_study

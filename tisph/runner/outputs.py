@@ -9,9 +9,9 @@ import time as time_mod
 import numpy as np
 
 from .. import __version__
-from ..config import ConfigError, dump_toml
-from ..config import tomllib as _toml
 from ..io import SNAPSHOT_FIELDS, OutputError, atomic_path, ensure_dir, load, write_csv, write_snapshot, write_xdmf
+from ..settings.config import ConfigError, dump_toml
+from ..settings.config import tomllib as _toml
 from ..viz.render import STATE
 from .setup import config_changes, run_settings
 

@@ -1,13 +1,13 @@
 """Reading a case: the scene's keys from its defaults, the case file and the flags, checked, then
-the resolving steps and one final check, frozen (tisph/resolved.py)."""
+the resolving steps and one final check, frozen (tisph/settings/resolved.py)."""
 import os
 
 from ..case import as_scene
-from ..config import ConfigError, ConfigErrors, build_config, flatten, raise_collected, read_toml, validate
-from ..plausible import check_materials
-from ..resolved import freeze, thaw
-from ..schemes import apply_scheme
 from ..sediment.coupling import refuse_unused_sediment_keys
+from ..settings.config import ConfigError, ConfigErrors, build_config, flatten, raise_collected, read_toml, validate
+from ..settings.plausible import check_materials
+from ..settings.resolved import freeze, thaw
+from ..settings.schemes import apply_scheme
 
 
 def given_keys(config, overrides):
@@ -19,7 +19,7 @@ def given_keys(config, overrides):
 
 
 def resolve(scene, config=None, overrides=None):
-    """The resolved case of a scene (tisph/resolved.py): defaults <- TOML <- overrides, checked;
+    """The resolved case of a scene (tisph/settings/resolved.py): defaults <- TOML <- overrides, checked;
     then the resolving steps, each a pure function of the case so far that returns the values it
     chooses and run.log's line on each (the scheme a case file named, what the scene derives for a
     key the user left at its default: the tunnel's dx and morfac, the paddle's stroke for a wave

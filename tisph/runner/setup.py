@@ -9,7 +9,7 @@ import numpy as np
 from ..hooks.errors import SimulationError, unstable  # noqa: F401  (the runner's: re-exported)
 from ..io import OutputError, write_text
 from ..particles import KIND_NAMES, RUN_BYTES_PER_PARTICLE, check_fits
-from ..resolved import thaw
+from ..settings.resolved import thaw
 
 
 def sound_speed(cfg, u_max, depth=0.0, g=9.81):

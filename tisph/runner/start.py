@@ -3,10 +3,10 @@ its build and its time loop."""
 import os
 
 from ..case import as_scene
-from ..config import ConfigError, check_file, dump_toml
 from ..io import OutputError, ensure_dir
 from ..particles import FLUID
-from ..shared_keys import check_rules
+from ..settings.config import ConfigError, check_file, dump_toml
+from ..settings.shared_keys import check_rules
 from ..viz.live import display_problem
 from .loop import Run
 from .reading import resolve

@@ -17,13 +17,13 @@ from functools import partial
 import numpy as np
 
 from ..case import Scene, make_case, resolves
-from ..config import ConfigError, physics_from_config
 from ..constants import G
 from ..particles import FLUID, OUTFLOW, WALL, ParticleSet, block, hydrostatic_density, tait_B, wall_density
 from ..profiles import depth_profile, plot_profiles, write_profile
 from ..runner import common_params, run_scene, sound_speed
-from ..schema import NON_NEGATIVE, POSITIVE, K
-from ..schemes import numerics
+from ..settings.config import ConfigError, physics_from_config
+from ..settings.schema import NON_NEGATIVE, POSITIVE, K
+from ..settings.schemes import numerics
 from ..validation import martin_moyce, shallow_water
 
 

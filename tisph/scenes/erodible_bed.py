@@ -22,15 +22,15 @@ from functools import partial
 import numpy as np
 
 from ..case import Scene, make_case, resolves
-from ..config import ConfigError, physics_from_config
 from ..constants import G
 from ..io import write_csv
 from ..measure.field import surface_heights
 from ..measure.plots import pyplot, save
 from ..particles import FLUID, WALL, ParticleSet, block, density_from_pressure, tait_B
 from ..runner import common_params, run_scene, sound_speed
-from ..schema import POSITIVE, K
-from ..schemes import numerics
+from ..settings.config import ConfigError, physics_from_config
+from ..settings.schema import POSITIVE, K
+from ..settings.schemes import numerics
 from ..viz.render import SAND
 
 PROFILE_TIMES = (0.25, 0.5, 0.75)
@@ -55,7 +55,7 @@ class ErodibleBed(Scene):
     """Dam break over an erodible bed (paper 000 section 4.3, Tables 3-4, Figs. 12-16)."""
     NAME = "erodible_bed"
 
-    # where the scene departs from its scheme (tisph/schemes.py), and why
+    # where the scene departs from its scheme (tisph/settings/schemes.py), and why
     DEPARTS = {"xsph": "Table 3's XSPH factor, 0.07",
                "h_factor": "h = 1.3 dx and alpha 0.1 hold the sand's Bingham impact at the gate (the dam break's "
                            "stable set before the one scheme)",

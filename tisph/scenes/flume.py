@@ -28,17 +28,17 @@ from functools import partial
 import numpy as np
 
 from ..case import Scene, make_case, resolves
-from ..config import ConfigError, physics_from_config
 from ..constants import G
 from ..io import write_csv
 from ..measure import harmonics, records
 from ..measure.gauges import WaveGauges
 from ..measure.plots import pyplot, save
 from ..particles import FLUID, MOVING, WALL, ParticleSet, block, hydrostatic_density, tait_B, wall_density
-from ..plausible import warn_waves, warn_window
 from ..runner import common_params, run_scene, sound_speed
-from ..schema import NON_NEGATIVE, POSITIVE, K
-from ..schemes import numerics
+from ..settings.config import ConfigError, physics_from_config
+from ..settings.plausible import warn_waves, warn_window
+from ..settings.schema import NON_NEGATIVE, POSITIVE, K
+from ..settings.schemes import numerics
 from ..waves import theory
 from ..waves.absorb import with_control
 from ..waves.irregular import IRREGULAR, spectrum

@@ -13,7 +13,6 @@ from functools import partial
 import numpy as np
 
 from ..case import Scene, make_case, resolves
-from ..config import ConfigError, physics_from_config
 from ..constants import G
 from ..particles import (
     FLUID,
@@ -27,8 +26,9 @@ from ..particles import (
     tait_B,
 )
 from ..runner import common_params, run_scene, sound_speed
-from ..schema import NON_NEGATIVE, POSITIVE, K
-from ..schemes import numerics
+from ..settings.config import ConfigError, physics_from_config
+from ..settings.schema import NON_NEGATIVE, POSITIVE, K
+from ..settings.schemes import numerics
 
 
 def layer_pressure_errors(x, p, dx, rho0, g=G, skip_top=2, expected=None):

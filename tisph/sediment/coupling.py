@@ -17,10 +17,10 @@ import dataclasses
 
 import numpy as np
 
-from ..config import ConfigError, raise_collected
 from ..constants import SQRT_CMU, G
 from ..hooks.errors import SimulationError, unstable
-from ..schema import K, choices, ranges, values
+from ..settings.config import ConfigError, raise_collected
+from ..settings.schema import K, choices, ranges, values
 from .bed import Bed, Sand
 from .lee import lee_vortex_shear, lee_zones, vortex_throw
 from .outer import Window, outer_heights, outer_scale

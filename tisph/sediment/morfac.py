@@ -12,8 +12,8 @@ import functools
 import math
 import warnings
 
-from ..materials import WATER
 from ..ripples import wiberg_harris
+from ..settings.materials import WATER
 from . import coupling
 from .transport import ripple_turnover_periods
 

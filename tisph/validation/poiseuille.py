@@ -13,12 +13,12 @@ import sys
 import numpy as np
 
 from ..case import Scene, make_case, resolves
-from ..config import ConfigError, physics_from_config
 from ..particles import FLUID, WALL, ParticleSet, block, tait_B
 from ..profiles import plot_profiles, write_profile
 from ..runner import common_params, run_scene, sound_speed
-from ..schema import POSITIVE, K
-from ..schemes import numerics
+from ..settings.config import ConfigError, physics_from_config
+from ..settings.schema import POSITIVE, K
+from ..settings.schemes import numerics
 
 
 def exact(y, G, b, mu_p, tau_y=0.0):
@@ -43,7 +43,7 @@ class Poiseuille(Scene):
     """Plane Poiseuille flow, Newtonian or Bingham: an exact check of the viscous and rheology terms."""
     NAME = "poiseuille"
 
-    # where the scene departs from its scheme (tisph/schemes.py), and why
+    # where the scene departs from its scheme (tisph/settings/schemes.py), and why
     DEPARTS = {"density_diffusion": "Molteni's term: a periodic channel without gravity has no hydrostatic part to "
                                     "remove"}
 

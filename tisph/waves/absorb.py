@@ -29,8 +29,8 @@ import math
 
 import numpy as np
 
-from ..config import ConfigError
 from ..measure.field import surface_at
+from ..settings.config import ConfigError
 from .irregular import irregular_elevation
 from .theory import linear_wave
 

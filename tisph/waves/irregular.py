@@ -5,9 +5,9 @@ import math
 
 import numpy as np
 
-from ..config import ConfigError
 from ..constants import G
-from ..schema import K, choices, ranges, values
+from ..settings.config import ConfigError
+from ..settings.schema import K, choices, ranges, values
 from .theory import biesel_flap, biesel_piston, wavenumber
 
 IRREGULAR = {

@@ -9,7 +9,7 @@ import math
 
 import numpy as np
 
-from ..config import ConfigError, check_file
+from ..settings.config import ConfigError, check_file
 
 
 class Motion:

@@ -5,12 +5,12 @@ import math
 
 import numpy as np
 
-from ..config import ConfigError
 from ..constants import G
 from ..measure.records import wave_period
 from ..particles import block
-from ..plausible import check_regular_waves, height_guess, unit_guess
-from ..schema import K, choices, ranges, values
+from ..settings.config import ConfigError
+from ..settings.plausible import check_regular_waves, height_guess, unit_guess
+from ..settings.schema import K, choices, ranges, values
 from .absorb import absorbing, check_absorb
 from .irregular import check_irregular, irregular_series
 from .motion import Motion, read_series

@@ -37,10 +37,8 @@ from functools import partial
 import numpy as np
 
 from ...case import Scene, make_case, resolves
-from ...config import ConfigError, physics_from_config
 from ...constants import G
 from ...io import write_csv, write_station_rows
-from ...materials import BINGHAM_SAND, WATER
 from ...measure.field import surface_at, surface_heights
 from ...measure.gauges import WaveGauges
 from ...measure.plots import pyplot, save
@@ -49,9 +47,11 @@ from ...particles import FLUID, MOVING, WALL, ParticleSet, block, density_from_p
 from ...profiles import streamlines_png
 from ...ripples import MIN_HEIGHT_DX, MIN_LENGTH_DX, last_finite, orbital_diameter, ripple_stats, wiberg_harris
 from ...runner import common_params, run_scene, sound_speed
-from ...schema import POSITIVE, K, with_defaults
-from ...schemes import numerics
 from ...sediment import coupling
+from ...settings.config import ConfigError, physics_from_config
+from ...settings.materials import BINGHAM_SAND, WATER
+from ...settings.schema import POSITIVE, K, with_defaults
+from ...settings.schemes import numerics
 from ...viz.render import SAND
 from ...waves.absorb import with_control
 from ...waves.paddle import PADDLE, check_paddle, paddle, stroke_step
@@ -290,7 +290,7 @@ def _streamlines_event(yw, Lf, dx):
 class Beach(Scene):
     """Sand beach in front of a wave maker: waves shoal and break on it and reshape the bed."""
     NAME = "beach"
-    # where the scene departs from its scheme (tisph/schemes.py), and why: breaking waves (below)
+    # where the scene departs from its scheme (tisph/settings/schemes.py), and why: breaking waves (below)
     DEPARTS = {"artificial_viscosity": "breaking waves compress the water without it (below)",
                "artificial_viscosity_surface": "droplets and the swash's film ring without it (below)",
                "laminar_viscosity": "alpha's viscosity is 500 times the water's; the bed was calibrated so"}

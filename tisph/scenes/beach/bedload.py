@@ -14,7 +14,6 @@ import os
 import numpy as np
 
 from ...case import make_case
-from ...config import physics_from_config
 from ...constants import G
 from ...io import write_csv, write_station_rows
 from ...measure.field import surface_at
@@ -22,7 +21,6 @@ from ...measure.gauges import WaveGauges
 from ...measure.plots import pyplot, save
 from ...measure.records import height_at
 from ...particles import BED, FLUID, MOVING, WALL, ParticleSet, block, density_from_pressure, tait_B
-from ...plausible import warn_waves
 from ...ripples import (
     MIN_LENGTH_DX,
     RESOLVED_DX,
@@ -37,6 +35,8 @@ from ...ripples import (
 from ...runner import common_params, sound_speed
 from ...sediment import coupling, initial
 from ...sediment.morfac import bed_turnover, morfac_limit, warn_fast_bed
+from ...settings.config import physics_from_config
+from ...settings.plausible import warn_waves
 from ...waves.absorb import with_control
 from ...waves.paddle import paddle
 from ...waves.theory import linear_wave

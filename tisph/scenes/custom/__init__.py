@@ -17,13 +17,13 @@ from functools import partial
 import numpy as np
 
 from ...case import Scene, make_case
-from ...config import ConfigError, physics_from_config, raise_collected
 from ...measure.records import arrival_time, wave_period
 from ...particles import FLUID, MOVING, WALL, ParticleSet, hydrostatic_density, tait_B, wall_density
-from ...plausible import warn_case_waves, warn_gauges
 from ...runner import common_params, run_scene, sound_speed
-from ...schema import POSITIVE, K, with_defaults
-from ...schemes import numerics
+from ...settings.config import ConfigError, physics_from_config, raise_collected
+from ...settings.plausible import warn_case_waves, warn_gauges
+from ...settings.schema import POSITIVE, K, with_defaults
+from ...settings.schemes import numerics
 from ...waves import paddle as wp
 from ...waves.absorb import with_control
 from ...waves.irregular import IRREGULAR
@@ -232,17 +232,8 @@ class Custom(Scene):
                 sand = SandBed(cfg, sand_site, lay, Still(level, rho0, c0, g), 2 * math.pi / period, h)
                 physics_kw.update(moving_bed=True, materials_used=["water"])
         water = lay.pts[lay.water]
-        col = np.round(water[:, 0] / dx - 0.5).astype(int)
-        col -= col.min()
-        tops = np.full(col.max() + 1, -np.inf)
-        np.maximum.at(tops, col, water[:, 1] + 0.5 * dx)
-        top = tops[col]                      # the surface of each particle's column
+        ps, top = _particles(lay, dx, h, rho0, c0, g)
         still = level if paddle_parts else float(np.median(top))
-        ps = ParticleSet()
-        ps.add(water, FLUID, 0, hydrostatic_density(top - water[:, 1], rho0, c0, g), rho0 * dx * dx,
-               v=lay.velocity[lay.water])
-        walls = lay.pts[lay.wall]
-        ps.add(walls, WALL, 0, wall_density(walls, water, dx, h, rho0, c0, g), rho0 * dx * dx)
         if paddle_parts:
             pts, motion, extra, _ = paddle_parts
             pts = pts + [p.x, 0.0]
@@ -257,30 +248,8 @@ class Custom(Scene):
             physics_kw["damping"] = (a.start, a.end, a.rate)
         pad = 3 * lay.T + 4 * h
         domain = ((box[0] - pad, box[2] - pad), (box[1] + pad, box[3] + pad))
-
-        def wall_side(pts):
-            """Unit vector from each point towards the nearest water particle at the start."""
-            out = np.zeros_like(pts)
-            for k, q in enumerate(pts):
-                d = water - q
-                n = d[np.argmin(np.hypot(d[:, 0], d[:, 1]))]
-                out[k] = n / max(np.hypot(*n), 1e-12)
-            return out
-
-        def depth_at(x):
-            col = lay.column(x)
-            return col[1] - col[0] if col else float("nan")
-
-        warn_gauges(cfg, gauges, depth_at)
-        note = ""
-        if paddle_parts and p.wave_height and not p.series and not p.spectrum:
-            note = (f" (paddle.stroke = {p.stroke:.4g} m: Biesel's for paddle.wave_height = {p.wave_height:g} m "
-                    f"in {level - floor:.4g} m of water)")
-        lay.warn_levels(waters, note)
-        if paddle_parts and not p.series and not p.spectrum:
-            omega, k, _, cgroup, F = linear_wave(cfg, level - floor)
-            warn_case_waves(cfg, F * p.stroke, k, level - floor, [q["x"] - p.x for q in gauges if q["type"] == "surface" and depth_at(q["x"]) > 0],
-                            cgroup, period, arrival_time)
+        wall_side, depth_at = partial(_wall_side, water), partial(_depth_at, lay)
+        _warn(cfg, lay, waters, gauges, depth_at, level - floor if paddle_parts else None, period)
         band = tuple(b / p.tp for b in p.band) if paddle_parts and p.spectrum else None
         cg = CaseGauges(gauges, dx, h, g, wall_side, depth_at, band, load_cutoff(c0, height))
         parts = dict(probe_columns=cg.columns, probe=cg.read, persist=(cg,),
@@ -300,12 +269,9 @@ class Custom(Scene):
             parts["persist"] += (paddle_parts[1],)
         if not paddle_parts:
             parts["speed_scale"] = release_speed(lay, water, u0, g, height)
-        if paddle_parts and not p.series:
-            # colour top: twice the linear surface orbital speed at the paddle, as the flume's
-            depth = level - floor
-            omega, k, _, _, F = linear_wave(cfg, depth)
-            H = p.hs if p.spectrum else F * p.stroke
-            parts["speed_scale"] = H * omega / math.tanh(k * depth)
+        elif not p.series:   # colour top: twice the linear surface orbital speed at the paddle, as the flume's
+            omega, k, _, _, F = linear_wave(cfg, level - floor)
+            parts["speed_scale"] = (p.hs if p.spectrum else F * p.stroke) * omega / math.tanh(k * (level - floor))
         margin = lay.T + dx
         zones = [(min(a.start, a.end), max(a.start, a.end), "absorber")] if "damping" in physics_kw else []
         return make_case(name=self.NAME, particles=ps, materials=[dict(name="water", rho0=rho0,
@@ -315,6 +281,55 @@ class Custom(Scene):
                          view=((box[0] - margin, box[2] - margin), (box[1] + margin, box[3] + margin)),
                          marks=[(q["x"], q["label"]) for q in gauges if q["type"] == "surface"], zones=zones,
                          solid_region=lay.solid_region, **parts)
+
+
+def _warn(cfg, lay, waters, gauges, depth_at, depth, period):
+    """The gauges, the water levels as laid and the paddle's waves (depth: the still water's
+    over the paddle's floor; None: no paddle) warned about before the run."""
+    p = cfg.paddle
+    warn_gauges(cfg, gauges, depth_at)
+    note = ""
+    if depth is not None and p.wave_height and not p.series and not p.spectrum:
+        note = (f" (paddle.stroke = {p.stroke:.4g} m: Biesel's for paddle.wave_height = {p.wave_height:g} m "
+                f"in {depth:.4g} m of water)")
+    lay.warn_levels(waters, note)
+    if depth is not None and not p.series and not p.spectrum:
+        omega, k, _, cgroup, F = linear_wave(cfg, depth)
+        warn_case_waves(cfg, F * p.stroke, k, depth,
+                        [q["x"] - p.x for q in gauges if q["type"] == "surface" and depth_at(q["x"]) > 0],
+                        cgroup, period, arrival_time)
+
+
+def _particles(lay, dx, h, rho0, c0, g):
+    """The water (hydrostatic in its column under the column's surface) and the walls; returns
+    the ParticleSet and each water particle's column surface."""
+    water = lay.pts[lay.water]
+    col = np.round(water[:, 0] / dx - 0.5).astype(int)
+    col -= col.min()
+    tops = np.full(col.max() + 1, -np.inf)
+    np.maximum.at(tops, col, water[:, 1] + 0.5 * dx)
+    top = tops[col]
+    ps = ParticleSet()
+    ps.add(water, FLUID, 0, hydrostatic_density(top - water[:, 1], rho0, c0, g), rho0 * dx * dx,
+           v=lay.velocity[lay.water])
+    walls = lay.pts[lay.wall]
+    ps.add(walls, WALL, 0, wall_density(walls, water, dx, h, rho0, c0, g), rho0 * dx * dx)
+    return ps, top
+
+
+def _wall_side(water, pts):
+    """Unit vector from each point towards the nearest water particle at the start."""
+    out = np.zeros_like(pts)
+    for k, q in enumerate(pts):
+        d = water - q
+        n = d[np.argmin(np.hypot(d[:, 0], d[:, 1]))]
+        out[k] = n / max(np.hypot(*n), 1e-12)
+    return out
+
+
+def _depth_at(lay, x):
+    col = lay.column(x)
+    return col[1] - col[0] if col else float("nan")
 
 
 SCENE = Custom()

@@ -5,10 +5,10 @@ import difflib
 import math
 import os
 
-from ...config import ConfigError
 from ...geometry import read_profile
 from ...measure.gauges import GAUGE_TYPES
-from ...schema import K, values
+from ...settings.config import ConfigError
+from ...settings.schema import K, values
 
 NUM = "a number"
 

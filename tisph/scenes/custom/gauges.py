@@ -4,9 +4,9 @@ import math
 
 import numpy as np
 
-from ...config import ConfigError
 from ...measure import harmonics
 from ...measure.gauges import GaugeSet, case_gauges
+from ...settings.config import ConfigError
 from ...validation import eurotop
 from ...waves.theory import wavenumber
 from .layout import who

@@ -6,8 +6,8 @@ import warnings
 
 import numpy as np
 
-from ...config import ConfigError
 from ...geometry import Circle, Polygon, Polyline, crossings, in_polygon, lattice
+from ...settings.config import ConfigError
 
 AIR, WATER, SOLID, OUTSIDE = 0, 1, 2, 3
 

@@ -11,12 +11,12 @@ import os
 
 import numpy as np
 
-from ...config import ConfigError
 from ...io import write_station_rows
 from ...measure.plots import pyplot, save
 from ...particles import density_from_pressure
-from ...schema import K, values, with_defaults
 from ...sediment import coupling, initial
+from ...settings.config import ConfigError
+from ...settings.schema import K, values, with_defaults
 
 SAND = {
     "x": K([], '[x0, x1] m: the stretch of the sand line that is a bed-load bed; []: no sand'),

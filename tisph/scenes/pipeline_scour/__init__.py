@@ -31,14 +31,14 @@ from functools import partial
 import numpy as np
 
 from ...case import Scene, make_case, resolves
-from ...config import ConfigError, physics_from_config
 from ...constants import G
 from ...particles import FLUID, WALL, ParticleSet, block, density_from_pressure, layered_pressure, tait_B
 from ...runner import common_params, run_scene, sound_speed
-from ...schema import NON_NEGATIVE, POSITIVE, K, with_defaults
-from ...schemes import numerics
 from ...sediment import coupling
-from ...shared_keys import TURBULENCE
+from ...settings.config import ConfigError, physics_from_config
+from ...settings.schema import NON_NEGATIVE, POSITIVE, K, with_defaults
+from ...settings.schemes import numerics
+from ...settings.shared_keys import TURBULENCE
 from ...validation import mao
 from ...viz.render import SAND
 from .bedload import bed_stations, build_bedload, far_field

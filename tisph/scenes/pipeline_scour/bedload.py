@@ -28,7 +28,6 @@ import os
 import numpy as np
 
 from ...case import make_case
-from ...config import ConfigError, physics_from_config
 from ...constants import KAPPA, SQRT_CMU, G
 from ...io import write_csv, write_station_rows
 from ...measure.plots import pyplot, save
@@ -36,6 +35,7 @@ from ...particles import FLUID, ParticleSet, block, density_from_pressure, tait_
 from ...runner import common_params, sound_speed
 from ...sediment import coupling, initial
 from ...sediment.transport import rouse_profile, transport_scale
+from ...settings.config import ConfigError, physics_from_config
 from ...validation import mao
 from .common import NAME, add_pipe, geometry, initial_bed, log_law, profile_time
 from .record import ScourRecord, streamlines_event, water_velocity

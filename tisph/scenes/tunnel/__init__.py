@@ -24,19 +24,19 @@ from functools import partial
 import numpy as np
 
 from ...case import Scene, make_case, resolves
-from ...config import ConfigError, physics_from_config
 from ...constants import G
 from ...io import write_station_rows
-from ...materials import BINGHAM_SAND, WATER
 from ...measure.field import surface_heights
 from ...measure.ripple_plots import plot_bed
 from ...particles import FLUID, WALL, ParticleSet, block, density_from_pressure, layered_pressure, tait_B
 from ...ripples import MIN_HEIGHT_DX, MIN_LENGTH_DX, derive_resolution, last_finite, ripple_stats, wiberg_harris
 from ...runner import common_params, run_scene, sound_speed
-from ...schema import NON_NEGATIVE, POSITIVE, K, with_defaults
-from ...schemes import numerics
 from ...sediment import coupling
 from ...sediment.morfac import CALIBRATION
+from ...settings.config import ConfigError, physics_from_config
+from ...settings.materials import BINGHAM_SAND, WATER
+from ...settings.schema import NON_NEGATIVE, POSITIVE, K, with_defaults
+from ...settings.schemes import numerics
 from ...viz.render import SAND
 from .bedload import build_bedload, near_bed_ratio  # noqa: F401  (near_bed_ratio: the tests read it here)
 from .drive import (  # noqa: F401

@@ -6,7 +6,6 @@ import warnings
 import numpy as np
 
 from ...case import make_case
-from ...config import physics_from_config
 from ...constants import G
 from ...io import write_station_rows
 from ...measure.ripple_plots import plot_bed, plot_growth
@@ -16,7 +15,23 @@ from ...ripples import periodic_ripples as ripples_counted
 from ...runner import common_params, sound_speed
 from ...sediment import coupling, initial
 from ...sediment.morfac import warn_fast_bed
+from ...settings.config import physics_from_config
 from .drive import BED_PERIODS, CREST_SPEED, TunnelDrive, seed_count, seed_rms, turnover_periods
+
+
+def _warn_short(end_time, period, morfac):
+    bed_periods = end_time / period * morfac
+    if bed_periods < 0.99 * BED_PERIODS:            # a rounded end time is not short
+        warnings.warn(f"run.end_time = {end_time:g} s is {bed_periods:.0f} periods of bed change "
+                      f"(wave periods x morfac {morfac:g}): ripples take about 100 to reach their length and "
+                      f"a run should show 100 more that it holds; run.end_time = "
+                      f"{BED_PERIODS * period / morfac:g} s gives {BED_PERIODS}")
+
+
+def _ripples_round(zb, Lx, dx):
+    """(mean length, mean height) of the ripples counted round the periodic bed."""
+    n, hr = ripples_counted(zb, Lx, ripple_band(zb, dx))
+    return (Lx / n, hr) if n else (float("nan"), float("nan"))
 
 
 def build_bedload(cfg, name):
@@ -32,12 +47,7 @@ def build_bedload(cfg, name):
     ytop = hs + hw
     lam_wh, eta_wh, regime = wiberg_harris(d0, geo.grain_diameter)
     warn_unresolved(lam_wh, dx, "(Wiberg & Harris for d0)")
-    bed_periods = cfg.run.end_time / geo.period * sed["morfac"]
-    if bed_periods < 0.99 * BED_PERIODS:            # a rounded end time is not short
-        warnings.warn(f"run.end_time = {cfg.run.end_time:g} s is {bed_periods:.0f} periods of bed change "
-                      f"(wave periods x morfac {sed['morfac']:g}): ripples take about 100 to reach their length and "
-                      f"a run should show 100 more that it holds; run.end_time = "
-                      f"{BED_PERIODS * geo.period / sed['morfac']:g} s gives {BED_PERIODS}")
+    _warn_short(cfg.run.end_time, geo.period, sed["morfac"])
     turnover = turnover_periods(cfg)
     limit = warn_fast_bed(sed, turnover, f"at d0 = {d0:g} m")
     n_seed = seed_count(geo, lam_wh)
@@ -48,18 +58,12 @@ def build_bedload(cfg, name):
     ps = _bedload_particles(cfg, stations, z, c0)
     params = common_params(cfg, c0, G, depth=ytop)
     params["bed_stations"] = len(stations)
-    pad = 4 * h
-    domain = ((0.0, float(z.min()) - (L + 2) * dx - pad), (Lx, 2.0 * ytop + pad))
+    domain = ((0.0, float(z.min()) - (L + 2) * dx - 4 * h), (Lx, 2.0 * ytop + 4 * h))
     physics = physics_from_config(cfg, periodic_x=True, materials_used=["water"], moving_bed=True)
     bed = coupling.BedCoupler(sed, coupling.sand_of(sed, geo.grain_diameter, sed["grain_density"], rw),
                               coupling.Stations(stations, z, dx, h, periodic=True),
                               coupling.Drive(amplitude=0.5 * d0, omega=drive.omega, still_level=ytop))
     rows = []
-
-    def ripples_round(zb):
-        """(mean length, mean height) of the ripples counted round the periodic bed."""
-        n, hr = ripples_counted(zb, Lx, ripple_band(zb, dx))
-        return (Lx / n, hr) if n else (float("nan"), float("nan"))
 
     def control(s):
         drive.update(s)
@@ -68,7 +72,7 @@ def build_bedload(cfg, name):
     def probe(st):
         zb = bed.bed.z
         rows.append((st["t"],) + tuple(zb))
-        lam, hr = ripples_round(zb)
+        lam, hr = _ripples_round(zb, Lx, dx)
         rms = float(np.sqrt(np.mean((zb - bed.z0) ** 2)))
         return (lam, hr, rms, drive.u_free(st), drive.target(st["t"]), float(np.abs(bed.tau).max()),
                 float(np.mean(bed.u)), float(np.mean(bed.u_eff)))

@@ -19,14 +19,14 @@ if sys.version_info >= (3, 11):
 else:  # pragma: no cover - exercised on 3.9/3.10 only
     import tomli as tomllib
 
+from ..errors import ConfigError, ConfigErrors, raise_collected  # noqa: F401  (re-exported: every check raises them)
 from . import schema
-from .errors import ConfigError, ConfigErrors, raise_collected  # noqa: F401  (re-exported: every check raises them)
 from .resolved import thaw
 from .shared_keys import MATERIAL, SHARED, TURBULENCE
 from .switches import Physics, physics_from_config  # noqa: F401  (re-exported: scenes import them here)
 
 # The keys every scene shares, the turbulence closure's and every material's, as Keys
-# (tisph/shared_keys.py); a scene's SCHEMA lays its own on them. These are read from there.
+# (tisph/settings/shared_keys.py); a scene's SCHEMA lays its own on them. These are read from there.
 SHARED_DEFAULTS = schema.values(SHARED)
 RANGES = dict(schema.ranges(SHARED), **schema.ranges(TURBULENCE, "numerics"))
 CHOICES = dict(schema.choices(SHARED), **schema.choices(TURBULENCE, "numerics"))

@@ -1,4 +1,4 @@
-"""Sediment modules: rheology (Bingham, Cross), fluid-sediment drag and DEM contacts between
+"""The granular modules: rheology (Bingham, Cross), fluid-sediment drag and DEM contacts between
 sediment particles. The turbulence closures are in physics/turbulence.py."""
 import numpy as np
 import taichi as ti

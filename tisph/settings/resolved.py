@@ -4,7 +4,7 @@ frozen. Everything below the reader takes this, and reads it by attribute: cfg.n
 
 Each table is a frozen dataclass made from the validated table (its fields' types are the
 schema's, which the checks already held the values to), not a hand-written one: the schema
-(tisph/schema.py) stays the one place a key and its default are written, and a hand-written
+(tisph/settings/schema.py) stays the one place a key and its default are written, and a hand-written
 dataclass would be a second. A table is also a read-only Mapping, so the dumps (run.log, the
 checkpoint, --describe) walk it as they walk the case file's tables. A table whose names are data,
 not keys (materials: {name: material}), is a frozen mapping of its entries, read as

@@ -21,13 +21,13 @@ import time
 
 import numpy as np
 
-from ..config import ConfigError
 from ..constants import G
 from ..io import ensure_dir, write_csv, write_text
 from ..measure.plots import pyplot, save
 from ..measure.records import arrival_time, wave_height
 from ..runner import resolve
 from ..scenes import flume
+from ..settings.config import ConfigError
 from ..waves.theory import linear_wave
 from . import dualsphysics
 from .common import cache_dir, run_case, table
@@ -119,7 +119,14 @@ def flume_xml(dp, tmax, f, s):
       <objreal ref="10"><begin mov="1" start="0" /><mvnull id="1" /></objreal>
     </motion>
   </casedef>
-  <execution>
+{_execution(f, s, tmax, depth, gauges, damping)}</case>
+""", dict(depth=depth, c0=c0, h=s["coefh"] * math.sqrt(2.0) * dp)
+
+
+def _execution(f, s, tmax, depth, gauges, damping):
+    """flume_xml's <execution>: the gauges, the piston, the damping zone and the run's parameters."""
+    n = lambda v: f"{v:.6g}"
+    return f"""  <execution>
     <special>
       <gauges>
         <default><savevtkpart value="false" /><computedt value="0.01" /><output value="true" />
@@ -157,8 +164,7 @@ def flume_xml(dp, tmax, f, s):
         <posmax x="default" y="default" z="default + 50%" /></simulationdomain>
     </parameters>
   </execution>
-</case>
-""", dict(depth=depth, c0=c0, h=s["coefh"] * math.sqrt(2.0) * dp)
+"""
 
 
 def _swl(out, names):

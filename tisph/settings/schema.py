@@ -5,7 +5,7 @@ DEFAULTS, RANGES and CHOICES, --describe, scenes/defaults/*.toml and the checks 
 
 Our own dataclass, not pydantic or attrs: a case is checked before anything compiles, every error
 at once, each naming the key, the value and what is allowed, with a "did you mean" and a units
-guess (tisph/config.py); a library's messages would need the same rewriting, and its types would
+guess (tisph/settings/config.py); a library's messages would need the same rewriting, and its types would
 be one more dependency for 40 lines.
 """
 from __future__ import annotations
@@ -80,3 +80,14 @@ def with_defaults(tree: dict, **defaults: object) -> dict:
             return d
         return dataclasses.replace(v, default=d) if isinstance(v, Key) else d
     return {k: new(v, defaults[k]) if k in defaults else v for k, v in tree.items()}
+
+
+@dataclasses.dataclass(frozen=True)
+class Param(Key):
+    """A runtime parameter: a config Key (the one default, its unit and allowed range) the solver holds in a Taichi struct. A default may be 'dx' (the particle spacing) or a
+    function (S, values) -> value. `key`: the config key that sets it; config.py takes that
+    key's default, range and words from here, so they are written once."""
+    unit: str = "-"
+    range: tuple = (None, None, True, True)
+    vector: bool = False
+    key: str = ""

@@ -1,11 +1,11 @@
 """The keys every scene shares ([run], [numerics], [output]), the turbulence closure's (only the
-pipeline has them), and the keys of any material, whatever its name: each a Key (tisph/schema.py).
+pipeline has them), and the keys of any material, whatever its name: each a Key (tisph/settings/schema.py).
 A scene's SCHEMA lays its own tables and defaults on these; the engine's runtime parameters
-(tisph/hooks/keys.py) are Keys of their own, placed here by their config key."""
+(tisph/settings/engine_keys.py) are Keys of their own, placed here by their config key."""
 import math
 
-from .errors import ConfigError
-from .hooks.keys import KEYED
+from ..errors import ConfigError
+from .engine_keys import KEYED
 from .schema import NON_NEGATIVE, POSITIVE, K
 from .schemes import DEFAULT, SCHEMES
 
@@ -22,7 +22,7 @@ SHARED = {
     },
     "numerics": {
         "dx": K(0.03, "initial particle spacing", "m", POSITIVE),
-        "scheme": K(DEFAULT, "the numerics scheme (tisph/schemes.py): default (waves, sloshing, impacts) | paper000 "
+        "scheme": K(DEFAULT, "the numerics scheme (tisph/settings/schemes.py): default (waves, sloshing, impacts) | paper000 "
                     "(paper 000's Table 2) | paper002 (paper 002) | bed (the sand bed's calibration); named in a "
                     "case file, it sets every numerics key the file leaves unset", choices=tuple(SCHEMES)),
         "h_factor": K(_S["h_factor"], "smoothing length h = h_factor * dx", range=(1.0, 3.0, True, True)),

@@ -1,9 +1,9 @@
 """The runtime parameters that a config key sets, declared once here without Taichi, so that
-tisph.config reads their defaults and ranges without importing the engine. Each module takes its
+tisph.settings.config reads their defaults and ranges without importing the engine. Each module takes its
 Param from this table (KEYED[key]); the key is the config key. A key the numerics scheme sets
-takes the default scheme's value (tisph/schemes.py), its one default."""
-from ..schemes import DEFAULT, SCHEMES
-from .module import Param
+takes the default scheme's value (tisph/settings/schemes.py), its one default."""
+from .schema import Param
+from .schemes import DEFAULT, SCHEMES
 
 _S = SCHEMES[DEFAULT]
 
