@@ -5,6 +5,7 @@
     tisph describe SCENE             every key of a scene: default, allowed, meaning
     tisph scenes                     the scenes there are
     tisph view RUN [flags]           render a run again from its snapshots
+    tisph metrics RUN                a run's metrics worked out again from its probes.csv
     tisph sweep SCENE [flags]        sweeps and ensembles (Dask)
     tisph bench [flags]              benchmarks and validation
     tisph stress [flags]             the stress suite
@@ -29,7 +30,7 @@ def scene_line(scene, width=100):
     return line if len(line) <= width else line[:width - 3].rsplit(" ", 1)[0] + "..."
 
 
-COMMANDS = ("run", "describe", "scenes", "view", "sweep", "bench", "stress")
+COMMANDS = ("run", "describe", "scenes", "view", "metrics", "sweep", "bench", "stress")
 
 
 def scene_of_file(path: str) -> str:
@@ -91,6 +92,9 @@ def main(argv: list[str] | None = None) -> int:
         if cmd == "view":
             from .view import main as view
             return view(rest)
+        if cmd == "metrics":
+            from .runner.reanalyse import main as metrics
+            return metrics(rest)
         if cmd == "sweep":
             from .sweep import main as sweep
             return sweep(rest)
