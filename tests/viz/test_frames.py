@@ -51,6 +51,24 @@ def test_a_drawer_error_stops_the_run_with_it(tmp_path):
     assert not os.path.exists(frames.MovieWriter.tmp_path(str(tmp_path / "m.mp4")))
 
 
+class _Fine:
+    def live_inputs(self):
+        return []
+
+    def frame(self, st, t, live=None):
+        return np.zeros((16, 16, 3), np.uint8)
+
+
+def test_a_drawer_killed_without_a_word_stops_the_run(tmp_path):
+    f = frames.Background(_Fine(), str(tmp_path / "m.mp4"), 10)
+    f.sync()
+    os.kill(f.proc.pid, signal.SIGKILL)
+    f.proc.join()
+    with pytest.raises(OutputError, match="stopped"):
+        f.sync()
+    f.abort()
+
+
 CHILD = r"""
 import sys, time
 from tisph.runner import frames

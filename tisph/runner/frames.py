@@ -115,16 +115,22 @@ class Background:
                 continue
 
     def _check(self, block=False):
-        """Raise the drawer's error, if it sent one (or died without a word)."""
-        try:
-            kind, text = self.outbox.get(block=block, timeout=None if not block else 600)
-        except queue.Empty:
-            if self.proc.is_alive():
-                return None
-            try:     # its last word may still be on the way
-                kind, text = self.outbox.get(timeout=1.0)
+        """The drawer's word ("synced", "closed"; None: none yet), waiting for one where block;
+        raises its error, or that it died without a word."""
+        while True:
+            try:
+                kind, text = self.outbox.get(timeout=1.0) if block else self.outbox.get_nowait()
+                break
             except queue.Empty:
-                raise OutputError(f"the frames' process stopped (exit code {self.proc.exitcode})") from None
+                if self.proc.is_alive():
+                    if block:
+                        continue
+                    return None
+                try:     # its last word may still be on the way
+                    kind, text = self.outbox.get(timeout=1.0)
+                    break
+                except queue.Empty:
+                    raise OutputError(f"the frames' process stopped (exit code {self.proc.exitcode})") from None
         if kind == "error":
             raise OutputError(f"drawing the frames: {text}")
         return kind
