@@ -23,6 +23,7 @@ def rows(out):
 
 
 @pytest.mark.slow
+@pytest.mark.long
 def test_tank_sweep_on_two_workers_equals_the_runs_one_by_one(tmp_path):
     out = str(tmp_path / "sw")
     assert main(["tank"] + TANK + ["--workers", "2", "--threads-per-worker", "1", "--out", out, "--quiet"]) == 0

@@ -584,7 +584,8 @@ def _closed_flume(tmp_path, absorb, end_time, length=2.0, gauges=(0.9,), **more)
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("kind", ["piston", pytest.param("flap", marks=pytest.mark.long)])
+@pytest.mark.long
+@pytest.mark.parametrize("kind", ["piston", "flap"])
 def test_absorbing_paddle_makes_its_wave_then_takes_out_the_wave_that_comes_back(tmp_path, kind):
     """Five periods made, then the paddle stops (paddle.duration); in a closed 2.5 m flume the train
     goes to the end wall and back. Before anything comes back the absorbing paddle's gauge reads
