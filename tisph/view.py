@@ -16,7 +16,6 @@ import argparse
 import dataclasses
 import os
 import sys
-import warnings
 
 import numpy as np
 
@@ -24,8 +23,8 @@ from . import registry as scenes
 from .case import Picture
 from .io import OPTIONAL, SNAPSHOT_FIELDS, OutputError, ensure_dir, load, load_attrs, snapshot_files
 from .particles import BED
-from .runner import resolve
-from .settings.config import ConfigError, flatten, tomllib
+from .runner.reading import rebuild
+from .settings.config import ConfigError, tomllib
 from .viz.files import MovieWriter, write_png
 from .viz.live import LiveWindow, display_problem
 from .viz.render import FIELDS, STATE, make_renderer
@@ -49,11 +48,8 @@ def scene_picture(attrs):
     if that fails."""
     cfg_text, name = attrs.get("config", ""), attrs.get("scene", "")
     try:
-        scene = scenes.load(name)
-        with warnings.catch_warnings():   # the run said its warnings; a view only frames its pictures
-            warnings.simplefilter("ignore")
-            cfg = resolve(scene, None, flatten(tomllib.loads(cfg_text)))
-            return scene.build(cfg).picture, cfg.numerics.dx
+        cfg, case = rebuild(scenes.load(name), cfg_text)
+        return case.picture, cfg.numerics.dx
     except Exception:      # an old or foreign snapshot: frame the particles instead
         try:
             return None, float(tomllib.loads(cfg_text)["numerics"]["dx"])

@@ -31,12 +31,9 @@ class Inline:
         _rebuild(self.movie, rebuild)
 
     def draw(self, path, st, t, movie=True):
-        img = self.renderer.frame(st, t)
-        write_png(path, img)
-        if movie:
-            self.movie.append(img)
-            if self.live is not None:
-                self.live.show(img)
+        img = _draw(self.renderer, self.movie, path, st, t, None, movie)
+        if movie and self.live is not None:
+            self.live.show(img)
 
     def sync(self):
         pass
@@ -48,6 +45,15 @@ class Inline:
 
     def abort(self):
         self.movie.abort()
+
+
+def _draw(renderer, movie, path, st, t, live, to_movie):
+    """One frame drawn, written as PNG and (to_movie) appended to the movie; returns it."""
+    img = renderer.frame(st, t, live)
+    write_png(path, img)
+    if to_movie:
+        movie.append(img)
+    return img
 
 
 def _rebuild(movie, frames):
@@ -78,11 +84,7 @@ def _drawer(renderer, movie_path, fps, rebuild, inbox, outbox, parent):
             if msg == "sync":
                 outbox.put(("synced", ""))
                 continue
-            path, st, t, live, to_movie = msg
-            img = renderer.frame(st, t, live)
-            write_png(path, img)
-            if to_movie:
-                movie.append(img)
+            _draw(renderer, movie, *msg)
     except BaseException as e:  # told to the run, which stops with it
         if movie is not None:
             movie.abort()

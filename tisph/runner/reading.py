@@ -1,10 +1,20 @@
 """Reading a case: the scene's keys from its defaults, the case file and the flags, checked, then
 the resolving steps and one final check, frozen (tisph/settings/resolved.py)."""
 import os
+import warnings
 
 from ..case import as_scene
 from ..sediment.coupling import refuse_unused_sediment_keys
-from ..settings.config import ConfigError, ConfigErrors, build_config, flatten, raise_collected, read_toml, validate
+from ..settings.config import (
+    ConfigError,
+    ConfigErrors,
+    build_config,
+    flatten,
+    raise_collected,
+    read_toml,
+    tomllib,
+    validate,
+)
 from ..settings.plausible import check_materials
 from ..settings.resolved import freeze, thaw
 from ..settings.schemes import apply_scheme
@@ -65,3 +75,13 @@ def resolved_notes(scene):
         return list(resolve(scene).notes)
     except ConfigError:
         return []
+
+
+def rebuild(scene, cfg_text):
+    """(resolved config, case) of a run again from the resolved config it stored (a snapshot's
+    attrs, the head of run.log): its particles laid, nothing compiled, its warnings not said
+    again (the run said them)."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        cfg = resolve(scene, None, flatten(tomllib.loads(cfg_text)))
+        return cfg, as_scene(scene).build(cfg)

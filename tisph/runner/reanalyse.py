@@ -19,8 +19,7 @@ import numpy as np
 from .. import registry
 from ..errors import ConfigError
 from ..io import read_csv
-from ..settings.config import flatten, tomllib
-from .reading import resolve
+from .reading import rebuild
 
 RTOL = 1e-6    # probes.csv keeps 9 significant digits
 
@@ -79,10 +78,7 @@ def reanalyse(run_dir):
     if name not in registry.REGISTRY:
         raise ConfigError("RUN", run_dir, "a run of a scene tisph has", f"its summary names {name!r}")
     scene = registry.load(name)
-    with warnings.catch_warnings():     # the run said its warnings
-        warnings.simplefilter("ignore")
-        cfg = resolve(scene, None, flatten(tomllib.loads(run_config(run_dir))))
-        case = scene.build(cfg)
+    _, case = rebuild(scene, run_config(run_dir))
     header, cols = read_csv(os.path.join(run_dir, "probes.csv"))
     obs = case.observers
     if tuple(header[1:]) != tuple(obs.probe_columns):
