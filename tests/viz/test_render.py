@@ -96,6 +96,34 @@ def test_fields_are_drawn_continuous_and_end_at_the_free_surface():
     assert (above == 255).all()
 
 
+def test_heights_drawn_exaggerated_as_stated():
+    """output.exaggeration = 5: the panel 5 times as tall, the water's top where 5 times its depth
+    puts it and no gaps between its rows, the title saying so; its rows keep it; a zoom stays true."""
+    dx = 0.02
+    g = np.mgrid[0:200, 0:5].reshape(2, -1).T * dx + 0.5 * dx         # 4 m of water 0.1 m deep
+    n = len(g)
+    st = dict(x=g, v=np.tile([1.0, 0.0], (n, 1)), p=np.zeros(n), rho=np.full(n, 1000.0),
+              kind=np.zeros(n, int), mat=np.zeros(n, int))
+    view = ((0.0, 0.0), (4.0, 0.2))
+    true = Renderer(view, Style(width=640, dx=dx, speed_scale=2.0, axes=False, rows=False))
+    tall = Renderer(view, Style(width=640, dx=dx, speed_scale=2.0, axes=False, rows=False, exaggeration=5.0))
+    assert tall.H == pytest.approx(5 * true.H, abs=16) and tall.yscale == pytest.approx(5 * tall.scale)
+    img = tall.frame(st, 0.0)
+    top, H, _, _ = tall.panels[0]
+    panel = img[top:top + H, tall.left:tall.left + tall.W].astype(int)
+    col = panel[:, tall.W // 2]
+    wet = np.flatnonzero((col != 255).any(axis=1))
+    depth_px = H - wet.min()
+    assert depth_px == pytest.approx(0.1 * tall.yscale, abs=0.6 * dx * tall.yscale)   # 0.5 m drawn
+    assert np.ptp(panel[H - depth_px // 2 - 8:H - depth_px // 2 + 8, 20:tall.W - 20], axis=(0, 1)).max() <= 2
+    assert "heights x5" in tall.title_line(0.0) and "heights" not in true.title_line(0.0)
+    long = Renderer(((0.0, 0.0), (12.0, 0.2)), Style(width=640, dx=dx, speed_scale=2.0, exaggeration=5.0,
+                                                    zoom=((1.0, 0.0), (1.5, 0.2))))
+    assert long.zoom.exaggeration == 1.0 and long.zoom.yscale == long.zoom.scale
+    rows = Renderer(((0.0, 0.0), (12.0, 0.2)), Style(width=640, dx=dx, speed_scale=2.0, exaggeration=5.0))
+    assert rows.rows and all(r.exaggeration == 5.0 for r in rows.rows)
+
+
 def test_zoom_window_from_the_config_and_its_outline():
     """output.zoom sets the window; the main panel outlines where it is."""
     from tisph.scenes import dam_break

@@ -61,6 +61,8 @@ SHARED = {
                      choices=("", "speed", "pressure", "density", "material", "vorticity", "concentration")),
         "range": K([], "[lo, hi] of the colour bar in its unit (kPa for pressure); []: automatic"),
         "zoom": K([], "[x0, x1, y0, y1] (m): a window at true scale under the frame, by vorticity; []: the scene's"),
+        "exaggeration": K(1.0, "heights drawn this many times the lengths' scale, said in each frame's title "
+                               "(a long flume's waves; the zoom window stays at true scale)", range=(1.0, 100.0, True, True)),
         "min_height": K(160, "a lower panel gets more room above the view (air)", "px", (0, 4096, True, True)),
         "snapshot_every": K(-1.0, "simulated s between HDF5 snapshots; -1: about 50 per run, on frame times; 0: off",
                               range=(-1.0, None, True, True)),

@@ -38,13 +38,15 @@ class Renderer:
         s = style or Style()
         dx, modes = s.dx, s.modes
         (x0, y0), (x1, y1) = view
-        aspect = (x1 - x0) / (y1 - y0)                  # as asked, before any air is added
+        self.exaggeration = E = float(s.exaggeration)
+        aspect = (x1 - x0) / (E * (y1 - y0))            # as drawn, before any air is added
         W = max(16, int(s.width) // 16 * 16)
         self.scale = W / (x1 - x0)
-        H = max(16, int(round((y1 - y0) * self.scale / 16)) * 16)
+        self.yscale = E * self.scale                    # px a metre of height
+        H = max(16, int(round((y1 - y0) * self.yscale / 16)) * 16)
         if s.min_height > H:
             H = int(np.ceil(s.min_height / 16)) * 16
-            y1 = y0 + H / self.scale
+            y1 = y0 + H / self.yscale
         self.view = ((float(x0), float(y0)), (float(x1), float(y1)))
         self.W, self.H = W, H
         self.radius = max(1.0, 0.9 * dx * self.scale)
@@ -70,9 +72,9 @@ class Renderer:
         self.font_px = max(11, W // 85)
         self.BAR = int(np.ceil(7 * self.font_px / 16)) * 16     # strips in multiples of 16 px (the MP4's blocks)
         self.strip = int(np.ceil(1.8 * self.font_px / 16)) * 16
-        r = int(np.ceil(self.radius))
-        oy, ox = np.mgrid[-r:r + 1, -r:r + 1]
-        keep = ox ** 2 + oy ** 2 <= self.radius ** 2
+        r, ry = int(np.ceil(self.radius)), int(np.ceil(self.radius * E))
+        oy, ox = np.mgrid[-ry:ry + 1, -r:r + 1]
+        keep = ox ** 2 + (oy / E) ** 2 <= self.radius ** 2     # a disc drawn E times as tall
         self.offsets = np.column_stack([ox[keep], oy[keep]])
         self.bars = []                  # (title, lo, hi, cmap) of each panel's colour bar, None: none
         self._speed_hi = max(self.speed_scale, 1e-6)
@@ -193,13 +195,14 @@ class Renderer:
         (x0, y0), _ = self.view
         if self.bed_surface is not None:      # a bed below particle scale: sand under its surface
             zb = self._live[0]
-            top = np.clip(np.floor((zb - y0) * self.scale).astype(int), 0, self.H)
+            top = np.clip(np.floor((zb - y0) * self.yscale).astype(int), 0, self.H)
             rows = np.arange(self.H)[:, None]
             img[(self.H - 1 - rows) < top[None, :]] = (np.array(SAND) * 255).astype(np.uint8)
         smooth = np.zeros(len(st["kind"]), bool)
         if field_image is not None and field_image[0].any():
             smooth, s01, cmap = field_image
-            val, inside = kernel_image(st["x"][smooth], s01[smooth], (x0, y0), self.scale, self.dx, self.W, self.H)
+            val, inside = kernel_image(st["x"][smooth], s01[smooth], (x0, y0), self.scale, self.dx, self.W, self.H,
+                                       self.exaggeration)
             lut = (np.clip(cmap(np.linspace(0.0, 1.0, 256)), 0, 1) * 255).astype(np.uint8)
             img[inside] = lut[(np.clip(val[inside], 0.0, 1.0) * 255 + 0.5).astype(np.uint8)]
         hidden = np.zeros(len(st["kind"]), bool)
@@ -207,11 +210,12 @@ class Renderer:
             img[self._solid_pixels()] = (np.array(BOUNDARY) * 255).astype(np.uint8)
             hidden = self._hidden_walls(st)
         cx = np.floor((st["x"][:, 0] - x0) * self.scale).astype(int)
-        cy = np.floor((st["x"][:, 1] - y0) * self.scale).astype(int)
+        cy = np.floor((st["x"][:, 1] - y0) * self.yscale).astype(int)
         order = np.argsort(st["kind"] == FLUID, kind="stable")     # boundaries first, fluid on top
         order = order[~(smooth | hidden)[order]]
         inview = (cx[order] > -self.radius - 2) & (cx[order] < self.W + self.radius + 2) & \
-                 (cy[order] > -self.radius - 2) & (cy[order] < self.H + self.radius + 2)
+                 (cy[order] > -self.radius * self.exaggeration - 2) & \
+                 (cy[order] < self.H + self.radius * self.exaggeration + 2)
         order = order[inview]
         c8 = (np.clip(col[order], 0, 1) * 255).astype(np.uint8)
         for ox, oy in self.offsets:
@@ -234,7 +238,7 @@ class Renderer:
         """The pixels (rows top to bottom) inside the solids, worked out once: they do not move."""
         if self._solid_px is None:
             (x0, y0), _ = self.view
-            X, Y = np.meshgrid(x0 + (np.arange(self.W) + 0.5) / self.scale, y0 + (np.arange(self.H) + 0.5) / self.scale)
+            X, Y = np.meshgrid(x0 + (np.arange(self.W) + 0.5) / self.scale, y0 + (np.arange(self.H) + 0.5) / self.yscale)
             inside = self.solid_region(np.column_stack([X.ravel(), Y.ravel()]))
             self._solid_px = inside.reshape(self.H, self.W)[::-1]
         return self._solid_px
@@ -306,7 +310,7 @@ class Renderer:
         (x0, y0), _ = self.view
         (a, b), (c, d) = view
         i0, i1 = (int(np.clip((v - x0) * self.scale, 0, self.W - 1)) for v in (a, c))
-        j0, j1 = (int(np.clip(self.H - 1 - (v - y0) * self.scale, 0, self.H - 1)) for v in (d, b))
+        j0, j1 = (int(np.clip(self.H - 1 - (v - y0) * self.yscale, 0, self.H - 1)) for v in (d, b))
         img[j0:j1 + 1, [i0, i1]] = 40
         img[[j0, j1], i0:i1 + 1] = 40
 
@@ -328,9 +332,16 @@ class Renderer:
         sand = (rows >= level[None, :]) & np.isfinite(dz)[None, :]
         img[sand] = (np.array(SAND) * 255).astype(np.uint8)
         img[Hp // 2, :] = (110, 110, 110)
-        self.bed_exaggeration = (0.5 * Hp / self.bed_range) / self.scale
+        self.bed_exaggeration = (0.5 * Hp / self.bed_range) / self.scale   # against the lengths' scale
         self._bed_h = Hp
         return img
+
+    def title_line(self, t):
+        """The header: the title, a vertical exaggeration where there is one, the time."""
+        label = f"t = {t:.3f} s"
+        if self.exaggeration != 1.0:
+            label = f"heights x{self.exaggeration:g}   {label}"
+        return f"{self.title}   {label}" if self.title else label
 
     def _annotate(self, img, t):
         from PIL import Image, ImageDraw, ImageFont
@@ -342,9 +353,7 @@ class Renderer:
         except TypeError:  # Pillow < 10.1
             font = ImageFont.load_default()
         L = self.LEFT
-        label = f"t = {t:.3f} s"
-        if self.title:
-            label = f"{self.title}   {label}"
+        label = self.title_line(t)
         d.text((L + 6, int(0.35 * fp)), label, fill=(0, 0, 0), font=font)
         for top, H, view, bar in self.panels:    # one colour bar per coloured panel, beside it
             if self.LEFT:

@@ -15,7 +15,8 @@ class Style:
     the bed change's panel under the frame; bed_surface(x): sand filled under it; zoom: a window
     ((x0, y0), (x1, y1)) at true scale under the frame, coloured by zoom_field; axes: metre axes;
     marks: (x, label) of gauges; zones: (x0, x1, label) bars; rows: a long view drawn in rows;
-    solid_region(points): the solids filled as drawn, their wall particles left out."""
+    solid_region(points): the solids filled as drawn, their wall particles left out; exaggeration:
+    heights drawn this many times the lengths' scale (stated in the title; the zoom stays true)."""
     width: int = 640
     dx: float = 0.01
     speed_scale: float = 0.0
@@ -36,6 +37,7 @@ class Style:
     zones: tuple = ()
     rows: bool = True
     solid_region: Callable = None
+    exaggeration: float = 1.0
 
 
 def style_of(pic, outc, dx, title, speed_scale):
@@ -54,4 +56,4 @@ def style_of(pic, outc, dx, title, speed_scale):
                        bed_label=pic.bed_label, vrange=outc.get("range") or None,
                        min_height=outc.get("min_height", 0), bed_surface=pic.bed_surface, zoom=zoom,
                        marks=pic.marks, zones=pic.zones, bed_range=pic.bed_range,
-                       solid_region=pic.solid_region)
+                       solid_region=pic.solid_region, exaggeration=outc.get("exaggeration", 1.0))

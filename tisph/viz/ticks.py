@@ -22,6 +22,7 @@ def draw_axes(r, d, font, top, H, view):
     fp = r.font_px
     L = r.LEFT
     scale = r.W / (x1 - x0)
+    yscale = scale if r.zoom is not None and view == r.zoom.view else scale * r.exaggeration
     if view == r.view or view in [q.view for q in r.rows]:
         for x, label in r.marks:
             px = int(round((x - x0) * scale))
@@ -39,7 +40,7 @@ def draw_axes(r, d, font, top, H, view):
         d.line([(px, top + H), (px, top + H + int(0.3 * fp))], fill=(0, 0, 0))
         d.text((px - int(0.6 * fp), top + H + int(0.3 * fp)), f"{v:g}", fill=(0, 0, 0), font=font)
     for v in nice_ticks(y0, y1, max(2, H // (3 * fp))):
-        py = top + H - 1 - int(round((v - y0) * scale))
+        py = top + H - 1 - int(round((v - y0) * yscale))
         if py < top + int(1.6 * fp):
             continue
         d.line([(L - int(0.3 * fp), py), (L - 1, py)], fill=(0, 0, 0))
