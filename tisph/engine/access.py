@@ -10,7 +10,6 @@ from ..io import OPTIONAL
 from ..particles import FLUID, SPRAY
 from .batch import paddle_fit
 from .kernels import CubicSpline2D
-from .state import ParticleFields, np_dtype, type_bytes
 
 
 class SolverAPI:
@@ -178,12 +177,7 @@ class SolverAPI:
 
     def state(self, names=("x", "v", "rho", "p", "kind", "mat", "m")):
         """Particle arrays ordered by particle id (the order the scene built them in)."""
-        inv = np.argsort(self.p.id.to_numpy())
-        out = {k: getattr(self.p, k).to_numpy()[inv] for k in names}
-        for k, a in out.items():   # kind and mat are bytes on the CPU: the outputs keep 32 bits
-            if a.dtype == np.int8:
-                out[k] = a.astype(np.int32)
-        return out
+        return self.store.by_id(names)
 
     def sample_velocity(self, points, mat=0, tke=False):
         """SPH velocity of fluid material `mat` at each point (n, 2), Shepard-normalised with the
@@ -221,10 +215,7 @@ class SolverAPI:
 
     def field_bytes(self):
         """Bytes the particle and grid fields take on the device (from their shapes and types)."""
-        def size(types):
-            return sum(type_bytes(t) for t in types.values())
-        copies = 2 + (self.bak is not None)          # particles, the sorted copy, the backup
-        return (size(self._member_types) * copies + size(self._eval_types)) * self.n + self.grid.nbytes()
+        return self.store.nbytes() + self.grid.nbytes()
 
     def neighbour_stats(self):
         """Per particle id: how many neighbours the cell grid finds, and the sum of their ids."""
@@ -238,7 +229,7 @@ class SolverAPI:
     # ------------------------------------------------------------------ checkpoints and backup
     def raw_state(self):
         """Everything needed to continue bit for bit: every member in the current sorted order."""
-        d = {k: getattr(self.p, k).to_numpy() for k in self.members}
+        d = self.store.arrays()
         for m in self.modules:   # a module's runtime fields (the moving bed's displacement)
             for k, f in getattr(m, "state_fields", {}).items():
                 d[f"module.{m.name}.{k}"] = f.to_numpy()
@@ -254,12 +245,7 @@ class SolverAPI:
     def load_raw_state(self, arrays, scalars):
         if int(scalars["n"]) != self.n:
             raise ValueError(f"checkpoint holds {int(scalars['n'])} particles, this case builds {self.n}")
-        missing = [k for k in self.members if k not in arrays]
-        if missing:
-            raise ValueError(f"checkpoint lacks particle fields {missing} (built with other physics?)")
-        for k in self.members:
-            f = getattr(self.p, k)
-            f.from_numpy(np.asarray(arrays[k]).astype(np_dtype(f), copy=False))
+        self.store.write(arrays)
         for m in self.modules:
             for k, f in getattr(m, "state_fields", {}).items():
                 if f"module.{m.name}.{k}" in arrays:
@@ -284,19 +270,17 @@ class SolverAPI:
     def enable_backup(self):
         """Keep a device-side copy of the last healthy state (for the final snapshot of a run
         that goes unstable); costs one copy of the particle fields per backup() call."""
-        if self.bak is None:
-            self.bak = ParticleFields(self._member_types, self.n)
-            self.bak_pairs = [(getattr(self.p, k), getattr(self.bak, k)) for k in self.members]
+        if self.store.bak is None:
+            self.store.enable_backup()
             self.bak_time, self.bak_steps = self.time, self.steps
 
     def backup(self):
-        self._backup()
+        self.store.backup()
         self.bak_time, self.bak_steps = self.time, self.steps
 
     def backup_state(self, names):
         """The backed-up state, ordered by particle id."""
-        inv = np.argsort(self.bak.id.to_numpy())
-        return {k: getattr(self.bak, k).to_numpy()[inv] for k in names}
+        return self.store.by_id(names, self.store.bak)
 
     # ------------------------------------------------------------------ kernels of the API
     @ti.kernel
@@ -306,12 +290,6 @@ class SolverAPI:
     @ti.kernel
     def _set_dt(self, dt: ti.f64):
         self.prm[None].dt = ti.cast(dt, self.real)
-
-    @ti.kernel
-    def _backup(self):
-        for i in range(self.n):
-            for fp, fb in ti.static(self.bak_pairs):
-                fb[i] = fp[i]
 
     @ti.kernel
     def _neighbour_stats(self, cnt: ti.types.ndarray(), idsum: ti.types.ndarray()):

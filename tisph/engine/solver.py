@@ -41,6 +41,7 @@ from .kernels import get_kernel
 from .limits import next_dt
 from .pairs import PairOnce
 from .registry import enabled_modules
+from .store import ParticleStore
 
 # The base slots of a fluid particle's accumulator (the modules add theirs).
 ACC_CORE = {"a": "vec2", "drho": "real", "vi": "vec2", "rhoi": "real", "pi": "real", "inv_rhoi": "real",
@@ -71,7 +72,7 @@ class Solver(SolverAPI):
                               min(y1 + tol, big), min(top[0] if top else big, big))
         self._build_fields(physics, domain)
         self._build_tables(params, materials)
-        st_mod.load_particles(self.p, particles, self.np_real)
+        self.store.load(particles)
         for m in self.modules:
             m.setup(self)
         self._reset_stats()
@@ -104,14 +105,10 @@ class Solver(SolverAPI):
         members = st_mod.core_members(self.real)
         for m in self.modules:
             members.update(m.fields(self.real))
-        self.members = tuple(members)
-        self._member_types = dict(members)
-        self.bak = None
-        self._eval_types = st_mod.eval_members(self.real)
-        self.p = st_mod.ParticleFields(members, self.n)
-        self.tmp = st_mod.ParticleFields(dict(members, **self._eval_types), self.n)
-        # (source, sorted copy) pairs: the reorder copies every member in one compile-time loop
-        self.pairs = [(getattr(self.p, k), getattr(self.tmp, k)) for k in members]
+        # the particles' fields are the store's (engine/store.py); the step kernel and the
+        # modules' hooks reach them as p (the state) and tmp (the sorted copy)
+        self.store = ParticleStore(members, st_mod.eval_members(self.real), self.n, self.np_real)
+        self.members, self.p, self.tmp, self.pairs = self.store.members, self.store.p, self.store.tmp, self.store.pairs
         self.grid = Grid(self.n, domain, self.K.support * self.h, physics.periodic_x)
         self.domain = (tuple(float(v) for v in domain[0]), tuple(float(v) for v in domain[1]))
         self.lo, self.hi, self.period = self.grid.lo, self.grid.hi, self.grid.period
