@@ -319,6 +319,9 @@ class Solver(SolverAPI):
             if full:
                 for m in ti.static(self.slow["finish"]):
                     m.finish(self, i, mi, acc_s, pt)
+            else:
+                for m in ti.static(self.slow["hold"]):
+                    m.hold(self, i, mi, pt)
             for k in ti.static(self._module_max):
                 mx[k] = ti.max(mx[k], pt[k])
             mx.amax2 = ti.max(mx.amax2, a.dot(a))

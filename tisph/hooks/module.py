@@ -34,6 +34,8 @@ Hooks (define only those the module uses; `S` is the solver):
   body_force(S, i, mi, a) -> a     a body force per material (periodic drive)
   relax(S, i, mi, v, dt) -> v      a velocity relaxation after the kick (damping, inflow zones)
   finish(S, i, mi, acc, pt)        per particle after the neighbour pass (stress, viscosity)
+  hold(S, i, mi, pt)               an advection-rate module on a dual step that holds its sums:
+                                   what it still does every step (the k equation's own step)
   boundary_pass(S, i, dt)          a boundary particle's own neighbour pass (dynamic walls)
   dt_limit(S, st, dt) -> dt        a bound on the next time step
   after_step(S)                    Python, after the kernel (Shepard filter)
@@ -43,7 +45,7 @@ import dataclasses
 from ..settings.schema import Param  # noqa: F401 (re-exported: the modules declare theirs with it)
 
 HOOKS = ("drift", "move", "boundary_motion", "boundary_kick", "remove", "position_check", "prepare", "init_acc",
-         "view", "pair", "pair2", "body_force", "relax", "finish", "boundary_pass", "dt_limit", "after_step")
+         "view", "pair", "pair2", "body_force", "relax", "finish", "hold", "boundary_pass", "dt_limit", "after_step")
 
 
 @dataclasses.dataclass(frozen=True)

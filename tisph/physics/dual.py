@@ -1,9 +1,11 @@
 """Dual-criteria time stepping (Zhang, Rezavand & Hu 2020, J. Comput. Phys. 404): the terms
 that change at the flow's own pace (modules whose `rate` is "advection": the water's viscosity,
-the density diffusion) are evaluated at the advection criterion dt_ad = advection_cfl h / |v|_max
+the density diffusion and, where no rheology reads it, the velocity gradient with the turbulence
+it drives) are evaluated at the advection criterion dt_ad = advection_cfl h / |v|_max
 (theirs, 0.25) and held over the acoustic steps inside it, which evaluate the pressure, the
 continuity, the walls and the artificial viscosity (acoustic damping: its coefficient is c0's).
-The step kernel splits the sums (engine/solver.py, forces)."""
+The step kernel splits the sums (engine/solver.py, forces); on the steps between, a held module's
+`hold` hook does what it must every step (the k equation's step with its held production)."""
 import taichi as ti
 
 from ..hooks.module import Module, Param

@@ -175,6 +175,15 @@ class LaminarViscosity(Module):
         sj.a += laminar_viscosity(nb.m_i, mu, nb.ir_j, acc.inv_rhoi, -nb.v_visc, -r, nb.ie, -nb.gw)
 
 
+def gradient_held(S):
+    """Whether the velocity gradient, and the turbulence it drives (the SPS, the k equation), are
+    advection-rate terms under dual time stepping (physics/dual.py): the eddy viscosity changes at
+    the flow's pace. Not where a rheology reads the gradient (a Bingham or Cross material's
+    effective viscosity bounds the step, so it is evaluated every step) or shifting does."""
+    p = S.physics
+    return p.time_stepping == "dual" and not (p.rheology or p.shifting)
+
+
 @ti.data_oriented
 class VelocityGradient(Module):
     """The SPH velocity gradient grad v_i = sum V_j (v_j - v_i) (x) grad W, for the shear rate of
@@ -182,6 +191,10 @@ class VelocityGradient(Module):
     name = "velocity_gradient"
     on = {"sps": True}
     acc = {"gv": "mat2"}
+
+    def __init__(self, S=None):
+        if S is not None and gradient_held(S):
+            self.rate = "advection"
 
     @staticmethod
     def enabled(S):

@@ -20,6 +20,7 @@ from ..terms.tke import (
     tke_stress,
     tke_update,
 )
+from .fluid import gradient_held
 
 
 @ti.data_oriented
@@ -31,8 +32,19 @@ class SPS(Module):
     maxima = {"numax": "real"}
     params = {"mixing_length": KEYED["numerics.mixing_length"]}
 
+    def __init__(self, S=None):
+        held = S is not None and gradient_held(S)
+        if held:
+            self.rate = "advection"
+        # a held Smagorinsky nu_t still bounds the step between its evaluations (the k equation's
+        # is in its own field)
+        self.held_nu = held and S.physics.turbulence != "k_equation"
+
     def fields(self, real):
-        return {"sps": ti.types.vector(3, real)}    # SPS stress / rho (xx, xy, yy)
+        f = {"sps": ti.types.vector(3, real)}    # SPS stress / rho (xx, xy, yy)
+        if self.held_nu:
+            f["nus"] = real                      # nu_t of the last evaluation (dual time stepping)
+        return f
 
     acc = {"sps_i": "vec3"}
 
@@ -61,6 +73,18 @@ class SPS(Module):
             else:
                 tau, nut = sps_stress(acc.gv, S.dx, S.prm[None].mixing_length)
         S.p.sps[i] = tau
+        if ti.static(self.held_nu):
+            S.p.nus[i] = nut
+        pt.numax = ti.max(pt.numax, nut + S.mat_mu[mi] / pt.rho)
+
+    @ti.func
+    def hold(self, S, i, mi, pt: ti.template()):
+        """A step that holds the stress: its eddy viscosity still bounds the step."""
+        nut = 0.0
+        if ti.static(S.physics.turbulence == "k_equation"):
+            nut = S.p.nut[i]              # TKE.hold, just before, from this step's k
+        else:
+            nut = S.tmp.nus[i]
         pt.numax = ti.max(pt.numax, nut + S.mat_mu[mi] / pt.rho)
 
 
@@ -74,8 +98,16 @@ class Omega(Module):
     on = {"sps": True, "turbulence": "k_equation", "tke_length": "omega"}
     acc = {"wi": "real", "dw": "real"}
 
+    def __init__(self, S=None):
+        self.held = S is not None and gradient_held(S)
+        if self.held:
+            self.rate = "advection"
+
     def fields(self, real):
-        return {"wt": real}    # specific dissipation omega (1/s)
+        f = {"wt": real}       # specific dissipation omega (1/s)
+        if self.held:
+            f["kdw"] = real    # omega's diffusion rate of the last evaluation (dual time stepping)
+        return f
 
     def setup(self, S):
         """omega from the scene's k and l (the wall layer's equilibrium): omega = sqrt(k) / (C_mu^(1/4) l)."""
@@ -94,8 +126,19 @@ class Omega(Module):
 
     @ti.func
     def finish(self, S, i, mi, acc: ti.template(), pt: ti.template()):
-        k = ti.max(acc.ki, K_FLOOR)     # TKE's acc: this particle's k and nu_t before the step
-        S.p.wt[i] = omega_update(acc.wi, k, S.tmp.lt[i], strain2(acc.gv), acc.dw, S.prm[None].dt,
+        if ti.static(self.held):
+            S.p.kdw[i] = acc.dw
+        self.step(S, i, acc.wi, acc.ki, strain2(acc.gv), acc.dw)   # TKE's acc: k before the step
+
+    @ti.func
+    def hold(self, S, i, mi, pt: ti.template()):
+        """A step that holds the sums: omega steps on with the held strain and diffusion."""
+        t = S.tmp
+        self.step(S, i, t.wt[i], t.kt[i], t.ks2[i], t.kdw[i])
+
+    @ti.func
+    def step(self, S, i, w, k, s2, dw):
+        S.p.wt[i] = omega_update(w, ti.max(k, K_FLOOR), S.tmp.lt[i], s2, dw, S.prm[None].dt,
                                  S.prm[None].stress_limiter)
 
 
@@ -110,10 +153,18 @@ class TKE(Module):
     acc = {"ki": "real", "nuti": "real", "dk": "real"}
     params = {"stress_limiter": KEYED["numerics.stress_limiter"]}
 
+    def __init__(self, S=None):
+        self.held = S is not None and gradient_held(S)
+        if self.held:
+            self.rate = "advection"
+
     def fields(self, real):
-        return {"kt": real,    # turbulent kinetic energy k (m2/s2)
-                "lt": real,    # its length scale l (m)
-                "nut": real}   # eddy viscosity C_mu^(1/4) sqrt(k) l (m2/s)
+        f = {"kt": real,    # turbulent kinetic energy k (m2/s2)
+             "lt": real,    # its length scale l (m)
+             "nut": real}   # eddy viscosity C_mu^(1/4) sqrt(k) l (m2/s)
+        if self.held:       # dual time stepping: the last evaluation's |S|^2 and diffusion of k
+            f.update(ks2=real, kdk=real)
+        return f
 
     def setup(self, S):
         """k and l where the scene gives them (ParticleSet.tke, .turbulence_length), else the
@@ -140,12 +191,26 @@ class TKE(Module):
 
     @ti.func
     def finish(self, S, i, mi, acc: ti.template(), pt: ti.template()):
+        s2 = strain2(acc.gv)
+        if ti.static(self.held):
+            S.p.ks2[i] = s2
+            S.p.kdk[i] = acc.dk
+        self.step(S, i, mi, acc.ki, s2, acc.dk)
+
+    @ti.func
+    def hold(self, S, i, mi, pt: ti.template()):
+        """A step that holds the sums (dual time stepping): k steps on with the last evaluation's
+        production strain and diffusion, and its own dissipation."""
+        t = S.tmp
+        self.step(S, i, mi, t.kt[i], t.ks2[i], t.kdk[i])
+
+    @ti.func
+    def step(self, S, i, mi, k0, s2, dk):
         l = S.tmp.lt[i]
         if ti.static(S.physics.tke_length == "omega"):      # k and omega both step from the old state
-            l = ti.min(l, length_of_omega(acc.ki, S.tmp.wt[i]))
-        s2 = strain2(acc.gv)
+            l = ti.min(l, length_of_omega(k0, S.tmp.wt[i]))
         clim = S.prm[None].stress_limiter
-        k = tke_update(acc.ki, l, s2, acc.dk, S.prm[None].dt, clim)
+        k = tke_update(k0, l, s2, dk, S.prm[None].dt, clim)
         if ti.static(S.physics.rheology):
             if S.mat_rheo[mi] != 0:     # the SPS is the Newtonian materials' only
                 k = K_FLOOR
