@@ -165,6 +165,7 @@ class NoSlip(Module):
     no-slip sits on the wall surface; d_B/d_A capped at 1.5 as Morris does for close approach."""
     name = "noslip"
     on = {"noslip": True}
+    pair_once = {}   # a wall pair's ghost velocity only (engine/pairs.py gives those pairs the pair hooks)
 
     def fields(self, real):
         vec2 = ti.types.vector(2, real)
@@ -182,3 +183,8 @@ class NoSlip(Module):
             d_i = r.dot(s.wn[j]) - s.wd[j]
             ratio = ti.min(s.wd[j] / ti.max(d_i, 1e-6 * S.h), 1.5)
             nb.v_visc = (1.0 + ratio) * nb.v_ij
+
+    @ti.func
+    def pair2(self, S, i, j, r, r2, nb: ti.template(), acc: ti.template(), sj: ti.template()):
+        """Two fluid particles: no wall between them, nothing to change."""
+        pass

@@ -191,6 +191,7 @@ class VelocityGradient(Module):
     name = "velocity_gradient"
     on = {"sps": True}
     acc = {"gv": "mat2"}
+    pair_once = {"gv": "sum"}
 
     def __init__(self, S=None):
         if S is not None and gradient_held(S):
@@ -203,6 +204,13 @@ class VelocityGradient(Module):
     @ti.func
     def pair(self, S, i, j, r, r2, nb, acc: ti.template()):
         acc.gv += nb.vol_j * (-nb.v_visc).outer_product(nb.gw)
+
+    @ti.func
+    def pair2(self, S, i, j, r, r2, nb, acc: ti.template(), sj: ti.template()):
+        """Both: v_ij and grad W change sign together, so j's term is i's with V_i for V_j."""
+        g = (-nb.v_visc).outer_product(nb.gw)
+        acc.gv += nb.vol_j * g
+        sj.gv += nb.vol_i * g
 
 
 @ti.data_oriented

@@ -40,6 +40,8 @@ class SPS(Module):
         # is in its own field)
         self.held_nu = held and S.physics.turbulence != "k_equation"
 
+    pair_once = {}   # into a (engine/pairs.py)
+
     def fields(self, real):
         f = {"sps": ti.types.vector(3, real)}    # SPS stress / rho (xx, xy, yy)
         if self.held_nu:
@@ -58,6 +60,14 @@ class SPS(Module):
         if nb.kj == FLUID:
             t_j = S.tmp.sps[j]
         acc.a += sps_accel(nb.m_j, acc.sps_i, acc.inv_rhoi, t_j, nb.ir_j, nb.gw)
+
+    @ti.func
+    def pair2(self, S, i, j, r, r2, nb, acc: ti.template(), sj: ti.template()):
+        """Both fluid particles: the symmetric stress sum is the same from either side, grad W
+        changes sign."""
+        w = sps_accel(1.0, acc.sps_i, acc.inv_rhoi, S.tmp.sps[j], nb.ir_j, nb.gw)
+        acc.a += nb.m_j * w
+        sj.a -= nb.m_i * w
 
     @ti.func
     def finish(self, S, i, mi, acc: ti.template(), pt: ti.template()):
@@ -97,6 +107,7 @@ class Omega(Module):
     name = "omega"
     on = {"sps": True, "turbulence": "k_equation", "tke_length": "omega"}
     acc = {"wi": "real", "dw": "real"}
+    pair_once = {"dw": "sum"}
 
     def __init__(self, S=None):
         self.held = S is not None and gradient_held(S)
@@ -125,6 +136,15 @@ class Omega(Module):
             acc.dw += nb.vol_j * SIGMA_W * (acc.nuti + s.nut[j]) * (acc.wi - s.wt[j]) * r.dot(nb.gw) * nb.ie
 
     @ti.func
+    def pair2(self, S, i, j, r, r2, nb, acc: ti.template(), sj: ti.template()):
+        """Both: the flux is antisymmetric."""
+        s = S.tmp
+        if s.mat[j] == acc.mat:
+            f = SIGMA_W * (acc.nuti + s.nut[j]) * (acc.wi - s.wt[j]) * r.dot(nb.gw) * nb.ie
+            acc.dw += nb.vol_j * f
+            sj.dw -= nb.vol_i * f
+
+    @ti.func
     def finish(self, S, i, mi, acc: ti.template(), pt: ti.template()):
         if ti.static(self.held):
             S.p.kdw[i] = acc.dw
@@ -151,6 +171,7 @@ class TKE(Module):
     name = "tke"
     on = {"sps": True, "turbulence": "k_equation"}
     acc = {"ki": "real", "nuti": "real", "dk": "real"}
+    pair_once = {"dk": "sum"}
     params = {"stress_limiter": KEYED["numerics.stress_limiter"]}
 
     def __init__(self, S=None):
@@ -188,6 +209,15 @@ class TKE(Module):
         # no flux through walls (k at a wall is the near-wall balance's) or into another material
         if nb.kj == FLUID and s.mat[j] == acc.mat:
             acc.dk += nb.vol_j * (acc.nuti + s.nut[j]) * (acc.ki - s.kt[j]) * r.dot(nb.gw) * nb.ie / SIGMA_K
+
+    @ti.func
+    def pair2(self, S, i, j, r, r2, nb, acc: ti.template(), sj: ti.template()):
+        """Both: the flux is antisymmetric."""
+        s = S.tmp
+        if s.mat[j] == acc.mat:
+            f = (acc.nuti + s.nut[j]) * (acc.ki - s.kt[j]) * r.dot(nb.gw) * nb.ie / SIGMA_K
+            acc.dk += nb.vol_j * f
+            sj.dk -= nb.vol_i * f
 
     @ti.func
     def finish(self, S, i, mi, acc: ti.template(), pt: ti.template()):
