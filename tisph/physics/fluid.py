@@ -184,6 +184,15 @@ def gradient_held(S):
     return p.time_stepping == "dual" and not (p.rheology or p.shifting)
 
 
+def rate_of_gradient(m, S):
+    """Give module m (the gradient, or a term it drives) the gradient's rate; returns whether it
+    is held."""
+    held = S is not None and gradient_held(S)
+    if held:
+        m.rate = "advection"
+    return held
+
+
 @ti.data_oriented
 class VelocityGradient(Module):
     """The SPH velocity gradient grad v_i = sum V_j (v_j - v_i) (x) grad W, for the shear rate of
@@ -194,8 +203,7 @@ class VelocityGradient(Module):
     pair_once = {"gv": "sum"}
 
     def __init__(self, S=None):
-        if S is not None and gradient_held(S):
-            self.rate = "advection"
+        rate_of_gradient(self, S)
 
     @staticmethod
     def enabled(S):

@@ -20,7 +20,7 @@ from ..terms.tke import (
     tke_stress,
     tke_update,
 )
-from .fluid import gradient_held
+from .fluid import rate_of_gradient
 
 
 @ti.data_oriented
@@ -31,16 +31,12 @@ class SPS(Module):
     on = {"sps": True}
     maxima = {"numax": "real"}
     params = {"mixing_length": KEYED["numerics.mixing_length"]}
+    pair_once = {}   # into a (engine/pairs.py)
 
     def __init__(self, S=None):
-        held = S is not None and gradient_held(S)
-        if held:
-            self.rate = "advection"
         # a held Smagorinsky nu_t still bounds the step between its evaluations (the k equation's
         # is in its own field)
-        self.held_nu = held and S.physics.turbulence != "k_equation"
-
-    pair_once = {}   # into a (engine/pairs.py)
+        self.held_nu = rate_of_gradient(self, S) and S.physics.turbulence != "k_equation"
 
     def fields(self, real):
         f = {"sps": ti.types.vector(3, real)}    # SPS stress / rho (xx, xy, yy)
@@ -110,9 +106,7 @@ class Omega(Module):
     pair_once = {"dw": "sum"}
 
     def __init__(self, S=None):
-        self.held = S is not None and gradient_held(S)
-        if self.held:
-            self.rate = "advection"
+        self.held = rate_of_gradient(self, S)
 
     def fields(self, real):
         f = {"wt": real}       # specific dissipation omega (1/s)
@@ -175,9 +169,7 @@ class TKE(Module):
     params = {"stress_limiter": KEYED["numerics.stress_limiter"]}
 
     def __init__(self, S=None):
-        self.held = S is not None and gradient_held(S)
-        if self.held:
-            self.rate = "advection"
+        self.held = rate_of_gradient(self, S)
 
     def fields(self, real):
         f = {"kt": real,    # turbulent kinetic energy k (m2/s2)

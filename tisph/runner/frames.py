@@ -120,19 +120,15 @@ class Background:
         """The drawer's word ("synced", "closed"; None: none yet), waiting for one where block;
         raises its error, or that it died without a word."""
         while True:
-            try:
-                kind, text = self.outbox.get(timeout=1.0) if block else self.outbox.get_nowait()
+            alive = self.proc.is_alive()
+            try:     # a dead drawer's last word may still be on the way: a second for it
+                kind, text = self.outbox.get(timeout=1.0) if block or not alive else self.outbox.get_nowait()
                 break
             except queue.Empty:
-                if self.proc.is_alive():
-                    if block:
-                        continue
-                    return None
-                try:     # its last word may still be on the way
-                    kind, text = self.outbox.get(timeout=1.0)
-                    break
-                except queue.Empty:
+                if not alive:
                     raise OutputError(f"the frames' process stopped (exit code {self.proc.exitcode})") from None
+                if not block:
+                    return None
         if kind == "error":
             raise OutputError(f"drawing the frames: {text}")
         return kind

@@ -243,7 +243,8 @@ class Renderer:
             self._solid_px = inside.reshape(self.H, self.W)[::-1]
         return self._solid_px
 
-    def _tree(self):
+    def panel_renderers(self):
+        """This renderer, its rows and its zoom window: each draws a panel at its own scales."""
         return [self, *self.rows] + ([self.zoom] if self.zoom is not None else [])
 
     def live_inputs(self):
@@ -251,7 +252,7 @@ class Renderer:
         scale (its surface at each panel's pixel columns, its change along the view). Read where
         the case runs, so another process can draw the frame (runner/frames.py)."""
         out = []
-        for r in self._tree():
+        for r in self.panel_renderers():
             (x0, _), (x1, _) = r.view
             z = r.bed_surface(x0 + (np.arange(r.W) + 0.5) / r.scale) if r.bed_surface is not None else None
             out.append((z, r.bed_panel(x0, x1, r.W) if r.bed_panel is not None else None))
@@ -260,7 +261,7 @@ class Renderer:
     def frame(self, st, t, live=None):
         """RGB uint8 image (rows top to bottom) of the state st (arrays x, v, p, rho, kind, mat);
         live: live_inputs() as read with st (read now where not given)."""
-        for r, v in zip(self._tree(), live if live is not None else self.live_inputs()):
+        for r, v in zip(self.panel_renderers(), live if live is not None else self.live_inputs()):
             r._live = v
         self.bars = []
         st = {k: np.asarray(v) for k, v in st.items() if k in STATE or k in OPTIONAL}

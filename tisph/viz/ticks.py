@@ -21,9 +21,9 @@ def draw_axes(r, d, font, top, H, view):
     (x0, y0), (x1, y1) = view
     fp = r.font_px
     L = r.LEFT
-    scale = r.W / (x1 - x0)
-    yscale = scale if r.zoom is not None and view == r.zoom.view else scale * r.exaggeration
-    if view == r.view or view in [q.view for q in r.rows]:
+    q = next(p for p in r.panel_renderers() if p.view == view)   # the panel's own: its scales
+    scale, yscale = q.scale, q.yscale
+    if q is not r.zoom:
         for x, label in r.marks:
             px = int(round((x - x0) * scale))
             if 0 <= px < r.W - 2 * fp:     # its dotted line drawn, and room for the label
