@@ -25,11 +25,11 @@ def _run(steps, **params):
 def test_gpu_layout_and_atomic_maxima_give_the_cpu_state(monkeypatch):
     runtime.init("cpu", "f32")
     cpu, a = _run(60, pair_once=False)
-    assert cpu.cpu and cpu.nblk >= min(cpu.n, 1024)   # 1,024 blocks or more: every thread takes a share
+    assert cpu.cpu and cpu.stepper.nblk >= min(cpu.n, 1024)   # 1,024 blocks or more: every thread takes a share
     monkeypatch.setattr(state, "on_cpu", lambda: False)
     monkeypatch.setattr(grid, "on_cpu", lambda: False)
     gpu, b = _run(60)
-    assert not gpu.cpu and gpu.blk == 1 and gpu.pair_once is None and gpu.grid.fdtype != cpu.grid.fdtype
+    assert not gpu.cpu and gpu.stepper.blk == 1 and gpu.pair_once is None and gpu.grid.fdtype != cpu.grid.fdtype
     assert gpu.p.kind.dtype != cpu.p.kind.dtype
     assert gpu.time == cpu.time and gpu.max_density_error == cpu.max_density_error
     for k in ("x", "v", "rho"):

@@ -73,7 +73,7 @@ def test_module_only_when_switched_on(cls, off_solvers):
         assert k in on.members and hasattr(on.p, k)
         assert k not in off.members and not hasattr(off.p, k) and not hasattr(off.tmp, k)
     for k, d in cls.material.items():
-        assert hasattr(on, "mat_" + (d.field or k)) and not hasattr(off, "mat_" + (d.field or k))
+        assert hasattr(on.mat, d.field or k) and not hasattr(off.mat, d.field or k)
     # that each module compiles and runs is the golden cases' job (every module is on in one)
 
 

@@ -76,6 +76,10 @@ def test_progress_off_a_terminal_is_a_line_every_five_percent(tmp_path):
     assert "particle-steps/s" in lines[0] and "left" in lines[0]
     log = (tmp_path / "o" / "run.log").read_text().splitlines()
     assert sum(ln.startswith("progress") for ln in log) == 20
+    # the step's runtime parameters as resolved, in run.log only
+    said = [ln for ln in log if ln.startswith("the step's runtime parameters")]
+    assert len(said) == 1 and "cfl = 0.4," in said[0] and "g = (0, -9.81) m/s2" in said[0]
+    assert "runtime parameters" not in r.stderr
 
 
 def test_bad_config_key_exits_2_naming_it(tmp_path):

@@ -82,7 +82,7 @@ def test_summary_says_why_laminar_viscosity_is_on_when_the_config_says_off():
 def test_every_keyed_module_parameter_reaches_the_solver():
     """A module's Param with a config key is passed to the solver from that key (a key the scenes
     did not pass ran at its default: numerics.stress_limiter, found by a bench that changed nothing)."""
-    from tisph.engine.state import PARAM_ALIASES
+    from tisph.engine.table import PARAM_ALIASES
     from tisph.runner import resolve
     from tisph.runner.setup import common_params
     from tisph.scenes import pipeline_scour

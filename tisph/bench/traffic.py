@@ -134,7 +134,7 @@ def measure(case_id, steps=STEPS, arch="cpu"):
 
         def start():
             r = orig_start()
-            run.solver._step = step_wrapper(run.solver._step)
+            run.solver.stepper._step = step_wrapper(run.solver.stepper._step)
             return r
         run._start = start
         run.execute()

@@ -21,7 +21,7 @@ class DynamicWall(Module):
 
     @ti.func
     def prepare(self, S, a, re, dt):
-        return ti.max(re + 0.5 * dt * S.tmp.drho[a], S.mat_rho0[ti.cast(S.tmp.mat[a], ti.i32)])
+        return ti.max(re + 0.5 * dt * S.tmp.drho[a], S.mat.rho0[ti.cast(S.tmp.mat[a], ti.i32)])
 
     @ti.func
     def boundary_pass(self, S, i, dt):
@@ -29,7 +29,7 @@ class DynamicWall(Module):
         if S.grid.fluid_near(S.tmp.x[i]):  # most wall particles have no fluid near
             S.grid.for_neighbours(S.tmp, i, S.tmp.x[i], self.boundary_pair, acc)
         S.p.drho[i] = acc.drho
-        S.p.rho[i] = ti.max(S.tmp.rho[i] + 0.5 * dt * acc.drho, S.mat_rho0[ti.cast(S.tmp.mat[i], ti.i32)])
+        S.p.rho[i] = ti.max(S.tmp.rho[i] + 0.5 * dt * acc.drho, S.mat.rho0[ti.cast(S.tmp.mat[i], ti.i32)])
 
     @ti.func
     def boundary_pair(self, i, j, r, r2, acc: ti.template()):
@@ -67,7 +67,7 @@ class ExtrapolatedWall(Module):
             S.grid.for_neighbours(S.tmp, i, S.tmp.x[i], self.boundary_pair, acc)
         if acc.sw > 0.0:
             mi = ti.cast(S.tmp.mat[i], ti.i32)
-            rho0, B = S.mat_rho0[mi], S.mat_B[mi]
+            rho0, B = S.mat.rho0[mi], S.mat.B[mi]
             aw = (S.tmp.v[i] - S.tmp.vw[i]) / dt     # a static wall's is zero
             pw = (acc.sp + (S.prm[None].g - aw).dot(acc.sr)) / acc.sw
             S.p.rho[i] = rho0 * ti.pow(ti.max(pw, 0.0) / B + 1.0, 1.0 / 7.0)

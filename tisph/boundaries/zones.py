@@ -44,7 +44,7 @@ class Spray(Module):
     @ti.func
     def remove(self, S, i):
         gone = False
-        if ti.abs(S.p.rho[i] / S.mat_rho0[ti.cast(S.p.mat[i], ti.i32)] - 1.0) > S.prm[None].band:
+        if ti.abs(S.p.rho[i] / S.mat.rho0[ti.cast(S.p.mat[i], ti.i32)] - 1.0) > S.prm[None].band:
             gone = True
             if ti.atomic_add(S.stats[None].spray, 1) >= S.prm[None].spray_cap:
                 report(S.stats, BAD_SPRAY, S.p.id[i])
@@ -121,4 +121,4 @@ class Drive(Module):
 
     @ti.func
     def body_force(self, S, i, mi, a):
-        return a + S.prm[None].drive * S.mat_drive[mi]
+        return a + S.prm[None].drive * S.mat.drive[mi]

@@ -1,7 +1,5 @@
 """The solver's Python API for the run loop: stepping, runtime inputs, state, checkpoints,
 the backup of the last healthy state. A mixin of engine.solver.Solver."""
-import json
-
 import numpy as np
 import taichi as ti
 
@@ -26,9 +24,9 @@ class SolverAPI:
     # ------------------------------------------------------------------ stepping
     def prime(self):
         """Bin the particles and evaluate forces at t = 0 (a zero-length step) to get a^0, dt^0."""
-        self._set_dt(0.0)
-        self._step(0, 0, 0.0, 0.0)    # the paddle at rest where it starts
-        self._dt = float(self.dtlog[0])
+        self.table.set_dt(0.0)
+        self.stepper._step(0, 0, 0.0, 0.0)    # the paddle at rest where it starts
+        self._dt = float(self.stepper.dtlog[0])
         self._primed = True
 
     def step(self):
@@ -81,20 +79,21 @@ class SolverAPI:
             args = (0,) + self._paddle_at(self.time + self._dt)
         else:
             span, cd, cv = fit
-            self.pfit.from_numpy(np.array(list(cd) + list(cv) + [span], dtype=self.np_real))
+            self.stepper.pfit.from_numpy(np.array(list(cd) + list(cv) + [span], dtype=self.np_real))
             args = (1, 0.0, 0.0)
+        step = self.stepper._step
         for k in range(n):
-            self._step(k, *args)
+            step(k, *args)
             self.steps += 1
             for m in self.hooks["after_step"]:
                 m.after_step(self)
         if n <= self.read_elements:   # the CPU, a short batch: element by element
-            log = [self.dtlog[k] for k in range(n)]
+            log = [self.stepper.dtlog[k] for k in range(n)]
             self.health_read = n > 1 or self.steps % 10 == 0     # a single step: every 10 steps
             if self.health_read:
-                self.health = int(self.dtlog[self.batch])
+                self.health = int(self.stepper.dtlog[self.batch])
         else:
-            log = self.dtlog.to_numpy()       # the batch's one transfer, the health with it
+            log = self.stepper.dtlog.to_numpy()       # the batch's one transfer, the health with it
             self.health_read = True
             self.health = int(log[-1])
         for k in range(n):                    # the dt each step took, summed in step order
@@ -104,7 +103,7 @@ class SolverAPI:
 
     def read_health(self):
         """The health code as the last step left it (one read of the device)."""
-        self.health = int(self.dtlog[self.batch])
+        self.health = int(self.stepper.dtlog[self.batch])
         self.health_read = True
         return self.health
 
@@ -121,7 +120,7 @@ class SolverAPI:
         """The driving pressure gradient / rho_water of a periodic current (m/s2)."""
         if not self.physics.periodic_x:
             raise ValueError("set_drive needs a periodic case (the Drive module is off)")
-        self._set_drive(float(gx), float(gy))   # a kernel: a third of a Python-scope struct write
+        self.table.set_drive(float(gx), float(gy))
 
     def set_bed(self, dz, w):
         """The morphodynamic bed's displacement z_b - z_b0 and speed dz_b/dt per station."""
@@ -158,7 +157,7 @@ class SolverAPI:
         particles (the largest error, max_density_error) does not set."""
         fl = st["kind"] == FLUID
         if fl.any():
-            rho0 = self.mat_rho0.to_numpy()[st["mat"][fl]]
+            rho0 = self.mat.rho0.to_numpy()[st["mat"][fl]]
             dev = np.abs(st["rho"][fl] / rho0 - 1.0)
             self.rhodev_sum += float(np.mean(dev))
             self.rhodev_n += 1
@@ -234,12 +233,10 @@ class SolverAPI:
             for k, f in getattr(m, "state_fields", {}).items():
                 d[f"module.{m.name}.{k}"] = f.to_numpy()
         st = self.stats[None]
-        prm = {k: (list(getattr(self.prm[None], k)) if d_.vector else float(getattr(self.prm[None], k)))
-               for k, d_ in self.param_decl.items()}
-        scal = dict(time=self.time, steps=self.steps, dt=float(self.prm[None].dt), leaked=int(st.leaked),
+        scal = dict(time=self.time, steps=self.steps, dt=self.table.get("dt"), leaked=int(st.leaked),
                     n=self.n, primed=int(self._primed), rhodev=float(st.rhodev),
                     rhodev_sum=self.rhodev_sum, rhodev_n=self.rhodev_n,
-                    rhodev_p999=self.rhodev_p999, params=json.dumps(prm))
+                    rhodev_p999=self.rhodev_p999, params=self.table.snapshot())
         return d, scal
 
     def load_raw_state(self, arrays, scalars):
@@ -251,12 +248,10 @@ class SolverAPI:
                 if f"module.{m.name}.{k}" in arrays:
                     f.from_numpy(arrays[f"module.{m.name}.{k}"])
         if "params" in scalars:   # the runtime inputs as they were (drive, paddle), not their defaults
-            for k, v in json.loads(scalars["params"]).items():
-                if k in self.param_decl:
-                    setattr(self.prm[None], k, tuple(v) if isinstance(v, list) else v)
+            self.table.restore(scalars["params"])
         self.time = float(scalars["time"])
         self.steps = int(scalars["steps"])
-        self._set_dt(float(scalars["dt"]))
+        self.table.set_dt(float(scalars["dt"]))
         self._dt = None
         self.stats[None].leaked = int(scalars["leaked"])
         if self.physics.spray:   # the spray removed so far counts towards its cap
@@ -283,14 +278,6 @@ class SolverAPI:
         return self.store.by_id(names, self.store.bak)
 
     # ------------------------------------------------------------------ kernels of the API
-    @ti.kernel
-    def _set_drive(self, gx: ti.f64, gy: ti.f64):
-        self.prm[None].drive = ti.Vector([ti.cast(gx, self.real), ti.cast(gy, self.real)])
-
-    @ti.kernel
-    def _set_dt(self, dt: ti.f64):
-        self.prm[None].dt = ti.cast(dt, self.real)
-
     @ti.kernel
     def _neighbour_stats(self, cnt: ti.types.ndarray(), idsum: ti.types.ndarray()):
         for i in range(self.n):

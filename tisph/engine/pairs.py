@@ -1,7 +1,7 @@
 """Each pair once, on the CPU: the force pass visits every pair of neighbours once and gives
 both particles their terms, in an order that does not depend on the threads.
 
-The gather pass (solver.forces) visits every pair twice, once from each side: half of its
+The gather pass (stepper.forces) visits every pair twice, once from each side: half of its
 candidate scan and of its kernel evaluations (|r|, W', 1/(r^2 + eta^2)) are repeats. Here each
 particle scans the forward half of its stencil only (its own cell row after itself, and the two
 rows above) and computes the pair's kernel once. A fluid-fluid pair's terms for both particles
@@ -61,11 +61,11 @@ def sum_slots(S):
 
 @ti.data_oriented
 class PairOnce:
-    def __init__(self, S):
-        self.S = S
+    def __init__(self, S, Acc, acc_types):
+        """S: the solver; Acc, acc_types: the stepper's accumulator type and its slots' types."""
+        self.S, self.Acc = S, Acc
         self.slots = sum_slots(S)
         self.names = tuple(self.slots)
-        acc_types = dict(S.acc_types)
         self.SumT = ti.types.struct(**{k: acc_types[k] for k in self.names})
         self.sums = self.SumT.field(shape=S.n)
         self.zr = ti.field(ti.i32, ZONES + 1)     # each zone's first cell row
@@ -112,7 +112,7 @@ class PairOnce:
         """Particle i's own values in an accumulator, as the gather pass sets them."""
         S = self.S
         acc.vi, acc.rhoi, acc.pi, acc.inv_rhoi = ve, rhoe, p, ir
-        acc.mui, acc.mat = S.mat_mu[mi], mi
+        acc.mui, acc.mat = S.mat.mu[mi], mi
         for m in ti.static(S.hooks["init_acc"]):
             m.init_acc(S, i, acc)
 
@@ -121,7 +121,7 @@ class PairOnce:
         S = self.S
         t = S.tmp
         k = t.kind[i]
-        acc = S.Acc(0)
+        acc = self.Acc(0)
         self.own(i, acc, t.ve[i], t.rhoe[i], t.ir[i], t.p[i], ti.cast(t.mat[i], ti.i32))
         acc.kind = ti.cast(k, ti.i32)
         acc.m = t.m[i]
@@ -184,7 +184,7 @@ class PairOnce:
             q, ie, gw = self.kernel(r, r2)
             ve_j = s.ve[j]
             v_ij = acc.vi - ve_j
-            accj = S.Acc(0)
+            accj = self.Acc(0)
             self.own(j, accj, ve_j, s.rhoe[j], s.ir[j], s.p[j], ti.cast(s.mat[j], ti.i32))
             nbi = ti.Struct(kj=acc.kind, rho_j=acc.rhoi, ir_j=acc.inv_rhoi, p_j=acc.pi, q=q, m_j=acc.m,
                             vol_j=acc.m * acc.inv_rhoi, ie=ie, gw=-gw, v_ij=-v_ij, v_visc=-v_ij)

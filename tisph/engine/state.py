@@ -1,11 +1,10 @@
-"""Particle state: the fields (struct of arrays), the material table and the runtime parameters,
-each composed from the declarations of the enabled modules."""
+"""Particle state: the fields (struct of arrays) composed from the declarations of the enabled
+modules, their types and their initial values (the material table and the runtime parameters are
+table.py's)."""
 import numpy as np
 import taichi as ti
 
-from ..hooks.module import MatParam, Param
 from ..runtime import arch_name
-from ..settings.engine_keys import KEYED
 
 
 def types(real):
@@ -72,94 +71,6 @@ def eval_members(real):
     loop: only the sorted copy has it (16 bytes a particle less in the particles and the backup).
     ir = 1 / rhoe, set once per particle so the pair loop divides by no density."""
     return dict(ve=ti.types.vector(2, real), rhoe=real, ir=real)
-
-
-# Per-material parameters of the core: rest density, Tait B, and the viscosity (Newtonian mu,
-# Bingham mu_B, Cross mu_inf).
-CORE_MATERIAL = {
-    "rho0": MatParam(None, "kg/m3", "rest density"),
-    "B": MatParam(None, "Pa", "Tait stiffness B = rho0 c0^2 / gamma (paper 000 eq. 12)"),
-    "viscosity": MatParam(0.0, "Pa s", "dynamic viscosity (Bingham mu_B, Cross mu_inf)", field="mu"),
-}
-
-# Runtime parameters of the core (one default each; the modules add theirs).
-CORE_PARAMS = {
-    "c0": Param(None, "m/s", (0.0, None), "numerical sound speed"),
-    "g": Param((0.0, -9.81), "m/s2", (None, None), "gravity", vector=True),
-    "cfl": KEYED["numerics.cfl"],
-    "dt_max": KEYED["numerics.dt_max"],
-    "band": KEYED["numerics.density_band"],
-    "dt_floor": Param(1e-9, "s", (0.0, None), "a time step below this stops the run"),
-    "dt": Param(0.0, "s", (0.0, None), "the current time step (set by the kernel)"),
-}
-# The names solver params dicts use where they differ from the field's.
-PARAM_ALIASES = {"band": "density_band", "eps": "xsph"}
-
-CORE_MAXIMA = {"amax2": "real", "mumax": "real", "rhodev": "real"}
-CORE_STATS = dict(CORE_MAXIMA, bad_code="int", bad_idx="int", leaked="int")
-
-
-def material_table(S, modules, materials):
-    """One field per material parameter, with the values from the material dicts (or the one
-    default) to write once every field exists: a field write between field creations would
-    put each field in its own SNode tree, and Taichi's LLVM backends allow 512 of them."""
-    decl = dict(CORE_MATERIAL)
-    for m in modules:
-        decl.update(m.material)
-    nmat = len(materials)
-    writes = []
-    for k, d in decl.items():
-        f = ti.field(ti.i32 if d.kind == "int" else S.real, nmat)
-        setattr(S, "mat_" + (d.field or k), f)
-        vals = []
-        for n, mat in enumerate(materials):
-            v = mat.get(k, d.default)
-            if d.convert is not None:
-                v = d.convert(v, mat, S)
-            if v is None:
-                raise ValueError(f"material {mat.get('name', n)!r} lacks {k!r}")
-            vals.append(v)
-        writes.append((f, vals))
-    return writes
-
-
-def param_struct(S, modules, values, dx):
-    """The runtime parameter struct: every enabled module's Params, resolved from `values` (the
-    case's params dict) or their one default. A default of 'dx' means the particle spacing.
-    Returns the declarations and the resolved values (written by write_params)."""
-    decl = dict(CORE_PARAMS)
-    for m in modules:
-        decl.update(m.params)
-    vec2 = ti.types.vector(2, S.real)
-    S.prm = ti.types.struct(**{k: (vec2 if d.vector else S.real) for k, d in decl.items()}).field(shape=())
-    resolved = {}
-    for k, d in decl.items():
-        v = values.get(PARAM_ALIASES.get(k, k), values.get(k, d.default))
-        if isinstance(v, str) and v == "dx":
-            v = dx
-        elif callable(v):
-            v = v(S, values)
-        if v is None:
-            raise ValueError(f"solver parameter {k!r} has no value and no default")
-        resolved[k] = tuple(v) if d.vector else v
-    return decl, resolved
-
-
-def write_tables(S, material_writes, params):
-    """Fill the material table and the parameter struct (after every field was created)."""
-    for f, vals in material_writes:
-        f.from_numpy(np.asarray(vals, dtype=np.int32 if f.dtype == ti.i32 else S.np_real))
-    for k, v in params.items():
-        setattr(S.prm[None], k, v)
-
-
-def stats_struct(S, modules):
-    decl = dict(CORE_STATS)
-    for m in modules:
-        decl.update(m.stats)
-        decl.update(m.maxima)
-    S.stats = ti.types.struct(**{k: resolve(t, S.real) for k, t in decl.items()}).field(shape=())
-    return decl
 
 
 def float_type(real):

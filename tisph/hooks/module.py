@@ -57,7 +57,7 @@ class MatParam:
     doc: str = ""
     kind: str = "real"
     convert: object = None
-    field: str = ""          # the field is S.mat_<field> (default: the key)
+    field: str = ""          # the field is S.mat.<field> (default: the key)
 
 
 class Module:

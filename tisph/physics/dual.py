@@ -55,7 +55,7 @@ class DualCriteria(Module):
     def pair_task(self, i, j, r, r2, accs: ti.template()):
         """accs = (acc, acc_s, full), indexed, not unpacked: a name bound in Taichi scope is a copy."""
         S = self.S
-        nb = S.neighbour_view(i, j, r, r2, accs[0])
+        nb = S.stepper.neighbour_view(i, j, r, r2, accs[0])
         for m in ti.static(S.fast["pair"]):
             m.pair(S, i, j, r, r2, nb, accs[0])
         if accs[2]:

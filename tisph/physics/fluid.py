@@ -162,14 +162,14 @@ class LaminarViscosity(Module):
             if ti.static(S.physics.rheology):
                 mu_j = s.mu[j]
             else:
-                mu_j = S.mat_mu[ti.cast(s.mat[j], ti.i32)]
+                mu_j = S.mat.mu[ti.cast(s.mat[j], ti.i32)]
         acc.a += laminar_viscosity(nb.m_j, harmonic_pair(acc.mui, mu_j), acc.inv_rhoi, nb.ir_j,
                                    nb.v_visc, r, nb.ie, nb.gw)
 
     @ti.func
     def pair2(self, S, i, j, r, r2, nb, acc: ti.template(), sj: ti.template()):
         """Both fluid particles' terms: the harmonic mean and r . grad W are symmetric."""
-        mu_j = S.mat_mu[ti.cast(S.tmp.mat[j], ti.i32)]
+        mu_j = S.mat.mu[ti.cast(S.tmp.mat[j], ti.i32)]
         mu = harmonic_pair(acc.mui, mu_j)
         acc.a += laminar_viscosity(nb.m_j, mu, acc.inv_rhoi, nb.ir_j, nb.v_visc, r, nb.ie, nb.gw)
         sj.a += laminar_viscosity(nb.m_i, mu, nb.ir_j, acc.inv_rhoi, -nb.v_visc, -r, nb.ie, -nb.gw)
@@ -273,7 +273,7 @@ class DensityDiffusion(Module):
     @ti.func
     def init_acc(self, S, i, acc: ti.template()):
         prm = S.prm[None]
-        acc.rho0_c02 = S.mat_rho0[acc.mat] / (prm.c0 * prm.c0)
+        acc.rho0_c02 = S.mat.rho0[acc.mat] / (prm.c0 * prm.c0)
         if ti.static(self.renormalised):
             acc.gi = S.tmp.grho[i]
 

@@ -75,18 +75,18 @@ class Rheology(Module):
     @ti.func
     def finish(self, S, i, mi, acc: ti.template(), pt: ti.template()):
         gdot = shear_rate(acc.gv)
-        mu_new = S.mat_mu[mi]
-        rh = S.mat_rheo[mi]
+        mu_new = S.mat.mu[mi]
+        rh = S.mat.rheo[mi]
         if rh == BINGHAM:
-            mu_new = bingham(S.mat_mu[mi], S.mat_tau[mi], S.mat_m[mi], S.mat_mumax[mi], gdot)
-            if S.mat_rest[mi] == 1 and S.mat_mumax[mi] * gdot < S.mat_tau[mi]:
+            mu_new = bingham(S.mat.mu[mi], S.mat.tau[mi], S.mat.m[mi], S.mat.mumax[mi], gdot)
+            if S.mat.rest[mi] == 1 and S.mat.mumax[mi] * gdot < S.mat.tau[mi]:
                 # unyielded: the stress the capped viscosity carries is below the yield stress,
                 # so Bingham says the material moves as a rigid body; a bed on a fixed floor
                 # rests. Without this it creeps at stress / mu_max.
                 pt.v = ti.Vector([0.0, 0.0])
                 S.p.v[i] = pt.v
         elif rh == CROSS:
-            mu_new = cross(S.mat_mu0[mi], S.mat_mu[mi], S.mat_K[mi], S.mat_m1[mi], S.mat_mumax[mi], gdot)
+            mu_new = cross(S.mat.mu0[mi], S.mat.mu[mi], S.mat.K[mi], S.mat.m1[mi], S.mat.mumax[mi], gdot)
         S.p.mu[i] = mu_new
         pt.numax = ti.max(pt.numax, mu_new / pt.rho)
 
@@ -149,7 +149,7 @@ class DEM(Module):
         acc.cid_old = S.tmp.cid[i]
         acc.es_old = S.tmp.ces[i]
         acc.cid_new = ti.Vector([-1] * DEM_SLOTS)
-        acc.dem = S.mat_dem[acc.mat]
+        acc.dem = S.mat.dem[acc.mat]
         acc.mi = S.tmp.m[i]
 
     @ti.func

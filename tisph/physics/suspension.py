@@ -59,7 +59,7 @@ class Suspension(Module):
         if nb.kj == FLUID:
             s = S.tmp
             cj = s.c[j]
-            vj = nb.m_j / S.mat_rho0[ti.cast(s.mat[j], ti.i32)]
+            vj = nb.m_j / S.mat.rho0[ti.cast(s.mat[j], ti.i32)]
             acc.dc += vj * (acc.epsi + s.eps[j]) * (acc.ci - cj) * r.dot(nb.gw) * nb.ie
             f = 2.0 * S.prm[None].w_s * vj * ti.abs(nb.gw[1])
             if r[1] < 0.0:          # j above i: its sand settles into i
@@ -115,7 +115,7 @@ class Suspension(Module):
         ti.loop_config(serialize=True)   # one order: restarts bit for bit
         for i in range(S.n):
             if S.p.kind[i] == FLUID:
-                v = ti.cast(S.p.m[i] / S.mat_rho0[ti.cast(S.p.mat[i], ti.i32)], ti.f64)
+                v = ti.cast(S.p.m[i] / S.mat.rho0[ti.cast(S.p.mat[i], ti.i32)], ti.f64)
                 cv = v * ti.cast(S.p.c[i], ti.f64)
                 k = self.station(S, S.p.x[i][0])
                 if ti.cast(S.p.x[i][1], ti.f64) - zb[k] < LAYER * S.dx:

@@ -71,7 +71,7 @@ class SPS(Module):
         nut = 0.0
         newtonian = True
         if ti.static(S.physics.rheology):
-            newtonian = S.mat_rheo[mi] == 0
+            newtonian = S.mat.rheo[mi] == 0
         if newtonian:
             if ti.static(S.physics.turbulence == "k_equation"):
                 nut = S.p.nut[i]          # TKE.finish, just before, from this step's k
@@ -81,7 +81,7 @@ class SPS(Module):
         S.p.sps[i] = tau
         if ti.static(self.held_nu):
             S.p.nus[i] = nut
-        pt.numax = ti.max(pt.numax, nut + S.mat_mu[mi] / pt.rho)
+        pt.numax = ti.max(pt.numax, nut + S.mat.mu[mi] / pt.rho)
 
     @ti.func
     def hold(self, S, i, mi, pt: ti.template()):
@@ -91,7 +91,7 @@ class SPS(Module):
             nut = S.p.nut[i]              # TKE.hold, just before, from this step's k
         else:
             nut = S.tmp.nus[i]
-        pt.numax = ti.max(pt.numax, nut + S.mat_mu[mi] / pt.rho)
+        pt.numax = ti.max(pt.numax, nut + S.mat.mu[mi] / pt.rho)
 
 
 @ti.data_oriented
@@ -234,7 +234,7 @@ class TKE(Module):
         clim = S.prm[None].stress_limiter
         k = tke_update(k0, l, s2, dk, S.prm[None].dt, clim)
         if ti.static(S.physics.rheology):
-            if S.mat_rheo[mi] != 0:     # the SPS is the Newtonian materials' only
+            if S.mat.rheo[mi] != 0:     # the SPS is the Newtonian materials' only
                 k = K_FLOOR
         S.p.kt[i] = k
         S.p.nut[i] = eddy_viscosity(k, l, s2, clim)

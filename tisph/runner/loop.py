@@ -116,6 +116,7 @@ class Run(Outputs):
         compile_s = time.perf_counter() - t_build
         self.log(f"{s.n} particles ({self.case.particles.count(FLUID)} fluid), h = {s.h:.4g} m, "
                  f"c0 = {s.c0:.4g} m/s, dt = {s.dt:.3g} s, set-up and compile {compile_s:.1f} s")
+        self.log("the step's runtime parameters, as resolved: " + s.table.describe(), file_only=True)
         return compile_s
 
     def _open_movie(self):

@@ -39,7 +39,7 @@ def keyed_params(cfg):
     """Every runtime parameter a module declares with a config key (Param.key), from the config: a
     new module's key reaches the solver without a line here (a missed one would run at its default)."""
     from ..engine.registry import MODULES
-    from ..engine.state import CORE_PARAMS, PARAM_ALIASES
+    from ..engine.table import CORE_PARAMS, PARAM_ALIASES
     out = {}
     for decl in [CORE_PARAMS] + [m.params for m in MODULES]:
         for name, p in decl.items():
@@ -111,7 +111,7 @@ def check_size(case, cfg):
     dx = cfg.numerics.dx
     check_fits(n, RUN_BYTES_PER_PARTICLE, dx, "this case")
     p = case.params
-    from ..engine.state import CORE_PARAMS
+    from ..engine.table import CORE_PARAMS
     dt = p.get("cfl", CORE_PARAMS["cfl"].default) * p["h"] / p["c0"]   # the acoustic step, an upper bound
     wall_per_sim_s = n / PARTICLE_STEPS_PER_S / dt
     if wall_per_sim_s > 3600.0:
