@@ -320,8 +320,23 @@ def test_peers_are_a_comma_separated_list_of_known_codes(capsys):
     assert "'pysph,dualsph': peers are pysph, dualsphysics" in capsys.readouterr().err
 
 
+def test_peers_benches_left_out_of_an_install_say_where_they_are(monkeypatch, capsys):
+    """The wheel leaves tisph/bench/peers/ out (pyproject.toml): --waves and --peer then exit 2
+    saying where the peers' benches come from, not with an ImportError."""
+    from tisph.bench import common
+
+    def missing(name):
+        raise ModuleNotFoundError(f"No module named {name!r}", name=name)
+    monkeypatch.setattr(common.importlib, "import_module", missing)
+    with pytest.raises(SystemExit) as e:
+        cli.main(["--waves", "--quick"])
+    assert e.value.code == 2
+    err = capsys.readouterr().err
+    assert "tisph/bench/peers/" in err and "a clone of tisph's source (pip install -e .)" in err
+
+
 def test_dualsphysics_case_and_its_csv_are_read(tmp_path):
-    from tisph.bench import dualsphysics
+    from tisph.bench.peers import dualsphysics
     xml = ('<definition dp="0.01" units_comment="m"><special><gauges/></special>'
            '<parameter key="TimeMax" value="2.0" /><parameter key="TimeOut" value="0.01" />'
            '<coefsound value="20" comment="" />')
@@ -371,7 +386,7 @@ def test_waves_bench_builds_dualsphysics_flume_and_reads_its_gauges(tmp_path):
     lattice, c0 as asked; the SWL records go through the flume scene's window and height."""
     import xml.etree.ElementTree as ET
 
-    from tisph.bench import flume_peers as waves
+    from tisph.bench.peers import flume_codes as waves
     f = waves.flume_setup(0.0125)
     xml, info = waves.flume_xml(0.0125, 9.6, f, waves.MATCHED)
     root = ET.fromstring(xml)

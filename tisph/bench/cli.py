@@ -3,8 +3,8 @@ error ladder unless another is named)."""
 import argparse
 import os
 
-from . import convergence, flume_peers, ladder, mao_held, ripples, schemes, shedding, speed, standing, traffic, validate
-from .codes import PEERS
+from . import convergence, ladder, mao_held, ripples, schemes, shedding, speed, standing, traffic, validate
+from .common import PEERS, peers
 from .ladder import __doc__ as LADDER_DOC
 
 
@@ -92,7 +92,7 @@ def make_parser():
                         "(tisph/bench/ripples.py; about an hour on two cores)")
     p.add_argument("--waves", action="store_true",
                    help="the default flume against Biesel, tisph at H/dx = 3, 5, 8, 12 and DualSPHysics beside it, "
-                        "back to back (tisph/bench/flume_peers.py; about an hour on two cores)")
+                        "back to back (tisph/bench/peers/flume_codes.py; about an hour on two cores)")
     p.add_argument("--standing", action="store_true",
                    help="a standing wave in a closed tank: the height the flume's numerics take per period, with "
                         "each density diffusion (tisph/bench/standing.py; --dx, --end-time in periods)")
@@ -116,7 +116,7 @@ def main(argv=None):  # noqa: C901 (one branch a bench the command line names)
     if a.ripples:
         return ripples.main(a)
     if a.waves:
-        return flume_peers.main(a)
+        return peers("flume_codes").main(a)
     if a.standing:
         return standing.main(a)
     if a.convergence:

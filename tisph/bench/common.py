@@ -1,11 +1,33 @@
 """What the benchmark tools share: the source tree they run, one case run, and their Markdown tables."""
 import importlib
 import os
+import sys
 import time
 
 from ..runner import simulate
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+# the codes the peers' benches run beside tisph (tisph/bench/peers/)
+PEERS = ("pysph", "dualsphysics")
+
+
+class PeersMissing(SystemExit):
+    """The peers' benches are not installed (a wheel leaves them out)."""
+
+
+def peers(name):
+    """A module of tisph/bench/peers/: the benches that build DualSPHysics and install PySPH to run
+    them beside tisph. They build and install other codes, so the wheel leaves them out; they run
+    from a clone of tisph's source (pip install -e .)."""
+    try:
+        return importlib.import_module(f"{__package__}.peers.{name}")
+    except ModuleNotFoundError as e:
+        if not (e.name or "").startswith(f"{__package__}.peers"):
+            raise
+        print(f"error: --peer and --waves run the peers' benches (tisph/bench/peers/), which build DualSPHysics and "
+              f"install PySPH: they come with a clone of tisph's source (pip install -e .), not with the installed "
+              f"package {os.path.dirname(os.path.dirname(os.path.abspath(__file__)))}", file=sys.stderr)
+        raise PeersMissing(2) from None
 
 
 def this_tree_env():

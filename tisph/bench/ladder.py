@@ -5,7 +5,7 @@
     python -m tisph.bench --shedding [--gaps G ...] [--dx DX] [--end-time T] [--config F]   (tisph/bench/shedding.py)
     python -m tisph.bench --mao-held [--times T ...] [--dx DX] [--end-time T] [--config F]   (tisph/bench/mao_held.py)
     python -m tisph.bench --validate [--quick] [--only WORD ...]   (tisph/bench/validate.py: docs/validation.md)
-    python -m tisph.bench --waves [--quick] [--dx DX] [--peer-finest DP] [--dualsphysics CLONE]   (tisph/bench/flume_peers.py)
+    python -m tisph.bench --waves [--quick] [--dx DX] [--peer-finest DP] [--dualsphysics CLONE]   (tisph/bench/peers/flume_codes.py)
 
 Every validation case runs at a ladder of resolutions; each run records particles, steps, wall
 time, Taichi compile time (the first call, separately), particle-steps/s and its error against
@@ -28,8 +28,7 @@ from ..measure.plots import pyplot, save
 from ..runner import Log, build_case, resolve
 from ..scenes import dam_break
 from ..sweep import execute
-from . import peer
-from .common import ROOT, run_case, table, this_tree_env
+from .common import ROOT, peers, run_case, table, this_tree_env
 from .speed import measure
 
 
@@ -171,7 +170,7 @@ def kernel_profile():
 
 # ---------------------------------------------------------------------------- PySPH
 def peer_pysph(out, log, venv=None):
-    return peer.compare(out, log, venv)
+    return peers("pysph_runs").compare(out, log, venv)
 
 
 # ---------------------------------------------------------------------------- report

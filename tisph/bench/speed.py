@@ -14,7 +14,7 @@ waits for the last kernel). With --against, every case is run on this tree and o
 out into a temporary git worktree) alternately, every other pair REV first, --repeats times, and
 the ratio is the median of the pairs: these machines are shared and drift, so only ratios from
 one run mean anything. With --peer, PySPH's and DualSPHysics' dam breaks beside ours
-(tisph/bench/codes.py). Writes OUT/speed.md and OUT/speed.csv.
+(tisph/bench/peers/dambreak_codes.py). Writes OUT/speed.md and OUT/speed.csv.
 """
 import json
 import math
@@ -26,8 +26,7 @@ import tempfile
 import time
 
 from ..io import ensure_dir, write_csv, write_text
-from . import codes
-from .common import ROOT
+from .common import ROOT, peers
 
 # (name, scene, overrides, steps): sizes from 3.4e3 to 6.5e5 particles, and the flume's paddle
 CASES = [
@@ -278,7 +277,7 @@ def main(a):
     rows, cold, warm = run(a, log)
     lines = report(a, rows, cold, warm)
     if getattr(a, "peer", ()):
-        lines += codes.compare(a.out, log, a.peer, getattr(a, "peer_venv", None), getattr(a, "dualsphysics", None))
+        lines += peers("dambreak_codes").compare(a.out, log, a.peer, getattr(a, "peer_venv", None), getattr(a, "dualsphysics", None))
     write_text(os.path.join(a.out, "speed.md"), "\n".join(lines) + "\n")
     write_csv(os.path.join(a.out, "speed.csv"), tuple(rows[0]), [tuple(r.values()) for r in rows])
     print("\n".join(lines))

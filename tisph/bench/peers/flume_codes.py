@@ -21,17 +21,17 @@ import time
 
 import numpy as np
 
-from ..constants import G
-from ..io import ensure_dir, write_csv, write_text
-from ..measure.plots import pyplot, save
-from ..measure.records import arrival_time, wave_height
-from ..runner import resolve
-from ..scenes import flume
-from ..settings.config import ConfigError
-from ..waves.theory import linear_wave
+from ...constants import G
+from ...io import ensure_dir, write_csv, write_text
+from ...measure.plots import pyplot, save
+from ...measure.records import arrival_time, wave_height
+from ...runner import resolve
+from ...scenes import flume
+from ...settings.config import ConfigError
+from ...waves.theory import linear_wave
+from ..common import cache_dir, run_case, table
+from ..ladder import CASES
 from . import dualsphysics
-from .common import cache_dir, run_case, table
-from .ladder import CASES
 
 # the flume as the bench ladder runs it (H / dx = 3, 5, 8, 12, to the end of the window at three
 # wavelengths), one case for both benches
@@ -253,7 +253,7 @@ def plot(rows, f, path):
 
 def main(a):
     log = lambda m: print(m, flush=True)
-    from .. import runtime
+    from ... import runtime
     runtime.init("cpu", "f32")
     dxs = (a.dx,) if a.dx else QUICK if a.quick else LADDER
     tmax = a.end_time or (8.0 if a.quick else END_TIME)    # 8 s: two periods past the arrival at 3 L

@@ -20,9 +20,9 @@ import time
 
 import numpy as np
 
-from ..io import ensure_dir, write_text
-from ..validation import martin_moyce
-from .common import cache_dir, this_tree_env
+from ...io import ensure_dir, write_text
+from ...validation import martin_moyce
+from ..common import cache_dir, this_tree_env
 
 TF = 0.7
 DX = 0.03
@@ -145,7 +145,7 @@ def compare(out, log, venv=None, dxs=DXS):
         md += rows
         notes.append(note)
     md += [""] + notes + ["", "PySPH: stock dam_break_2d (WCSPH, Wendland quintic, PEC integrator, 2 OpenMP threads); "
-                          "at dx other than 0.03 with h and m set for that dx (a subclass, see tisph/bench/peer.py). tisph: "
+                          "at dx other than 0.03 with h and m set for that dx (a subclass, see tisph/bench/peers/pysph_runs.py). tisph: "
                           "the dam_break scene (Taichi CPU, 2 threads, f32). Both run from the command line in a fresh "
                           "process. tisph's start-up is Taichi's kernel compilation (from its offline cache when "
                           "warm); PySPH's compiled extension is cached from an earlier run.", ""]

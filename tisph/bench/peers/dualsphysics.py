@@ -9,7 +9,7 @@ the Linux GenCase and PartVTK binaries the case needs. The CPU solver is built w
 `make -f Makefile_cpu USE_GCC5=YES COMPILE_CHRONO=NO COMPILE_CHRONO_OMP=NO` (its bundled static
 libraries use the old C++ string ABI; a dam break needs no Chrono), about a minute on two cores.
 
-The front is read the way peer.py reads PySPH's: the rightmost fluid particle within two
+The front is read the way pysph_runs.py reads PySPH's: the rightmost fluid particle within two
 spacings of the floor, plus half a spacing, from the back wall's face (the first fluid column
 less half a spacing), from PartVTK's CSV of the fluid at each output time.
 """

@@ -7,22 +7,21 @@ RMS error against Martin & Moyce (1952), and each code's settings.
 
 Each code runs its own recommended settings (PySPH's stock dam_break_2d, DualSPHysics' example
 CaseDambreakVal2D, tisph's dam_break scene); the front is read from each one's particles the
-same way (peer.py, dualsphysics.py).
+same way (pysph_runs.py, dualsphysics.py).
 """
 import os
 
-from ..runner import resolve
-from ..scenes import dam_break
-from ..validation import martin_moyce
-from . import dualsphysics, peer
-from .common import cache_dir
+from ...runner import resolve
+from ...scenes import dam_break
+from ...validation import martin_moyce
+from ..common import cache_dir
+from . import dualsphysics, pysph_runs
 
 RUNS = ((0.03, 0.7), (0.015, 0.3))
-PEERS = ("pysph", "dualsphysics")
 
 
 def run_tisph(out, dx, tf):
-    s, wall = peer.run_tisph_dam_break(out, dx, tf)
+    s, wall = pysph_runs.run_tisph_dam_break(out, dx, tf)
     num = resolve(dam_break, overrides={"numerics.dx": dx})["numerics"]
     settings = (f"{num['kernel']}, h = {s['h'] / dx:.2f} dp, velocity Verlet with CFL {num['cfl']:g}, "
                 f"c0 {s['c0']:.1f} m/s, "
@@ -32,12 +31,12 @@ def run_tisph(out, dx, tf):
 
 
 def run_pysph(py, out, dx, tf):
-    p = peer.run_pysph(py, out, dx, tf)
+    p = pysph_runs.run_pysph(py, out, dx, tf)
     rms, _ = martin_moyce.front_rms_error(p["t"], p["front"], 1.0)
     return dict(particles=p["particles"], steps=p["steps"], wall_s=p["wall_time_s"], loop_s=p["run_s"], rms=rms,
                 settings="stock dam_break_2d: WCSPH scheme, Wendland quintic, h = 1.3 dp (its hdx), PEC integrator, "
                          "c0 = 10 sqrt(2 g H), alpha 0.1, 2 OpenMP threads"
-                         + ("" if dx == peer.DX else "; h and m set for this dp by a subclass"))
+                         + ("" if dx == pysph_runs.DX else "; h and m set for this dp by a subclass"))
 
 
 def run_dualsphysics(root, out, dx, tf):
@@ -53,7 +52,7 @@ def compare(out, log, peers, pysph_venv=None, dsph_source=None, runs=RUNS):
     ready, notes = {}, []
     if "pysph" in peers:
         try:
-            ready["PySPH 1.0b2"] = ("pysph", peer.ensure_pysph(pysph_venv or os.path.join(cache, "pysph-venv"), log))
+            ready["PySPH 1.0b2"] = ("pysph", pysph_runs.ensure_pysph(pysph_venv or os.path.join(cache, "pysph-venv"), log))
         except Exception as e:   # no network, no compiler: the bench goes on without it
             notes.append(f"PySPH not run: {e}")
     if "dualsphysics" in peers:
