@@ -1,5 +1,7 @@
-"""Bad input: the error that names the key, the value and what is allowed (every error at once
-where several are found). tisph.settings.config re-exports it; it sits below everything that raises it."""
+"""The two errors a user meets: bad input, which names the key, the value and what is allowed
+(every error at once where several are found; tisph.settings.config re-exports it), and a run that
+went unstable, which says when, what, where and a likely cause. Without Taichi: they sit below
+everything that raises them (the settings, the engine's hooks, the bed coupling, the runner)."""
 
 
 class ConfigError(ValueError):
@@ -29,3 +31,12 @@ def raise_collected(errors):
         raise errors[0]
     if errors:
         raise ConfigErrors(errors)
+
+
+class SimulationError(RuntimeError):
+    """The run went unstable; the message says where, what and a likely cause."""
+
+
+def unstable(solver, what, where, cause):
+    """The SimulationError message of every instability: when, what went wrong, where, a likely cause."""
+    return f"unstable at step {solver.steps}, t = {solver.time:.6g} s: {what}; {where}. Likely cause: {cause}."

@@ -5,7 +5,7 @@ fshape(q) = (dW/dr) / r in those units. Writing the gradient as a factor times r
 finite at r -> 0 and saves a square root's division in the pair loop.
 
 Here each kernel's constants and its NumPy form (gauges, set-up, tests); the engine's Taichi
-functions (tisph/engine/kernels.py) extend these classes, so reading a case needs no Taichi.
+functions (tisph/engine/smoothing.py) extend these classes, so reading a case needs no Taichi.
 """
 import math
 

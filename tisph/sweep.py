@@ -276,8 +276,8 @@ def seed_set(scene, config, sets, n):
 
 def write_ensemble(out, cases, results):
     """OUT/ensemble.csv and .md: each combination of the other swept keys, each metric's spread
-    over the seeds that finished (measure/ensemble.py)."""
-    from .measure.ensemble import ensemble_metrics
+    over the seeds that finished (measure/spread.py)."""
+    from .measure.spread import ensemble_metrics
     groups = {}
     for cid, values, _ in cases:
         rest = tuple((k, v) for k, v in values.items() if k != "sediment.seed")

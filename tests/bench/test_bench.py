@@ -276,7 +276,7 @@ def test_ripple_sweep_cases_and_dry_run(tmp_path):
     periods (a seeded bed 300), the faster beds at a lower morfac; the seeded runs of the
     calibration case, and its resolution pair at twice the length; --dry-run runs the whole path
     through the Dask sweep and writes the table, the CSV and both figures."""
-    from tisph.bench import ripples as rb
+    from tisph.bench import ripple_sweep as rb
     cases = rb.cases()
     rip = [ov for _, kind, ov in cases if kind in ("check", "calibration")]
     psi = [rb.mobility(ov["geometry.orbital_diameter"], ov["geometry.period"]) for ov in rip]
@@ -437,9 +437,9 @@ def test_a_quick_validation_writes_only_under_its_out(tmp_path):
 
 
 def test_gci_recovers_a_known_order_and_its_limit_and_refuses_oscillation():
-    """Roache's GCI (tisph/bench/convergence.py): f = 1 + dx^2 at dx = 0.3, 0.2, 0.13 gives p = 2
+    """Roache's GCI (tisph/bench/gci_examples.py): f = 1 + dx^2 at dx = 0.3, 0.2, 0.13 gives p = 2
     and the limit 1 (uneven ratios, Celik et al.'s iteration); a sign change gives no order."""
-    from tisph.bench.convergence import gci
+    from tisph.bench.gci_examples import gci
     dx = (0.13, 0.2, 0.3)
     f = [1.0 + d * d for d in dx]
     p, ext, g21, g32 = gci(*f, dx[1] / dx[0], dx[2] / dx[1])
@@ -469,7 +469,7 @@ def test_schemes_bench_writes_every_run_its_table_and_figure(tmp_path, monkeypat
     are stood in for (the real ones take about 25 minutes: a benchmark)."""
     import json
 
-    from tisph.bench import schemes
+    from tisph.bench import scheme_costs as schemes
     seen = []
 
     def fake(case, dx, out, quick):

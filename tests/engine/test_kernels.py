@@ -3,7 +3,7 @@ import numpy as np
 import pytest
 import taichi as ti
 
-from tisph.engine.kernels import CubicSpline2D, WendlandC2_2D
+from tisph.engine.smoothing import CubicSpline2D, WendlandC2_2D
 
 KERNELS = [CubicSpline2D, WendlandC2_2D]
 

@@ -5,7 +5,7 @@ compile and run them."""
 import numpy as np
 import pytest
 
-from tisph.engine.registry import MODULES
+from tisph.engine.enabled import MODULES
 from tisph.engine.solver import Solver
 from tisph.hooks.module import HOOKS
 from tisph.particles import FLUID, MOVING, WALL, ParticleSet

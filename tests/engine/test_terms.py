@@ -7,7 +7,7 @@ A term's part is the difference between the solver with it and without it.
 import numpy as np
 import pytest
 
-from tisph.engine.kernels import get_kernel
+from tisph.engine.smoothing import get_kernel
 from tisph.engine.solver import Solver
 from tisph.particles import FLUID, WALL, ParticleSet
 from tisph.settings.config import Physics

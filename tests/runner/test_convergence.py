@@ -6,7 +6,7 @@ import os
 import pytest
 
 from tests.scenes.test_custom import TANK, WATER
-from tisph.measure.convergence import verdict
+from tisph.measure.gci import verdict
 from tisph.scenes import custom
 
 

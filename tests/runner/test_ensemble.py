@@ -6,7 +6,7 @@ import os
 
 import pytest
 
-from tisph.measure.ensemble import ensemble_metrics, spread
+from tisph.measure.spread import ensemble_metrics, spread
 from tisph.runner import entry
 from tisph.scenes import dam_break, tunnel
 

@@ -3,7 +3,7 @@ error ladder unless another is named)."""
 import argparse
 import os
 
-from . import convergence, ladder, mao_held, ripples, schemes, shedding, speed, standing, traffic, validate
+from . import gci_examples, ladder, mao_held, ripple_sweep, scheme_costs, shedding, speed, standing, traffic, validate
 from .common import PEERS, peers
 from .ladder import __doc__ as LADDER_DOC
 
@@ -23,7 +23,7 @@ def table_options(p):
                         "table (tisph/bench/validate.py; with --quick: coarse, short versions)")
     p.add_argument("--schemes", action="store_true",
                    help="run time against error by numerics scheme: four validation cases at two or three spacings "
-                        "under five schemes (tisph/bench/schemes.py; about 25 minutes on two cores)")
+                        "under five schemes (tisph/bench/scheme_costs.py; about 25 minutes on two cores)")
     p.add_argument("--jobs", type=int, default=0, metavar="N",
                    help="with --validate or --schemes: runs at a time, each in a process of its own on cores / N CPU "
                         "threads (default 0: one a core; 1: one after another on every core)")
@@ -89,7 +89,7 @@ def make_parser():
                                     "numerics it runs (default scenes/pipeline_scour_mao.toml)")
     p.add_argument("--ripples", action="store_true",
                    help="the tunnel's ripples against the orbital diameter, 15 cases through the Dask sweep "
-                        "(tisph/bench/ripples.py; about an hour on two cores)")
+                        "(tisph/bench/ripple_sweep.py; about an hour on two cores)")
     p.add_argument("--waves", action="store_true",
                    help="the default flume against Biesel, tisph at H/dx = 3, 5, 8, 12 and DualSPHysics beside it, "
                         "back to back (tisph/bench/peers/flume_codes.py; about an hour on two cores)")
@@ -98,7 +98,7 @@ def make_parser():
                         "each density diffusion (tisph/bench/standing.py; --dx, --end-time in periods)")
     p.add_argument("--convergence", action="store_true",
                    help="the breakwater's overtopping and the seawall's peak force at three resolutions, with the "
-                        "observed order and Roache's GCI (tisph/bench/convergence.py; about an hour on two cores)")
+                        "observed order and Roache's GCI (tisph/bench/gci_examples.py; about an hour on two cores)")
     p.add_argument("--peer-finest", type=float, default=0.0125,
                    help="with --waves: the finest dp DualSPHysics runs at (default 0.0125, H/dx = 5; at 0.0075 its two "
                         "runs take about two hours)")
@@ -114,19 +114,19 @@ def main(argv=None):  # noqa: C901 (one branch a bench the command line names)
     a.out_given = a.out is not None
     a.out = a.out or os.path.join("renders", "validate" if a.validate else "bench")
     if a.ripples:
-        return ripples.main(a)
+        return ripple_sweep.main(a)
     if a.waves:
         return peers("flume_codes").main(a)
     if a.standing:
         return standing.main(a)
     if a.convergence:
-        return convergence.main(a)
+        return gci_examples.main(a)
     if a.jobs < 0:
         p.error(f"--jobs {a.jobs}: at least 0 (0: one a core)")
     if a.validate:
         return validate.main(a)
     if a.schemes:
-        return schemes.main(a)
+        return scheme_costs.main(a)
     if a.jobs:
         p.error("--jobs needs --validate or --schemes")
     if a.docs is not None or a.readme is not None:

@@ -1,10 +1,10 @@
 """Each validation case's error with its numerical uncertainty: the grid convergence index of its
-reported run where it ran three spacings (Celik et al. 2008, measure/convergence.py), the standard
-error over its seeds where the metric is chaotic (a ripple field, measure/ensemble.py), or the
+reported run where it ran three spacings (Celik et al. 2008, measure/gci.py), the standard
+error over its seeds where the metric is chaotic (a ripple field, measure/spread.py), or the
 reason there is none."""
 import math
 
-from ..measure.convergence import verdict
+from ..measure.gci import verdict
 
 
 def _finite(v):

@@ -94,7 +94,7 @@ def failed_row(case, dx, e):
 def ensemble(case, row, seeds, seed_rows):
     """The reported row with its seeds' runs: its value and error become the ensemble's mean, its
     `ensemble` each seed's value and the spread."""
-    from ..measure.ensemble import spread
+    from ..measure.spread import spread
     values = [row["value"]] + [seed_rows[s]["value"] if seed_rows[s]["status"] == "ok" else None for s in seeds[1:]]
     ens = dict(spread(values), seeds=list(seeds))
     row["ensemble"] = ens

@@ -7,7 +7,7 @@ from ..hooks.health import BAD_NONE
 from ..io import OPTIONAL
 from ..particles import FLUID, SPRAY
 from .batch import paddle_fit
-from .kernels import CubicSpline2D
+from .smoothing import CubicSpline2D
 
 
 class SolverAPI:

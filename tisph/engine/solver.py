@@ -17,9 +17,9 @@ from ..settings.config import Physics
 from . import state as st_mod
 from .access import SolverAPI
 from .batch import READ_ELEMENTS
+from .enabled import enabled_modules
 from .grid import Grid
-from .kernels import get_kernel
-from .registry import enabled_modules
+from .smoothing import get_kernel
 from .stepper import Stepper
 from .store import ParticleStore
 from .table import ParamTable, Setup

@@ -1,6 +1,6 @@
 """`tisph run CASE --convergence`: the case again at 1.5 and 2.25 times its spacing, and for each
 metric of summary.json its observed order, Richardson's estimate and the GCI on the case's own
-spacing (measure/convergence.py), or the reason there is none (oscillatory, not converging yet). The two coarser runs cost about
+spacing (measure/gci.py), or the reason there is none (oscillatory, not converging yet). The two coarser runs cost about
 (1/1.5)^3 + (1/2.25)^3 = 0.38 of the run itself in 2D (particles go as dx^-2, steps as dx^-1).
 
 Writes convergence/convergence.md, convergence.csv and convergence.png in the run's folder (each
@@ -10,7 +10,7 @@ import math
 import os
 
 from ..io import ensure_dir, write_csv, write_json, write_text
-from ..measure.convergence import verdict
+from ..measure.gci import verdict
 from ..settings.config import ConfigError
 from .start import simulate
 

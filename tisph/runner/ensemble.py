@@ -1,6 +1,6 @@
 """`tisph run CASE --seeds N`: the case with N random seeds of its initial bed (sediment.seed, then
 the next N - 1 integers), and each metric of summary.json as its mean, standard deviation and
-standard error over the runs (measure/ensemble.py). A case with nothing random is refused before
+standard error over the runs (measure/spread.py). A case with nothing random is refused before
 it runs: its N runs would be the same run.
 
 Writes seeds/ensemble.md, ensemble.csv and ensemble.png in the run's folder (each further seed's
@@ -10,7 +10,7 @@ import os
 import time
 
 from ..io import ensure_dir, write_csv, write_text
-from ..measure.ensemble import ensemble_metrics
+from ..measure.spread import ensemble_metrics
 from ..settings.config import ConfigError
 from .convergence import QUIET, add_to_summary, fmt, panels
 from .pool import run_all, stages

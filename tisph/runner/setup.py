@@ -6,7 +6,7 @@ from collections.abc import Mapping
 
 import numpy as np
 
-from ..hooks.errors import SimulationError, unstable  # noqa: F401  (the runner's: re-exported)
+from ..errors import SimulationError, unstable  # noqa: F401  (the runner's: re-exported)
 from ..io import OutputError, write_text
 from ..particles import KIND_NAMES, RUN_BYTES_PER_PARTICLE, check_fits
 from ..settings.resolved import thaw
@@ -38,7 +38,7 @@ def common_params(cfg, c0, g=9.81, depth=1.0):
 def keyed_params(cfg):
     """Every runtime parameter a module declares with a config key (Param.key), from the config: a
     new module's key reaches the solver without a line here (a missed one would run at its default)."""
-    from ..engine.registry import MODULES
+    from ..engine.enabled import MODULES
     from ..engine.table import CORE_PARAMS, PARAM_ALIASES
     out = {}
     for decl in [CORE_PARAMS] + [m.params for m in MODULES]:

@@ -18,7 +18,7 @@ import dataclasses
 import numpy as np
 
 from ..constants import SQRT_CMU, G
-from ..hooks.errors import SimulationError, unstable
+from ..errors import SimulationError, unstable
 from ..settings.config import ConfigError, raise_collected
 from ..settings.schema import K, choices, ranges, values
 from .bed import Bed, Sand

@@ -4,9 +4,9 @@ same sum (float addition is not associative): the order here is the order of the
 Adding a term: write its Module, add it here, add its switch to config.Physics (and the
 config key that sets it), and test it (tests/engine/test_terms.py).
 """
-from ..boundaries.bed import MovingBed
-from ..boundaries.paddle import Paddle
+from ..boundaries.moving_bed import MovingBed
 from ..boundaries.walls import DynamicWall, ExtrapolatedWall, NoSlip, RepulsiveWall, WallImpact
+from ..boundaries.wavemaker import Paddle
 from ..boundaries.zones import Container, Damping, Drive, Inflow, Outflow, Spray
 from ..physics.dual import DualCriteria
 from ..physics.fluid import (

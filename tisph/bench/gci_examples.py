@@ -11,7 +11,7 @@ import os
 import time
 
 from ..io import ensure_dir, write_csv, write_text
-from ..measure.convergence import gci
+from ..measure.gci import gci
 from .common import ROOT, table
 
 # (case file, {metric: what it is}, dx coarse to fine: refinement ratios of about 1.5)
