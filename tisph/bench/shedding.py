@@ -191,7 +191,7 @@ def main(a):
     cfg_file = a.config or os.path.join(ROOT, "scenes", "pipeline_scour_mao.toml")
     if a.live_bed:
         return live_bed(a, cfg_file)
-    D = resolve(pipeline_scour, cfg_file)["geometry"]["pipe_diameter"]
+    D = resolve(pipeline_scour, cfg_file).geometry.pipe_diameter
     gaps = a.gaps or ([2.0] if a.quick else [0.5, 1.0, 2.0])
     end = a.end_time or (2.0 if a.quick else 4.0)
     rows = []

@@ -170,7 +170,7 @@ def dx_for(scene_name, n):
 
     from ..runner import Log, build_case, resolve
     scene = importlib.import_module("tisph.scenes." + scene_name).SCENE
-    dx = resolve(scene, overrides={"output.quiet": True})["numerics"]["dx"]
+    dx = resolve(scene, overrides={"output.quiet": True}).numerics.dx
     for _ in range(2):
         cfg = resolve(scene, overrides={"output.quiet": True, "numerics.dx": dx})
         have = len(build_case(scene, cfg, Log(os.devnull, True)).particles)

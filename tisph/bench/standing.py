@@ -43,7 +43,7 @@ def case(dx, periods, diffusion):
     import tisph
     from tisph.geometry import Polyline
     k, omega, T, L, cg = mode()
-    num = dict(resolve(flume)["numerics"], dx=dx, density_diffusion=diffusion)
+    num = dict(resolve(flume).numerics.items(), dx=dx, density_diffusion=diffusion)
     xs = np.linspace(0.0, L, 241)
     top = [[float(x), DEPTH + AMPLITUDE * math.cos(k * x)] for x in xs]
     tank = Polyline([[0.0, 0.6], [0.0, 0.0], [L, 0.0], [L, 0.6]], label="tank")

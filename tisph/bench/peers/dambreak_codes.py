@@ -22,8 +22,8 @@ RUNS = ((0.03, 0.7), (0.015, 0.3))
 
 def run_tisph(out, dx, tf):
     s, wall = pysph_runs.run_tisph_dam_break(out, dx, tf)
-    num = resolve(dam_break, overrides={"numerics.dx": dx})["numerics"]
-    settings = (f"{num['kernel']}, h = {s['h'] / dx:.2f} dp, velocity Verlet with CFL {num['cfl']:g}, "
+    num = resolve(dam_break, overrides={"numerics.dx": dx}).numerics
+    settings = (f"{num.kernel}, h = {s['h'] / dx:.2f} dp, velocity Verlet with CFL {num.cfl:g}, "
                 f"c0 {s['c0']:.1f} m/s, "
                 f"modules: {', '.join(s['modules'])}")
     return dict(particles=s["particles"], steps=s["steps"], wall_s=wall, loop_s=s["wall_time_s"],

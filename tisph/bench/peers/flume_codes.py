@@ -213,10 +213,10 @@ def run_tisph(work, dx, tmax):
     m, num = s["metrics"], flume_setup(dx)["numerics"]
     return dict(code="tisph", dx=dx, particles=s["particles"], steps=s["steps"], wall_s=wall,
                 loop_s=s["step_time_s"], H=m["wave_height_at_gauges"], errors=m["wave_height_errors"],
-                settings=f"{num['kernel']}, h = {s['h'] / dx:.2f} dx, velocity Verlet with CFL {num['cfl']:g}, "
-                         f"c0 {s['c0']:.1f} m/s, artificial viscosity {num['artificial_viscosity']:g}, "
-                         f"{num['density_diffusion']} diffusion {num['delta']:g}, {num['wall']} walls "
-                         f"({num['wall_layers']} layers), its piston and absorbing zone, surface gauges; modules: "
+                settings=f"{num.kernel}, h = {s['h'] / dx:.2f} dx, velocity Verlet with CFL {num.cfl:g}, "
+                         f"c0 {s['c0']:.1f} m/s, artificial viscosity {num.artificial_viscosity:g}, "
+                         f"{num.density_diffusion} diffusion {num.delta:g}, {num.wall} walls "
+                         f"({num.wall_layers} layers), its piston and absorbing zone, surface gauges; modules: "
                          + ", ".join(s["modules"]))
 
 
