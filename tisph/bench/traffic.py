@@ -134,7 +134,7 @@ def measure(case_id, steps=STEPS, arch="cpu"):
 
         def start():
             r = orig_start()
-            run.solver.stepper._step = step_wrapper(run.solver.stepper._step)
+            run.solver.stepper.step = step_wrapper(run.solver.stepper.step)
             return r
         run._start = start
         run.execute()

@@ -25,7 +25,7 @@ class SolverAPI:
     def prime(self):
         """Bin the particles and evaluate forces at t = 0 (a zero-length step) to get a^0, dt^0."""
         self.table.set_dt(0.0)
-        self.stepper._step(0, 0, 0.0, 0.0)    # the paddle at rest where it starts
+        self.stepper.step(0, 0, 0.0, 0.0)    # the paddle at rest where it starts
         self._dt = float(self.stepper.dtlog[0])
         self._primed = True
 
@@ -81,7 +81,7 @@ class SolverAPI:
             span, cd, cv = fit
             self.stepper.pfit.from_numpy(np.array(list(cd) + list(cv) + [span], dtype=self.np_real))
             args = (1, 0.0, 0.0)
-        step = self.stepper._step
+        step = self.stepper.step
         for k in range(n):
             step(k, *args)
             self.steps += 1

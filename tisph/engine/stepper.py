@@ -40,12 +40,11 @@ from .batch import BATCH, CHEB, chebyshev
 from .limits import next_dt
 from .pairs import PairOnce
 from .state import resolve
+from .table import CORE_MAXIMA
 
 # The base slots of a fluid particle's accumulator (the modules add theirs).
 ACC_CORE = {"a": "vec2", "drho": "real", "vi": "vec2", "rhoi": "real", "pi": "real", "inv_rhoi": "real",
             "mui": "real", "mat": "int", "kind": "int", "m": "real"}
-# The maxima the force pass raises for every case (the modules add theirs).
-CORE_MAXIMA = {"amax2": "real", "mumax": "real", "rhodev": "real"}
 
 
 @ti.data_oriented
@@ -250,7 +249,7 @@ class Stepper:
 
     # ------------------------------------------------------------------ the step
     @ti.kernel
-    def _step(self, k: ti.i32, fit: ti.i32, pd: ti.f64, pv: ti.f64):  # noqa: C901 (one kernel: the step's loops in order)
+    def step(self, k: ti.i32, fit: ti.i32, pd: ti.f64, pv: ti.f64):  # noqa: C901 (one kernel: the step's loops in order)
         """One step; writes the next step's dt into dtlog[k] and the health code into the log's
         last slot (no value returned: a return waits for the device). Where the paddle module
         is on, its displacement and rate at the step's end: pd, pv as given (fit 0; the launch's

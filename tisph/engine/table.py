@@ -38,6 +38,7 @@ CORE_PARAMS = {
 # The names solver params dicts use where they differ from the field's.
 PARAM_ALIASES = {"band": "density_band", "eps": "xsph"}
 
+# The maxima the force pass raises for every case (the modules add theirs; stepper.py keeps them).
 CORE_MAXIMA = {"amax2": "real", "mumax": "real", "rhodev": "real"}
 CORE_STATS = dict(CORE_MAXIMA, bad_code="int", bad_idx="int", leaked="int")
 

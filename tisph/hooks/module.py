@@ -1,14 +1,16 @@
 """The module interface: each piece of physics and each boundary treatment is one Module.
 
 A module declares what it needs and contributes @ti.func hooks; the step kernel
-(tisph/engine/solver.py) calls the hooks of the enabled modules in registry order, unrolled
+(tisph/engine/stepper.py) calls the hooks of the enabled modules in registry order, unrolled
 with ti.static, so a module that is off is neither allocated nor traced.
 
 Declarations (class attributes, all optional):
   fields(real)   particle members it allocates: {name: taichi type}
-  material       per-material parameters: {name: MatParam}; read from the material dicts
+  material       per-material parameters: {name: MatParam}; read from the material dicts, held
+                 by the parameter table (engine/table.py) and read as S.mat.<name>[material]
   params         runtime parameters (a Taichi struct field, changeable without a recompile):
-                 {name: Param}; each has its ONE default, unit and allowed range
+                 {name: Param}; each has its ONE default, unit and allowed range; read as
+                 S.prm[None].<name>
   acc            accumulator slots it adds to a fluid particle's neighbour sum: {name: type}
   stats          per-step statistics slots it adds (counters): {name: type}
   maxima         per-step maxima it adds: {name: type}; its finish hook raises pt.<name>,

@@ -4,7 +4,7 @@ the density diffusion and, where no rheology reads it, the velocity gradient wit
 it drives) are evaluated at the advection criterion dt_ad = advection_cfl h / |v|_max
 (theirs, 0.25) and held over the acoustic steps inside it, which evaluate the pressure, the
 continuity, the walls and the artificial viscosity (acoustic damping: its coefficient is c0's).
-The step kernel splits the sums (engine/solver.py, forces); on the steps between, a held module's
+The step kernel splits the sums (engine/stepper.py, forces); on the steps between, a held module's
 `hold` hook does what it must every step (the k equation's step with its held production)."""
 import taichi as ti
 
