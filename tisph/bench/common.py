@@ -11,10 +11,6 @@ ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)
 PEERS = ("pysph", "dualsphysics")
 
 
-class PeersMissing(SystemExit):
-    """The peers' benches are not installed (a wheel leaves them out)."""
-
-
 def peers(name):
     """A module of tisph/bench/peers/: the benches that build DualSPHysics and install PySPH to run
     them beside tisph. They build and install other codes, so the wheel leaves them out; they run
@@ -27,7 +23,7 @@ def peers(name):
         print(f"error: --peer and --waves run the peers' benches (tisph/bench/peers/), which build DualSPHysics and "
               f"install PySPH: they come with a clone of tisph's source (pip install -e .), not with the installed "
               f"package {os.path.dirname(os.path.dirname(os.path.abspath(__file__)))}", file=sys.stderr)
-        raise PeersMissing(2) from None
+        raise SystemExit(2) from None
 
 
 def this_tree_env():

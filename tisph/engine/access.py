@@ -37,7 +37,7 @@ class SolverAPI:
 
     @property
     def moves_paddle(self):
-        return self.motion is not None and "pd" in self.param_decl
+        return self.motion is not None and self.table.has("pd")
 
     @property
     def steps_ahead_allowed(self):

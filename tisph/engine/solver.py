@@ -99,7 +99,7 @@ class Solver(SolverAPI):
         setup = Setup(self.dx, self.h, self.c0, materials, self.particles)
         self.table = ParamTable(self.modules, params, setup, self.real)
         self.prm, self.mat, self.stats = self.table.prm, self.table.mat, self.table.stats
-        self.param_decl, self.param_values = self.table.decl, self.table.values
+        self.param_values = self.table.values
         self.cfl = self.table.setup.cfl
         self.stepper = Stepper(self, params.get("pair_once", False))
         self.batch, self.pair_once = self.stepper.batch, self.stepper.pair_once

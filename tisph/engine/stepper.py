@@ -258,7 +258,7 @@ class Stepper:
         Four scalar arguments: a vector argument costs about 50 us a launch on the CPU."""
         S = self.S
         dt = S.prm[None].dt
-        if ti.static("pd" in S.param_decl):
+        if ti.static(S.table.has("pd")):
             if fit == 0:
                 S.prm[None].pd = ti.cast(pd, S.real)
                 S.prm[None].pv = ti.cast(pv, S.real)

@@ -15,7 +15,7 @@ import taichi as ti
 
 from ..hooks.module import MatParam, Param
 from ..settings.engine_keys import KEYED
-from .state import resolve
+from .state import float_type, resolve
 
 # Per-material parameters of the core: rest density, Tait B, and the viscosity (Newtonian mu,
 # Bingham mu_B, Cross mu_inf).
@@ -64,11 +64,11 @@ class ParamTable:
         exists (a field write between field creations would put each field in its own SNode
         tree, and Taichi's LLVM backends allow 512 of them)."""
         self.real = real
-        self.np_real = np.float64 if real == ti.f64 else np.float32
+        self.np_real = float_type(real)
         self.decl, self.values = self._params(modules, values, setup)
         self.setup = dataclasses.replace(setup, cfl=float(self.values["cfl"]))   # the viscosity cap reads it
         self.mat = types.SimpleNamespace()
-        self.mat_decl, self._mat_writes = self._materials(modules, self.setup)
+        self._mat_writes = self._materials(modules, self.setup)
         self.stat_decl = dict(CORE_STATS)
         for m in modules:
             self.stat_decl.update(m.stats)
@@ -115,7 +115,7 @@ class ParamTable:
                     raise ValueError(f"material {mat.get('name', n)!r} lacks {k!r}")
                 vals.append(v)
             writes.append((f, vals))
-        return decl, writes
+        return writes
 
     def write(self):
         """Fill the material table and the parameter struct (after every field was created)."""
