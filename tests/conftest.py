@@ -19,5 +19,6 @@ if os.environ.get("PYTEST_XDIST_WORKER") and "TISPH_THREADS" not in os.environ:
 def taichi_cpu():
     """All tests run on the CPU backend, initialised once per session."""
     from tisph import runtime
+
     runtime.init("cpu", "f32")
     yield

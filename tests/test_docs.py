@@ -1,6 +1,7 @@
 """The docs show the real code: every code block under a `<!-- source: PATH -->` marker in docs/
 stands verbatim in that file, and every relative link in the README and docs/ points at a file
 that exists."""
+
 import glob
 import os
 import re

@@ -1,4 +1,5 @@
 """tisph: weakly-compressible SPH for free-surface water and sediment, on Taichi."""
+
 import os as _os
 
 # Taichi prints a banner on import; run.log records the version instead.
@@ -11,5 +12,6 @@ def __getattr__(name):
     """tisph.Case and tisph.run (tisph/api.py), imported when first used: `import tisph` stays light."""
     if name in ("Case", "run", "Result"):
         from . import api
+
         return getattr(api, name)
     raise AttributeError(f"module 'tisph' has no attribute {name!r}")

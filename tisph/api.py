@@ -10,6 +10,7 @@ A case is a scene and the settings a case file would hold; tisph.run takes the s
 `python -m tisph.scenes.NAME` (every key checked, ConfigError on bad input; Ctrl-C or SIGTERM
 stops it with a checkpoint that tisph.run(case, restart=...) continues from).
 """
+
 from __future__ import annotations
 
 import copy
@@ -49,7 +50,7 @@ class Case:
 
     def __init__(self, scene: str = "custom", settings: dict | None = None, base_dir: str = ".") -> None:
         self.scene = scene
-        self.spec = scenes.load(scene)      # its Scene (tisph.case.Scene)
+        self.spec = scenes.load(scene)  # its Scene (tisph.case.Scene)
         self.settings = copy.deepcopy(settings or {})
         self.base_dir = os.path.abspath(base_dir)
 
@@ -59,13 +60,17 @@ class Case:
         settings = read_toml(path)
         scene = scene or ("custom" if "domain" in settings else None)
         if scene is None:
-            raise ConfigError("scene", None, "a scene name for a built-in scene's case file, e.g. "
-                              "Case.from_toml(path, scene=\"tunnel\")")
+            raise ConfigError(
+                "scene",
+                None,
+                "a scene name for a built-in scene's case file, e.g. Case.from_toml(path, scene=\"tunnel\")",
+            )
         return cls(scene, settings, os.path.dirname(os.path.abspath(path)))
 
     @classmethod
-    def custom(cls, box: Sequence[float], solids: Iterable, water: Iterable[dict], gauges: Iterable[dict] = (),
-               **tables: dict) -> Case:
+    def custom(
+        cls, box: Sequence[float], solids: Iterable, water: Iterable[dict], gauges: Iterable[dict] = (), **tables: dict
+    ) -> Case:
         """A custom case from Python: box [x0, x1, z0, z1]; solids: tisph.geometry shapes (or
         dicts of [[solid]] keys); water and gauges: dicts of [[water]] and [[gauge]] keys; tables:
         any other table, e.g. numerics={"dx": 0.02}, paddle={...}, run={"end_time": 2.0}."""
@@ -118,6 +123,7 @@ class Result:
     def dataframe(self):
         """probes.csv as a pandas DataFrame (pandas must be installed)."""
         import pandas
+
         return pandas.DataFrame(self.probes)
 
     @property
@@ -140,13 +146,23 @@ class Result:
 
     def __repr__(self):
         s = self.summary
-        return (f"Result({self.out!r}: {s['status']}, {s.get('particles')} particles, {s.get('steps')} steps, "
-                f"{s.get('wall_time_s', 0):.3g} s)")
+        return (
+            f"Result({self.out!r}: {s['status']}, {s.get('particles')} particles, {s.get('steps')} steps, "
+            f"{s.get('wall_time_s', 0):.3g} s)"
+        )
 
 
-def run(case: Case | str, out: str | os.PathLike | None = None, render: bool = False, progress: bool = True,
-        restart: str | None = None, force: bool = False, convergence: bool = False, seeds: int = 0,
-        **overrides: Any) -> Result:
+def run(
+    case: Case | str,
+    out: str | os.PathLike | None = None,
+    render: bool = False,
+    progress: bool = True,
+    restart: str | None = None,
+    force: bool = False,
+    convergence: bool = False,
+    seeds: int = 0,
+    **overrides: Any,
+) -> Result:
     """Run a case (a Case, a case file's path or a built-in scene's name) and return its Result.
     overrides: dotted keys, e.g. run(case, **{"numerics.dx": 0.04}). convergence: also the case at
     1.5 and 2.25 times its dx, each metric's GCI (runner/convergence.py; Result.summary["convergence"]).
@@ -162,6 +178,7 @@ def run(case: Case | str, out: str | os.PathLike | None = None, render: bool = F
     cfg = case.config(**ov)
     if seeds:
         from .runner.ensemble import check_seeds
+
         if convergence:
             raise ConfigError("seeds", seeds, "one study a run: seeds or convergence, not both")
         check_seeds(cfg, seeds)
@@ -169,9 +186,12 @@ def run(case: Case | str, out: str | os.PathLike | None = None, render: bool = F
     summary = simulate(case.spec, cfg=cfg, out=out, restart=restart, force=force, echo=progress)
     if convergence and summary["status"] == "ok":
         from .runner.convergence import study
+
         study(case.spec, case.file_settings(), ov, cfg, summary, out, print if progress else (lambda m: None))
     if seeds and summary["status"] == "ok":
         from .runner import ensemble
-        ensemble.study(case.spec, case.file_settings(), ov, cfg, summary, out, seeds,
-                       print if progress else (lambda m: None))
+
+        ensemble.study(
+            case.spec, case.file_settings(), ov, cfg, summary, out, seeds, print if progress else (lambda m: None)
+        )
     return Result(out)

@@ -9,6 +9,7 @@ After PySPH's Application (create_particles, the scheme, post_process), with the
 before anything is built: derive and check see the whole case, build turns it into particles,
 physics, observers and a picture.
 """
+
 from __future__ import annotations
 
 import dataclasses
@@ -23,54 +24,65 @@ from .settings.schema import choices, ranges, values
 @dataclasses.dataclass
 class Model:
     """The solver's input: particles, materials, domain, runtime parameters, compiled physics."""
+
     particles: object
     materials: list
     domain: tuple
     params: dict
     physics: Physics
-    outflow: tuple = ()      # open boundaries: boxes (x0, y0, x1, y1) fluid leaves through
+    outflow: tuple = ()  # open boundaries: boxes (x0, y0, x1, y1) fluid leaves through
     container: tuple = None  # (x0, y0, x1, y1[, wall top]) the walls enclose: fluid outside
-                             # (below the wall top) crossed a wall, and the run stops
+    # (below the wall top) crossed a wall, and the run stops
 
     def solver(self):
         from .engine.solver import Solver
-        return Solver(self.physics, self.particles, self.materials, self.domain, self.params,
-                      outflow=self.outflow, container=self.container)
+
+        return Solver(
+            self.physics,
+            self.particles,
+            self.materials,
+            self.domain,
+            self.params,
+            outflow=self.outflow,
+            container=self.container,
+        )
 
 
 @dataclasses.dataclass
 class Observers:
     """Probes, metrics, events and controls of a run."""
+
     probe_columns: tuple = ()
-    probe: Callable = None            # probe(state: dict) -> tuple of floats
-    metrics: Callable = None          # metrics(columns: dict of np arrays) -> dict
-    final_metrics: Callable = None    # final_metrics(state: dict of np arrays) -> dict
+    probe: Callable = None  # probe(state: dict) -> tuple of floats
+    metrics: Callable = None  # metrics(columns: dict of np arrays) -> dict
+    final_metrics: Callable = None  # final_metrics(state: dict of np arrays) -> dict
     events: list = dataclasses.field(default_factory=list)  # [(t, callback(state, t))] at exact times
-    finalize: Callable = None         # finalize(out, metrics) -> None: plots, extra files
-    stills: tuple = ()                # simulated times of named stills, stills/t0.040.png
-    control: Callable = None          # control(solver) every control_every steps (through its set_* methods)
+    finalize: Callable = None  # finalize(out, metrics) -> None: plots, extra files
+    stills: tuple = ()  # simulated times of named stills, stills/t0.040.png
+    control: Callable = None  # control(solver) every control_every steps (through its set_* methods)
     control_every: int = 10
-    persist: tuple = ()               # the observers' mutable history (lists, dicts, objects): a
-                                      # checkpoint keeps it, so a restart continues every output
+    persist: tuple = ()  # the observers' mutable history (lists, dicts, objects): a
+    # checkpoint keeps it, so a restart continues every output
 
 
 @dataclasses.dataclass
 class Picture:
     """How frames are drawn."""
+
     view: tuple
-    u_max: float                      # the expected peak speed (colour scale, sound-speed check)
+    u_max: float  # the expected peak speed (colour scale, sound-speed check)
     render_modes: tuple = ("speed",)  # stacked panels: speed | phase | flat | pressure (render.Renderer)
-    mat_colors: tuple = None          # per material: an RGB colour (sediment) or None (by speed)
-    speed_scale: float = 0.0          # top of the speed colour bar (m/s); 0: u_max
-    pressure_scale: float = 0.0       # top of the "pressure" panel's colour bar (Pa)
-    bed_panel: Callable = None        # bed_panel(x0, x1, n) -> (x, bed change): a panel under the frame
-    bed_label: str = ""               # what the bed panel's label adds (the morphological factor)
-    bed_range: float = 0.0            # m: the bed panel's half-height for the whole movie; 0: grows with the bed
-    bed_surface: Callable = None      # bed_surface(x) -> z_b: the sand under it is filled in sand colour
-    zoom: tuple = None                # ((x0, y0), (x1, y1)): a window at true scale under the frame
-    marks: tuple = ()                 # (x, label) of gauges: a dotted line across the frame
-    zones: tuple = ()                 # (x0, x1, label) of zones (an absorber): a bar under the frame
-    solid_region: Callable = None     # solid_region(points) -> mask: the solids filled as drawn, not as stairs
+    mat_colors: tuple = None  # per material: an RGB colour (sediment) or None (by speed)
+    speed_scale: float = 0.0  # top of the speed colour bar (m/s); 0: u_max
+    pressure_scale: float = 0.0  # top of the "pressure" panel's colour bar (Pa)
+    bed_panel: Callable = None  # bed_panel(x0, x1, n) -> (x, bed change): a panel under the frame
+    bed_label: str = ""  # what the bed panel's label adds (the morphological factor)
+    bed_range: float = 0.0  # m: the bed panel's half-height for the whole movie; 0: grows with the bed
+    bed_surface: Callable = None  # bed_surface(x) -> z_b: the sand under it is filled in sand colour
+    zoom: tuple = None  # ((x0, y0), (x1, y1)): a window at true scale under the frame
+    marks: tuple = ()  # (x, label) of gauges: a dotted line across the frame
+    zones: tuple = ()  # (x0, x1, label) of zones (an absorber): a bar under the frame
+    solid_region: Callable = None  # solid_region(points) -> mask: the solids filled as drawn, not as stairs
 
 
 _PARTS = {cls: {f.name for f in dataclasses.fields(cls)} for cls in (Model, Observers, Picture)}
@@ -103,8 +115,7 @@ def make_case(name, notes=None, **parts):
         if owner is None:
             raise TypeError(f"make_case(): unknown part {k!r}")
         kw[owner][k] = v
-    return Case(name, Model(**kw[Model]), Observers(**kw[Observers]), Picture(**kw[Picture]),
-                notes=list(notes or []))
+    return Case(name, Model(**kw[Model]), Observers(**kw[Observers]), Picture(**kw[Picture]), notes=list(notes or []))
 
 
 class Scene:
@@ -123,6 +134,7 @@ class Scene:
     Its module holds the instance as SCENE and `main = partial(run_scene, SCENE)`, which
     `python -m tisph.scenes.NAME` runs.
     """
+
     NAME: str = ""
     SCHEMA: dict = {}
     DEPARTS: dict = {}

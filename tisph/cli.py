@@ -1,4 +1,5 @@
 """Flags every scene shares. Each maps onto one config key, so a flag and a TOML key never disagree."""
+
 import argparse
 
 # flag dest -> config path
@@ -22,36 +23,61 @@ class _Parser(argparse.ArgumentParser):
 
 
 def make_parser(scene, description="", prog=None):
-    p = _Parser(prog=prog or f"python -m tisph.scenes.{scene}", description=description,
-                formatter_class=argparse.RawDescriptionHelpFormatter)
+    p = _Parser(
+        prog=prog or f"python -m tisph.scenes.{scene}",
+        description=description,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
     p.add_argument("--config", metavar="FILE", help="TOML case file (see scenes/*.toml); flags override it")
     p.add_argument("--dx", type=float, help="initial particle spacing in m")
     p.add_argument("--end-time", type=float, help="simulated time to stop at, in s")
     p.add_argument("--max-steps", type=int, help="stop after this many time steps (0: no limit)")
     p.add_argument("--out", metavar="DIR", help=f"output folder (default renders/{scene}/)")
-    p.add_argument("--arch", choices=("cpu", "gpu", "auto"),
-                   help="Taichi backend: cpu, gpu (CUDA, Vulkan or Metal), auto")
+    p.add_argument(
+        "--arch", choices=("cpu", "gpu", "auto"), help="Taichi backend: cpu, gpu (CUDA, Vulkan or Metal), auto"
+    )
     p.add_argument("--no-render", action="store_true", help="write no PNG frames and no MP4")
     p.add_argument("--fps", type=int, help="movie playback frames per second")
     p.add_argument("--frame-interval", type=float, help="simulated seconds between frames")
-    p.add_argument("--snapshot-every", type=float, metavar="S",
-                   help="simulated seconds between HDF5 snapshots (default: the frame interval; 0: off)")
-    p.add_argument("--checkpoint-every", type=float, metavar="S",
-                   help="simulated seconds between checkpoints (SIGINT/SIGTERM always write one)")
+    p.add_argument(
+        "--snapshot-every",
+        type=float,
+        metavar="S",
+        help="simulated seconds between HDF5 snapshots (default: the frame interval; 0: off)",
+    )
+    p.add_argument(
+        "--checkpoint-every",
+        type=float,
+        metavar="S",
+        help="simulated seconds between checkpoints (SIGINT/SIGTERM always write one)",
+    )
     p.add_argument("--restart", metavar="PATH", help="continue from a checkpoint.h5")
     p.add_argument("--force", action="store_true", help="allow --restart with a changed config")
     p.add_argument("--quiet", action="store_true", help="no progress bar and no messages but errors")
-    p.add_argument("--live", action="store_true",
-                   help="show each frame in a window as it is rendered (needs a display; the files are written all the same)")
-    p.add_argument("--convergence", action="store_true",
-                   help="also run the case at 1.5 and 2.25 times its dx: each metric's observed order, Richardson "
-                        "estimate and GCI (convergence/ in the run folder, `convergence` in summary.json)")
-    p.add_argument("--seeds", type=int, metavar="N",
-                   help="run the case with N random seeds of its initial bed (sediment.seed and the next N - 1): each "
-                        "metric's mean, standard deviation and standard error (seeds/ in the run folder, `ensemble` in "
-                        "summary.json)")
-    p.add_argument("--describe", action="store_true",
-                   help="print every config key with its default, what is allowed and what it means, and exit")
+    p.add_argument(
+        "--live",
+        action="store_true",
+        help="show each frame in a window as it is rendered (needs a display; the files are written all the same)",
+    )
+    p.add_argument(
+        "--convergence",
+        action="store_true",
+        help="also run the case at 1.5 and 2.25 times its dx: each metric's observed order, Richardson "
+        "estimate and GCI (convergence/ in the run folder, `convergence` in summary.json)",
+    )
+    p.add_argument(
+        "--seeds",
+        type=int,
+        metavar="N",
+        help="run the case with N random seeds of its initial bed (sediment.seed and the next N - 1): each "
+        "metric's mean, standard deviation and standard error (seeds/ in the run folder, `ensemble` in "
+        "summary.json)",
+    )
+    p.add_argument(
+        "--describe",
+        action="store_true",
+        help="print every config key with its default, what is allowed and what it means, and exit",
+    )
     return p
 
 

@@ -13,6 +13,7 @@
 `python -m tisph.scenes.NAME`, `python -m tisph.view` and the others keep working; `tisph CMD -h`
 gives each one's flags.
 """
+
 from __future__ import annotations
 
 import os
@@ -27,7 +28,7 @@ from .settings.config import read_toml
 def scene_line(scene, width=100):
     """What a scene is, in one line: its class's docstring (importing a scene imports no Taichi)."""
     line = " ".join((type(scene).__doc__ or scene.NAME).split()).rstrip(".")
-    return line if len(line) <= width else line[:width - 3].rsplit(" ", 1)[0] + "..."
+    return line if len(line) <= width else line[: width - 3].rsplit(" ", 1)[0] + "..."
 
 
 COMMANDS = ("run", "describe", "scenes", "view", "metrics", "sweep", "bench", "stress")
@@ -41,16 +42,22 @@ def scene_of_file(path: str) -> str:
     with open(path, encoding="utf-8") as f:
         m = re.search(r"python -m tisph\.(?:scenes|validation)\.(\w+)", f.read())
     if not m or m.group(1) not in registry.REGISTRY:
-        raise ConfigError(path, "a case file", "a custom case (a [domain] table) or a header line naming its scene, "
-                          "e.g. '#   python -m tisph.scenes.flume --config my_flume.toml'",
-                          "or run it as: tisph run SCENE --config FILE")
+        raise ConfigError(
+            path,
+            "a case file",
+            "a custom case (a [domain] table) or a header line naming its scene, "
+            "e.g. '#   python -m tisph.scenes.flume --config my_flume.toml'",
+            "or run it as: tisph run SCENE --config FILE",
+        )
     return m.group(1)
 
 
 def run(argv: list[str]) -> int:
     if not argv or argv[0] in ("-h", "--help"):
-        print("usage: tisph run SCENE|FILE [flags]   (scenes: " + ", ".join(registry.names()) + "; "
-              "tisph run SCENE -h: the flags)")
+        print(
+            "usage: tisph run SCENE|FILE [flags]   (scenes: " + ", ".join(registry.names()) + "; "
+            "tisph run SCENE -h: the flags)"
+        )
         return 0 if argv else 2
     what, rest = argv[0], argv[1:]
     if what in registry.REGISTRY:
@@ -61,6 +68,7 @@ def run(argv: list[str]) -> int:
     else:
         raise ConfigError("tisph run", what, "a scene (" + ", ".join(registry.names()) + ") or a case file that exists")
     from .runner import run_scene
+
     return run_scene(registry.load(name), rest, prog=f"tisph run {what}")
 
 
@@ -69,6 +77,7 @@ def describe(argv: list[str]) -> int:
         raise ConfigError("tisph describe", " ".join(argv), "one scene: " + ", ".join(registry.names()))
     from .describe import describe as text
     from .runner.reading import resolved_notes
+
     scene = registry.load(argv[0])
     print(text(scene, resolved_notes(scene)))
     return 0
@@ -91,18 +100,23 @@ def main(argv: list[str] | None = None) -> int:
             return 0
         if cmd == "view":
             from .view import main as view
+
             return view(rest)
         if cmd == "metrics":
             from .runner.reanalyse import main as metrics
+
             return metrics(rest)
         if cmd == "sweep":
             from .sweep import main as sweep
+
             return sweep(rest)
         if cmd == "bench":
             from .bench.cli import main as bench
+
             return bench(rest)
         if cmd == "stress":
             from .stress import main as stress
+
             return stress(rest)
     except ConfigError as e:
         print(f"tisph {cmd}: {e}", file=sys.stderr)
@@ -116,7 +130,7 @@ def console() -> int:
     try:
         return main()
     except BrokenPipeError:
-        sys.stderr.close()      # nothing more can be said to a closed pipe
+        sys.stderr.close()  # nothing more can be said to a closed pipe
         return 0
 
 

@@ -2,6 +2,7 @@
 allowed and what it means, read from the scene's SCHEMA and the shared keys (tisph/settings/schema.py's
 Key: default, unit, range or choices, words), so it cannot go stale.
 """
+
 import os
 import sys
 
@@ -17,7 +18,7 @@ def words(scene):
     """{dotted key: what it means} of every key the scene declares or shares."""
     scene = as_scene(scene)
     out = dict(schema.docs(SHARED), **schema.docs(TURBULENCE, "numerics"))
-    out.update(schema.docs(scene.SCHEMA))   # the scene's own words win
+    out.update(schema.docs(scene.SCHEMA))  # the scene's own words win
     return out
 
 
@@ -31,7 +32,7 @@ def rows(scene):
     out = []
     for key, v in config.flatten(cfg).items():
         if key in scene.ELEMENTS:
-            continue                             # a list of tables: element_rows has its keys
+            continue  # a list of tables: element_rows has its keys
         leaf = key.split(".")[-1]
         material = key.startswith("materials.") and leaf in MATERIAL
         if key in choices:
@@ -45,8 +46,14 @@ def rows(scene):
         else:
             allowed = config._type_name(v)
         meaning = docs.get(key) or (schema.words(MATERIAL[leaf]) if material else "")
-        out.append((key, repr(v) if isinstance(v, str) else str(v).lower() if isinstance(v, bool) else str(v),
-                    allowed, meaning))
+        out.append(
+            (
+                key,
+                repr(v) if isinstance(v, str) else str(v).lower() if isinstance(v, bool) else str(v),
+                allowed,
+                meaning,
+            )
+        )
     return out
 
 
@@ -54,20 +61,26 @@ def element_rows(scene):
     """(list, key, default, meaning) of the keys of each entry of a scene's lists of tables
     ([[solid]], [[water]], [[gauge]] of a custom case)."""
     scene = as_scene(scene)
-    return [(table, k, "(not given)" if v.default is None else repr(v.default) if isinstance(v.default, str)
-             else str(v.default), schema.words(v))
-            for table, spec in scene.ELEMENTS.items() for k, v in spec.items()]
+    return [
+        (
+            table,
+            k,
+            "(not given)" if v.default is None else repr(v.default) if isinstance(v.default, str) else str(v.default),
+            schema.words(v),
+        )
+        for table, spec in scene.ELEMENTS.items()
+        for k, v in spec.items()
+    ]
 
 
 def describe(scene, notes=()):
     """The table as text, one key per line, grouped by table; then notes: what resolving the
     defaults chose (tisph.runner.reading.resolved_notes: the tunnel's dx and morfac)."""
     scene = as_scene(scene)
-    lines = [f"Config keys of {scene.NAME} (defaults; set them in a case file with --config, "
-             f"see scenes/*.toml):", ""]
+    lines = [f"Config keys of {scene.NAME} (defaults; set them in a case file with --config, see scenes/*.toml):", ""]
     keyed = list(rows(scene))
     geometry = []
-    if scene.ELEMENTS:   # a case of one's own: the domain and its entries first
+    if scene.ELEMENTS:  # a case of one's own: the domain and its entries first
         geometry = [r for r in keyed if r[0].startswith("domain.")]
         keyed = [r for r in keyed if not r[0].startswith("domain.")]
     last = None
@@ -80,6 +93,7 @@ def describe(scene, notes=()):
                 lines.append(f"[{table}]")
                 last = table
             lines.append(f"  {key.rsplit('.', 1)[1]} = {default}    ({allowed}){'  ' + meaning if meaning else ''}")
+
     keys(geometry)
     for table, key, default, meaning in element_rows(scene):
         if table != last:
@@ -98,12 +112,16 @@ def as_toml(scene):
     scene = as_scene(scene)
     cfg = config.build_config(scene.DEFAULTS, None, {}, scene.RANGES, scene.CHOICES)
     notes = {key: f"{allowed}" + (f"; {meaning}" if meaning else "") for key, _, allowed, meaning in rows(scene)}
-    head = [f"# Every key of `python -m {scene.module}` at its default, with what is allowed and",
-            "# what it means: generated from the code by `python -m tisph.describe --write scenes/defaults`",
-            "# (tests/runner/test_cli.py checks it is current). Copy the keys you change into a case file;",
-            f"#   python -m {scene.module} --config scenes/defaults/{scene.NAME}.toml",
-            "# runs the defaults." if not scene.ELEMENTS else
-            "# needs its own domain.box, [[solid]] and [[water]] (scenes/breakwater.toml is a whole case).", ""]
+    head = [
+        f"# Every key of `python -m {scene.module}` at its default, with what is allowed and",
+        "# what it means: generated from the code by `python -m tisph.describe --write scenes/defaults`",
+        "# (tests/runner/test_cli.py checks it is current). Copy the keys you change into a case file;",
+        f"#   python -m {scene.module} --config scenes/defaults/{scene.NAME}.toml",
+        "# runs the defaults."
+        if not scene.ELEMENTS
+        else "# needs its own domain.box, [[solid]] and [[water]] (scenes/breakwater.toml is a whole case).",
+        "",
+    ]
     tail, last = [], None
     for table, key, default, meaning in element_rows(scene):
         if table != last:

@@ -6,13 +6,14 @@ along x = 0 puts its layers exactly where the dam break's blocks put them. A sol
 particles are the lattice points on its solid side within `layers` spacings of its surface
 (DualSPHysics' GenCase fills a drawn shape on its lattice the same way).
 """
+
 import math
 
 import numpy as np
 
 from .particles import BUILD_BYTES_PER_POINT, check_fits
 
-CHUNK = 4096   # points per block in the point-to-segment distances (memory: CHUNK x segments)
+CHUNK = 4096  # points per block in the point-to-segment distances (memory: CHUNK x segments)
 
 
 def _as_points(pts):
@@ -86,7 +87,7 @@ class Polygon:
         a, b = self.segments()
         out = np.empty(len(p))
         for s in range(0, len(p), CHUNK):
-            out[s:s + CHUNK] = segment_distance(p[s:s + CHUNK], a, b)[0].min(1)
+            out[s : s + CHUNK] = segment_distance(p[s : s + CHUNK], a, b)[0].min(1)
         return out
 
     def band(self, p, thickness):
@@ -133,19 +134,19 @@ class Polyline:
         d, t, tu = np.empty((len(p),)), np.empty((len(p),)), np.empty((len(p),))
         seg = np.empty(len(p), int)
         for s in range(0, len(p), CHUNK):
-            dd, tt, uu = segment_distance(p[s:s + CHUNK], a, b)
+            dd, tt, uu = segment_distance(p[s : s + CHUNK], a, b)
             # the end segments extend as rays: their distance is to the line beyond the end
             last = len(a) - 1
             for k, off in ((0, uu[:, 0] < 0), (last, uu[:, last] > 1)):
                 if off.any():
-                    rel = p[s:s + CHUNK][off] - a[k]
+                    rel = p[s : s + CHUNK][off] - a[k]
                     dk = b[k] - a[k]
                     q = rel - uu[off, k][:, None] * dk
                     dd[off, k] = np.hypot(q[:, 0], q[:, 1])
                     tt[off, k] = uu[off, k]
             j = dd.argmin(1)
             r = np.arange(len(j))
-            d[s:s + CHUNK], t[s:s + CHUNK], tu[s:s + CHUNK], seg[s:s + CHUNK] = dd[r, j], tt[r, j], uu[r, j], j
+            d[s : s + CHUNK], t[s : s + CHUNK], tu[s : s + CHUNK], seg[s : s + CHUNK] = dd[r, j], tt[r, j], uu[r, j], j
         return d, t, tu, seg
 
     def _right_normals(self):
@@ -180,7 +181,7 @@ class Polyline:
         for k in range(1, len(self.pts) - 1):
             s = n[k - 1] + n[k]
             c = 1.0 + float(n[k - 1] @ n[k])
-            off[k] = s / c if c > 0.25 else s / max(np.hypot(*s), 1e-300)   # very sharp joints: no long spike
+            off[k] = s / c if c > 0.25 else s / max(np.hypot(*s), 1e-300)  # very sharp joints: no long spike
         return self.pts + thickness * off
 
     def band(self, p, thickness):

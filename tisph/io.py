@@ -1,4 +1,5 @@
 """Files written atomically: to a temporary name in the same folder, then renamed."""
+
 from __future__ import annotations
 
 import csv
@@ -96,8 +97,11 @@ def write_station_rows(path, stations, rows):
 def read_station_rows(path):
     """(times, the stations' x, the values as an array, one row a time) of write_station_rows's CSV."""
     header, cols = read_csv(path)
-    return (np.array(cols["t"]), np.array([float(h[1:]) for h in header[1:]]),
-            np.array([cols[h] for h in header[1:]]).T.reshape(len(cols["t"]), len(header) - 1))
+    return (
+        np.array(cols["t"]),
+        np.array([float(h[1:]) for h in header[1:]]),
+        np.array([cols[h] for h in header[1:]]).T.reshape(len(cols["t"]), len(header) - 1),
+    )
 
 
 def read_csv(path):
@@ -111,17 +115,33 @@ def read_csv(path):
 
 # ---------------------------------------------------------------------------- HDF5 snapshots
 SNAPSHOT_FIELDS = {  # solver member -> (dataset name, XDMF attribute type)
-    "x": ("position", None), "v": ("velocity", "Vector"), "rho": ("density", "Scalar"),
-    "p": ("pressure", "Scalar"), "m": ("mass", "Scalar"), "kind": ("kind", "Scalar"),
-    "mat": ("material", "Scalar"), "id": ("id", "Scalar"), "c": ("concentration", "Scalar"),
+    "x": ("position", None),
+    "v": ("velocity", "Vector"),
+    "rho": ("density", "Scalar"),
+    "p": ("pressure", "Scalar"),
+    "m": ("mass", "Scalar"),
+    "kind": ("kind", "Scalar"),
+    "mat": ("material", "Scalar"),
+    "id": ("id", "Scalar"),
+    "c": ("concentration", "Scalar"),
 }
 # what each dataset's numbers mean, written into every snapshot (and docs/scenes.md)
-SNAPSHOT_UNITS = {"position": "m", "velocity": "m/s", "density": "kg/m3", "pressure": "Pa",
-                  "mass": "kg per metre of width (2D)", "kind": "code (kind_codes)",
-                  "material": "index (material_names)", "id": "particle number", "concentration": "volume fraction"}
-KIND_CODES = ("0 fluid (water or particle sand), 1 wall, 2 paddle (a moving wall), 3 bed (a bed-load bed's "
-              "boundary), -1 left the domain, -2 left through an outflow, -3 removed as spray (numerics.spray_density)")
-OPTIONAL = ("c",)   # members only some cases carry (c: suspended sand); snapshots and frames take them there
+SNAPSHOT_UNITS = {
+    "position": "m",
+    "velocity": "m/s",
+    "density": "kg/m3",
+    "pressure": "Pa",
+    "mass": "kg per metre of width (2D)",
+    "kind": "code (kind_codes)",
+    "material": "index (material_names)",
+    "id": "particle number",
+    "concentration": "volume fraction",
+}
+KIND_CODES = (
+    "0 fluid (water or particle sand), 1 wall, 2 paddle (a moving wall), 3 bed (a bed-load bed's "
+    "boundary), -1 left the domain, -2 left through an outflow, -3 removed as spray (numerics.spray_density)"
+)
+OPTIONAL = ("c",)  # members only some cases carry (c: suspended sand); snapshots and frames take them there
 
 
 def _pad3(a):
@@ -132,6 +152,7 @@ def _pad3(a):
 def write_snapshot(path, state: dict, attrs: dict):
     """One HDF5 file: every particle field (ordered by particle id) plus run attributes."""
     import h5py
+
     try:
         with atomic_path(path) as tmp, h5py.File(tmp, "w") as f:
             for k, a in state.items():
@@ -156,6 +177,7 @@ def load(path):
     Raises OutputError with the file name when the file is missing, truncated or not HDF5.
     """
     import h5py
+
     try:
         with h5py.File(path, "r") as f:
             arrays = {k: f[k][()] for k in f if isinstance(f[k], h5py.Dataset)}
@@ -179,14 +201,17 @@ def snapshot_files(path):
         return [path]
     files = sorted(glob.glob(os.path.join(path, "snapshots", "[0-9]*.h5")))
     if not files:
-        raise OutputError(f"{path!r} holds no snapshots (expected {os.path.join(path, 'snapshots', '00000.h5')}; "
-                          f"a run writes them unless output.snapshot_every = 0)")
+        raise OutputError(
+            f"{path!r} holds no snapshots (expected {os.path.join(path, 'snapshots', '00000.h5')}; "
+            f"a run writes them unless output.snapshot_every = 0)"
+        )
     return files
 
 
 def load_attrs(path):
     """A snapshot's or checkpoint's attributes only (its time, scene, config), without its arrays."""
     import h5py
+
     try:
         with h5py.File(path, "r") as f:
             return {k: (v.decode() if isinstance(v, bytes) else v) for k, v in f.attrs.items()}
@@ -203,30 +228,44 @@ def write_xdmf(path, snapshots):
     """
     grids = []
     for t, rel, n, datasets in snapshots:
+
         def item(name):
             shape, dt = datasets[name]
             kind = "Float" if np.dtype(dt).kind == "f" else "Int"
             dims = " ".join(str(s) for s in shape)
-            return (f'<DataItem Dimensions="{dims}" NumberType="{kind}" Precision="{np.dtype(dt).itemsize}" '
-                    f'Format="HDF">{rel}:/{name}</DataItem>')
+            return (
+                f'<DataItem Dimensions="{dims}" NumberType="{kind}" Precision="{np.dtype(dt).itemsize}" '
+                f'Format="HDF">{rel}:/{name}</DataItem>'
+            )
+
         attrs = []
         for name, (shape, dt) in datasets.items():
             if name == "position":
                 continue
             atype = "Vector" if len(shape) == 2 and shape[1] == 3 else "Scalar"
-            info = (f'        <Information Name="units" Value="{SNAPSHOT_UNITS[name]}"/>\n'
-                    if name in SNAPSHOT_UNITS else "")
-            attrs.append(f'      <Attribute Name="{name}" AttributeType="{atype}" Center="Node">\n{info}'
-                         f'        {item(name)}\n      </Attribute>')
+            info = (
+                f'        <Information Name="units" Value="{SNAPSHOT_UNITS[name]}"/>\n'
+                if name in SNAPSHOT_UNITS
+                else ""
+            )
+            attrs.append(
+                f'      <Attribute Name="{name}" AttributeType="{atype}" Center="Node">\n{info}'
+                f'        {item(name)}\n      </Attribute>'
+            )
         grids.append(
             f'    <Grid Name="t{t:.6f}" GridType="Uniform">\n'
             f'      <Time Value="{t:.9g}"/>\n'
             f'      <Topology TopologyType="Polyvertex" NumberOfElements="{n}" NodesPerElement="1"/>\n'
             f'      <Geometry GeometryType="XYZ">\n        {item("position")}\n      </Geometry>\n'
-            + "\n".join(attrs) + "\n    </Grid>")
-    text = ('<?xml version="1.0" ?>\n<Xdmf Version="3.0">\n  <Domain>\n'
-            '  <Grid Name="particles" GridType="Collection" CollectionType="Temporal">\n'
-            + "\n".join(grids) + "\n  </Grid>\n  </Domain>\n</Xdmf>\n")
+            + "\n".join(attrs)
+            + "\n    </Grid>"
+        )
+    text = (
+        '<?xml version="1.0" ?>\n<Xdmf Version="3.0">\n  <Domain>\n'
+        '  <Grid Name="particles" GridType="Collection" CollectionType="Temporal">\n'
+        + "\n".join(grids)
+        + "\n  </Grid>\n  </Domain>\n</Xdmf>\n"
+    )
     write_text(path, text)
 
 

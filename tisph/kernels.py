@@ -7,6 +7,7 @@ finite at r -> 0 and saves a square root's division in the pair loop.
 Here each kernel's constants and its NumPy form (gauges, set-up, tests); the engine's Taichi
 functions (tisph/engine/smoothing.py) extend these classes, so reading a case needs no Taichi.
 """
+
 import math
 
 import numpy as np
@@ -14,6 +15,7 @@ import numpy as np
 
 class CubicSpline2D:
     """Cubic spline (paper 000 eq. 5; Monaghan & Lattanzio 1985), alpha_D = 10 / (7 pi h^2)."""
+
     name = "cubic"
     support = 2.0
     sigma = 10.0 / (7.0 * math.pi)
@@ -32,6 +34,7 @@ class CubicSpline2D:
 
 class WendlandC2_2D:
     """Wendland C2 (paper 002 eq. 6): W = 7 / (4 pi h^2) (1 - q/2)^4 (2q + 1), q < 2."""
+
     name = "wendland"
     support = 2.0
     sigma = 7.0 / (4.0 * math.pi)

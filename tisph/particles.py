@@ -1,4 +1,5 @@
 """Particle kinds and NumPy builders for initial particle sets (blocks, tank walls)."""
+
 from __future__ import annotations
 
 import os
@@ -7,11 +8,18 @@ import numpy as np
 
 from .settings.config import ConfigError
 
-FLUID, WALL, MOVING, BED = 0, 1, 2, 3   # BED: boundary particles of a morphodynamic bed (they follow z_b)
+FLUID, WALL, MOVING, BED = 0, 1, 2, 3  # BED: boundary particles of a morphodynamic bed (they follow z_b)
 # parked: left the domain (a leak), left through an open boundary, or torn off as spray and removed
 OUT, OUTFLOW, SPRAY = -1, -2, -3
-KIND_NAMES = {FLUID: "fluid", WALL: "fixed boundary", MOVING: "moving boundary", BED: "sand bed", OUT: "leaked",
-              OUTFLOW: "outflow", SPRAY: "spray"}
+KIND_NAMES = {
+    FLUID: "fluid",
+    WALL: "fixed boundary",
+    MOVING: "moving boundary",
+    BED: "sand bed",
+    OUT: "leaked",
+    OUTFLOW: "outflow",
+    SPRAY: "spray",
+}
 
 
 class ParticleSet:
@@ -24,9 +32,9 @@ class ParticleSet:
         self.m = np.zeros(0)
         self.kind = np.zeros(0, dtype=np.int32)
         self.mat = np.zeros(0, dtype=np.int32)
-        self.wall_normal = np.zeros((0, 2))   # wall particles: unit normal into the fluid
-        self.wall_dist = np.zeros(0)          # and distance behind the wall surface (no-slip)
-        self.bed_station = np.zeros(0, dtype=np.int32)   # BED particles: their bed station (else -1)
+        self.wall_normal = np.zeros((0, 2))  # wall particles: unit normal into the fluid
+        self.wall_dist = np.zeros(0)  # and distance behind the wall surface (no-slip)
+        self.bed_station = np.zeros(0, dtype=np.int32)  # BED particles: their bed station (else -1)
 
     def add(self, x, kind, mat, rho, m, v=None, normal=None, wall_dist=None, station=None):
         x = np.asarray(x, dtype=float).reshape(-1, 2)
@@ -82,9 +90,13 @@ def check_fits(count, per, dx, what, unit="particles"):
     """Refuse (exit 2, on numerics.dx) a case whose `count` items at `per` bytes each cannot fit."""
     avail = available_memory()
     if avail is not None and count * per > avail:
-        raise ConfigError("numerics.dx", dx, "a spacing whose particles fit in this machine's memory",
-                          f"{what} of {count:.3g} {unit} needs about {_gb(count * per)} "
-                          f"({per} bytes each); {_gb(avail)} is available")
+        raise ConfigError(
+            "numerics.dx",
+            dx,
+            "a spacing whose particles fit in this machine's memory",
+            f"{what} of {count:.3g} {unit} needs about {_gb(count * per)} "
+            f"({per} bytes each); {_gb(avail)} is available",
+        )
 
 
 def block(x0, y0, x1, y1, dx):
@@ -134,8 +146,7 @@ def layered_pressure(y, y_bed, y_top, rho_w, rho_s, g=9.81):
     """Hydrostatic pressure at height y under water (surface y_top) over a sediment layer (surface
     y_bed): the water column above max(y, y_bed) plus the sediment column above y."""
     y, y_bed = np.asarray(y, float), np.asarray(y_bed, float)
-    return (rho_w * g * np.maximum(y_top - np.maximum(y, y_bed), 0.0)
-            + rho_s * g * np.maximum(y_bed - y, 0.0))
+    return rho_w * g * np.maximum(y_top - np.maximum(y, y_bed), 0.0) + rho_s * g * np.maximum(y_bed - y, 0.0)
 
 
 def wall_density(walls, fluid_x, dx, h, rho0, c0, g):
@@ -161,5 +172,5 @@ def surface_above(xq, fluid_x, dx, reach):
     # running max over sorted x using a sparse-table-free loop over unique windows
     for k in range(len(xq)):
         if hi[k] > lo[k]:
-            out[k] = ys[lo[k]:hi[k]].max()
+            out[k] = ys[lo[k] : hi[k]].max()
     return out

@@ -1,4 +1,5 @@
 """Free-surface and depth profiles from particles, and their plots (matplotlib, no window)."""
+
 import numpy as np
 
 from .io import write_csv
@@ -37,7 +38,7 @@ def surface_profile(state, x0, x1, width, dx):
 
 def write_profile(path_csv, x, h_sim, h_ref=None, names=("x", "h_sim", "h_exact")):
     cols = [x, h_sim] + ([h_ref] if h_ref is not None else [])
-    write_csv(path_csv, names[:len(cols)], list(zip(*[np.asarray(c, float) for c in cols])))
+    write_csv(path_csv, names[: len(cols)], list(zip(*[np.asarray(c, float) for c in cols])))
 
 
 def plot_profiles(path_png, panels, xlabel, ylabel, title=""):
@@ -79,11 +80,19 @@ def streamlines_png(path, st, xlim, ylim, dx, title, figsize, density=1.6, circl
     ax.scatter(x[~w, 0], x[~w, 1], s=1.5, color=SAND, lw=0)
     speed = np.hypot(u, vv)
     if speed.max() > 0:
-        sp = ax.streamplot(xm, ym, u.T, vv.T, color=speed.T, cmap="viridis", density=density, linewidth=0.6,
-                           arrowsize=0.6)
-        wide = (xlim[1] - xlim[0]) > 3 * (ylim[1] - ylim[0])     # a strip: the bar goes under it
-        fig.colorbar(sp.lines, ax=ax, label="speed (m/s)", orientation="horizontal" if wide else "vertical",
-                     fraction=0.08 if wide else 0.03, pad=0.3 if wide else 0.01, aspect=50 if wide else 20)
+        sp = ax.streamplot(
+            xm, ym, u.T, vv.T, color=speed.T, cmap="viridis", density=density, linewidth=0.6, arrowsize=0.6
+        )
+        wide = (xlim[1] - xlim[0]) > 3 * (ylim[1] - ylim[0])  # a strip: the bar goes under it
+        fig.colorbar(
+            sp.lines,
+            ax=ax,
+            label="speed (m/s)",
+            orientation="horizontal" if wide else "vertical",
+            fraction=0.08 if wide else 0.03,
+            pad=0.3 if wide else 0.01,
+            aspect=50 if wide else 20,
+        )
     if circle is not None:
         ax.add_patch(plt.Circle(circle[:2], circle[2], color="0.5"))
     ax.set_xlim(*xlim)

@@ -4,6 +4,7 @@ line, its name and the module that holds its Scene (tisph/case.py: the contract)
 The modules are named, not imported, here: this file sits below everything it lists, and reading,
 checking and describing a case compile nothing.
 """
+
 from __future__ import annotations
 
 import importlib

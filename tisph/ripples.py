@@ -13,6 +13,7 @@ The reference is the equilibrium ripple predictor of Wiberg & Harris (1994, J. G
 grain diameter D: orbital ripples 0.62 d0 long and 0.17 of that high, anorbital ripples 535 D
 long, suborbital ripples in between.
 """
+
 import math
 import warnings
 
@@ -39,16 +40,18 @@ def unresolved(metrics, predicted, dx, keys=("ripple_length_over_prediction", "r
     if 0 < predicted < RESOLVED_DX * dx:
         for k in keys:
             metrics[k] = None
-        metrics["ripple_metrics_note"] = (f"the predicted ripple, {predicted:.3g} m, spans {predicted / dx:.1f} dx: under "
-                                          f"{RESOLVED_DX:g} dx its length is set by the grid as much as by the waves, so "
-                                          f"no ripple statistics (numerics.dx at most {predicted / RESOLVED_DX:.3g} m)")
+        metrics["ripple_metrics_note"] = (
+            f"the predicted ripple, {predicted:.3g} m, spans {predicted / dx:.1f} dx: under "
+            f"{RESOLVED_DX:g} dx its length is set by the grid as much as by the waves, so "
+            f"no ripple statistics (numerics.dx at most {predicted / RESOLVED_DX:.3g} m)"
+        )
     return metrics
 
 
 def floor2(x):
     """x rounded down to two significant digits (a spacing that resolves at least what x does)."""
     e = math.floor(math.log10(x)) - 1
-    return round(math.floor(x / 10.0 ** e + 1e-9) * 10.0 ** e, 12)
+    return round(math.floor(x / 10.0**e + 1e-9) * 10.0**e, 12)
 
 
 def derive_resolution(cfg, given, lam, d0, where="", limit=None, cap=None):
@@ -60,13 +63,17 @@ def derive_resolution(cfg, given, lam, d0, where="", limit=None, cap=None):
     notes, changes = [], {}
     if "numerics.dx" not in given:
         changes["numerics.dx"] = dx = floor2(lam / RESOLVED_DX)
-        notes.append(f"numerics.dx = {dx:g} m: the predicted ripple{where} ({lam:.3g} m, Wiberg & Harris for d0 = "
-                     f"{d0:.3g} m) over {RESOLVED_DX:g} spacings (set numerics.dx to choose)")
+        notes.append(
+            f"numerics.dx = {dx:g} m: the predicted ripple{where} ({lam:.3g} m, Wiberg & Harris for d0 = "
+            f"{d0:.3g} m) over {RESOLVED_DX:g} spacings (set numerics.dx to choose)"
+        )
     if limit is not None and "sediment.morfac" not in given:
         m = max(1.0, min(cap or math.inf, math.floor(limit * 10 + 1e-6) / 10))
         changes["sediment.morfac"] = m
-        notes.append(f"sediment.morfac = {m:g}: the bed{where} turns over no faster per wave period than in the "
-                     f"calibration tunnel ({f'at most {cap:g}; ' if cap else ''}set sediment.morfac to choose)")
+        notes.append(
+            f"sediment.morfac = {m:g}: the bed{where} turns over no faster per wave period than in the "
+            f"calibration tunnel ({f'at most {cap:g}; ' if cap else ''}set sediment.morfac to choose)"
+        )
     return changes, notes
 
 
@@ -74,9 +81,11 @@ def warn_unresolved(length, dx, where):
     """A warning (captured into summary.json and printed at the start) when the predicted ripple
     is shorter than RESOLVED_DX spacings."""
     if 0 < length < RESOLVED_DX * dx:
-        warnings.warn(f"the predicted ripple {where} is {length:.3g} m, {length / dx:.1f} dx: the bed model "
-                      f"resolves ripples of at least {RESOLVED_DX:g} dx, so its ripple length here is set by the grid "
-                      f"as much as by the waves; numerics.dx at most {length / RESOLVED_DX:.3g} m resolves it")
+        warnings.warn(
+            f"the predicted ripple {where} is {length:.3g} m, {length / dx:.1f} dx: the bed model "
+            f"resolves ripples of at least {RESOLVED_DX:g} dx, so its ripple length here is set by the grid "
+            f"as much as by the waves; numerics.dx at most {length / RESOLVED_DX:.3g} m resolves it"
+        )
 
 
 def high_pass(x, z, window):
@@ -105,12 +114,12 @@ def ripple_stats(x, z, window=None, min_length=0.0, min_height=0.0):
     if window:
         zd = high_pass(x, zd, window)
     s = np.signbit(zd)
-    up = np.nonzero(s[:-1] & ~s[1:])[0]          # zd goes from < 0 to >= 0 between up and up + 1
+    up = np.nonzero(s[:-1] & ~s[1:])[0]  # zd goes from < 0 to >= 0 between up and up + 1
     if len(up) < 2:
         return float("nan"), float("nan"), rms
     # the crossing point, interpolated between the two samples
     xc = x[up] - zd[up] * (x[up + 1] - x[up]) / (zd[up + 1] - zd[up])
-    heights = np.array([zd[a + 1:b + 1].max() - zd[a + 1:b + 1].min() for a, b in zip(up[:-1], up[1:])])
+    heights = np.array([zd[a + 1 : b + 1].max() - zd[a + 1 : b + 1].min() for a, b in zip(up[:-1], up[1:])])
     lengths = np.diff(xc)
     keep = (lengths >= min_length) & (heights >= min_height)
     if not keep.any():
@@ -156,7 +165,7 @@ def wiberg_harris(d0, grain_diameter):
         # which steepness falls as d0 / height grows (y > 2.33). No root (d0 > 24 lengths): the
         # flattest ripple the law allows, at its vertex.
         c = 2.28 + math.log(d0 / length)
-        y = (1.442 - math.sqrt(max(1.442 ** 2 - 4 * 0.095 * c, 0.0))) / 0.19
+        y = (1.442 - math.sqrt(max(1.442**2 - 4 * 0.095 * c, 0.0))) / 0.19
         return d0 * math.exp(-y)
 
     l_orb = 0.62 * d0
@@ -189,7 +198,7 @@ def periodic_ripples(z, length, band):
     zd = np.asarray(z, float) - float(np.mean(z))
     if len(zd) < 4:
         return 0, float("nan")
-    zd = np.roll(zd, -int(np.argmin(zd)))       # start in the deepest trough: below -band/2 if any ripple is
+    zd = np.roll(zd, -int(np.argmin(zd)))  # start in the deepest trough: below -band/2 if any ripple is
     lo, hi = -0.5 * band, 0.5 * band
     state, starts = "low", []
     for i, v in enumerate(zd):

@@ -1,4 +1,5 @@
 """Taichi initialisation, once per process (or again when the arch or precision changes)."""
+
 import atexit
 import contextlib
 import io
@@ -13,7 +14,8 @@ _finalizer = False
 def cache_lock_path():
     """The OS lock file beside Taichi's offline cache (its default folder, or the user's)."""
     folder = os.environ.get("TI_OFFLINE_CACHE_FILE_PATH") or os.path.join(
-        os.path.expanduser("~"), ".cache", "taichi", "ticache")
+        os.path.expanduser("~"), ".cache", "taichi", "ticache"
+    )
     return os.path.join(folder, "tisph.flock")
 
 
@@ -26,6 +28,7 @@ def cache_guard():
     cache. Where flock is not available (Windows) Taichi's own lock is all there is."""
     try:
         import fcntl
+
         path = cache_lock_path()
         os.makedirs(os.path.dirname(path), exist_ok=True)
         f = open(path, "a")  # noqa: SIM115 (closed by the with below, once the guarded block is done)
@@ -46,6 +49,7 @@ def clear_stale_lock(path, age=60.0):
     every later run would print "Lock ... failed" and never write its cache again. Under the guard
     no tisph process holds it, so one older than `age` seconds is a dead process's."""
     import time
+
     try:
         if time.time() - os.path.getmtime(path) > age:
             os.remove(path)
@@ -65,6 +69,7 @@ def cache_debug_info():
     the dam break (cProfile). The text depends only on the function and the node's position, so
     it is kept per position; Taichi's messages are unchanged (taichi pinned to 1.7)."""
     from taichi.lang.ast import ast_transformer_utils as u
+
     ctx = u.ASTTransformerContext
     if getattr(ctx.get_pos_info, "cached", False):
         return
@@ -72,9 +77,18 @@ def cache_debug_info():
 
     def get_pos_info(self, node):
         body = getattr(node, "body", None)
-        key = (self.file, self.lineno_offset, self.indent, self.func.func.__name__, type(node).__name__,
-               node.lineno, getattr(node, "end_lineno", None), getattr(node, "col_offset", None),
-               getattr(node, "end_col_offset", None), body[0].lineno if isinstance(body, list) and body else None)
+        key = (
+            self.file,
+            self.lineno_offset,
+            self.indent,
+            self.func.func.__name__,
+            type(node).__name__,
+            node.lineno,
+            getattr(node, "end_lineno", None),
+            getattr(node, "col_offset", None),
+            getattr(node, "end_col_offset", None),
+            body[0].lineno if isinstance(body, list) and body else None,
+        )
         msg = cache.get(key)
         if msg is None:
             msg = cache[key] = orig(self, node)
@@ -89,6 +103,7 @@ def cuda_driver_present():
     found" as a warning where it does not; without it CUDA is left out of the arches tried."""
     import ctypes
     import sys
+
     names = {"win32": ("nvcuda.dll",), "darwin": ()}.get(sys.platform, ("libcuda.so.1", "libcuda.so"))
     for name in names:
         try:

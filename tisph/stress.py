@@ -4,6 +4,7 @@ Each case must end ok with no leak, or stop cleanly with a message (exit code 3 
 or be refused with a clear error. Writes OUT/stress.csv and OUT/stress.md with one row a case:
 case, outcome, leaks, max density error, wall time.
 """
+
 import argparse
 import os
 import sys
@@ -34,9 +35,17 @@ def _single_particle(cfg):
     ps.add([[0.25, 0.2]], FLUID, 0, rho0, rho0 * dx * dx)
     ps.add(box_walls(0.0, 0.0, 0.5, 0.5, dx, cfg.numerics.wall_layers), WALL, 0, rho0, rho0 * dx * dx)
     mats = [dict(name="water", rho0=rho0, viscosity=1e-3, B=tait_B(rho0, c0))]
-    return make_case(name="single_particle", particles=ps, materials=mats, domain=((-0.2, -0.2), (0.7, 0.8)),
-                params=common_params(cfg, c0, 9.81, 0.3), physics=physics_from_config(cfg),
-                view=((-0.1, -0.1), (0.6, 0.6)), u_max=u, container=(0.0, 0.0, 0.5, np.inf))
+    return make_case(
+        name="single_particle",
+        particles=ps,
+        materials=mats,
+        domain=((-0.2, -0.2), (0.7, 0.8)),
+        params=common_params(cfg, c0, 9.81, 0.3),
+        physics=physics_from_config(cfg),
+        view=((-0.1, -0.1), (0.6, 0.6)),
+        u_max=u,
+        container=(0.0, 0.0, 0.5, np.inf),
+    )
 
 
 def _empty(cfg):
@@ -52,28 +61,64 @@ def cases(quick):
     """(name, scene, overrides, what is expected in words, the outcomes allowed): an outcome is
     ok, stopped (an instability caught with its message) or refused (a clear input error), with
     +warned where the run warned."""
-    T = (lambda full, short: short if quick else full)
+    T = lambda full, short: short if quick else full
     res = (0.06,) if quick else (0.06, 0.04, 0.03)
-    out = [(f"still tank, {T(20.0, 2.0):g} s", tank, {"run.end_time": T(20.0, 2.0)},
-            "no leak, peak speed < 1 % sqrt(gH), density within 1 %", ("ok",))]
+    out = [
+        (
+            f"still tank, {T(20.0, 2.0):g} s",
+            tank,
+            {"run.end_time": T(20.0, 2.0)},
+            "no leak, peak speed < 1 % sqrt(gH), density within 1 %",
+            ("ok",),
+        )
+    ]
     for dx in res:
-        out.append((f"dam break to {T(5.0, 1.0):g} s, dx = {dx}", dam_break,
-                    {"numerics.dx": dx, "run.end_time": T(5.0, 1.0)}, "no leak, stays stable", ("ok",)))
+        out.append(
+            (
+                f"dam break to {T(5.0, 1.0):g} s, dx = {dx}",
+                dam_break,
+                {"numerics.dx": dx, "run.end_time": T(5.0, 1.0)},
+                "no leak, stays stable",
+                ("ok",),
+            )
+        )
     out += [
         # in the short run the low sound speed is warned about and the run stays stable; over
         # 2 s it may be caught as unstable, with its message
-        ("dam break, sound speed 3x too low", dam_break,
-         {"numerics.dx": 0.06, "numerics.c0_factor": 10.0 / 3.0, "run.end_time": T(2.0, 0.6)},
-         "warned; stable or stops cleanly", T(("ok+warned", "stopped+warned"), ("ok+warned",))),
-        ("long thin column (5 particles wide)", dam_break,
-         {"numerics.dx": 0.02, "geometry.column_width": 0.1, "geometry.column_height": 2.0,
-          "run.end_time": T(2.0, 0.5)}, "no leak, stays stable", ("ok",)),
-        ("single particle dropped on the floor", _variant(tank.SCENE, "single_particle", _single_particle),
-         {"run.end_time": T(2.0, 1.0), "numerics.dx": 0.02}, "lands, no leak", ("ok",)),
+        (
+            "dam break, sound speed 3x too low",
+            dam_break,
+            {"numerics.dx": 0.06, "numerics.c0_factor": 10.0 / 3.0, "run.end_time": T(2.0, 0.6)},
+            "warned; stable or stops cleanly",
+            T(("ok+warned", "stopped+warned"), ("ok+warned",)),
+        ),
+        (
+            "long thin column (5 particles wide)",
+            dam_break,
+            {
+                "numerics.dx": 0.02,
+                "geometry.column_width": 0.1,
+                "geometry.column_height": 2.0,
+                "run.end_time": T(2.0, 0.5),
+            },
+            "no leak, stays stable",
+            ("ok",),
+        ),
+        (
+            "single particle dropped on the floor",
+            _variant(tank.SCENE, "single_particle", _single_particle),
+            {"run.end_time": T(2.0, 1.0), "numerics.dx": 0.02},
+            "lands, no leak",
+            ("ok",),
+        ),
         ("empty fluid set", _variant(tank.SCENE, "empty", _empty), {}, "refused with a clear error", ("refused",)),
-        (f"water over a sediment layer (1950 kg/m3) at rest, {T(20.0, 2.0):g} s", tank,
-         {"geometry.sediment_depth": 0.2, "run.end_time": T(20.0, 2.0)},
-         "no leak, interface moves < dx, peak speed < 1 % sqrt(gH)", ("ok",)),
+        (
+            f"water over a sediment layer (1950 kg/m3) at rest, {T(20.0, 2.0):g} s",
+            tank,
+            {"geometry.sediment_depth": 0.2, "run.end_time": T(20.0, 2.0)},
+            "no leak, interface moves < dx, peak speed < 1 % sqrt(gH)",
+            ("ok",),
+        ),
     ]
     return out
 
@@ -119,12 +164,14 @@ def run(quick=False, out="renders/stress", log=print):
 
 
 def main(argv=None):
-    p = argparse.ArgumentParser(prog="python -m tisph.stress", description=__doc__,
-                                formatter_class=argparse.RawDescriptionHelpFormatter)
+    p = argparse.ArgumentParser(
+        prog="python -m tisph.stress", description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
+    )
     p.add_argument("--quick", action="store_true", help="short versions of every case (about a minute)")
     p.add_argument("--out", default="renders/stress", help="output folder (default renders/stress)")
     a = p.parse_args(argv)
     from . import runtime
+
     runtime.init("cpu", "f32")
     rows = run(a.quick, a.out)
     with open(os.path.join(a.out, "stress.md")) as f:

@@ -15,6 +15,7 @@ skips the cases whose summary.json is complete and whose inputs match. Writes OU
 OUT/sweep.md and OUT/sweep.png (each metric against the swept values); with --seeds N, each combination with N
 seeds of its random bed, and OUT/ensemble.md and .csv (each metric's mean and standard error).
 """
+
 import argparse
 import hashlib
 import itertools
@@ -30,7 +31,7 @@ from .measure.plots import pyplot, save
 from .runner import resolve, simulate
 from .settings.config import ConfigError, tomllib
 
-CASE_FILE = "sweep_case.json"   # what a case folder was run with: --resume compares it
+CASE_FILE = "sweep_case.json"  # what a case folder was run with: --resume compares it
 
 
 def scene_named(name):
@@ -96,7 +97,7 @@ def plan(scene, config, sets, zipped, out, base=None):
         ov.update(values)
         cid = case_id(k, values)
         ov["output.dir"] = os.path.join(out, cid)
-        resolve(scene, config, ov)           # raises ConfigError naming the key
+        resolve(scene, config, ov)  # raises ConfigError naming the key
         cases.append((cid, values, ov))
     return cases
 
@@ -127,18 +128,18 @@ def run_case(scene_name, config, overrides, arch, threads):
         s = simulate(scene, ov, config=config)
     except (ConfigError, OutputError) as e:
         return "error", str(e), None
-    except Exception as e:      # any other failure is this case's, not the sweep's
+    except Exception as e:  # any other failure is this case's, not the sweep's
         return "error", f"{type(e).__name__}: {e}", None
     return s["status"], s.get("message", ""), s
 
 
 def start_client(scheduler, workers, threads):
     from dask.distributed import Client, LocalCluster
+
     if scheduler:
         return Client(scheduler), None
     n = workers or max(1, (os.cpu_count() or 1) // threads)
-    cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=":0",
-                           silence_logs=40)
+    cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=":0", silence_logs=40)
     return Client(cluster), cluster
 
 
@@ -146,12 +147,13 @@ def execute(tasks, client, progress=True):
     """Submit (key, fn, args) tasks; return {key: what fn returned} as they finish. A task that
     raised, or whose worker died, is ("error", the scheduler's message, None)."""
     from dask.distributed import as_completed
-    futs = {client.submit(fn, *args, key=f"tisph-{key}-{time.time_ns()}", pure=False): key
-            for key, fn, args in tasks}
+
+    futs = {client.submit(fn, *args, key=f"tisph-{key}-{time.time_ns()}", pure=False): key for key, fn, args in tasks}
     bar = None
     if progress:
         try:
             from tqdm import tqdm
+
             bar = tqdm(total=len(futs), unit="case", file=sys.stderr, disable=None)
         except ImportError:
             bar = None
@@ -161,7 +163,7 @@ def execute(tasks, client, progress=True):
             key = futs[fut]
             try:
                 res = fut.result()
-            except Exception as e:      # KilledWorker, a lost scheduler, ...
+            except Exception as e:  # KilledWorker, a lost scheduler, ...
                 res = ("error", f"{type(e).__name__}: {e}", None)
             results[key] = res
             failed += isinstance(res, tuple) and res[0] != "ok"
@@ -202,10 +204,17 @@ def table(cases, results):
     for cid, values, _ in cases:
         status, msg, s = results.get(cid, ("not run", "", None))
         m = flat_metrics(s)
-        rows.append([cid] + [values[k] for k in keys] +
-                    [status, (msg or "").replace("\n", " ")[:300],
-                     (s or {}).get("wall_time_s", ""), (s or {}).get("particle_steps_per_s", "")] +
-                    [m.get(k, "") for k in metric_names])
+        rows.append(
+            [cid]
+            + [values[k] for k in keys]
+            + [
+                status,
+                (msg or "").replace("\n", " ")[:300],
+                (s or {}).get("wall_time_s", ""),
+                (s or {}).get("particle_steps_per_s", ""),
+            ]
+            + [m.get(k, "") for k in metric_names]
+        )
     return cols, rows, keys, metric_names
 
 
@@ -215,21 +224,31 @@ def write_tables(out, cases, results, scene_name, wall):
 
     def fmt(v):
         return f"{v:.4g}" if isinstance(v, float) and math.isfinite(v) else str(v)
-    md = [f"# Sweep of {scene_name}", "", f"{len(cases)} cases, {wall:.1f} s wall time.", "",
-          "| " + " | ".join(cols) + " |", "|" + "---|" * len(cols)]
+
+    md = [
+        f"# Sweep of {scene_name}",
+        "",
+        f"{len(cases)} cases, {wall:.1f} s wall time.",
+        "",
+        "| " + " | ".join(cols) + " |",
+        "|" + "---|" * len(cols),
+    ]
     md += ["| " + " | ".join(fmt(v) for v in r) + " |" for r in rows]
     write_text(os.path.join(out, "sweep.md"), "\n".join(md) + "\n")
     try:
         plot(os.path.join(out, "sweep.png"), rows, cols, keys, metric_names)
-    except Exception as e:         # a failed plot must not lose the table
+    except Exception as e:  # a failed plot must not lose the table
         print(f"warning: no sweep.png: {e}", file=sys.stderr)
 
 
 def plot(path, rows, cols, keys, metric_names):
     """Each numeric metric against the first swept key, one line per value of the others."""
-    num = [m for m in metric_names
-           if all(isinstance(r[cols.index(m)], (int, float)) or r[cols.index(m)] == "" for r in rows)
-           and any(isinstance(r[cols.index(m)], (int, float)) for r in rows)][:12]
+    num = [
+        m
+        for m in metric_names
+        if all(isinstance(r[cols.index(m)], (int, float)) or r[cols.index(m)] == "" for r in rows)
+        and any(isinstance(r[cols.index(m)], (int, float)) for r in rows)
+    ][:12]
     if not num or not keys:
         return
     keys = [k for k in keys if len({str(r[cols.index(k)]) for r in rows}) > 1] or keys[:1]
@@ -253,8 +272,9 @@ def plot(path, rows, cols, keys, metric_names):
             except TypeError:
                 pass
             xs = list(range(len(pts))) if not all(isinstance(p[0], (int, float)) for p in pts) else [p[0] for p in pts]
-            ax.plot(xs, [p[1] for p in pts], "o-", ms=4,
-                    label=", ".join(f"{k.split('.')[-1]}={v}" for k, v in rest) or None)
+            ax.plot(
+                xs, [p[1] for p in pts], "o-", ms=4, label=", ".join(f"{k.split('.')[-1]}={v}" for k, v in rest) or None
+            )
         ax.set_xlabel(k0)
         ax.set_title(m, fontsize=9)
         if len(groups) > 1:
@@ -267,6 +287,7 @@ def plot(path, rows, cols, keys, metric_names):
 def seed_set(scene, config, sets, n):
     """--seeds N as one more swept key: sediment.seed from the case's own seed on."""
     from .runner.ensemble import check_seeds, seeds_of
+
     if any(k == "sediment.seed" for k, _ in sets):
         raise ConfigError("--set", "sediment.seed", "--seeds N or sediment.seed in --set, not both")
     cfg = resolve(scene, config, {})
@@ -278,6 +299,7 @@ def write_ensemble(out, cases, results):
     """OUT/ensemble.csv and .md: each combination of the other swept keys, each metric's spread
     over the seeds that finished (measure/spread.py)."""
     from .measure.spread import ensemble_metrics
+
     groups = {}
     for cid, values, _ in cases:
         rest = tuple((k, v) for k, v in values.items() if k != "sediment.seed")
@@ -293,24 +315,44 @@ def write_ensemble(out, cases, results):
 
     def fmt(v):
         return "-" if v is None else f"{v:.4g}" if isinstance(v, float) else str(v)
-    md = ["# Ensemble", "", "Each metric over the seeds that finished: mean, standard deviation (n - 1), standard error.",
-          "", "| " + " | ".join(cols) + " |", "|" + "---|" * len(cols)]
+
+    md = [
+        "# Ensemble",
+        "",
+        "Each metric over the seeds that finished: mean, standard deviation (n - 1), standard error.",
+        "",
+        "| " + " | ".join(cols) + " |",
+        "|" + "---|" * len(cols),
+    ]
     md += ["| " + " | ".join(fmt(v) for v in r) + " |" for r in rows]
     write_text(os.path.join(out, "ensemble.md"), "\n".join(md) + "\n")
 
 
 # ---------------------------------------------------------------- the command
 def make_parser():
-    p = argparse.ArgumentParser(prog="python -m tisph.sweep", description=__doc__,
-                                formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("scene", help="a scene: dam_break, hatch, tank, flume, beach, tunnel, erodible_bed, "
-                                 "pipeline_scour, or poiseuille")
+    p = argparse.ArgumentParser(
+        prog="python -m tisph.sweep", description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
+    )
+    p.add_argument(
+        "scene",
+        help="a scene: dam_break, hatch, tank, flume, beach, tunnel, erodible_bed, pipeline_scour, or poiseuille",
+    )
     p.add_argument("--config", metavar="FILE", help="TOML case file every case starts from")
-    p.add_argument("--set", action="append", default=[], metavar="KEY=V1,V2,...",
-                   help="a config key and the values to sweep (repeat for more keys)")
-    p.add_argument("--seeds", type=int, default=0, metavar="N",
-                   help="each combination with N seeds of its random bed (sediment.seed and the next N - 1): "
-                        "OUT/ensemble.md and .csv give each metric's mean, standard deviation and standard error")
+    p.add_argument(
+        "--set",
+        action="append",
+        default=[],
+        metavar="KEY=V1,V2,...",
+        help="a config key and the values to sweep (repeat for more keys)",
+    )
+    p.add_argument(
+        "--seeds",
+        type=int,
+        default=0,
+        metavar="N",
+        help="each combination with N seeds of its random bed (sediment.seed and the next N - 1): "
+        "OUT/ensemble.md and .csv give each metric's mean, standard deviation and standard error",
+    )
     p.add_argument("--zip", action="store_true", help="take the --set lists side by side, not their product")
     p.add_argument("--scheduler", metavar="ADDRESS", help="an existing Dask scheduler (tcp://host:8786)")
     p.add_argument("--workers", type=int, default=0, help="local worker processes (default: cores / threads)")
@@ -325,7 +367,7 @@ def make_parser():
 
 def main(argv=None):
     args = make_parser().parse_args(argv)
-    out = os.path.abspath(args.out or os.path.join("renders", f"sweep_{args.scene}"))   # workers may run elsewhere
+    out = os.path.abspath(args.out or os.path.join("renders", f"sweep_{args.scene}"))  # workers may run elsewhere
     try:
         if args.threads_per_worker < 1:
             raise ConfigError("--threads-per-worker", args.threads_per_worker, "at least 1")
@@ -362,8 +404,10 @@ def main(argv=None):
             client, cluster = start_client(args.scheduler, args.workers, args.threads_per_worker)
             results.update(execute(todo, client, progress=not args.quiet))
     except KeyboardInterrupt:
-        print("python -m tisph.sweep: interrupted; the finished cases are complete, --resume runs the rest",
-              file=sys.stderr)
+        print(
+            "python -m tisph.sweep: interrupted; the finished cases are complete, --resume runs the rest",
+            file=sys.stderr,
+        )
         code = 130
     except OSError as e:
         print(f"python -m tisph.sweep: cannot reach the Dask scheduler {args.scheduler!r}: {e}", file=sys.stderr)
@@ -378,8 +422,10 @@ def main(argv=None):
         write_ensemble(out, cases, results)
     if not args.quiet:
         bad = [c for c, r in results.items() if r[0] != "ok"]
-        print(f"wrote {out}/sweep.csv, sweep.md, sweep.png: {len(results)} of {len(cases)} cases, "
-              f"{len(bad)} not ok", file=sys.stderr)
+        print(
+            f"wrote {out}/sweep.csv, sweep.md, sweep.png: {len(results)} of {len(cases)} cases, {len(bad)} not ok",
+            file=sys.stderr,
+        )
     return code
 
 

@@ -12,6 +12,7 @@ The scene's framing (view, colour scales, sand colours) comes from rebuilding it
 config stored in the snapshot; a bed-load bed's surface comes from its BED particles, but its
 bed-change panel is not redrawn (the bed's history is in bed_profile.csv, not in the snapshots).
 """
+
 import argparse
 import dataclasses
 import os
@@ -29,7 +30,7 @@ from .viz.files import MovieWriter, write_png
 from .viz.live import LiveWindow, display_problem
 from .viz.render import FIELDS, STATE, make_renderer
 
-KEYS = {SNAPSHOT_FIELDS[k][0]: k for k in STATE}   # dataset name -> what a frame reads
+KEYS = {SNAPSHOT_FIELDS[k][0]: k for k in STATE}  # dataset name -> what a frame reads
 
 
 def state_of(arrays):
@@ -50,7 +51,7 @@ def scene_picture(attrs):
     try:
         cfg, case = rebuild(scenes.load(name), cfg_text)
         return case.picture, cfg.numerics.dx
-    except Exception:      # an old or foreign snapshot: frame the particles instead
+    except Exception:  # an old or foreign snapshot: frame the particles instead
         try:
             return None, float(tomllib.loads(cfg_text)["numerics"]["dx"])
         except Exception:
@@ -72,15 +73,22 @@ def bed_surface_of(st, dx):
 
 
 def make_parser():
-    p = argparse.ArgumentParser(prog="python -m tisph.view", description=__doc__,
-                                formatter_class=argparse.RawDescriptionHelpFormatter)
+    p = argparse.ArgumentParser(
+        prog="python -m tisph.view", description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
+    )
     p.add_argument("out", help="a run's output folder, or one snapshot .h5")
     p.add_argument("--field", choices=FIELDS, default=None, help="colour by this field (default: the scene's panels)")
     g = p.add_mutually_exclusive_group()
     g.add_argument("--time", type=float, default=None, help="the snapshot nearest this time (s)")
     g.add_argument("--all", action="store_true", help="every snapshot")
     p.add_argument("--view", type=float, nargs=4, metavar=("X0", "X1", "Y0", "Y1"), help="region to draw (m)")
-    p.add_argument("--range", type=float, nargs=2, metavar=("LO", "HI"), help="colour bar range, in the unit the bar shows (m/s, kPa, kg/m3, 1/s)")
+    p.add_argument(
+        "--range",
+        type=float,
+        nargs=2,
+        metavar=("LO", "HI"),
+        help="colour bar range, in the unit the bar shows (m/s, kPa, kg/m3, 1/s)",
+    )
     p.add_argument("--width", type=int, default=1280, help="picture width in pixels (default 1280)")
     p.add_argument("--mp4", action="store_true", help="also write the pictures as an MP4")
     p.add_argument("--fps", type=int, default=25)
@@ -120,19 +128,24 @@ def view(args):  # noqa: C901 (one branch an option of tisph view)
         files = files[-1:]
     attrs = load_attrs(files[0])
     pic, dx = scene_picture(attrs)
-    if pic is None or dx is None:            # frame what the first snapshot holds
+    if pic is None or dx is None:  # frame what the first snapshot holds
         x = state_of(load(files[0])[0])["x"]
         dx = dx or float(np.median(np.abs(np.diff(np.unique(np.round(x[:, 0], 6)))))) or 0.01
         lo, hi = x.min(0) - dx, x.max(0) + dx
         pic = pic or Picture(view=((lo[0], lo[1]), (hi[0], hi[1])), u_max=0.0)
     # the rebuilt case's bed is the initial one: its panel is not redrawn, its sand comes from the BED particles
     pic = dataclasses.replace(pic, bed_panel=None, bed_label="", bed_surface=None)
-    outc = dict(width=args.width, view=list(args.view or []), field=args.field or "",
-                range=list(args.range or []), min_height=160)
+    outc = dict(
+        width=args.width,
+        view=list(args.view or []),
+        field=args.field or "",
+        range=list(args.range or []),
+        min_height=160,
+    )
     r = make_renderer(pic, outc, dx, attrs.get("scene", ""), pic.speed_scale or pic.u_max)
     src = args.out if os.path.isdir(args.out) else os.path.dirname(os.path.dirname(os.path.abspath(args.out)))
     dest = ensure_dir(os.path.join(src, "view"))
-    tag = "+".join(r.modes)     # what makes one picture differ from another of the same time
+    tag = "+".join(r.modes)  # what makes one picture differ from another of the same time
     if args.view:
         tag += "_view" + ",".join(f"{v:g}" for v in args.view)
     if args.range:
@@ -148,9 +161,12 @@ def view(args):  # noqa: C901 (one branch an option of tisph view)
             t = float(attrs.get("time", 0.0))
             st = state_of(arrays)
             if "concentration" in r.modes and "c" not in st:
-                raise ConfigError("--field", "concentration", f"a field {f!r} holds: it has no suspended sand "
-                                  "(a run with sediment.suspended = true writes it)")
-            r.bed_surface = bed_surface_of(st, dx)       # the sand under a bed-load bed, filled
+                raise ConfigError(
+                    "--field",
+                    "concentration",
+                    f"a field {f!r} holds: it has no suspended sand (a run with sediment.suspended = true writes it)",
+                )
+            r.bed_surface = bed_surface_of(st, dx)  # the sand under a bed-load bed, filled
             if r.zoom is not None:
                 r.zoom.bed_surface = r.bed_surface
             img = r.frame(st, t)

@@ -1,4 +1,5 @@
 """The benchmark's own code paths, in seconds: one tiny case, tiny scaling, no peer, no timing checks."""
+
 import csv
 import json
 import math
@@ -18,8 +19,20 @@ def test_bench_dry_run(tmp_path):
     assert cli.main(["--dry-run", "--out", str(tmp_path)]) == 0
     with open(tmp_path / "bench.csv") as f:
         rows = list(csv.DictReader(f))
-    assert list(rows[0]) == ["case", "dx", "particles", "steps", "sim_time", "wall_time_s", "compile_time_s",
-                             "step_time_s", "particle_steps_per_s", "metric", "error", "status"]
+    assert list(rows[0]) == [
+        "case",
+        "dx",
+        "particles",
+        "steps",
+        "sim_time",
+        "wall_time_s",
+        "compile_time_s",
+        "step_time_s",
+        "particle_steps_per_s",
+        "metric",
+        "error",
+        "status",
+    ]
     assert len(rows) == 2 and all(r["status"] == "ok" for r in rows)
     # the ladder's first case as configured: a 0.4 m tank to 0.2 s at dx 0.05 and 0.04 (8 and 10
     # rows, five wall layers), whose particle and step counts are fixed, and whose pressure error
@@ -58,12 +71,23 @@ def test_speed_measures_a_known_case_in_a_fresh_process_and_reports_its_ratio():
     import argparse
 
     from tisph.bench import speed
+
     m = speed.measure(speed.ROOT, "dam_break", {"numerics.dx": 0.08}, 20)
     assert m["particles"] == 1100 and m["steps"] == 20 and m["arch"] == "x64"
     assert m["pps"] == pytest.approx(1100 * 20 / m["seconds"], rel=1e-9) and 50 < m["field_bytes"] < 1000
     a = argparse.Namespace(against="abc123", repeats=1)
-    rows = [dict(case="dam break dx 0.08", particles=m["particles"], steps=20, pps=m["pps"],
-                 field_bytes=m["field_bytes"], pps_against=m["pps"] / 2, ratio=2.0, arch=m["arch"])]
+    rows = [
+        dict(
+            case="dam break dx 0.08",
+            particles=m["particles"],
+            steps=20,
+            pps=m["pps"],
+            field_bytes=m["field_bytes"],
+            pps_against=m["pps"] / 2,
+            ratio=2.0,
+            arch=m["arch"],
+        )
+    ]
     text = "\n".join(speed.report(a, rows, 1.3, 0.5))
     assert "| dam break dx 0.08 | 1100 | 20 |" in text and "| 2.00 |" in text
     assert "cold 1.30 s" in text and "warm 0.50 s" in text
@@ -76,6 +100,7 @@ def test_wake_spectrum_finds_a_shedding_frequency_and_not_in_noise():
     import numpy as np
 
     from tisph.bench.shedding import wake_spectrum
+
     rng = np.random.default_rng(3)
     t = np.arange(1.0, 4.0, 0.05)
     std, f, share = wake_spectrum(t, 0.2 + 0.06 * np.sin(2 * np.pi * 1.4 * t) + 0.005 * rng.standard_normal(len(t)))
@@ -93,6 +118,7 @@ def test_live_bed_windows_split_the_series_from_the_bed_start():
     import numpy as np
 
     from tisph.bench.shedding import windows
+
     t = np.round(np.arange(0.0, 8.31, 0.05), 10)
     v = np.stack([t, -t], axis=1)
     w = windows(t, v, 0.5)
@@ -140,18 +166,19 @@ def test_mao_held_bench_dry_run(tmp_path):
     written."""
     from tisph.io import read_station_rows
     from tisph.validation import mao
+
     assert cli.main(["--mao-held", "--dry-run", "--out", str(tmp_path)]) == 0
     run = tmp_path / "runs" / "mao_held_18s"
     summary = json.loads((run / "summary.json").read_text())
-    assert summary["metrics"]["mao_time_offset"] == 18.0          # his clock starts at his bed's time
+    assert summary["metrics"]["mao_time_offset"] == 18.0  # his clock starts at his bed's time
     t, x, beds = read_station_rows(run / "scour_profile.csv")
     header = [(run / f).read_text().splitlines()[0] for f in ("scour_profile.csv", "bed_shear.csv")]
     assert header[0] == header[1]
     z0, z1 = beds[0], beds[-1]
-    xc = 0.5 * 1.25                     # the case file's 25 D, the pipe in the middle
+    xc = 0.5 * 1.25  # the case file's 25 D, the pipe in the middle
     hs = float(np.median(z0[np.abs(x - xc) > 8 * mao.D]))
     assert np.abs(z0 - hs - mao.profile_bed(18.0, x - xc)).max() < 1e-6
-    assert np.array_equal(z0, z1) and len(t) > 2                     # held still
+    assert np.array_equal(z0, z1) and len(t) > 2  # held still
     md = (tmp_path / "mao_held.md").read_text()
     for region in ("upstream", "hole", "lee", "dune"):
         assert f"| 18 s | {region} (" in md
@@ -171,13 +198,20 @@ def test_mao_held_rate_is_exner_of_the_bed_model():
     falls, and the sand it moves is conserved."""
     from tisph.bench.mao_held import exner_rate
     from tisph.sediment import coupling
-    sed = dict(coupling.DEFAULTS, shear="wall_function", lee_transit=True, settling_delay=True,
-               deposition_length=0.3, gravity_coefficient=0.0)
+
+    sed = dict(
+        coupling.DEFAULTS,
+        shear="wall_function",
+        lee_transit=True,
+        settling_delay=True,
+        deposition_length=0.3,
+        gravity_coefficient=0.0,
+    )
     st = (np.arange(400) + 0.5) * 0.0025
     z = np.full(len(st), 0.075)
     flat = exner_rate(sed, st, z, [np.full(len(st), 2.0)] * 3, 0.00036, 2650.0, 1000.0)
     assert np.abs(flat).max() < 1e-12
-    tau = 2.0 + 2.0 * np.exp(-((st - 0.5) / 0.05) ** 2)
+    tau = 2.0 + 2.0 * np.exp(-(((st - 0.5) / 0.05) ** 2))
     r = exner_rate(sed, st, z, [tau] * 3, 0.00036, 2650.0, 1000.0)
     assert r[np.argmin(np.abs(st - 0.45))] < 0 < r[np.argmin(np.abs(st - 0.6))]
     assert abs(r.sum()) < 1e-9 * np.abs(r).sum()
@@ -187,18 +221,27 @@ def test_shedding_verdict_needs_a_peak_at_a_strouhal_number():
     """A wake sheds when a peak at St 0.1-0.4 holds 30 % of the power and v varies by 5 % of U;
     a strong peak at St 0.05 (the wake's drift) does not count."""
     from tisph.bench.shedding import verdict
+
     U, D = 0.35, 0.05
     assert verdict([0.05, 0.07], [1.64, 1.64], [0.75, 0.8], U, D) == (1, True)
-    assert verdict([0.01, 0.019], [0.33, 0.33], [0.33, 0.2], U, D) == (0, False)      # drift
-    assert verdict([0.011, 0.019], [1.31, 0.33], [0.54, 0.6], U, D) == (0, True)       # the band's peak decides
-    assert verdict([0.005, 0.008], [1.4, 1.4], [0.9, 0.9], U, D)[1] is False          # too weak
+    assert verdict([0.01, 0.019], [0.33, 0.33], [0.33, 0.2], U, D) == (0, False)  # drift
+    assert verdict([0.011, 0.019], [1.31, 0.33], [0.54, 0.6], U, D) == (0, True)  # the band's peak decides
+    assert verdict([0.005, 0.008], [1.4, 1.4], [0.9, 0.9], U, D)[1] is False  # too weak
 
 
 def _validate(tmp_path, *only):
     readme = tmp_path / "README.md"
     readme.write_text("# x\n<!-- validation:start -->\nold\n<!-- validation:end -->\nafter\n")
-    args = ["--validate", "--quick", "--docs", str(tmp_path / "docs"), "--readme", str(readme),
-            "--out", str(tmp_path / "runs")]
+    args = [
+        "--validate",
+        "--quick",
+        "--docs",
+        str(tmp_path / "docs"),
+        "--readme",
+        str(readme),
+        "--out",
+        str(tmp_path / "runs"),
+    ]
     assert cli.main(args + (["--only", *only] if only else [])) == 0
     return (tmp_path / "docs" / "validation.md").read_text(), readme.read_text()
 
@@ -210,8 +253,8 @@ def test_validate_quick_one_case_writes_its_row_figure_and_cost(tmp_path):
     row = next(line for line in md.splitlines() if line.startswith("| Still water in a tank |"))
     cells = [c.strip() for c in row.strip("|").split("|")]
     assert cells[5] == "0.05" and int(cells[6]) == 340 and int(cells[7]) > 100
-    assert float(cells[4]) < 0.1                       # the pressure error of a still tank
-    assert cells[3] == "one spacing: no GCI"           # a quick run has one spacing
+    assert float(cells[4]) < 0.1  # the pressure error of a still tank
+    assert cells[3] == "one spacing: no GCI"  # a quick run has one spacing
     assert (tmp_path / "docs" / "validation" / "still_water_in_a_tank.png").stat().st_size > 5000
     assert (tmp_path / "docs" / "validation" / "cost.png").exists()
     assert "A quick run" in md and "old" in readme
@@ -223,6 +266,7 @@ def test_validate_jobs_runs_side_by_side_with_the_serial_values(tmp_path):
     import json
 
     from tisph.runner.pool import plan, stages
+
     assert plan(0, 10, cores=2) == (2, 1) and plan(0, 1, cores=8) == (1, 8) and plan(3, 10, cores=8) == (3, 2)
     # a run of 20,000 particles or more alone on every core first, the rest side by side
     assert stages(["a", "b", "c"], [50000, 100, 0], 0, cores=2) == [(["a"], 1, 2), (["b", "c"], 2, 1)]
@@ -231,8 +275,14 @@ def test_validate_jobs_runs_side_by_side_with_the_serial_values(tmp_path):
     _validate(tmp_path / "serial", "tank")
     common = ["--validate", "--quick", "--readme", "", "--only", "tank", "hatch"]
     assert cli.main(common + ["--jobs", "2", "--docs", str(tmp_path / "par"), "--out", str(tmp_path / "runs2")]) == 0
-    rows = {d: json.loads((tmp_path / d / "docs" / "validation" / "results.json").read_text() if d == "serial" else
-                          (tmp_path / d / "validation" / "results.json").read_text()) for d in ("serial", "par")}
+    rows = {
+        d: json.loads(
+            (tmp_path / d / "docs" / "validation" / "results.json").read_text()
+            if d == "serial"
+            else (tmp_path / d / "validation" / "results.json").read_text()
+        )
+        for d in ("serial", "par")
+    }
     tank = [rows[d]["Still water in a tank"]["rows"][0] for d in ("serial", "par")]
     assert tank[0]["value"] == tank[1]["value"] and tank[0]["steps"] == tank[1]["steps"]
     assert tank[1]["threads"] == 1 and tank[1]["jobs"] == 2
@@ -246,6 +296,7 @@ def test_a_stale_taichi_cache_lock_is_cleared_and_a_fresh_one_kept(tmp_path):
     import os
 
     from tisph.runtime import clear_stale_lock
+
     old, new = tmp_path / "old.lock", tmp_path / "new.lock"
     old.write_text("")
     new.write_text("")
@@ -261,6 +312,7 @@ def test_validate_quick_runs_every_case(tmp_path):
     """--validate --quick runs every validation case, writes a row and a figure for each and fills
     the README's table between its markers."""
     from tisph.bench.validate import CASES, slug
+
     md, readme = _validate(tmp_path)
     for c in CASES:
         assert f"| {c.name} |" in md, c.name
@@ -277,13 +329,17 @@ def test_ripple_sweep_cases_and_dry_run(tmp_path):
     calibration case, and its resolution pair at twice the length; --dry-run runs the whole path
     through the Dask sweep and writes the table, the CSV and both figures."""
     from tisph.bench import ripple_sweep as rb
+
     cases = rb.cases()
     rip = [ov for _, kind, ov in cases if kind in ("check", "calibration")]
     psi = [rb.mobility(ov["geometry.orbital_diameter"], ov["geometry.period"]) for ov in rip]
     assert len(rip) >= 8 and min(psi) <= 21 and 160 <= max(psi) <= 180
     assert sum(kind == "sheet" for _, kind, _ in cases) == 2
-    assert all(rb.mobility(ov["geometry.orbital_diameter"], ov["geometry.period"]) > 240
-               for _, kind, ov in cases if kind == "sheet")
+    assert all(
+        rb.mobility(ov["geometry.orbital_diameter"], ov["geometry.period"]) > 240
+        for _, kind, ov in cases
+        if kind == "sheet"
+    )
     for _, kind, ov in cases:
         lam = rb.wiberg_harris(ov["geometry.orbital_diameter"], rb.GRAIN)[0]
         assert ov["geometry.length"] >= 6 * lam
@@ -293,16 +349,22 @@ def test_ripple_sweep_cases_and_dry_run(tmp_path):
         assert ov["sediment.morfac"] <= rb.MORFAC
     assert [ov["sediment.morfac"] for _, _, ov in cases if ov["geometry.orbital_diameter"] == 0.4] == [5.9, 4.2, 4.2]
     # seeded at 1.5 d0 at two more orbital diameters, each over sand its seed fits in (sand_depth - 2 dx)
-    long_seeds = [ov for _, kind, ov in cases if kind == "seeded" and ov["geometry.seed_ripple_length"] >
-                  ov["geometry.orbital_diameter"]]
+    long_seeds = [
+        ov
+        for _, kind, ov in cases
+        if kind == "seeded" and ov["geometry.seed_ripple_length"] > ov["geometry.orbital_diameter"]
+    ]
     assert sorted(ov["geometry.orbital_diameter"] for ov in long_seeds) == [0.3, 0.4, 0.5]
-    assert all(ov["geometry.seed_ripple_height"] <= ov["geometry.sand_depth"] - 2 * ov["numerics.dx"]
-               for ov in long_seeds)
+    assert all(
+        ov["geometry.seed_ripple_height"] <= ov["geometry.sand_depth"] - 2 * ov["numerics.dx"] for ov in long_seeds
+    )
     assert {k for _, k, _ in cases} == {"calibration", "check", "sheet", "seeded", "resolution"}
     pair = [ov for _, kind, ov in cases if kind == "resolution"]
     assert len(pair) == 2 and pair[0]["geometry.length"] >= 12 * rb.wiberg_harris(0.3, rb.GRAIN)[0]
     assert pair[1]["numerics.dx"] == pytest.approx(pair[0]["numerics.dx"] / 1.5, rel=1e-4)
-    assert {k: v for k, v in pair[0].items() if k != "numerics.dx"} == {k: v for k, v in pair[1].items() if k != "numerics.dx"}
+    assert {k: v for k, v in pair[0].items() if k != "numerics.dx"} == {
+        k: v for k, v in pair[1].items() if k != "numerics.dx"
+    }
     assert rb.held_bed_periods(np.array([0.0, 1.0, 2.0, 3.0]), np.array([0.3, 0.2, 0.2, 0.2]), 1.0, 10.0) == 20.0
     # in the band (d0 = 0.3: 0.15-0.225 m) from t = 1 on, two lengths in it taking turns
     t, lam = np.arange(6.0), np.array([0.3, 0.2, 0.17, 0.2, 0.17, 0.2])
@@ -327,6 +389,7 @@ def test_peers_benches_left_out_of_an_install_say_where_they_are(monkeypatch, ca
 
     def missing(name):
         raise ModuleNotFoundError(f"No module named {name!r}", name=name)
+
     monkeypatch.setattr(common.importlib, "import_module", missing)
     with pytest.raises(SystemExit) as e:
         cli.main(["--waves", "--quick"])
@@ -337,9 +400,12 @@ def test_peers_benches_left_out_of_an_install_say_where_they_are(monkeypatch, ca
 
 def test_dualsphysics_case_and_its_csv_are_read(tmp_path):
     from tisph.bench.peers import dualsphysics
-    xml = ('<definition dp="0.01" units_comment="m"><special><gauges/></special>'
-           '<parameter key="TimeMax" value="2.0" /><parameter key="TimeOut" value="0.01" />'
-           '<coefsound value="20" comment="" />')
+
+    xml = (
+        '<definition dp="0.01" units_comment="m"><special><gauges/></special>'
+        '<parameter key="TimeMax" value="2.0" /><parameter key="TimeOut" value="0.01" />'
+        '<coefsound value="20" comment="" />'
+    )
     s = dualsphysics.case_xml(xml, 0.015, 0.3, 0.02, coefsound=14.14)
     assert 'dp="0.015"' in s and 'key="TimeMax" value="0.3"' in s and 'key="TimeOut" value="0.02"' in s
     assert "<special>" not in s and '<coefsound value="14.14"' in s
@@ -350,7 +416,8 @@ def test_dualsphysics_case_and_its_csv_are_read(tmp_path):
     for k, pts in rows.items():
         body = "".join(f"  {x:.7E};  0.0000000E+00;  {z:.7E};\n" for x, z in pts)
         (tmp_path / f"PartFluid_{k:04d}.csv").write_text(
-            f"TimeStep [s];Np;Nbound\n{0.1 * k};3;10\n\nPos.x [m];Pos.y [m];Pos.z [m];\n{body}")
+            f"TimeStep [s];Np;Nbound\n{0.1 * k};3;10\n\nPos.x [m];Pos.y [m];Pos.z [m];\n{body}"
+        )
     (tmp_path / "PartFluid_Info.csv").write_text("not a time")
     t, front = dualsphysics._fronts(str(tmp_path), 0.01)
     assert list(t) == [0.0, 0.1]
@@ -365,9 +432,29 @@ def test_speed_bench_on_gpu_falls_back_to_the_cpu_with_a_warning(tmp_path):
     import sys
 
     from tests.runner.test_cli import NO_GPU  # the GPU backends hidden, so it falls back on any machine
-    r = subprocess.run([sys.executable, "-m", "tisph.bench", "--speed", "--arch", "gpu", "--sizes", "3000", "--quick",
-                        "--repeats", "1", "--out", str(tmp_path)], capture_output=True, text=True, cwd=ROOT, timeout=600,
-                       env=dict(os.environ, **NO_GPU))
+
+    r = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "tisph.bench",
+            "--speed",
+            "--arch",
+            "gpu",
+            "--sizes",
+            "3000",
+            "--quick",
+            "--repeats",
+            "1",
+            "--out",
+            str(tmp_path),
+        ],
+        capture_output=True,
+        text=True,
+        cwd=ROOT,
+        timeout=600,
+        env=dict(os.environ, **NO_GPU),
+    )
     assert r.returncode == 0, r.stderr[-2000:]
     assert "warning: --arch gpu: Taichi found no GPU" in r.stderr
     md = (tmp_path / "speed.md").read_text()
@@ -387,6 +474,7 @@ def test_waves_bench_builds_dualsphysics_flume_and_reads_its_gauges(tmp_path):
     import xml.etree.ElementTree as ET
 
     from tisph.bench.peers import flume_codes as waves
+
     f = waves.flume_setup(0.0125)
     xml, info = waves.flume_xml(0.0125, 9.6, f, waves.MATCHED)
     root = ET.fromstring(xml)
@@ -397,7 +485,7 @@ def test_waves_bench_builds_dualsphysics_flume_and_reads_its_gauges(tmp_path):
     assert float(root.find(".//speedsound").get("value")) == pytest.approx(10 * math.sqrt(9.81 * 0.25), rel=1e-5)
     assert info["h"] == pytest.approx(2.5 * 0.0125)
     fill = root.find(".//fillbox")
-    assert float(fill.find("size").get("z")) == pytest.approx(0.25 + 0.0125)   # its border row stays empty
+    assert float(fill.find("size").get("z")) == pytest.approx(0.25 + 0.0125)  # its border row stays empty
     assert float(root.find(".//damping/dampingzone/limitmin").get("x")) == pytest.approx(4.5125 - 1.2)
     # 0.02 does not divide 0.25: both codes hold round(12.5) = 12 rows
     assert waves.flume_xml(0.02, 1.0, waves.flume_setup(0.02), waves.OWN)[1]["depth"] == pytest.approx(0.24)
@@ -413,7 +501,7 @@ def test_waves_bench_builds_dualsphysics_flume_and_reads_its_gauges(tmp_path):
     assert err == pytest.approx([0.1] * 3, abs=0.01)
     lines = ["time [s];swlx [m];swly [m];swlz [m]"] + [f"{a:.6f};1;0;{b:.6f}" for a, b in zip(*recs[0])]
     (tmp_path / "GaugesSWL_g0.csv").write_text("\n".join(lines) + "\n")
-    (tt, zz), = waves._swl(str(tmp_path), ["g0"])
+    ((tt, zz),) = waves._swl(str(tmp_path), ["g0"])
     assert zz == pytest.approx(recs[0][1], abs=1e-6) and tt[-1] == pytest.approx(9.59)
 
 
@@ -427,9 +515,12 @@ def test_a_quick_validation_writes_only_under_its_out(tmp_path):
     """--validate --quick --out DIR writes the page, its figures and results under DIR: the tree's
     docs/validation.md, its figures and the README stay as they are."""
     import os
+
     root = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-    watched = [os.path.join(root, p) for p in ("README.md", "docs/validation.md", "docs/validation/cost.png",
-                                               "docs/validation/results.json")]
+    watched = [
+        os.path.join(root, p)
+        for p in ("README.md", "docs/validation.md", "docs/validation/cost.png", "docs/validation/results.json")
+    ]
     before = {p: open(p, "rb").read() for p in watched if os.path.exists(p)}
     assert cli.main(["--validate", "--quick", "--only", "tank", "--out", str(tmp_path)]) == 0
     assert (tmp_path / "validation.md").exists() and (tmp_path / "validation" / "cost.png").exists()
@@ -440,6 +531,7 @@ def test_gci_recovers_a_known_order_and_its_limit_and_refuses_oscillation():
     """Roache's GCI (tisph/bench/gci_examples.py): f = 1 + dx^2 at dx = 0.3, 0.2, 0.13 gives p = 2
     and the limit 1 (uneven ratios, Celik et al.'s iteration); a sign change gives no order."""
     from tisph.bench.gci_examples import gci
+
     dx = (0.13, 0.2, 0.3)
     f = [1.0 + d * d for d in dx]
     p, ext, g21, g32 = gci(*f, dx[1] / dx[0], dx[2] / dx[1])
@@ -453,14 +545,18 @@ def test_bench_bad_case_file_is_a_message_not_a_traceback(tmp_path):
     value and what is allowed, exit 2."""
     import subprocess
     import sys
+
     src = open(os.path.join(ROOT, "scenes", "pipeline_scour_mao.toml")).read()
     cfg = tmp_path / "bad.toml"
     cfg.write_text(src.replace('turbulence = "k_equation"\n', 'turbulence = "smagorinsky"\n', 1))
-    r = subprocess.run([sys.executable, "-m", "tisph.bench", "--shedding", "--config", str(cfg), "--out",
-                        str(tmp_path / "out")], capture_output=True, text=True, cwd=ROOT)
+    r = subprocess.run(
+        [sys.executable, "-m", "tisph.bench", "--shedding", "--config", str(cfg), "--out", str(tmp_path / "out")],
+        capture_output=True,
+        text=True,
+        cwd=ROOT,
+    )
     assert r.returncode == 2, r.stderr
     assert "sediment.shear = 'wall_function' is not allowed" in r.stderr and "Traceback" not in r.stderr
-
 
 
 def test_schemes_bench_writes_every_run_its_table_and_figure(tmp_path, monkeypatch):
@@ -470,12 +566,27 @@ def test_schemes_bench_writes_every_run_its_table_and_figure(tmp_path, monkeypat
     import json
 
     from tisph.bench import scheme_costs as schemes
+
     seen = []
 
     def fake(case, dx, out, quick):
         seen.append((case.name, dict(case.overrides), dx))
-        return dict(case=case.name, dx=dx, particles=100, steps=10, wall=1.0 / dx, pps=1e6, value=0.1,
-                    error=dx, density=0.0, also={}, dir=out, status="ok", date="")
+        return dict(
+            case=case.name,
+            dx=dx,
+            particles=100,
+            steps=10,
+            wall=1.0 / dx,
+            pps=1e6,
+            value=0.1,
+            error=dx,
+            density=0.0,
+            also={},
+            dir=out,
+            status="ok",
+            date="",
+        )
+
     monkeypatch.setattr(schemes, "run_one", fake)
     assert cli.main(["--schemes", "--jobs", "1", "--out", str(tmp_path)]) == 0
     n = sum(len(v) for v in schemes.LADDERS.values()) * len(schemes.SCHEMES)

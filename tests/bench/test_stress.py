@@ -1,5 +1,6 @@
 """The stress suite's short version: each case ends as it is expected to (ok, stopped cleanly or
 refused, and warned where it should be), with no crash and no leak."""
+
 import csv
 
 import pytest
@@ -27,6 +28,13 @@ def test_stress_quick(tmp_path):
     tank_row = [r for r in rows if r[0].startswith("still tank")][0]
     assert tank_row[1].startswith("ok") and float(tank_row[3].rstrip("%")) < 1.0
     with open(tmp_path / "stress.csv") as f:
-        assert next(csv.reader(f)) == ["case", "outcome", "leaks", "max_density_error", "wall_time_s", "expected",
-                                       "as_expected"]
+        assert next(csv.reader(f)) == [
+            "case",
+            "outcome",
+            "leaks",
+            "max_density_error",
+            "wall_time_s",
+            "expected",
+            "as_expected",
+        ]
     assert (tmp_path / "stress.md").read_text().startswith("| case |")

@@ -1,5 +1,6 @@
 """Dual time stepping (tisph/physics/dual.py): the viscous and diffusive terms at the advection
 criterion, held over the acoustic steps between their evaluations."""
+
 import os
 
 import numpy as np
@@ -40,7 +41,7 @@ def test_one_acoustic_step_a_time_is_the_single_step_to_rounding():
     for _ in range(150):
         single.step()
     a, b = single.state(("x", "v", "rho")), dual.state(("x", "v", "rho"))
-    assert not np.array_equal(a["v"], b["v"])        # the two sums added apart, then together
+    assert not np.array_equal(a["v"], b["v"])  # the two sums added apart, then together
     assert np.abs(a["x"] - b["x"]).max() < 1e-5
     assert np.abs(a["v"] - b["v"]).max() < 1e-3
     assert np.abs(a["rho"] / b["rho"] - 1.0).max() < 1e-5
@@ -48,8 +49,8 @@ def test_one_acoustic_step_a_time_is_the_single_step_to_rounding():
 
 def test_still_water_evaluates_every_third_step_a_fast_flow_or_a_viscous_one_sooner():
     s = _solver(tank, {"numerics.dx": 0.04})
-    assert s.dual is not None and s.param_values["acoustic_steps"] == 3.0   # the default scheme's
-    assert _schedule(s, 12) == [False, False, True] * 4   # held twice after the first forces, then again
+    assert s.dual is not None and s.param_values["acoustic_steps"] == 3.0  # the default scheme's
+    assert _schedule(s, 12) == [False, False, True] * 4  # held twice after the first forces, then again
     # the advection criterion: the fastest particle may move advection_cfl h between evaluations
     fast = _solver(tank, {"numerics.dx": 0.04}, advection_cfl=1e-6)
     fast.step_ahead(20)
@@ -76,8 +77,13 @@ def test_held_terms_keep_the_tank_at_rest_and_its_pressure():
 
 def _pipe(ts, **params):
     from tisph.scenes import pipeline_scour
-    ov = {"numerics.dx": 0.0125, "sediment.morph_start": 0.0, "numerics.turbulence": "k_equation",
-          "numerics.time_stepping": ts}
+
+    ov = {
+        "numerics.dx": 0.0125,
+        "sediment.morph_start": 0.0,
+        "numerics.turbulence": "k_equation",
+        "numerics.time_stepping": ts,
+    }
     return _solver(pipeline_scour, ov, **params)
 
 

@@ -2,6 +2,7 @@
 flags, block maxima without atomics, serialised light loops, each pair once) a step gives the
 same state bit for bit as the CPU's gather pass (and each pair once gives it to rounding,
 tests/engine/test_pair_once.py), so a GPU build differs from the CPU build only in rounding."""
+
 import os
 
 import numpy as np
@@ -25,7 +26,7 @@ def _run(steps, **params):
 def test_gpu_layout_and_atomic_maxima_give_the_cpu_state(monkeypatch):
     runtime.init("cpu", "f32")
     cpu, a = _run(60, pair_once=False)
-    assert cpu.cpu and cpu.stepper.nblk >= min(cpu.n, 1024)   # 1,024 blocks or more: every thread takes a share
+    assert cpu.cpu and cpu.stepper.nblk >= min(cpu.n, 1024)  # 1,024 blocks or more: every thread takes a share
     monkeypatch.setattr(state, "on_cpu", lambda: False)
     monkeypatch.setattr(grid, "on_cpu", lambda: False)
     gpu, b = _run(60)

@@ -1,4 +1,5 @@
 """The cell grid finds exactly the neighbours brute force finds, edges and corner cells included."""
+
 import numpy as np
 import pytest
 
@@ -11,8 +12,9 @@ def make_solver(x, lo, hi, h):
     ps = ParticleSet()
     ps.add(x, WALL, 0, 1000.0, 1.0)
     mats = [dict(name="w", rho0=1000.0, viscosity=0.0, B=1e5)]
-    return Solver(Physics(wall="repulsive", artificial_viscosity=False), ps, mats, (lo, hi),
-                  dict(dx=h / 1.3, h=h, c0=10.0))
+    return Solver(
+        Physics(wall="repulsive", artificial_viscosity=False), ps, mats, (lo, hi), dict(dx=h / 1.3, h=h, c0=10.0)
+    )
 
 
 def brute(x, support):
@@ -31,8 +33,18 @@ def test_cell_list_equals_brute_force(seed):
     h = 0.05
     x = lo + rng.random((1500, 2)) * (hi - lo)
     # points on the domain edges, in the corner cells, and clustered in cell 0
-    edges = np.array([lo, [hi[0] - 1e-6, lo[1]], [lo[0], hi[1] - 1e-6], hi - 1e-6,
-                      [lo[0], 0.5], [hi[0] - 1e-6, 0.5], [0.4, lo[1]], [0.4, hi[1] - 1e-6]])
+    edges = np.array(
+        [
+            lo,
+            [hi[0] - 1e-6, lo[1]],
+            [lo[0], hi[1] - 1e-6],
+            hi - 1e-6,
+            [lo[0], 0.5],
+            [hi[0] - 1e-6, 0.5],
+            [0.4, lo[1]],
+            [0.4, hi[1] - 1e-6],
+        ]
+    )
     cell0 = lo + rng.random((30, 2)) * 0.05
     x = np.vstack([x, edges, cell0])
     s = make_solver(x, lo, hi, h)

@@ -1,4 +1,5 @@
 """Kernel moments on a lattice, and the Taichi kernels against their NumPy twins."""
+
 import numpy as np
 import pytest
 import taichi as ti
@@ -10,7 +11,7 @@ KERNELS = [CubicSpline2D, WendlandC2_2D]
 
 def lattice(h, dx, offset):
     n = int(np.ceil(2 * h / dx)) + 2
-    g = (np.arange(-n, n + 1) * dx)
+    g = np.arange(-n, n + 1) * dx
     X, Y = np.meshgrid(g + offset[0], g + offset[1], indexing="ij")
     return np.column_stack([X.ravel(), Y.ravel()])
 
@@ -19,7 +20,7 @@ def moment_errors(K, hdx, offset):
     """|sum V W - 1|, |sum V grad W| h and |sum V r (x) grad W + I| on a lattice of spacing dx."""
     dx = 0.01
     h = hdx * dx
-    r = lattice(h, dx, np.array(offset) * dx)       # vectors x_i - x_j from a lattice point
+    r = lattice(h, dx, np.array(offset) * dx)  # vectors x_i - x_j from a lattice point
     d = np.hypot(r[:, 0], r[:, 1])
     W = K.sigma / h**2 * K.shape_np(d / h)
     gW = (K.sigma / h**4 * K.fshape_np(d / h))[:, None] * r

@@ -1,5 +1,6 @@
 """Each pair once (tisph/engine/pairs.py): the same terms as the gather pass to rounding, and the
 same bits on any number of threads (the zones, not the threads, set the order of the sums)."""
+
 import os
 import subprocess
 import sys
@@ -35,11 +36,14 @@ def test_pair_once_gives_the_gather_pass_terms_to_rounding():
     # seam) and the flume (a moving paddle, extrapolated walls)
     # every term every step: dual time stepping's two sums gather (physics/dual.py)
     FT = {"numerics.density_diffusion": "fourtakas", "numerics.time_stepping": "single"}
-    for scene, ov in ((dam_break, dict(FT, **{"numerics.dx": 0.04})), (tunnel, {}),
-                      (flume, dict(FT, **{"numerics.dx": 0.025}))):
+    for scene, ov in (
+        (dam_break, dict(FT, **{"numerics.dx": 0.04})),
+        (tunnel, {}),
+        (flume, dict(FT, **{"numerics.dx": 0.025})),
+    ):
         (g, a), (o, b) = _pair(scene, ov, 150)
-        assert abs(g.time / o.time - 1.0) < 1e-6                # dt follows the largest acceleration
-        assert not np.array_equal(a["rho"], b["rho"])          # the sums ran in another order
+        assert abs(g.time / o.time - 1.0) < 1e-6  # dt follows the largest acceleration
+        assert not np.array_equal(a["rho"], b["rho"])  # the sums ran in another order
         assert np.abs(a["x"] - b["x"]).max() < 1e-5
         assert np.abs(a["v"] - b["v"]).max() < 1e-3
         assert np.abs(a["rho"] / b["rho"] - 1.0).max() < 1e-5
@@ -93,28 +97,38 @@ def test_zones_are_dealt_round_the_threads():
     """A shallow domain's water fills the first zones of each phase: in row order one thread's
     piece of the loop would hold them all (the flume's pass ran as on one thread)."""
     from tisph.engine.pairs import deal
-    assert deal(8, 2) == [0, 2, 4, 6, 1, 3, 5, 7]       # thread 0: zones 0, 2, 4, 6 of the phase
+
+    assert deal(8, 2) == [0, 2, 4, 6, 1, 3, 5, 7]  # thread 0: zones 0, 2, 4, 6 of the phase
     assert deal(8, 1) == list(range(8))
     for t in (1, 2, 3, 4, 8, 16):
         assert sorted(deal(8, t)) == list(range(8))
         piece = -(-8 // t) if t <= 8 else 1
         firsts = [deal(8, t)[q] for q in range(0, 8, piece)]
-        assert t > 8 or 8 % t or firsts == list(range(t))   # each thread starts on its own low zone
+        assert t > 8 or 8 % t or firsts == list(range(t))  # each thread starts on its own low zone
 
 
 def test_auto_takes_each_pair_once_where_the_run_repays_its_compile():
     cfg = resolve(dam_break, overrides={"numerics.dx": 0.03})
     n, h, c0 = 3426, 0.039, 62.6
     steps = cfg["run"]["end_time"] / (cfg["numerics"]["cfl"] * h / c0)
-    assert pair_once_wanted(cfg, n, h, c0) == (n * steps >= PAIR_ONCE_MIN) is False   # a short run: 1.1e7
+    assert pair_once_wanted(cfg, n, h, c0) == (n * steps >= PAIR_ONCE_MIN) is False  # a short run: 1.1e7
     assert pair_once_wanted(cfg, 10 * n, h, c0)
-    cfg = cfg.replace({"run.max_steps": 100})          # a segment of a run chooses as the whole run (restarts)
+    cfg = cfg.replace({"run.max_steps": 100})  # a segment of a run chooses as the whole run (restarts)
     assert pair_once_wanted(cfg, 10 * n, h, c0)
     for mode, want in (("on", True), ("off", False)):
         assert pair_once_wanted(cfg.replace({"run.pair_once": mode}), n, h, c0) is want
     runtime.init("cpu", "f32")
-    case = build_case(dam_break, resolve(dam_break, overrides={"numerics.dx": 0.04, "run.pair_once": "on",
-                                                               "numerics.density_diffusion": "fourtakas",
-                                                               "numerics.time_stepping": "single"}),
-                      Log(os.devnull, True))
+    case = build_case(
+        dam_break,
+        resolve(
+            dam_break,
+            overrides={
+                "numerics.dx": 0.04,
+                "run.pair_once": "on",
+                "numerics.density_diffusion": "fourtakas",
+                "numerics.time_stepping": "single",
+            },
+        ),
+        Log(os.devnull, True),
+    )
     assert case.params["pair_once"] and case.model.solver().pair_once is not None

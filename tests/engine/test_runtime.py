@@ -1,4 +1,5 @@
 """What tisph changes in Taichi's start-up: the cached debug text and the guard around its cache."""
+
 import os
 
 KERNELS = """import taichi as ti
@@ -51,11 +52,12 @@ def test_kernel_errors_name_the_line_and_code_with_the_start_up_cache(tmp_path):
     caused it, also inside a ti.func inlined after other kernels inlined their own."""
     import subprocess
     import sys
+
     script = tmp_path / "kernels.py"
     script.write_text(KERNELS)
     r = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, timeout=120)
     lines = r.stdout.splitlines()
-    assert lines[0] == "8.0", r.stdout + r.stderr      # twice() inlined twice computes 2*3 + 2
+    assert lines[0] == "8.0", r.stdout + r.stderr  # twice() inlined twice computes 2*3 + 2
     out = "\n".join(lines)
     assert f'File "{script}", line 26, in bad:' in out, out
     assert "f[i] = twice(1.0) + missing_in_kernel * 2.0" in out
@@ -71,13 +73,18 @@ def test_concurrent_processes_take_turns_at_taichis_cache(tmp_path):
     import subprocess
     import sys
     import time
+
     env = dict(os.environ, TI_OFFLINE_CACHE_FILE_PATH=str(tmp_path / "cache"))
-    hold = ("import time; from tisph import runtime\nwith runtime.cache_guard():\n"
-            "    print('held', flush=True); time.sleep(2.0)")
-    run = ("import time; t = time.perf_counter(); from tisph import runtime; import taichi as ti; "
-           "runtime.init('cpu', 'f32'); print(time.perf_counter() - t, flush=True); f = ti.field(ti.f32, 4)\n"
-           "@ti.kernel\ndef k():\n    for i in f: f[i] = i\nk()")
-    script = tmp_path / "run.py"            # Taichi reads a kernel's source from its file
+    hold = (
+        "import time; from tisph import runtime\nwith runtime.cache_guard():\n"
+        "    print('held', flush=True); time.sleep(2.0)"
+    )
+    run = (
+        "import time; t = time.perf_counter(); from tisph import runtime; import taichi as ti; "
+        "runtime.init('cpu', 'f32'); print(time.perf_counter() - t, flush=True); f = ti.field(ti.f32, 4)\n"
+        "@ti.kernel\ndef k():\n    for i in f: f[i] = i\nk()"
+    )
+    script = tmp_path / "run.py"  # Taichi reads a kernel's source from its file
     script.write_text(run)
     a = subprocess.Popen([sys.executable, "-c", hold], stdout=subprocess.PIPE, text=True, env=env)
     assert a.stdout.readline().strip() == "held"
@@ -85,5 +92,5 @@ def test_concurrent_processes_take_turns_at_taichis_cache(tmp_path):
     b = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, env=env, timeout=120)
     a.wait(30)
     assert b.returncode == 0, b.stderr
-    assert time.perf_counter() - t0 > 1.5          # it waited for the holder
+    assert time.perf_counter() - t0 > 1.5  # it waited for the holder
     assert "Lock" not in b.stderr and (tmp_path / "cache" / "tisph.flock").exists()

@@ -1,5 +1,6 @@
 """The numerics schemes (tisph/settings/schemes.py): every scene on its scheme but for the departures it
 names, a scheme named in a case file, and the extrapolated wall's guard against penetration."""
+
 import numpy as np
 import pytest
 
@@ -29,10 +30,11 @@ def test_the_waves_and_impacts_run_the_default_scheme():
 
 def test_a_scheme_named_in_a_case_sets_the_keys_it_leaves_unset():
     from tisph.scenes import dam_break
+
     cfg = resolve(dam_break, {"numerics": {"scheme": "paper000", "h_factor": 1.3}})
     num = cfg["numerics"]
     assert num["kernel"] == "cubic" and num["wall"] == "dynamic" and num["xsph"] == 0.1
-    assert num["h_factor"] == 1.3                       # as set
+    assert num["h_factor"] == 1.3  # as set
     assert any("paper000" in n and "h_factor" in n for n in cfg.notes)
     default = resolve(dam_break)["numerics"]
     assert default["kernel"] == "wendland" and default["wall"] == "adami" and not resolve(dam_break).notes
@@ -41,6 +43,7 @@ def test_a_scheme_named_in_a_case_sets_the_keys_it_leaves_unset():
 def test_an_unknown_scheme_is_refused_with_the_choices():
     from tisph.scenes import dam_break
     from tisph.settings.config import ConfigError
+
     with pytest.raises(ConfigError, match="paper000"):
         resolve(dam_break, {"numerics": {"scheme": "fast"}})
 
@@ -51,14 +54,15 @@ def test_riemann_wall_pressure_grows_from_a_waves_to_the_water_hammer():
 
     from tisph import runtime
     from tisph.terms.pressure import riemann_wall_pressure
+
     runtime.init("cpu", "f64")
     out = ti.field(ti.f64, shape=4)
 
     @ti.kernel
     def k(c0: ti.f64):
-        n = ti.Vector([0.0, 1.0])                      # the wall's normal, into the water
+        n = ti.Vector([0.0, 1.0])  # the wall's normal, into the water
         for q in ti.static(range(4)):
-            un = (-1.0, 0.1, 2.0, 10.0)[q]             # closing speed on the wall
+            un = (-1.0, 0.1, 2.0, 10.0)[q]  # closing speed on the wall
             out[q] = riemann_wall_pressure(1000.0, c0, ti.Vector([0.3, -un]), n)
 
     k(20.0)

@@ -1,6 +1,7 @@
 """The parameter table: a runtime parameter read and written by name, kept by a checkpoint's
 snapshot and restored, refused by name where the case has none; the material table one field a
 material parameter, filled from the case's materials."""
+
 import os
 
 import numpy as np
@@ -23,12 +24,12 @@ def test_table_reads_writes_and_restores_by_name():
     kept = t.snapshot()
     t.set("g", (0.5, -9.0))
     assert t.get("g") == pytest.approx((0.5, -9.0))
-    s.step()                                   # the kernel reads the new gravity: the fluid drifts in x
+    s.step()  # the kernel reads the new gravity: the fluid drifts in x
     fl = s.state(("v", "kind"))
     assert np.mean(fl["v"][fl["kind"] == FLUID][:, 0]) > 0.0
     t.restore(kept)
     assert t.get("g") == pytest.approx((0.0, -9.81))
-    with pytest.raises(KeyError, match="'drive'"):      # a dam break has no periodic drive
+    with pytest.raises(KeyError, match="'drive'"):  # a dam break has no periodic drive
         t.set("drive", (1.0, 0.0))
     rho0 = [m["rho0"] for m in case.materials]
     assert np.allclose(s.mat.rho0.to_numpy(), rho0) and t.has_stat("amax2") and not t.has("drive")

@@ -4,6 +4,7 @@ same particles: a jittered lattice patch with random velocities and densities, b
 The solver is primed (a zero-length step), so its a and drho are the terms at the initial state.
 A term's part is the difference between the solver with it and without it.
 """
+
 import numpy as np
 import pytest
 
@@ -13,7 +14,7 @@ from tisph.particles import FLUID, WALL, ParticleSet
 from tisph.settings.config import Physics
 
 DX, RHO0, C0 = 0.01, 1000.0, 20.0
-B = RHO0 * C0 ** 2 / 7.0
+B = RHO0 * C0**2 / 7.0
 MU = 0.05
 
 
@@ -25,15 +26,28 @@ def patch(seed=3, walls=False):
     rho = RHO0 * (1.0 + rng.uniform(-0.005, 0.005, 49))
     ps = ParticleSet()
     ps.add(x, FLUID, 0, rho, RHO0 * DX * DX, v=v)
-    if walls:   # one row of wall particles half a spacing under the patch
+    if walls:  # one row of wall particles half a spacing under the patch
         ps.add(np.column_stack([g, np.full(7, -0.5 * DX)]), WALL, 0, RHO0, RHO0 * DX * DX)
     return ps
 
 
 def solver(ps, kernel, h_factor, **phys):
     h = h_factor * DX
-    params = dict(dx=DX, h=h, c0=C0, alpha=0.1, alpha_s=0.5, div_s=1.5, xsph=0.5, delta=0.1, g=(0.0, -9.81), wall_D=5.0,
-                  cfl=0.4, dt_max=1e-3, density_band=0.5)
+    params = dict(
+        dx=DX,
+        h=h,
+        c0=C0,
+        alpha=0.1,
+        alpha_s=0.5,
+        div_s=1.5,
+        xsph=0.5,
+        delta=0.1,
+        g=(0.0, -9.81),
+        wall_D=5.0,
+        cfl=0.4,
+        dt_max=1e-3,
+        density_band=0.5,
+    )
     mats = [dict(name="water", rho0=RHO0, viscosity=MU, B=B)]
     ph = dict(kernel=kernel, wall="dynamic", artificial_viscosity=False)
     ph.update(phys)
@@ -55,11 +69,25 @@ def reference(ps, kernel, h_factor):
     r2 = (r * r).sum(-1)
     near = (r2 < (K.support * h) ** 2) & fl[:, None]
     q = np.sqrt(r2) / h
-    gw = (K.sigma / h ** 4) * np.where(near, K.fshape_np(q), 0.0)[..., None] * r
-    w = (K.sigma / h ** 2) * np.where(near, K.shape_np(q), 0.0)
+    gw = (K.sigma / h**4) * np.where(near, K.fshape_np(q), 0.0)[..., None] * r
+    w = (K.sigma / h**2) * np.where(near, K.shape_np(q), 0.0)
     vij = v[:, None, :] - v[None, :, :]
-    return dict(h=h, x=x, v=v, m=m, rho=rho, p=p, r=r, r2=r2, gw=gw, w=w, vij=vij, fl=fl,
-                wall=~fl[None, :] & near, fluid_j=fl[None, :] & near)
+    return dict(
+        h=h,
+        x=x,
+        v=v,
+        m=m,
+        rho=rho,
+        p=p,
+        r=r,
+        r2=r2,
+        gw=gw,
+        w=w,
+        vij=vij,
+        fl=fl,
+        wall=~fl[None, :] & near,
+        fluid_j=fl[None, :] & near,
+    )
 
 
 def pressure(R):
@@ -114,10 +142,11 @@ def test_surface_artificial_viscosity(kernel, hf):
     under 1.5 (the patch's rim, flagged in the pass before) takes alpha_s (0.5), every other pair
     alpha (0.1)."""
     from tisph.physics.fluid import ArtificialViscosity
+
     ps = patch()
     _, base = solver(ps, kernel, hf)
     s, _ = solver(ps, kernel, hf, artificial_viscosity=True, surface_viscosity=True)
-    s.prime()                      # the flags from the first pass now in use
+    s.prime()  # the flags from the first pass now in use
     st = s.state(("a", "fs"))
     R = reference(ps, kernel, hf)
     h, r, r2, gw, vij, m, rho, fl = R["h"], R["r"], R["r2"], R["gw"], R["vij"], R["m"], R["rho"], R["fl"]
@@ -144,7 +173,7 @@ def test_density_diffusion(kernel, hf, kind):
     h, r, r2, gw, m, rho = R["h"], R["r"], R["r2"], R["gw"], R["m"], R["rho"]
     drho = rho[:, None] - rho[None, :]
     if kind == "fourtakas":
-        drho = drho + RHO0 / C0 ** 2 * (9.81 * r[..., 1])
+        drho = drho + RHO0 / C0**2 * (9.81 * r[..., 1])
     c = 2 * 0.1 * h * C0 * (m / rho)[None, :] * drho * (r * gw).sum(-1) / (r2 + 0.01 * h * h)
     close(on["drho"] - base["drho"], c.sum(1), R["fl"])
 
@@ -155,7 +184,7 @@ def test_renormalised_density_diffusion_leaves_a_linear_field_alone_at_a_free_ed
     Molteni's diffuses the same field there. The gradient is one pass behind: the first pass
     gives Molteni's term and the gradient, the second the corrected term."""
     ps = patch()
-    grad = np.array([0.3, -0.5]) * RHO0          # kg/m3 per m: 0.5 % over the patch
+    grad = np.array([0.3, -0.5]) * RHO0  # kg/m3 per m: 0.5 % over the patch
     ps.rho = RHO0 + ps.x @ grad
     _, base = solver(ps, "cubic", 1.3)
     _, mol = solver(ps, "cubic", 1.3, density_diffusion="molteni")
@@ -163,7 +192,7 @@ def test_renormalised_density_diffusion_leaves_a_linear_field_alone_at_a_free_ed
     fl = ps.kind == FLUID
     # float32 densities carry the 0.5 % field to about 1e-5 of its size
     assert np.abs(s.state(("grho",))["grho"][fl] - grad).max() < 0.01 * np.abs(grad).max()
-    np.testing.assert_array_equal(first["drho"], mol["drho"])      # no gradient yet: Molteni's
+    np.testing.assert_array_equal(first["drho"], mol["drho"])  # no gradient yet: Molteni's
     s.prime()
     corrected = np.abs(s.state(("drho",))["drho"] - base["drho"])[fl]
     molteni = np.abs(mol["drho"] - base["drho"])[fl]
@@ -185,11 +214,17 @@ def test_shifting(kernel, hf):
     """Particle shifting (Lind et al. 2012): -A h |u| sum_j V_j grad W over every neighbour (the
     wall row too), zero where the divergence of position is under 1.5 (the patch's rim)."""
     from tisph.physics.fluid import Shifting
+
     ps = patch(walls=True)
     params = dict(dx=DX, h=hf * DX, c0=C0, g=(0.0, 0.0), cfl=0.4, dt_max=1e-3, density_band=0.5, shifting=2.0)
     mats = [dict(name="water", rho0=RHO0, viscosity=MU, B=B)]
-    s = Solver(Physics(kernel=kernel, wall="dynamic", artificial_viscosity=False, shifting=True), ps, mats,
-               ((-0.1, -0.1), (0.2, 0.2)), params)
+    s = Solver(
+        Physics(kernel=kernel, wall="dynamic", artificial_viscosity=False, shifting=True),
+        ps,
+        mats,
+        ((-0.1, -0.1), (0.2, 0.2)),
+        params,
+    )
     s.prime()
     got = s.state(("sh",))["sh"]
     K = get_kernel(kernel)
@@ -198,7 +233,7 @@ def test_shifting(kernel, hf):
     r = x[:, None, :] - x[None, :, :]
     r2 = (r * r).sum(-1)
     near = (r2 < (K.support * h) ** 2) & (r2 > 0)
-    gw = (K.sigma / h ** 4) * np.where(near, K.fshape_np(np.sqrt(r2) / h), 0.0)[..., None] * r
+    gw = (K.sigma / h**4) * np.where(near, K.fshape_np(np.sqrt(r2) / h), 0.0)[..., None] * r
     vol = m / rho
     gc = (vol[None, :, None] * gw).sum(1)
     divr = -(vol[None, :] * (r * gw).sum(-1)).sum(1)
@@ -228,5 +263,5 @@ def test_repulsive_wall_mirrors_pressure_and_pushes(kernel, hf):
     with np.errstate(divide="ignore", invalid="ignore"):
         s6 = np.where(wall & (r2 < DX * DX), (DX * DX / r2) ** 3, 0.0)
         lj = np.where((wall & (r2 < DX * DX))[..., None], (5.0 * (s6 * s6 - s6) / r2)[..., None] * r, 0.0)
-    assert np.abs(lj).max() > 0   # some particles feel the wall force
+    assert np.abs(lj).max() > 0  # some particles feel the wall force
     close(st["a"] - g, a + lj.sum(1), fl)

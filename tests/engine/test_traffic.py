@@ -1,6 +1,7 @@
 """A step with no host work: steps run in batches with one read of the device a batch
 (Solver.step_ahead), and give the state, time and step count of single steps bit for bit;
 the run loop's steps that write nothing mostly read nothing (tisph/bench/traffic.py counts)."""
+
 import os
 
 import numpy as np
@@ -28,7 +29,7 @@ def test_a_batch_of_steps_is_single_steps_bit_for_bit_with_one_transfer():
         many.step_ahead(20)
         launches, transfers = c.total()
     many.step_ahead(30)
-    assert (launches, transfers) == (21, 1), (c.launches, c.transfers)   # 20 steps, one read of the log
+    assert (launches, transfers) == (21, 1), (c.launches, c.transfers)  # 20 steps, one read of the log
     assert many.steps == one.steps == 50 and many.time == one.time and many.dt == one.dt
     a, b = one.state(("x", "v", "rho")), many.state(("x", "v", "rho"))
     for k in a:
@@ -37,8 +38,13 @@ def test_a_batch_of_steps_is_single_steps_bit_for_bit_with_one_transfer():
         many.step_ahead(many.batch + 1)
 
 
-FLUME = {"numerics.dx": 0.025, "geometry.length": 2.0, "geometry.damping_length": 0.6,
-         "geometry.gauges_wavelengths": [0.5, 1.0], "paddle.type": "flap"}
+FLUME = {
+    "numerics.dx": 0.025,
+    "geometry.length": 2.0,
+    "geometry.damping_length": 0.6,
+    "geometry.gauges_wavelengths": [0.5, 1.0],
+    "paddle.type": "flap",
+}
 
 
 def test_the_paddles_series_over_a_batch_follows_its_motion():
@@ -46,7 +52,7 @@ def test_the_paddles_series_over_a_batch_follows_its_motion():
     the host-driven run's state to round-off (f32 rounding of the series against that of
     motion(t)), the same steps and time, and the paddle where motion(t) puts it."""
     host, dev = _solver(flume, **FLUME), _solver(flume, **FLUME)
-    assert not host.paddle_series and not host.steps_ahead_allowed     # the CPU's default
+    assert not host.paddle_series and not host.steps_ahead_allowed  # the CPU's default
     dev.paddle_series = True
     assert dev.steps_ahead_allowed
     for _ in range(300):
@@ -56,7 +62,7 @@ def test_the_paddles_series_over_a_batch_follows_its_motion():
         dev.step_ahead(min(dev.batch, 300 - dev.steps))
     assert dev.time == host.time and dev.steps == host.steps
     d, _ = dev.motion(dev.time)
-    assert abs(float(dev.prm[None].pd) - d) <= 1e-6 * abs(d) + 1e-9      # a flap's angle, rad
+    assert abs(float(dev.prm[None].pd) - d) <= 1e-6 * abs(d) + 1e-9  # a flap's angle, rad
     a, b = host.state(("x", "v")), dev.state(("x", "v"))
     assert np.max(np.abs(a["x"] - b["x"])) < 1e-4 * 0.025
     assert np.max(np.abs(a["v"] - b["v"])) < 1e-3 * np.max(np.abs(a["v"]))
@@ -65,7 +71,7 @@ def test_the_paddles_series_over_a_batch_follows_its_motion():
 def test_an_absorbing_paddle_steps_one_at_a_time():
     s = _solver(flume, **dict(FLUME, **{"paddle.absorb": True}))
     s.paddle_series = True
-    assert not s.steps_ahead_allowed      # its correction integrates call by call
+    assert not s.steps_ahead_allowed  # its correction integrates call by call
     s.step_ahead(1)
     with pytest.raises(ValueError, match="paddle"):
         s.step_ahead(2)
@@ -75,5 +81,5 @@ def test_the_run_loops_quiet_steps_read_nothing_but_a_batchs_end():
     r = measure("tank", steps=120)
     quiet = r["transfers_quiet"]
     assert r["quiet_steps"] > 100
-    assert quiet["max"] <= 1 and quiet["mean"] < 0.35, r   # at most the batch's one read (before: 1 a step)
-    assert r["launches_quiet"]["min"] == 1                  # most steps: the step kernel alone
+    assert quiet["max"] <= 1 and quiet["mean"] < 0.35, r  # at most the batch's one read (before: 1 a step)
+    assert r["launches_quiet"]["min"] == 1  # most steps: the step kernel alone

@@ -15,6 +15,7 @@ llvmpipe (docs/performance.md); a term missing on the GPU moves the state by ord
 
 Where no GPU backend can be had the tests skip, saying so; TISPH_REQUIRE_GPU=1 (set by .ci/run,
 which installs Mesa's Vulkan driver) makes that a failure."""
+
 import json
 import os
 import subprocess
@@ -38,6 +39,7 @@ def gpu_set():
     """The covering golden cases, then each registered scene's cheapest case where none covers it."""
     from tests.engine.test_golden import QUICK
     from tisph import registry
+
     chosen = list(QUICK)
     scene_of = {c[0]: c[1] for c in CASES}
     for module in registry.REGISTRY.values():
@@ -49,7 +51,7 @@ def gpu_set():
 
 def halves():
     s = sorted(gpu_set(), key=lambda c: -GOLDEN[c]["particles"])
-    return [s[0::2], s[1::2]]     # about equal work in each of the two test processes
+    return [s[0::2], s[1::2]]  # about equal work in each of the two test processes
 
 
 def spacing(case_id):
@@ -60,6 +62,7 @@ def spacing(case_id):
     import importlib
 
     from tisph.runner import resolve
+
     cfg = resolve(importlib.import_module(modname), os.path.join(ROOT, cfile) if cfile else None, {})
     return cfg["numerics"]["dx"]
 
@@ -82,8 +85,14 @@ def differences(a, b, dx):
     dv = np.linalg.norm(a["v"] - b["v"], axis=1) / u
     dr = np.abs(a["rho"] - b["rho"]) / np.abs(a["rho"])
     rms = lambda d: float(np.sqrt(np.mean(d * d)))
-    return {"x_rms": rms(dxp), "x_max": float(dxp.max()), "v_rms": rms(dv), "v_max": float(dv.max()),
-            "rho_rms": rms(dr), "rho_max": float(dr.max())}
+    return {
+        "x_rms": rms(dxp),
+        "x_max": float(dxp.max()),
+        "v_rms": rms(dv),
+        "v_max": float(dv.max()),
+        "rho_rms": rms(dr),
+        "rho_max": float(dr.max()),
+    }
 
 
 @pytest.mark.parametrize("part", [0, 1])
@@ -121,6 +130,7 @@ def test_gpu_states_match_the_cpu(part, tmp_path):
 
 def test_the_gpu_set_covers_every_scene_and_module():
     from tisph import registry
+
     chosen = gpu_set()
     scenes = {c[1] for c in CASES if c[0] in chosen}
     assert scenes == set(registry.REGISTRY.values())

@@ -9,6 +9,7 @@ A mutation is applied by a pytest plugin before any test imports tisph's physics
 function (tisph/terms) is replaced by its negative or by nothing, or a Python step is stubbed. A
 test suite that guards the physics it names fails under each of them without the golden hashes.
 """
+
 import inspect
 
 import numpy as np
@@ -29,14 +30,30 @@ MUTATIONS = {
     "tke": ("tisph.terms.tke", "eddy_viscosity", "zero", "the k equation's eddy viscosity"),
     "drag": ("tisph.terms.drag", "drag_accel", "zero", "fluid-sediment drag"),
     "dem": ("tisph.terms.dem", "contact_force", "zero_first", "DEM contact forces"),
-    "bed_frozen": ("tisph.sediment.bed", "Bed", lambda m: setattr(
-        m.Bed, "step", lambda self, tau, dt, deposit=None: np.zeros_like(self.z)), "the bed-load bed never moves"),
-    "lee_vortex": ("tisph.sediment.lee", "lee_vortex_shear", lambda m: setattr(
-        m, "lee_vortex_shear", lambda tau, *a, **k: tau), "the ripples' lee vortex"),
-    "vortex_throw": ("tisph.sediment.lee", "vortex_throw", lambda m: setattr(
-        m, "vortex_throw", lambda zones, q, *a, **k: np.zeros(len(q))), "the lee vortex's throw over the crest"),
-    "shepard": ("tisph.physics.shepard", "Shepard", lambda m: setattr(
-        m.Shepard, "after_step", lambda self, S: None), "the Shepard filter never runs"),
+    "bed_frozen": (
+        "tisph.sediment.bed",
+        "Bed",
+        lambda m: setattr(m.Bed, "step", lambda self, tau, dt, deposit=None: np.zeros_like(self.z)),
+        "the bed-load bed never moves",
+    ),
+    "lee_vortex": (
+        "tisph.sediment.lee",
+        "lee_vortex_shear",
+        lambda m: setattr(m, "lee_vortex_shear", lambda tau, *a, **k: tau),
+        "the ripples' lee vortex",
+    ),
+    "vortex_throw": (
+        "tisph.sediment.lee",
+        "vortex_throw",
+        lambda m: setattr(m, "vortex_throw", lambda zones, q, *a, **k: np.zeros(len(q))),
+        "the lee vortex's throw over the crest",
+    ),
+    "shepard": (
+        "tisph.physics.shepard",
+        "Shepard",
+        lambda m: setattr(m.Shepard, "after_step", lambda self, S: None),
+        "the Shepard filter never runs",
+    ),
     "bed_load": ("tisph.sediment.transport", "bedload_mpm", "zero_py", "Meyer-Peter & Mueller's bed load"),
     "wavemaker": ("tisph.waves.theory", "biesel_piston", "zero_py", "Biesel's piston transfer function"),
 }
@@ -50,9 +67,10 @@ def _wrap(orig, how):
     import tempfile
 
     import taichi as ti
+
     params = list(inspect.signature(orig).parameters)
     args = ", ".join(params)
-    if how == "zero_first":     # a function that returns (force, state...): the force zeroed, the rest kept
+    if how == "zero_first":  # a function that returns (force, state...): the force zeroed, the rest kept
         body = f"    out = _orig({args})\n    return 0.0 * out[0], out[1], out[2]\n"
     else:
         body = f"    return {'-' if how == 'negate' else '0.0 * '}_orig({args})\n"
@@ -71,6 +89,7 @@ def apply(name):
     """Apply the mutation, in its module and in every module that imported the name already."""
     import importlib
     import sys
+
     modname, fname, how, _ = MUTATIONS[name]
     mod = importlib.import_module(modname)
     if callable(how):

@@ -16,8 +16,13 @@ def run(name, args):
     with tempfile.TemporaryDirectory() as tmp:
         report = os.path.join(tmp, "failed.tsv")
         env = dict(os.environ, TISPH_MUTATION=name, TISPH_MUTATION_REPORT=report)
-        r = subprocess.run([sys.executable, "-m", "pytest", "-p", "tests.mutations.plugin", *(args or DEFAULT),
-                            "--no-header"], cwd=ROOT, env=env, capture_output=True, text=True)
+        r = subprocess.run(
+            [sys.executable, "-m", "pytest", "-p", "tests.mutations.plugin", *(args or DEFAULT), "--no-header"],
+            cwd=ROOT,
+            env=env,
+            capture_output=True,
+            text=True,
+        )
         rows = [line.rstrip("\n").split("\t") for line in open(report)] if os.path.exists(report) else []
     asserted = sorted({t for t, kind in rows if kind == "assertion"})
     other = sorted({f"{t} ({kind})" for t, kind in rows if kind != "assertion" and t not in asserted})
@@ -31,11 +36,15 @@ def main(argv):
         return 0
     if argv[0] == "--all":
         out = argv[argv.index("--out") + 1] if "--out" in argv else None
-        lines = ["| mutation | what it breaks | tests (not golden) that fail on an assertion | on another error |",
-                 "|---|---|---|---|"]
+        lines = [
+            "| mutation | what it breaks | tests (not golden) that fail on an assertion | on another error |",
+            "|---|---|---|---|",
+        ]
         for k, v in MUTATIONS.items():
             code, failed, other = run(k, None)
-            lines.append(f"| {k} | {v[3]} | {', '.join(failed) if failed else '**none**'} | {', '.join(other) or '-'} |")
+            lines.append(
+                f"| {k} | {v[3]} | {', '.join(failed) if failed else '**none**'} | {', '.join(other) or '-'} |"
+            )
             print(lines[-1], flush=True)
         if out:
             with open(out, "w") as f:

@@ -1,6 +1,7 @@
 """Suspended sand (tisph/physics/suspension.py): it settles at w_s, diffuses at its diffusivity,
 is conserved by both; the formulae it is exchanged with the bed by; the pipeline with it keeps its
 sand between the bed and the water."""
+
 import dataclasses
 import json
 
@@ -22,18 +23,27 @@ def test_settling_velocity_and_reference_concentration():
     tc = shields_critical(0.00036, 2.65)
     assert reference_concentration(tc, tc, 0.00036, 2.65, 0.0025) == 0.0
     D = 0.00036 * (1.65 * 9.81 / 1e-12) ** (1 / 3)
-    want = 0.015 * 0.00036 / 0.0025 * 8.0 ** 1.5 / D ** 0.3
+    want = 0.015 * 0.00036 / 0.0025 * 8.0**1.5 / D**0.3
     assert reference_concentration(9 * tc, tc, 0.00036, 2.65, 0.0025) == pytest.approx(want, rel=1e-9)
-    assert reference_concentration(1e6 * tc, tc, 0.00036, 2.65, 0.0025) == 0.6   # the bed's own
+    assert reference_concentration(1e6 * tc, tc, 0.00036, 2.65, 0.0025) == 0.6  # the bed's own
 
 
 def still_column(tmp_path):
     """A still water column 0.3 m deep in a tank, with the suspension compiled in."""
     # the cubic set at h = 1.3 dx with alpha 0.1 (tests/engine/test_hydrostatic.py): still water to 0.1 %
-    cfg = resolve(tank, overrides={"numerics.dx": 0.01, "geometry.width": 0.2, "geometry.depth": 0.3,
-                                   "geometry.tank_height": 0.35, "numerics.scheme": "paper000",
-                                   "numerics.h_factor": 1.3, "numerics.artificial_viscosity": 0.1,
-                                   "numerics.xsph": 0.0})
+    cfg = resolve(
+        tank,
+        overrides={
+            "numerics.dx": 0.01,
+            "geometry.width": 0.2,
+            "geometry.depth": 0.3,
+            "geometry.tank_height": 0.35,
+            "numerics.scheme": "paper000",
+            "numerics.h_factor": 1.3,
+            "numerics.artificial_viscosity": 0.1,
+            "numerics.xsph": 0.0,
+        },
+    )
     case = build_case(tank, cfg, Log(str(tmp_path / "log"), True))
     physics = dataclasses.replace(case.physics, suspension=True)
     s = Solver(physics, case.particles, case.materials, case.domain, case.params)
@@ -53,10 +63,10 @@ def moments(s):
 @pytest.mark.slow
 def test_sand_settles_at_w_s_and_diffuses_at_eps(tmp_path):
     s, x, fl = still_column(tmp_path)
-    band = fl & (x[:, 1] > 0.12) & (x[:, 1] < 0.2)          # well clear of the floor and the surface
+    band = fl & (x[:, 1] > 0.12) & (x[:, 1] < 0.2)  # well clear of the floor and the surface
     n = s.n
     # settling alone: the band's centroid falls at w_s, the sand is conserved
-    s.p.c.from_numpy(np.where(band[s.p.id.to_numpy()], 0.01, 0.0).astype(s.np_real))   # fields in sorted order
+    s.p.c.from_numpy(np.where(band[s.p.id.to_numpy()], 0.01, 0.0).astype(s.np_real))  # fields in sorted order
     s.prm[None].w_s = 0.02
     s.prime()
     tot0, y0, var0 = moments(s)
@@ -81,7 +91,7 @@ def test_sand_settles_at_w_s_and_diffuses_at_eps(tmp_path):
     assert n == s.n and tot1 == pytest.approx(tot0, rel=1e-5)
     rate = (var1 - var0) / (s.time - t0)
     assert rate == pytest.approx(2e-4, rel=0.1), rate
-    assert abs(y1 - y0) < 0.002                  # no drift without settling
+    assert abs(y1 - y0) < 0.002  # no drift without settling
 
 
 @pytest.mark.slow
@@ -91,14 +101,16 @@ def test_pipeline_with_suspended_load_keeps_its_sand(tmp_path):
     out = tmp_path / "susp"
     cfg = tmp_path / "susp.toml"
     cfg.write_text("[sediment]\nsuspended = true\nmorph_start = 0.0\n")
-    code = run_scene(pipeline_scour, ["--config", str(cfg), "--dx", "0.0125", "--end-time", "0.3", "--out",
-                                      str(out), "--quiet", "--no-render"])
+    code = run_scene(
+        pipeline_scour,
+        ["--config", str(cfg), "--dx", "0.0125", "--end-time", "0.3", "--out", str(out), "--quiet", "--no-render"],
+    )
     assert code == 0
     s = json.load(open(out / "summary.json"))
     assert s["status"] == "ok" and s["physics"]["suspension"]
     m = s["metrics"]
     assert m["suspended_sand"] > 0
-    assert m["sand_volume_error"] < 1e-6      # the water started with its equilibrium load: counted too
+    assert m["sand_volume_error"] < 1e-6  # the water started with its equilibrium load: counted too
     assert m["scour_depth_over_D"] > m["initial_scour_depth_over_D"] + 1e-4, m
 
 
@@ -109,18 +121,26 @@ def test_concentration_panel_and_snapshot_field():
     from tisph.io import SNAPSHOT_FIELDS
     from tisph.viz.render import Renderer
     from tisph.viz.style import Style
+
     g = (np.arange(40) + 0.5) * 0.025
     x = np.array([(a, b) for a in g for b in g[:20]])
     n = len(x)
-    st = dict(x=x, v=np.zeros((n, 2)), p=np.zeros(n), rho=np.full(n, 1000.0), kind=np.full(n, FLUID),
-              mat=np.zeros(n, int), c=np.where(x[:, 0] > 0.5, 0.002, 0.0))
+    st = dict(
+        x=x,
+        v=np.zeros((n, 2)),
+        p=np.zeros(n),
+        rho=np.full(n, 1000.0),
+        kind=np.full(n, FLUID),
+        mat=np.zeros(n, int),
+        c=np.where(x[:, 0] > 0.5, 0.002, 0.0),
+    )
     r = Renderer(((0.0, 0.0), (1.0, 0.5)), Style(width=320, dx=0.025, modes=("concentration",)))
     img = r.frame(st, 0.0).astype(int)
     unit, lo, hi, _ = r.bars[0]
-    assert unit == "sand (%, log)" and hi == pytest.approx(0.2) and lo == pytest.approx(2e-4)   # three decades
-    mid = r.strip + img.shape[0] // 4          # a row inside the particles
+    assert unit == "sand (%, log)" and hi == pytest.approx(0.2) and lo == pytest.approx(2e-4)  # three decades
+    mid = r.strip + img.shape[0] // 4  # a row inside the particles
     left, right = img[mid, r.left + 40], img[mid, r.left + 280]
-    assert np.abs(left - right).sum() > 100    # clear water and loaded water differ
+    assert np.abs(left - right).sum() > 100  # clear water and loaded water differ
     arrays = {SNAPSHOT_FIELDS[k][0]: st[k] for k in ("x", "v", "p", "rho", "kind", "mat", "c")}
     assert np.array_equal(view.state_of(arrays)["c"], st["c"])
     del arrays["concentration"]

@@ -1,5 +1,6 @@
 """The Python API: the worked example of docs/api.md runs as it stands, and a case file and a
 bad key behave as on the command line."""
+
 import os
 import re
 
@@ -24,6 +25,7 @@ def test_the_worked_example_of_docs_api_runs(tmp_path, monkeypatch):
 def test_a_bad_key_is_a_config_error_naming_it():
     import tisph
     from tisph.settings.config import ConfigError
+
     case = tisph.Case.from_toml(os.path.join(ROOT, "scenes", "dam_break_custom.toml"))
     case.set("numerics.dxx", 0.02)
     with pytest.raises(ConfigError, match="numerics.dxx"):
@@ -38,10 +40,10 @@ def test_a_run_continues_from_its_checkpoint(tmp_path):
     import numpy as np
 
     import tisph
+
     case = tisph.Case.from_toml(os.path.join(ROOT, "scenes", "dam_break_custom.toml")).set("numerics.dx", 0.08)
     straight = tisph.run(case, out=tmp_path / "a", progress=False, **{"run.end_time": 0.2})
-    first = tisph.run(case, out=tmp_path / "b", progress=False,
-                      **{"run.end_time": 0.1, "output.checkpoint_every": 0.1})
+    first = tisph.run(case, out=tmp_path / "b", progress=False, **{"run.end_time": 0.1, "output.checkpoint_every": 0.1})
     assert first.checkpoint is not None
     second = tisph.run(case, out=tmp_path / "b", progress=False, restart=first.checkpoint, **{"run.end_time": 0.2})
     assert second.status == "ok" and second.summary["steps"] == straight.summary["steps"]

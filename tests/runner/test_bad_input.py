@@ -1,5 +1,6 @@
 """A table of bad inputs: each gives exit code 2 and one message naming the field, the value and
 what is allowed; none reaches Taichi or prints a traceback."""
+
 import pytest
 
 from tisph.case import as_scene
@@ -32,17 +33,37 @@ CASES = [
     (dam_break, [], "[numerics]\ndx = nan\n", ["numerics.dx", "nan"]),
     # the turbulence keys belong to the scene with SPS turbulence (the pipeline) and are refused elsewhere
     (dam_break, [], "[numerics]\nmixing_length = 0.01\n", ["numerics.mixing_length", "0.01", "no SPS turbulence"]),
-    (dam_break, [], "[numerics]\nturbulence = \"k_equation\"\n", ["numerics.turbulence", "k_equation",
-                                                                    "no SPS turbulence"]),
-    (pipeline_scour, [], "[geometry]\nsps = false\n[numerics]\nmixing_length = 0.01\n",
-     ["numerics.mixing_length", "0.01", "without SPS"]),
-    (pipeline_scour, [], "[numerics]\nstress_limiter = 0.875\n", ["numerics.stress_limiter", "0.875",
-                                                                     "without the k equation"]),
+    (
+        dam_break,
+        [],
+        "[numerics]\nturbulence = \"k_equation\"\n",
+        ["numerics.turbulence", "k_equation", "no SPS turbulence"],
+    ),
+    (
+        pipeline_scour,
+        [],
+        "[geometry]\nsps = false\n[numerics]\nmixing_length = 0.01\n",
+        ["numerics.mixing_length", "0.01", "without SPS"],
+    ),
+    (
+        pipeline_scour,
+        [],
+        "[numerics]\nstress_limiter = 0.875\n",
+        ["numerics.stress_limiter", "0.875", "without the k equation"],
+    ),
     (pipeline_scour, [], "[numerics]\nstress_limiter = -1.0\n", ["numerics.stress_limiter", ">= 0"]),
-    (pipeline_scour, [], "[numerics]\nlength_scale = \"omega\"\n", ["numerics.length_scale", "omega",
-                                                                         "without the k equation"]),
-    (pipeline_scour, [], "[numerics]\nturbulence = \"k_epsilon\"\n", ["numerics.turbulence", "k_epsilon",
-                                                                          "'k_equation'"]),
+    (
+        pipeline_scour,
+        [],
+        "[numerics]\nlength_scale = \"omega\"\n",
+        ["numerics.length_scale", "omega", "without the k equation"],
+    ),
+    (
+        pipeline_scour,
+        [],
+        "[numerics]\nturbulence = \"k_epsilon\"\n",
+        ["numerics.turbulence", "k_epsilon", "'k_equation'"],
+    ),
     (dam_break, [], "[numerics]\nshifting = 20.0\n", ["numerics.shifting", "20", "<= 10"]),
     (dam_break, [], "[geometry]\ncolumn_height = 5.0\n", ["geometry.column_height", "tank_height"]),
     (dam_break, [], "[geometry]\ncolumn_width = -1.0\n", ["geometry.column_width", "> 0"]),
@@ -56,7 +77,12 @@ CASES = [
     (tank, [], "[geometry]\ndepth = 2.0\n", ["geometry.depth", "tank_height"]),
     (tunnel, [], "[geometry]\nsand_depth = 0.02\n", ["geometry.sand_depth", "0.02", "4 dx"]),
     (tunnel, [], "[geometry]\nperiod = 0.0\n", ["geometry.period", "> 0"]),
-    (tunnel, [], "[geometry]\nseed_ripple_height = 0.07\n", ["geometry.seed_ripple_height", "0.07", "sand_depth - 2 dx"]),
+    (
+        tunnel,
+        [],
+        "[geometry]\nseed_ripple_height = 0.07\n",
+        ["geometry.seed_ripple_height", "0.07", "sand_depth - 2 dx"],
+    ),
     (beach, [], "[geometry]\ngrain_diameter = -0.001\n", ["geometry.grain_diameter", "-0.001", "> 0"]),
     (beach, [], "[geometry]\ngauges_x = [1.0, 9.0]\n", ["geometry.gauges_x", "9.0", "(0, 5.3)"]),
     (tunnel, [], "[sediment]\nporosity = 1.5\n", ["sediment.porosity", "1.5", "<= 0.9"]),
@@ -64,27 +90,60 @@ CASES = [
     (tunnel, [], "[sediment]\nrepose_angle = 80.0\n", ["sediment.repose_angle", "80.0", "<= 60"]),
     (tunnel, [], "[sediment]\nmorfac = 0.5\n", ["sediment.morfac", ">= 1"]),
     (tunnel, [], "[sediment]\nmodel = \"bedload\"\nsuspended = true\n", ["sediment.suspended", "True", "pipeline"]),
-    (pipeline_scour, [], "[sediment]\nmodel = \"particles\"\nsuspended = true\n",
-     ["sediment.suspended", "True", "bedload"]),
+    (
+        pipeline_scour,
+        [],
+        "[sediment]\nmodel = \"particles\"\nsuspended = true\n",
+        ["sediment.suspended", "True", "bedload"],
+    ),
     # a [sediment] key the particle sand ignores is refused, not dropped
-    (beach, [], "[sediment]\nmodel = \"particles\"\nmorfac = 10.0\nlee_vortex = 0.2\n",
-     ["sediment.morfac", "10.0", "sediment.lee_vortex", "0.2", "SPH particles"]),
-    (tunnel, [], "[sediment]\nmodel = \"bedload\"\nshear = \"log_far_field\"\n",
-     ["sediment.shear", "log_far_field", "'waves' or 'log'"]),
-    (tunnel, [], "[sediment]\nmodel = \"bedload\"\nshear = \"wall_function\"\n",
-     ["sediment.shear", "wall_function", "'waves' or 'log'"]),
-    (pipeline_scour, [], "[sediment]\nshear = \"wall_function\"\n",
-     ["sediment.shear", "wall_function", "'k_equation'", "'smagorinsky'"]),
+    (
+        beach,
+        [],
+        "[sediment]\nmodel = \"particles\"\nmorfac = 10.0\nlee_vortex = 0.2\n",
+        ["sediment.morfac", "10.0", "sediment.lee_vortex", "0.2", "SPH particles"],
+    ),
+    (
+        tunnel,
+        [],
+        "[sediment]\nmodel = \"bedload\"\nshear = \"log_far_field\"\n",
+        ["sediment.shear", "log_far_field", "'waves' or 'log'"],
+    ),
+    (
+        tunnel,
+        [],
+        "[sediment]\nmodel = \"bedload\"\nshear = \"wall_function\"\n",
+        ["sediment.shear", "wall_function", "'waves' or 'log'"],
+    ),
+    (
+        pipeline_scour,
+        [],
+        "[sediment]\nshear = \"wall_function\"\n",
+        ["sediment.shear", "wall_function", "'k_equation'", "'smagorinsky'"],
+    ),
     (tunnel, [], "[sediment]\nmodel = \"bedload\"\nlee_transit = true\n", ["sediment.lee_transit", "True", "waves"]),
     (pipeline_scour, [], "[sediment]\nsettling_delay = true\n", ["sediment.settling_delay", "True", "lee_transit"]),
-    (pipeline_scour, [], "[geometry]\ninitial_profile = \"mao_12s\"\n",
-     ["geometry.initial_profile", "mao_12s", "'mao_11s'"]),
-    (pipeline_scour, [], "[geometry]\ninitial_profile = \"mao_25s\"\nsand_depth = 0.1\npipe_diameter = 0.1\n",
-     ["geometry.initial_profile", "mao_25s", "sand_depth", "deepest point"]),
+    (
+        pipeline_scour,
+        [],
+        "[geometry]\ninitial_profile = \"mao_12s\"\n",
+        ["geometry.initial_profile", "mao_12s", "'mao_11s'"],
+    ),
+    (
+        pipeline_scour,
+        [],
+        "[geometry]\ninitial_profile = \"mao_25s\"\nsand_depth = 0.1\npipe_diameter = 0.1\n",
+        ["geometry.initial_profile", "mao_25s", "sand_depth", "deepest point"],
+    ),
     (pipeline_scour, [], "[sediment]\nsettling_velocity = -0.01\n", ["sediment.settling_velocity", "-0.01", ">= 0"]),
     (dam_break, [], "[output]\nfield = \"concentration\"\n", ["output.field", "concentration", "sediment.suspended"]),
     # a spacing whose particles cannot fit: refused before anything is allocated
-    (dam_break, ["--dx", "1e-6"], None, ["numerics.dx", "1e-06", "fit in this machine's memory", "2e+12 points", "available"]),
+    (
+        dam_break,
+        ["--dx", "1e-6"],
+        None,
+        ["numerics.dx", "1e-06", "fit in this machine's memory", "2e+12 points", "available"],
+    ),
     (beach, ["--dx", "1e-6"], None, ["numerics.dx", "fit in this machine's memory", "TB"]),
     (pipeline_scour, ["--dx", "1e-6"], None, ["numerics.dx", "fit in this machine's memory"]),
     (tunnel, ["--dx", "1e-6"], None, ["numerics.dx", "fit in this machine's memory"]),
@@ -96,22 +155,38 @@ CASES = [
     # the waves' keys
     (flume, [], "[paddle]\norder = 3\n", ["paddle.order", "3", "<= 2"]),
     (flume, [], "[paddle]\nseries = \"s.csv\"\norder = 2\n", ["paddle.order", "1 with a series"]),
-    (flume, [], "[geometry]\ndepth = 5.0\nwall_height = 6.0\n[paddle]\nperiod = 0.8\nstroke = 0.02\norder = 2\n",
-     ["paddle.order", "k2 h = 126", "at most 100"]),
+    (
+        flume,
+        [],
+        "[geometry]\ndepth = 5.0\nwall_height = 6.0\n[paddle]\nperiod = 0.8\nstroke = 0.02\norder = 2\n",
+        ["paddle.order", "k2 h = 126", "at most 100"],
+    ),
     (flume, [], "[geometry]\narray_gauges = 2\n", ["geometry.array_gauges", "2", "0 (no array) or 3 to 12"]),
     (flume, [], "[numerics]\nwall = \"adamy\"\n", ["numerics.wall", "adamy", "adami"]),
     (flume, [], "[paddle]\nspectrum = \"jonswop\"\n", ["paddle.spectrum", "jonswop", "'jonswap'"]),
     (flume, [], "[paddle]\nspectrum = \"jonswap\"\nhs = 0.0\ntp = 1.0\n", ["paddle.hs", "> 0 with paddle.spectrum"]),
-    (flume, [], "[paddle]\nspectrum = \"pm\"\nhs = 0.04\ntp = 0.9\nband = [0.5, 3.0]\n",
-     ["paddle.band", "[0.5, 3.0]", "at least 8 h", "lower the band's top or dx"]),
+    (
+        flume,
+        [],
+        "[paddle]\nspectrum = \"pm\"\nhs = 0.04\ntp = 0.9\nband = [0.5, 3.0]\n",
+        ["paddle.band", "[0.5, 3.0]", "at least 8 h", "lower the band's top or dx"],
+    ),
     (flume, [], "[paddle]\nspectrum = \"jonswap\"\nhs = 0.3\ntp = 1.5\n", ["paddle.hs", "more than half the depth"]),
-    (flume, [], "[paddle]\nspectrum = \"jonswap\"\nhs = 0.04\ntp = 0.9\norder = 2\n", ["paddle.order", "1 with a spectrum"]),
+    (
+        flume,
+        [],
+        "[paddle]\nspectrum = \"jonswap\"\nhs = 0.04\ntp = 0.9\norder = 2\n",
+        ["paddle.order", "1 with a spectrum"],
+    ),
     (beach, [], "[paddle]\nspectrum = \"jonswap\"\n", ["paddle.spectrum", "unknown"]),
 ]
 
 
-@pytest.mark.parametrize("scene, argv, toml, words", CASES,
-                         ids=[f"{as_scene(c[0]).NAME}:{' '.join(c[1]) or c[2].splitlines()[-1]}" for c in CASES])
+@pytest.mark.parametrize(
+    "scene, argv, toml, words",
+    CASES,
+    ids=[f"{as_scene(c[0]).NAME}:{' '.join(c[1]) or c[2].splitlines()[-1]}" for c in CASES],
+)
 def test_bad_input(scene, argv, toml, words, tmp_path, capsys, monkeypatch):
     monkeypatch.chdir(tmp_path)
     args = list(argv)
@@ -137,17 +212,64 @@ def test_unwritable_output_folder(tmp_path, capsys):
 @pytest.mark.slow
 def test_changed_config_refused_on_restart_unless_forced(tmp_path, capsys):
     out = str(tmp_path / "o")
-    assert run_scene(dam_break, ["--dx", "0.06", "--end-time", "0.01", "--checkpoint-every", "0.01",
-                                 "--no-render", "--quiet", "--out", out]) == 0
+    assert (
+        run_scene(
+            dam_break,
+            [
+                "--dx",
+                "0.06",
+                "--end-time",
+                "0.01",
+                "--checkpoint-every",
+                "0.01",
+                "--no-render",
+                "--quiet",
+                "--out",
+                out,
+            ],
+        )
+        == 0
+    )
     ck = str(tmp_path / "o" / "checkpoint.h5")
     cfg = tmp_path / "c.toml"
     cfg.write_text("[numerics]\nartificial_viscosity = 0.2\n")
-    code = run_scene(dam_break, ["--dx", "0.06", "--config", str(cfg), "--end-time", "0.02", "--no-render",
-                                 "--quiet", "--out", out, "--restart", ck])
+    code = run_scene(
+        dam_break,
+        [
+            "--dx",
+            "0.06",
+            "--config",
+            str(cfg),
+            "--end-time",
+            "0.02",
+            "--no-render",
+            "--quiet",
+            "--out",
+            out,
+            "--restart",
+            ck,
+        ],
+    )
     err = capsys.readouterr().err
     assert code == 2 and "numerics.artificial_viscosity: 0.0 -> 0.2" in err and "--force" in err
-    code = run_scene(dam_break, ["--dx", "0.06", "--config", str(cfg), "--end-time", "0.02", "--no-render",
-                                 "--quiet", "--out", out, "--restart", ck, "--force"])
+    code = run_scene(
+        dam_break,
+        [
+            "--dx",
+            "0.06",
+            "--config",
+            str(cfg),
+            "--end-time",
+            "0.02",
+            "--no-render",
+            "--quiet",
+            "--out",
+            out,
+            "--restart",
+            ck,
+            "--force",
+        ],
+    )
     assert code == 0
 
 
@@ -155,8 +277,10 @@ def test_byte_order_mark_is_accepted(tmp_path):
     """A case file saved with a UTF-8 byte-order mark (several Windows editors write one) reads."""
     cfg = tmp_path / "bom.toml"
     cfg.write_bytes(b"\xef\xbb\xbf[run]\nend_time = 0.004\n")
-    code = run_scene(dam_break, ["--config", str(cfg), "--dx", "0.06", "--no-render", "--quiet",
-                                 "--out", str(tmp_path / "o")])
+    code = run_scene(
+        dam_break, ["--config", str(cfg), "--dx", "0.06", "--no-render", "--quiet", "--out", str(tmp_path / "o")]
+    )
     assert code == 0
     import json
+
     assert json.load(open(tmp_path / "o" / "summary.json"))["sim_time"] >= 0.004

@@ -1,4 +1,5 @@
 """Config loading: strict keys with suggestions, types and ranges, the shipped case files."""
+
 import os
 
 import pytest
@@ -10,21 +11,24 @@ from tisph.settings.resolved import freeze
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
 
-@pytest.mark.parametrize("ov, field, text", [
-    ({"numerics.dxx": 0.1}, "numerics.dxx", "numerics.dx"),
-    ({"numerics.dx": -0.01}, "numerics.dx", "> 0"),
-    ({"numerics.dx": "fine"}, "numerics.dx", "a number"),
-    ({"numerics.xsph": 0.7}, "numerics.xsph", "<= 0.5"),
-    ({"numerics.kernel": "gauss"}, "numerics.kernel", "'cubic'"),
-    ({"numerics.wall": "ghost"}, "numerics.wall", "'dynamic'"),
-    ({"run.end_time": 0.0}, "run.end_time", "> 0"),
-    ({"run.max_steps": 2.5}, "run.max_steps", "an integer"),
-    ({"output.render": "yes"}, "output.render", "true or false"),
-    ({"materials.water.rho0": 0.0}, "materials.water.rho0", "> 0"),
-    ({"materials.oil.rho0": 900.0}, "materials.oil", "materials.water"),
-    ({"geometry.column_width": 5.0}, "geometry.column_width", "tank_width"),
-    ({"numerics.dx": 0.4}, "numerics.dx", "4 particles"),
-])
+@pytest.mark.parametrize(
+    "ov, field, text",
+    [
+        ({"numerics.dxx": 0.1}, "numerics.dxx", "numerics.dx"),
+        ({"numerics.dx": -0.01}, "numerics.dx", "> 0"),
+        ({"numerics.dx": "fine"}, "numerics.dx", "a number"),
+        ({"numerics.xsph": 0.7}, "numerics.xsph", "<= 0.5"),
+        ({"numerics.kernel": "gauss"}, "numerics.kernel", "'cubic'"),
+        ({"numerics.wall": "ghost"}, "numerics.wall", "'dynamic'"),
+        ({"run.end_time": 0.0}, "run.end_time", "> 0"),
+        ({"run.max_steps": 2.5}, "run.max_steps", "an integer"),
+        ({"output.render": "yes"}, "output.render", "true or false"),
+        ({"materials.water.rho0": 0.0}, "materials.water.rho0", "> 0"),
+        ({"materials.oil.rho0": 900.0}, "materials.oil", "materials.water"),
+        ({"geometry.column_width": 5.0}, "geometry.column_width", "tank_width"),
+        ({"numerics.dx": 0.4}, "numerics.dx", "4 particles"),
+    ],
+)
 def test_bad_input_names_field_and_allowed(ov, field, text):
     with pytest.raises(ConfigError) as e:
         cfg = freeze(build_config(dam_break.SCENE.DEFAULTS, None, ov, dam_break.SCENE.RANGES))
@@ -71,7 +75,10 @@ def test_every_bad_key_is_reported_at_once(tmp_path):
 def test_summary_says_why_laminar_viscosity_is_on_when_the_config_says_off():
     from tisph.runner.summary import physics_notes
     from tisph.settings.config import physics_from_config
-    cfg = freeze(build_config(tank.SCENE.DEFAULTS, None, {"geometry.sediment_depth": 0.2, "numerics.laminar_viscosity": False}))
+
+    cfg = freeze(
+        build_config(tank.SCENE.DEFAULTS, None, {"geometry.sediment_depth": 0.2, "numerics.laminar_viscosity": False})
+    )
     assert cfg["numerics"]["laminar_viscosity"] is False
     ph = physics_from_config(cfg)
     assert ph.laminar_viscosity and "rheology" in physics_notes(cfg, ph)[0]
@@ -87,8 +94,17 @@ def test_every_keyed_module_parameter_reaches_the_solver():
     from tisph.runner.setup import common_params
     from tisph.scenes import pipeline_scour
     from tisph.settings.engine_keys import KEYED
-    cfg = resolve(pipeline_scour, None, {"numerics.turbulence": "k_equation", "numerics.stress_limiter": 0.5,
-                                         "numerics.mixing_length": 0.003, "numerics.delta": 0.05})
+
+    cfg = resolve(
+        pipeline_scour,
+        None,
+        {
+            "numerics.turbulence": "k_equation",
+            "numerics.stress_limiter": 0.5,
+            "numerics.mixing_length": 0.003,
+            "numerics.delta": 0.05,
+        },
+    )
     prm = common_params(cfg, 10.0)
     keys = set(KEYED)
     assert {"numerics.stress_limiter", "numerics.mixing_length", "numerics.cfl"} <= keys

@@ -1,5 +1,6 @@
 """The numerical uncertainty of a run: each metric judged over three spacings (Celik et al. 2008),
 and `--convergence` on a case file end to end."""
+
 import json
 import os
 
@@ -11,10 +12,10 @@ from tisph.scenes import custom
 
 
 def test_a_second_order_metric_gets_its_order_and_limit():
-    f = [1.0 + 3.0 * dx ** 2 for dx in (0.01, 0.015, 0.0225)]
+    f = [1.0 + 3.0 * dx**2 for dx in (0.01, 0.015, 0.0225)]
     m = verdict("x", *f, 1.5, 1.5)
     assert m["order"] == pytest.approx(2.0, rel=1e-6) and m["richardson"] == pytest.approx(1.0, rel=1e-9)
-    assert m["gci_fine"] == pytest.approx(1.25 * (f[1] - f[0]) / f[0] / (1.5 ** 2 - 1), rel=1e-6)
+    assert m["gci_fine"] == pytest.approx(1.25 * (f[1] - f[0]) / f[0] / (1.5**2 - 1), rel=1e-6)
 
 
 def test_unequal_ratios_first_order_is_converging_not_stalled():
@@ -25,8 +26,10 @@ def test_unequal_ratios_first_order_is_converging_not_stalled():
     assert verdict("x", 1.0, 1.2, 1.25, 1.5, 0.00875 / 0.0075)["reason"].startswith("not converging")
 
 
-@pytest.mark.parametrize("values, reason", [((1.0, 1.1, 1.0), "oscillatory"), ((1.0, 1.2, 1.25), "not converging"),
-                                            ((2.0, 2.0, 2.0), "the same")])
+@pytest.mark.parametrize(
+    "values, reason",
+    [((1.0, 1.1, 1.0), "oscillatory"), ((1.0, 1.2, 1.25), "not converging"), ((2.0, 2.0, 2.0), "the same")],
+)
 def test_no_gci_without_an_asymptotic_range(values, reason):
     m = verdict("wall_force_max", *values, 1.5, 1.5)
     assert m["reason"].startswith(reason) and m["order"] is None
@@ -37,8 +40,12 @@ def test_convergence_from_the_command_line(tmp_path):
     path = tmp_path / "tank.toml"
     path.write_text(TANK + WATER + '[[gauge]]\ntype = "pressure"\nx = 1.0\nz = 0.2\nlabel = "p"\n')
     out = tmp_path / "out"
-    assert custom.main(["--config", str(path), "--out", str(out), "--no-render", "--quiet", "--end-time", "0.05",
-                        "--convergence"]) == 0
+    assert (
+        custom.main(
+            ["--config", str(path), "--out", str(out), "--no-render", "--quiet", "--end-time", "0.05", "--convergence"]
+        )
+        == 0
+    )
     s = json.loads((out / "summary.json").read_text())["convergence"]
     assert s["dx"] == pytest.approx([0.05, 0.075, 0.1125]) and not s["reason"]
     assert "p_mean" in s["metrics"] and len(s["metrics"]["p_mean"]["values"]) == 3
@@ -50,15 +57,16 @@ def test_convergence_from_the_command_line(tmp_path):
 def test_the_validation_page_s_interval_from_three_spacings_seeds_or_none():
     from tisph.bench.uncertainty import interval
     from tisph.bench.validation_cases import CASES_BY_NAME
+
     slosh = CASES_BY_NAME["Sloshing, first mode (linear theory)"]
     ref = slosh.reference_value
-    rows = [dict(dx=dx, value=ref * (1.0 - 0.5 * dx ** 2)) for dx in (0.0225, 0.015, 0.01)]
+    rows = [dict(dx=dx, value=ref * (1.0 - 0.5 * dx**2)) for dx in (0.0225, 0.015, 0.01)]
     half, words = interval(slosh, rows)
     # second order: GCI = 1.25 |f2 - f1| / f1 / (1.5^2 - 1), on the error (value / reference - 1)
     f1, f2 = rows[2]["value"], rows[1]["value"]
-    assert half == pytest.approx(1.25 * abs(f2 - f1) / (1.5 ** 2 - 1) / ref, rel=1e-6) and "order 2.00" in words
+    assert half == pytest.approx(1.25 * abs(f2 - f1) / (1.5**2 - 1) / ref, rel=1e-6) and "order 2.00" in words
     assert interval(slosh, rows[1:])[0] is None and "two spacings" in interval(slosh, rows[1:])[1]
-    rows[0]["value"] = rows[2]["value"]                      # oscillatory
+    rows[0]["value"] = rows[2]["value"]  # oscillatory
     assert interval(slosh, rows)[1] == "no GCI over three spacings: oscillatory"
     tunnel = CASES_BY_NAME["Oscillating tunnel ripples (Wiberg & Harris)"]
     ens = dict(n=3, stderr=0.05, values=[0.8, 0.9, 1.0])

@@ -1,5 +1,6 @@
 """Ensembles (`--seeds N`): a case run with N seeds of its random bed, each metric's mean,
 standard deviation and standard error; a case with nothing random refused before it runs."""
+
 import json
 import math
 import os
@@ -21,11 +22,14 @@ def test_spread_of_four_values_and_a_missing_one():
     assert list(e) == ["a"] and e["a"]["n"] == 2
 
 
-@pytest.mark.parametrize("scene, argv, words", [
-    (dam_break, ["--seeds", "3"], ["--seeds", "nothing random"]),
-    (tunnel, ["--seeds", "1"], ["--seeds", "from 2 to 100"]),
-    (tunnel, ["--seeds", "2", "--convergence"], ["--seeds", "not both"]),
-])
+@pytest.mark.parametrize(
+    "scene, argv, words",
+    [
+        (dam_break, ["--seeds", "3"], ["--seeds", "nothing random"]),
+        (tunnel, ["--seeds", "1"], ["--seeds", "from 2 to 100"]),
+        (tunnel, ["--seeds", "2", "--convergence"], ["--seeds", "not both"]),
+    ],
+)
 def test_seeds_refused_before_the_run(scene, argv, words, tmp_path, capsys):
     assert entry.run_scene(scene, argv + ["--out", str(tmp_path / "o"), "--quiet", "--no-render"]) == 2
     err = capsys.readouterr().err
@@ -36,8 +40,12 @@ def test_seeds_refused_before_the_run(scene, argv, words, tmp_path, capsys):
 
 def test_seeds_on_the_tunnel(tmp_path):
     out = tmp_path / "t"
-    assert entry.run_scene(tunnel, ["--dx", "0.02", "--end-time", "0.3", "--seeds", "2", "--out", str(out),
-                                    "--quiet", "--no-render"]) == 0
+    assert (
+        entry.run_scene(
+            tunnel, ["--dx", "0.02", "--end-time", "0.3", "--seeds", "2", "--out", str(out), "--quiet", "--no-render"]
+        )
+        == 0
+    )
     e = json.loads((out / "summary.json").read_text())["ensemble"]
     assert e["seeds"] == [1, 2] and e["seeds_ok"] == [1, 2]
     assert all(m["n"] == 2 and len(m["values"]) == 2 for m in e["metrics"].values())
@@ -50,13 +58,17 @@ def test_seeds_on_the_tunnel(tmp_path):
 
 def test_a_sweep_with_seeds_writes_each_combination_s_spread(tmp_path):
     from tisph.sweep import write_ensemble
+
     cases, results = [], {}
     for dx in (0.01, 0.02):
         for seed, ripples in ((1, 7.0), (2, 8.0), (3, None)):
             cid = f"dx{dx}_s{seed}"
             cases.append((cid, {"numerics.dx": dx, "sediment.seed": seed}, {}))
-            results[cid] = (("ok", "", {"metrics": {"ripple_count": ripples + dx}}) if ripples else
-                            ("unstable", "unstable at step 9", None))
+            results[cid] = (
+                ("ok", "", {"metrics": {"ripple_count": ripples + dx}})
+                if ripples
+                else ("unstable", "unstable at step 9", None)
+            )
     write_ensemble(str(tmp_path), cases, results)
     rows = (tmp_path / "ensemble.csv").read_text().splitlines()
     assert rows[0] == "numerics.dx,metric,runs_ok,mean,std,stderr"

@@ -1,4 +1,5 @@
 """Snapshots ParaView can open, exact restart, signals, kill -9, full disk."""
+
 import json
 import os
 import signal
@@ -23,13 +24,19 @@ FAST = {"numerics.dx": 0.06, "output.render": False, "output.quiet": True}
 
 def cli(args, cwd, **kw):
     env = dict(os.environ, PYTHONPATH=ROOT)
-    return subprocess.Popen([sys.executable, "-m", "tisph.scenes.dam_break", *args], cwd=cwd, env=env,
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, **kw)
+    return subprocess.Popen(
+        [sys.executable, "-m", "tisph.scenes.dam_break", *args],
+        cwd=cwd,
+        env=env,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        **kw,
+    )
 
 
 def test_snapshots_and_xdmf_are_complete(tmp_path):
-    s = simulate(dam_break, dict(FAST, **{"run.end_time": 0.1, "output.snapshot_every": 0.025}),
-                 out=str(tmp_path))
+    s = simulate(dam_break, dict(FAST, **{"run.end_time": 0.1, "output.snapshot_every": 0.025}), out=str(tmp_path))
     assert s["snapshots"] == 5
     root = ET.parse(tmp_path / "snapshots.xdmf").getroot()
     grids = root.findall(".//Grid[@GridType='Uniform']")
@@ -53,17 +60,25 @@ def test_snapshots_and_xdmf_are_complete(tmp_path):
     assert abs(attrs["time"] - times[-1]) < 1e-9 and attrs["dt"] > 0
     cfg = tomllib.loads(attrs["config"])
     assert cfg["numerics"]["dx"] == 0.06
-    assert np.all(np.diff(arrays["id"]) == 1)      # ordered by particle id
+    assert np.all(np.diff(arrays["id"]) == 1)  # ordered by particle id
 
 
 @pytest.mark.slow
 def test_restart_matches_uninterrupted_run(tmp_path):
-    full = simulate(dam_break, dict(FAST, **{"run.end_time": 0.2, "output.snapshot_every": 0.2}),
-                    out=str(tmp_path / "full"))
-    simulate(dam_break, dict(FAST, **{"run.end_time": 0.1, "output.checkpoint_every": 0.1,
-                                      "output.snapshot_every": 0.2}), out=str(tmp_path / "part"))
-    again = simulate(dam_break, dict(FAST, **{"run.end_time": 0.2, "output.snapshot_every": 0.2}),
-                     out=str(tmp_path / "part"), restart=str(tmp_path / "part" / "checkpoint.h5"))
+    full = simulate(
+        dam_break, dict(FAST, **{"run.end_time": 0.2, "output.snapshot_every": 0.2}), out=str(tmp_path / "full")
+    )
+    simulate(
+        dam_break,
+        dict(FAST, **{"run.end_time": 0.1, "output.checkpoint_every": 0.1, "output.snapshot_every": 0.2}),
+        out=str(tmp_path / "part"),
+    )
+    again = simulate(
+        dam_break,
+        dict(FAST, **{"run.end_time": 0.2, "output.snapshot_every": 0.2}),
+        out=str(tmp_path / "part"),
+        restart=str(tmp_path / "part" / "checkpoint.h5"),
+    )
     assert again["steps"] == full["steps"] and again["sim_time"] == full["sim_time"]
     a, _ = tio.load(tmp_path / "full" / "snapshots" / "00001.h5")
     b, _ = tio.load(tmp_path / "part" / "snapshots" / "00001.h5")
@@ -80,8 +95,10 @@ def test_restart_matches_uninterrupted_run(tmp_path):
 
 def test_sigterm_writes_checkpoint_and_restart_finishes(tmp_path):
     out = tmp_path / "o"
-    p = cli(["--dx", "0.05", "--end-time", "5", "--no-render", "--out", str(out), "--quiet",
-             "--snapshot-every", "0.01"], tmp_path)
+    p = cli(
+        ["--dx", "0.05", "--end-time", "5", "--no-render", "--out", str(out), "--quiet", "--snapshot-every", "0.01"],
+        tmp_path,
+    )
     deadline = time.time() + 120
     while not (out / "snapshots" / "00003.h5").exists():
         assert p.poll() is None and time.time() < deadline, p.stderr.read() if p.poll() is not None else "timeout"
@@ -94,8 +111,23 @@ def test_sigterm_writes_checkpoint_and_restart_finishes(tmp_path):
     arrays, attrs = tio.load(out / "checkpoint.h5")
     assert attrs["kind"] == "tisph checkpoint" and attrs["steps"] == s["steps"]
     t_stop = s["sim_time"]
-    r = cli(["--dx", "0.05", "--end-time", f"{t_stop + 0.02}", "--no-render", "--out", str(out), "--quiet",
-             "--snapshot-every", "0.01", "--restart", str(out / "checkpoint.h5")], tmp_path)
+    r = cli(
+        [
+            "--dx",
+            "0.05",
+            "--end-time",
+            f"{t_stop + 0.02}",
+            "--no-render",
+            "--out",
+            str(out),
+            "--quiet",
+            "--snapshot-every",
+            "0.01",
+            "--restart",
+            str(out / "checkpoint.h5"),
+        ],
+        tmp_path,
+    )
     _, err = r.communicate(timeout=300)
     assert r.returncode == 0, err
     s2 = json.load(open(out / "summary.json"))
@@ -104,9 +136,26 @@ def test_sigterm_writes_checkpoint_and_restart_finishes(tmp_path):
 
 def test_kill_9_leaves_only_complete_files(tmp_path):
     from PIL import Image
+
     out = tmp_path / "o"
-    p = cli(["--dx", "0.05", "--end-time", "5", "--out", str(out), "--quiet", "--snapshot-every", "0.002",
-             "--frame-interval", "0.004", "--checkpoint-every", "0.01"], tmp_path)
+    p = cli(
+        [
+            "--dx",
+            "0.05",
+            "--end-time",
+            "5",
+            "--out",
+            str(out),
+            "--quiet",
+            "--snapshot-every",
+            "0.002",
+            "--frame-interval",
+            "0.004",
+            "--checkpoint-every",
+            "0.01",
+        ],
+        tmp_path,
+    )
     deadline = time.time() + 120
     while not (out / "snapshots" / "00012.h5").exists():
         assert p.poll() is None and time.time() < deadline
@@ -117,7 +166,7 @@ def test_kill_9_leaves_only_complete_files(tmp_path):
     for root, _, files in os.walk(out):
         for f in files:
             path = os.path.join(root, f)
-            if f.startswith("."):                      # a temporary name, never a final one
+            if f.startswith("."):  # a temporary name, never a final one
                 assert ".part" in f
                 continue
             seen += 1
@@ -136,6 +185,7 @@ def test_kill_9_leaves_only_complete_files(tmp_path):
 
 def test_full_disk_gives_a_clear_error(tmp_path, monkeypatch, capsys):
     import h5py as _h5
+
     real = _h5.File
 
     def full(name, mode="r", *a, **k):
@@ -145,8 +195,10 @@ def test_full_disk_gives_a_clear_error(tmp_path, monkeypatch, capsys):
 
     monkeypatch.setattr(_h5, "File", full)
     from tisph.runner import run_scene
-    code = run_scene(dam_break, ["--dx", "0.06", "--max-steps", "3", "--no-render", "--quiet",
-                                 "--out", str(tmp_path / "o")])
+
+    code = run_scene(
+        dam_break, ["--dx", "0.06", "--max-steps", "3", "--no-render", "--quiet", "--out", str(tmp_path / "o")]
+    )
     err = capsys.readouterr().err
     assert code == 2
     assert "No space left on device" in err and "snapshots" in err and "Traceback" not in err
@@ -155,15 +207,27 @@ def test_full_disk_gives_a_clear_error(tmp_path, monkeypatch, capsys):
 @pytest.mark.slow
 def test_corrupt_and_foreign_restart_files(tmp_path, capsys):
     from tisph.runner import run_scene
+
     bad = tmp_path / "garbage.h5"
     bad.write_bytes(b"\x00not hdf5 at all" * 100)
-    code = run_scene(dam_break, ["--dx", "0.06", "--no-render", "--quiet", "--out", str(tmp_path / "a"),
-                                 "--restart", str(bad)])
+    code = run_scene(
+        dam_break, ["--dx", "0.06", "--no-render", "--quiet", "--out", str(tmp_path / "a"), "--restart", str(bad)]
+    )
     assert code == 2 and "not a readable tisph HDF5 file" in capsys.readouterr().err
-    simulate(dam_break, dict(FAST, **{"run.end_time": 0.01, "output.snapshot_every": 0.01}),
-             out=str(tmp_path / "s"))
-    code = run_scene(dam_break, ["--dx", "0.06", "--no-render", "--quiet", "--out", str(tmp_path / "b"),
-                                 "--restart", str(tmp_path / "s" / "snapshots" / "00000.h5")])
+    simulate(dam_break, dict(FAST, **{"run.end_time": 0.01, "output.snapshot_every": 0.01}), out=str(tmp_path / "s"))
+    code = run_scene(
+        dam_break,
+        [
+            "--dx",
+            "0.06",
+            "--no-render",
+            "--quiet",
+            "--out",
+            str(tmp_path / "b"),
+            "--restart",
+            str(tmp_path / "s" / "snapshots" / "00000.h5"),
+        ],
+    )
     assert code == 2 and "checkpoint.h5 written by tisph" in capsys.readouterr().err
 
 
@@ -182,10 +246,27 @@ def test_kill_9_keeps_probes_and_run_log(tmp_path):
     import subprocess
     import sys
     import time as _t
+
     out = tmp_path / "o"
-    p = subprocess.Popen([sys.executable, "-m", "tisph.scenes.dam_break", "--dx", "0.06", "--end-time", "30",
-                          "--no-render", "--quiet", "--snapshot-every", "0", "--out", str(out)],
-                         stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    p = subprocess.Popen(
+        [
+            sys.executable,
+            "-m",
+            "tisph.scenes.dam_break",
+            "--dx",
+            "0.06",
+            "--end-time",
+            "30",
+            "--no-render",
+            "--quiet",
+            "--snapshot-every",
+            "0",
+            "--out",
+            str(out),
+        ],
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+    )
     try:
         t0 = _t.time()
         rows = []
@@ -207,7 +288,7 @@ def test_kill_9_keeps_probes_and_run_log(tmp_path):
     assert all(len(l.split(",")) == 3 for l in lines[1:]) and ts == sorted(ts) and len(ts) >= 40
     log = (out / "run.log").read_text()
     assert "# resolved config" in log and "particles" in log
-    assert not (out / "summary.json").exists()       # it never finished
+    assert not (out / "summary.json").exists()  # it never finished
 
 
 def test_snapshots_say_their_units_and_codes_and_the_run_its_disk(tmp_path):
@@ -215,6 +296,7 @@ def test_snapshots_say_their_units_and_codes_and_the_run_its_disk(tmp_path):
     Information for ParaView); the run prints its disk estimate at the start; by default a run
     writes about 50 snapshots on frame times, not one per frame."""
     from tisph.runner.loop import default_snapshot_interval
+
     s = simulate(dam_break, dict(FAST, **{"run.end_time": 0.05, "output.snapshot_every": 0.025}), out=str(tmp_path))
     with h5py.File(tmp_path / "snapshots" / "00001.h5", "r") as f:
         assert f["pressure"].attrs["units"] == "Pa" and f["position"].attrs["units"] == "m"
@@ -228,6 +310,6 @@ def test_snapshots_say_their_units_and_codes_and_the_run_its_disk(tmp_path):
     assert "disk: about" in log and "snapshots" in log
     assert s["snapshots"] == 3
     cfg = freeze({"output": {"frame_interval": 0.04}, "run": {"end_time": 16.0}})
-    assert default_snapshot_interval(cfg) == pytest.approx(0.32)       # 50 snapshots over 16 s, on frames
+    assert default_snapshot_interval(cfg) == pytest.approx(0.32)  # 50 snapshots over 16 s, on frames
     cfg = freeze({"output": {"frame_interval": 0.05}, "run": {"end_time": 1.0}})
-    assert default_snapshot_interval(cfg) == pytest.approx(0.05)       # never finer than the frames
+    assert default_snapshot_interval(cfg) == pytest.approx(0.05)  # never finer than the frames

@@ -1,6 +1,7 @@
 """Physical plausibility: impossible cases are refused by name with the reason (and a units guess),
 cases beyond what the model resolves are warned about at the start and their spoiled metric is
 null, not a number."""
+
 import math
 
 import pytest
@@ -51,9 +52,19 @@ def test_waves_steeper_than_miche_are_refused_on_the_key_that_set_them():
 
 
 def test_a_wavelength_the_kernel_cannot_carry_is_refused():
-    refused(flume, {"numerics.dx": 0.01, "numerics.h_factor": 3.0, "numerics.kernel": "wendland",
-                    "numerics.wall_layers": 6, "paddle.period": 0.4, "paddle.stroke": 0.01},
-            "numerics.dx", "a tenth of the wavelength")
+    refused(
+        flume,
+        {
+            "numerics.dx": 0.01,
+            "numerics.h_factor": 3.0,
+            "numerics.kernel": "wendland",
+            "numerics.wall_layers": 6,
+            "paddle.period": 0.4,
+            "paddle.stroke": 0.01,
+        },
+        "numerics.dx",
+        "a tenth of the wavelength",
+    )
 
 
 def test_water_in_grams_per_cubic_centimetre_is_refused():
@@ -71,16 +82,27 @@ def test_too_short_a_run_says_the_end_time_its_gauges_need():
 
 def test_a_wave_under_three_spacings_and_a_nonlinear_wave_are_warned_about():
     warned(flume, {"paddle.stroke": 0.015, "numerics.dx": 0.0125}, "dx: under 3 dx")
-    warned(flume, {"paddle.period": 3.0, "paddle.stroke": 0.1, "geometry.length": 30.0, "geometry.damping_length": 8.0},
-           "Ursell")
+    warned(
+        flume,
+        {"paddle.period": 3.0, "paddle.stroke": 0.1, "geometry.length": 30.0, "geometry.damping_length": 8.0},
+        "Ursell",
+    )
 
 
 def test_gauges_on_dry_land_are_warned_about_and_report_no_height():
-    ov = {"geometry.slope": 15.0, "geometry.depth": 0.25, "paddle.stroke": 0.2, "geometry.length": 8.0,
-          "geometry.toe_x": 1.5, "geometry.gauges_x": [1.0, 3.0, 4.5, 5.5, 6.5], "numerics.dx": 0.03}
+    ov = {
+        "geometry.slope": 15.0,
+        "geometry.depth": 0.25,
+        "paddle.stroke": 0.2,
+        "geometry.length": 8.0,
+        "geometry.toe_x": 1.5,
+        "geometry.gauges_x": [1.0, 3.0, 4.5, 5.5, 6.5],
+        "numerics.dx": 0.03,
+    }
     case = warned(beach, ov, "x = 5.5, 6.5 m stand on dry land", "5.25")
     g = WaveGauges([1.0, 6.0], 0.02, 0.026, 0.3, dry_from=5.25)
     import numpy as np
+
     t = np.linspace(0, 20, 2001)
     c = {"t": t, "eta_x1.00": 0.05 * np.sin(2 * np.pi * t / 2.5), "eta_x6.00": np.zeros_like(t)}
     m = g.metrics(c, {"ramp_periods": 1.0, "period": 2.5}, 1.5)
@@ -93,6 +115,7 @@ def test_a_wave_height_is_named_as_written_with_the_centimetre_guess():
     """A height the user gave is what the message names (not the stroke derived from it, with its
     round-off), and a height in centimetres is guessed as such."""
     from tisph.settings.config import ConfigError
+
     with pytest.raises(ConfigError) as e:
         resolve(flume, None, {"paddle.wave_height": 5.0})
     assert e.value.field == "paddle.wave_height" and "looks like centimetres" in str(e.value)
@@ -108,6 +131,7 @@ def test_a_custom_case_is_warned_as_the_flume_is(tmp_path):
     place: a wave under 3 dx, a gauge on dry land, a window after the end, too few wave periods."""
     from tisph.runner import simulate
     from tisph.scenes import custom
+
     case = tmp_path / "c.toml"
     case.write_text("""
 [numerics]
@@ -132,9 +156,13 @@ type = "surface"
 x = 6.3
 from_time = 1.0
 """)
-    simulate(custom, {"run.max_steps": 1, "output.render": False, "output.quiet": True,
-                      "output.snapshot_every": 0.0}, out=str(tmp_path / "out"), config=str(case))
-    said = (tmp_path / "out" / "run.log").read_text()     # the run logs its set-up's warnings
+    simulate(
+        custom,
+        {"run.max_steps": 1, "output.render": False, "output.quiet": True, "output.snapshot_every": 0.0},
+        out=str(tmp_path / "out"),
+        config=str(case),
+    )
+    said = (tmp_path / "out" / "run.log").read_text()  # the run logs its set-up's warnings
     assert "surface2 (x = 6.3 m) stand on dry land" in said
     assert "from_time = 1 s) start their statistics at or after run.end_time" in said
     assert "the wave height 0.05 m is 1.7 dx" in said

@@ -1,5 +1,6 @@
 """Runs side by side (tisph/runner/pool.py): a kill of the process that holds them, plain or -9,
 stops its worker processes too, so no run goes on alone."""
+
 import os
 import signal
 import subprocess
@@ -8,8 +9,10 @@ import time
 
 import pytest
 
-CODE = ("import time\nfrom tisph.runner.pool import run_all\n"
-        "run_all([(i, time.sleep, (60,)) for i in range(2)], 2, 1, lambda *a: None)\n")
+CODE = (
+    "import time\nfrom tisph.runner.pool import run_all\n"
+    "run_all([(i, time.sleep, (60,)) for i in range(2)], 2, 1, lambda *a: None)\n"
+)
 
 
 def children(pid):
@@ -40,7 +43,7 @@ def test_a_killed_pool_leaves_no_worker_running(sig):
     root = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
     p = subprocess.Popen([sys.executable, "-c", CODE], cwd=root)
     workers = []
-    for _ in range(200):                     # the two workers and the resource tracker start
+    for _ in range(200):  # the two workers and the resource tracker start
         workers = [c for c in children(p.pid) if "spawn_main" in open(f"/proc/{c}/cmdline").read()]
         if len(workers) == 2:
             break

@@ -1,5 +1,6 @@
 """`tisph metrics RUN` (tisph/runner/reanalyse.py): a run's metrics worked out again from its probes
 and its resolved config, the same as the run's own; a bad folder refused by name."""
+
 import json
 
 import pytest
@@ -10,8 +11,10 @@ from tisph.runner.reanalyse import reanalyse
 from tisph.scenes import dam_break, flume
 
 
-@pytest.mark.parametrize("scene, ov", [(dam_break, {"numerics.dx": 0.06, "run.end_time": 0.3}),
-                                       (flume, {"numerics.dx": 0.03, "run.end_time": 2.0})])
+@pytest.mark.parametrize(
+    "scene, ov",
+    [(dam_break, {"numerics.dx": 0.06, "run.end_time": 0.3}), (flume, {"numerics.dx": 0.03, "run.end_time": 2.0})],
+)
 def test_metrics_from_the_probes_are_the_runs(tmp_path, scene, ov, capsys):
     out = tmp_path / scene.__name__.rsplit(".", 1)[1]
     s = simulate(scene, dict(ov, **{"output.render": False, "output.quiet": True}), out=str(out))

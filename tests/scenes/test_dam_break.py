@@ -1,4 +1,5 @@
 """Dam break against Martin & Moyce (1952), at coarse resolutions."""
+
 import math
 
 import numpy as np

@@ -1,5 +1,6 @@
 """The package's layout shows its architecture: no import cycle between tisph's modules, no
 private name imported from another module, and tisph.settings.config usable without Taichi."""
+
 import ast
 import os
 import subprocess
@@ -16,7 +17,7 @@ def modules():
         for f in files:
             if f.endswith(".py"):
                 rel = os.path.relpath(os.path.join(d, f), ROOT)[:-3].replace(os.sep, ".")
-                out[rel[:-len(".__init__")] if rel.endswith(".__init__") else rel] = os.path.join(d, f)
+                out[rel[: -len(".__init__")] if rel.endswith(".__init__") else rel] = os.path.join(d, f)
     return out
 
 
@@ -29,7 +30,7 @@ def imports(name, path, top_level_only):
         if isinstance(node, ast.ImportFrom):
             base = pkg.split(".")
             if node.level:
-                base = base[:len(base) - node.level + 1]
+                base = base[: len(base) - node.level + 1]
                 target = ".".join(base + ([node.module] if node.module else []))
             else:
                 target = node.module or ""
@@ -47,7 +48,7 @@ def test_no_import_cycle():
     for name, path in mods.items():
         deps = set()
         for target, names in imports(name, path, top_level_only=True):
-            for n in names:     # `from . import x` imports the module x
+            for n in names:  # `from . import x` imports the module x
                 if f"{target}.{n}" in mods:
                     deps.add(f"{target}.{n}")
             if target in mods:
@@ -60,7 +61,7 @@ def test_no_import_cycle():
         stack.append(m)
         for d in sorted(graph.get(m, ())):
             if state.get(d) == 1:
-                raise AssertionError("import cycle: " + " -> ".join(stack[stack.index(d):] + [d]))
+                raise AssertionError("import cycle: " + " -> ".join(stack[stack.index(d) :] + [d]))
             if d not in state:
                 visit(d)
         stack.pop()

@@ -1,4 +1,5 @@
 """Open boundaries, the hatch, and the channel dam breaks against exact shallow-water solutions."""
+
 import math
 import os
 
@@ -19,7 +20,7 @@ def test_stoker_satisfies_rankine_hugoniot():
         mass, mom = sw.rankine_hugoniot_residuals(0.25, alpha * 0.25)
         assert mass < 1e-12 and mom < 1e-12
     hm, um, s = sw.stoker_state(0.25, 0.025)
-    assert abs(hm / 0.25 - 0.396) < 1e-3            # the classical alpha = 0.1 plateau
+    assert abs(hm / 0.25 - 0.396) < 1e-3  # the classical alpha = 0.1 plateau
     # a shallower downstream bed gives a lower plateau; the bore speed has a minimum near
     # alpha ~ 0.3 (it tends to the downstream wave speed sqrt(g hd) as alpha -> 1, always faster
     # than it) and rises to Ritter's 2 c0 as alpha -> 0
@@ -57,23 +58,31 @@ def test_hatch_discharge_and_exact_mass_balance(tmp_path):
     # 0.56 at 2.5 mm). Outside 0.45-0.7 mass or energy is being lost or made.
     assert 0.45 < m["discharge_coefficient"] < 0.7
     _, cols = read_csv(tmp_path / "probes.csv")
-    assert np.all(np.diff(cols["reservoir_level"]) <= 1e-3)      # the reservoir only drains
+    assert np.all(np.diff(cols["reservoir_level"]) <= 1e-3)  # the reservoir only drains
     assert cols["outflow_mass"][-1] == pytest.approx(s["mass"]["outflow_mass"], rel=1e-6)
     for t in ("0.000", "0.040", "0.100", "0.140"):
         assert (tmp_path / "profiles" / f"surface_t{t}.csv").exists()
 
 
 def test_orifice_case_file_runs(tmp_path):
-    s = simulate(hatch, dict(QUIET, **{"run.end_time": 0.05}), out=str(tmp_path),
-                 config=os.path.join(ROOT, "scenes", "orifice.toml"))
+    s = simulate(
+        hatch,
+        dict(QUIET, **{"run.end_time": 0.05}),
+        out=str(tmp_path),
+        config=os.path.join(ROOT, "scenes", "orifice.toml"),
+    )
     assert s["status"] == "ok" and s["leaked_particles"] == 0
     assert s["metrics"]["reservoir_level_end"] < 0.15
 
 
 @pytest.mark.slow
 def test_wet_bed_bore_speed_against_stoker(tmp_path):
-    s = simulate(dam_break, dict(QUIET, **{"numerics.dx": 0.025}), out=str(tmp_path),
-                 config=os.path.join(ROOT, "scenes", "dam_break_alpha04.toml"))
+    s = simulate(
+        dam_break,
+        dict(QUIET, **{"numerics.dx": 0.025}),
+        out=str(tmp_path),
+        config=os.path.join(ROOT, "scenes", "dam_break_alpha04.toml"),
+    )
     m = s["metrics"]
     assert s["status"] == "ok" and s["leaked_particles"] == 0 and s["crossed_wall"] == 0
     assert m["bore_speed_error"] < 0.10
@@ -86,8 +95,12 @@ def test_wet_bed_bore_speed_against_stoker(tmp_path):
 
 @pytest.mark.slow
 def test_dry_bed_front_runs_slower_than_ritter(tmp_path):
-    s = simulate(dam_break, dict(QUIET, **{"numerics.dx": 0.025, "run.end_time": 1.5}), out=str(tmp_path),
-                 config=os.path.join(ROOT, "scenes", "dam_break_alpha0.toml"))
+    s = simulate(
+        dam_break,
+        dict(QUIET, **{"numerics.dx": 0.025, "run.end_time": 1.5}),
+        out=str(tmp_path),
+        config=os.path.join(ROOT, "scenes", "dam_break_alpha0.toml"),
+    )
     m = s["metrics"]
     assert s["status"] == "ok" and s["leaked_particles"] == 0
     # slower than Ritter's zero-depth tip, at the speed where Ritter's depth falls below ~dx

@@ -1,5 +1,6 @@
 """Pipeline-scour physics: SPS stress, fluid-sediment drag (momentum conserved), the scene runs
 with both sand models, the bed-load bed scours the gap."""
+
 import json
 import os
 
@@ -28,15 +29,15 @@ def test_sps_stress_of_a_simple_shear():
 
     g, dl = 3.0, 0.01
     k(g, dl, 0.0)
-    nut = (CS * dl) ** 2 * g                       # |S| = g for u = g y
+    nut = (CS * dl) ** 2 * g  # |S| = g for u = g y
     assert nu[None] == pytest.approx(nut, rel=1e-5)
     t = out[None].to_numpy()
     iso = 2.0 / 3.0 * CI * dl * dl * g * g
-    assert t[1] == pytest.approx(nut * g, rel=1e-5)   # tau_xy / rho = 2 nu_t S_xy
+    assert t[1] == pytest.approx(nut * g, rel=1e-5)  # tau_xy / rho = 2 nu_t S_xy
     assert t[0] == pytest.approx(-iso, rel=1e-4) and t[2] == pytest.approx(-iso, rel=1e-4)
-    k(g, dl, 0.02)                                 # a mixing length: nu_t = l_m^2 |S|
-    assert nu[None] == pytest.approx(0.02 ** 2 * g, rel=1e-5)
-    assert out[None].to_numpy()[1] == pytest.approx(0.02 ** 2 * g * g, rel=1e-5)
+    k(g, dl, 0.02)  # a mixing length: nu_t = l_m^2 |S|
+    assert nu[None] == pytest.approx(0.02**2 * g, rel=1e-5)
+    assert out[None].to_numpy()[1] == pytest.approx(0.02**2 * g * g, rel=1e-5)
 
 
 def test_k_equation_balances_to_the_mixing_length_and_decays():
@@ -46,6 +47,7 @@ def test_k_equation_balances_to_the_mixing_length_and_decays():
     its stress is 2 nu_t S_dev - (2/3) k delta. Wilcox's stress limiter leaves that equilibrium
     alone and caps nu_t at sqrt(C_mu) k / (C_lim |S|) where k lags far below it (a fresh shear layer)."""
     from tisph.terms.tke import CMU34, eddy_viscosity, strain2, tke_stress, tke_update
+
     res = ti.field(ti.f64, shape=3)
     tau = ti.Vector.field(3, ti.f64, shape=())
 
@@ -63,14 +65,14 @@ def test_k_equation_balances_to_the_mixing_length_and_decays():
 
     l, g = 0.01, 5.0
     for clim in (0.0, 7.0 / 8.0):
-        run(1e-6, l, g, 1e-3, 20000, clim)            # 20 s: many times l / sqrt(k)
-        assert res[2] == pytest.approx(g * g, rel=1e-12)     # |S|^2 = g^2 for u = g y
+        run(1e-6, l, g, 1e-3, 20000, clim)  # 20 s: many times l / sqrt(k)
+        assert res[2] == pytest.approx(g * g, rel=1e-12)  # |S|^2 = g^2 for u = g y
         assert res[0] == pytest.approx(l * l * g * g / 0.3, rel=1e-4)
         assert res[1] == pytest.approx(l * l * g, rel=1e-4)
     t = tau[None].to_numpy()
     assert t[1] == pytest.approx(res[1] * g, rel=1e-6)
     assert t[0] == pytest.approx(-2.0 / 3.0 * res[0], rel=1e-6) and t[2] == t[0]
-    klow = 0.01 * l * l * g * g / 0.3                  # production 10 times the dissipation
+    klow = 0.01 * l * l * g * g / 0.3  # production 10 times the dissipation
     run(klow, l, g, 1e-9, 0, 7.0 / 8.0)
     assert res[1] == pytest.approx(0.3 * klow / (7.0 / 8.0 * g), rel=1e-12)
     assert res[1] < 0.25 * 0.5477226 * np.sqrt(klow) * l
@@ -79,7 +81,7 @@ def test_k_equation_balances_to_the_mixing_length_and_decays():
     k0, T = 0.01, 2.0
     run(k0, l, 0.0, 1e-4, int(T / 1e-4), 0.0)
     exact = (1.0 / np.sqrt(k0) + CMU34 * T / (2 * l)) ** -2
-    assert res[0] == pytest.approx(exact, rel=2e-3)       # first order in dt, implicit
+    assert res[0] == pytest.approx(exact, rel=2e-3)  # first order in dt, implicit
 
 
 def test_omega_keeps_the_wall_layers_length_and_decays_as_wilcoxs():
@@ -88,6 +90,7 @@ def test_omega_keeps_the_wall_layers_length_and_decays_as_wilcoxs():
     omega's own balance sqrt(alpha / beta) |S| lies below the wall's |S| / C_mu^(1/2); without shear
     and far from walls omega decays as d omega / dt = -beta omega^2."""
     from tisph.terms.tke import BETA_W, CMU14, eddy_viscosity, omega_update, strain2, tke_update
+
     res = ti.field(ti.f64, shape=3)
 
     @ti.kernel
@@ -124,12 +127,14 @@ def _two_phase_box(drag_K):
     ps.add(w, FLUID, 0, 1000.0, 1000.0 * dx * dx, v=rng.normal(0, 0.05, (len(w), 2)) + [0.2, 0.0])
     ps.add(s, FLUID, 1, 1950.0, 1950.0 * dx * dx, v=rng.normal(0, 0.05, (len(s), 2)))
     c0 = 10.0
-    mats = [dict(name="water", rho0=1000.0, viscosity=1e-3, B=tait_B(1000.0, c0)),
-            dict(name="sand", rho0=1950.0, viscosity=0.07, B=tait_B(1950.0, c0))]
-    phys = Physics(kernel="wendland", artificial_viscosity=True, laminar_viscosity=True, periodic_x=True,
-                   drag=True)
-    params = dict(dx=dx, h=1.3 * dx, c0=c0, alpha=0.05, g=(0.0, 0.0), cfl=0.4, dt_max=1e-3, density_band=0.5,
-                  drag_K=drag_K)
+    mats = [
+        dict(name="water", rho0=1000.0, viscosity=1e-3, B=tait_B(1000.0, c0)),
+        dict(name="sand", rho0=1950.0, viscosity=0.07, B=tait_B(1950.0, c0)),
+    ]
+    phys = Physics(kernel="wendland", artificial_viscosity=True, laminar_viscosity=True, periodic_x=True, drag=True)
+    params = dict(
+        dx=dx, h=1.3 * dx, c0=c0, alpha=0.05, g=(0.0, 0.0), cfl=0.4, dt_max=1e-3, density_band=0.5, drag_K=drag_K
+    )
     return Solver(phys, ps, mats, ((0.0, -1.0), (0.2, 1.2)), params), ps
 
 
@@ -147,26 +152,41 @@ def test_drag_conserves_momentum_and_couples_the_phases():
         p1 = (st["m"][:, None].astype(float) * st["v"]).sum(0)
         # every pair force is equal and opposite: momentum moves only by float32 round-off
         assert np.abs(p1 - p0).max() < 1e-4 * scale, (k, p1, p0)
-        near = np.abs(st["x"][:, 1] - 0.1) < 0.01            # the rows either side of the interface
+        near = np.abs(st["x"][:, 1] - 0.1) < 0.01  # the rows either side of the interface
         du = st["v"][near & (st["mat"] == 0), 0].mean() - st["v"][near & (st["mat"] == 1), 0].mean()
         out[k] = du
-    assert abs(out[K]) < 0.5 * abs(out[0.0]), out    # drag pulls the phases together at the interface
+    assert abs(out[K]) < 0.5 * abs(out[0.0]), out  # drag pulls the phases together at the interface
 
 
 @pytest.mark.slow
 def test_pipeline_scour_command_runs_and_writes_its_files(tmp_path):
     from tisph.scenes import pipeline_scour
+
     out = tmp_path / "ps"
-    code = run_scene(pipeline_scour, ["--config", os.path.join(ROOT, "scenes", "pipeline_scour_two_phase.toml"),
-                                      "--dx", "0.0125", "--end-time", "0.1", "--out", str(out), "--quiet",
-                                      "--frame-interval", "0.05"])
+    code = run_scene(
+        pipeline_scour,
+        [
+            "--config",
+            os.path.join(ROOT, "scenes", "pipeline_scour_two_phase.toml"),
+            "--dx",
+            "0.0125",
+            "--end-time",
+            "0.1",
+            "--out",
+            str(out),
+            "--quiet",
+            "--frame-interval",
+            "0.05",
+        ],
+    )
     assert code == 0
     s = json.load(open(out / "summary.json"))
     assert s["status"] == "ok" and s["leaked_particles"] == 0
     assert s["physics"]["sps"] and s["physics"]["drag"] and s["physics"]["noslip"] and s["physics"]["periodic_x"]
     assert s["physics"]["dem"]
-    assert (out / "probes.csv").read_text().splitlines()[0] == \
-        "t,scour_depth_over_D,transport_rate_phi,max_bed_shear,u_mean,body_force"
+    assert (out / "probes.csv").read_text().splitlines()[
+        0
+    ] == "t,scour_depth_over_D,transport_rate_phi,max_bed_shear,u_mean,body_force"
     assert (out / "scour_profile.csv").exists() and (out / "frames" / "00000.png").exists()
     m = s["metrics"]
     # the PI drive holds the current near its 0.4 m/s (0.383 at 0.1 s) by pushing forward against
@@ -182,9 +202,11 @@ def test_bedload_pipeline_scours_the_gap_under_the_pipe(tmp_path):
     undisturbed bed's (measured 1.91), the hole under the pipe deepens by at least 1.5e-4 D per
     second of bed time (measured 3.2e-4; a bed held still gives 0), the periodic bed keeps its sand."""
     from tisph.scenes import pipeline_scour
+
     out = tmp_path / "bl"
-    code = run_scene(pipeline_scour, ["--dx", "0.0125", "--end-time", "0.7", "--out", str(out), "--quiet",
-                                      "--no-render"])   # the bed moves after 0.5 s of spin-up
+    code = run_scene(
+        pipeline_scour, ["--dx", "0.0125", "--end-time", "0.7", "--out", str(out), "--quiet", "--no-render"]
+    )  # the bed moves after 0.5 s of spin-up
     assert code == 0
     s = json.load(open(out / "summary.json"))
     assert s["status"] == "ok" and s["leaked_particles"] == 0 and s["steps"] > 300
@@ -202,6 +224,7 @@ def test_mao_profile_bed_is_his_measured_bed_from_the_undisturbed_bed():
     D/2 below it) as heights above the undisturbed bed, back to it 2 D beyond the measured ends,
     and scaled with the pipe."""
     from tisph.validation import mao
+
     ref = mao.PROFILES[25.0]
     D = mao.D
     assert np.allclose(mao.profile_bed(25.0, ref[:, 0]), ref[:, 1] + D / 2, atol=1e-12)
@@ -215,6 +238,7 @@ def test_mao_reference_and_the_equilibrium_fit():
     inverts depth_at; the exponential fit recovers a known S_eq and time scale."""
     from tisph.scenes.pipeline_scour.bedload import equilibrium_fit
     from tisph.validation import mao
+
     ref = mao.PROFILES[18.0]
     assert mao.scour_profile_error(18.0, ref[:, 0], ref[:, 1]) < 1e-12
     assert abs(mao.scour_profile_error(18.0, ref[:, 0], ref[:, 1] - 0.1 * mao.D) - 0.1) < 1e-9
@@ -224,27 +248,29 @@ def test_mao_reference_and_the_equilibrium_fit():
     t = np.linspace(0.0, 20.0, 81)
     s_eq, T = equilibrium_fit(t, 0.1 + 0.7 * (1.0 - np.exp(-t / 6.0)))
     assert abs(s_eq - 0.8) < 0.01 and abs(T - 6.0) < 0.2
-    assert np.isnan(equilibrium_fit(t, 0.1 + 0.001 * t)[0])      # still rising linearly: no plateau to tell
+    assert np.isnan(equilibrium_fit(t, 0.1 + 0.001 * t)[0])  # still rising linearly: no plateau to tell
 
 
 # ---------------------------------------------------------------------------- DEM contacts
-KN, KS, ETA_N, ETA_S, MU = 1.0e6, 1.0e5, 20.0, 40.0, 0.57     # paper 002 Table 3
-M = 1950.0 * 0.01 ** 2                                        # a sediment particle at dx = 0.01
+KN, KS, ETA_N, ETA_S, MU = 1.0e6, 1.0e5, 20.0, 40.0, 0.57  # paper 002 Table 3
+M = 1950.0 * 0.01**2  # a sediment particle at dx = 0.01
 
 
 def _collide(v0, steps=4000, dt=2e-6):
     """Two grains meet head-on at +-v0 (no other force); returns the separation speed ratio."""
     from tisph.terms.dem import contact_force
+
     out = ti.field(ti.f64, shape=2)
 
     @ti.kernel
     def run(v0: ti.f64, dt: ti.f64, n: ti.i32):
-        xa, xb = 0.0, 0.01 + 1e-6          # just apart; contact diameter 0.01
+        xa, xb = 0.0, 0.01 + 1e-6  # just apart; contact diameter 0.01
         va, vb = v0, -v0
         for _ in range(1):
             for k in range(n):
-                f, es, on = contact_force(KN, KS, ETA_N, ETA_S, MU, 0.01, ti.Vector([xa - xb, 0.0]),
-                                          ti.Vector([va - vb, 0.0]), 0.0, dt)
+                f, es, on = contact_force(
+                    KN, KS, ETA_N, ETA_S, MU, 0.01, ti.Vector([xa - xb, 0.0]), ti.Vector([va - vb, 0.0]), 0.0, dt
+                )
                 va += dt * f[0] / M
                 vb -= dt * f[0] / M
                 xa += dt * va
@@ -259,6 +285,7 @@ def _collide(v0, steps=4000, dt=2e-6):
 
 def test_dem_head_on_restitution_matches_the_damped_oscillator():
     from tisph.terms.dem import restitution
+
     e = _collide(0.05)
     assert e == pytest.approx(restitution(M / 2, KN, ETA_N), rel=0.02)
     assert 0.85 < e < 0.95
@@ -266,6 +293,7 @@ def test_dem_head_on_restitution_matches_the_damped_oscillator():
 
 def test_dem_sliding_obeys_the_coulomb_limit():
     from tisph.terms.dem import contact_force
+
     res = ti.field(ti.f64, shape=3)
 
     @ti.kernel
@@ -274,9 +302,10 @@ def test_dem_sliding_obeys_the_coulomb_limit():
         fmax = 0.0
         f = ti.Vector([0.0, 0.0])
         for _ in range(1):
-            for k in range(n):   # pressed 0.1 mm into a fixed grain, sliding at 1 cm/s
-                f, es, on = contact_force(KN, KS, ETA_N, ETA_S, MU, 0.01, ti.Vector([0.0, 0.0099]),
-                                          ti.Vector([0.01, 0.0]), es, dt)
+            for k in range(n):  # pressed 0.1 mm into a fixed grain, sliding at 1 cm/s
+                f, es, on = contact_force(
+                    KN, KS, ETA_N, ETA_S, MU, 0.01, ti.Vector([0.0, 0.0099]), ti.Vector([0.01, 0.0]), es, dt
+                )
                 fmax = ti.max(fmax, ti.abs(f[0]))
         res[0] = f[0]
         res[1] = f[1]
@@ -285,8 +314,8 @@ def test_dem_sliding_obeys_the_coulomb_limit():
     slide(20000, 1e-5)
     # float32 (the default precision): the 0.1 mm overlap of 1 cm centres is known to ~1e-3
     fn = res[1]
-    assert fn == pytest.approx(KN * 1e-4, rel=2e-3)              # normal: spring only, no normal motion
-    assert res[0] == pytest.approx(-MU * fn, rel=1e-5)           # sliding: the friction limit, against the slip
+    assert fn == pytest.approx(KN * 1e-4, rel=2e-3)  # normal: spring only, no normal motion
+    assert res[0] == pytest.approx(-MU * fn, rel=1e-5)  # sliding: the friction limit, against the slip
     assert res[2] <= MU * fn * (1 + 1e-5)
 
 
@@ -297,6 +326,7 @@ def test_dem_contact_history_survives_the_resort():
     k_s (gamma dx) dt every step; if a re-sort lost the history it would restart from one step's
     worth. After N steps it must be N steps' worth."""
     from tisph.particles import block as blk
+
     dx, ks, gamma, U, dt = 0.01, 10.0, 1.0, 50.0, 2e-5
     ps = ParticleSet()
     x = blk(0.0, 0.0, 0.2, 0.05, dx) * 0.998
@@ -305,26 +335,37 @@ def test_dem_contact_history_survives_the_resort():
     c0 = 100.0
     mats = [dict(name="sand", rho0=1950.0, viscosity=0.0, B=tait_B(1950.0, c0), dem=True)]
     phys = Physics(kernel="wendland", artificial_viscosity=False, periodic_x=True, dem=True)
-    params = dict(dx=dx, h=1.3 * dx, c0=c0, g=(0.0, 0.0), cfl=0.4, dt_max=dt, density_band=0.5,
-                  kn=1e3, ks=ks, eta_n=0.0, eta_s=0.0, mu_c=MU, dc=dx)
+    params = dict(
+        dx=dx,
+        h=1.3 * dx,
+        c0=c0,
+        g=(0.0, 0.0),
+        cfl=0.4,
+        dt_max=dt,
+        density_band=0.5,
+        kn=1e3,
+        ks=ks,
+        eta_n=0.0,
+        eta_s=0.0,
+        mu_c=MU,
+        dc=dx,
+    )
     s = Solver(phys, ps, mats, ((0.0, -0.5), (0.2 * 0.998, 0.6)), params)
     n = 150
     order0 = s.p.id.to_numpy().copy()
     for _ in range(n):
         s.step()
     assert s.check() is None
-    assert np.any(s.p.id.to_numpy() != order0)              # the particles were re-sorted
+    assert np.any(s.p.id.to_numpy() != order0)  # the particles were re-sorted
     st = s.state(("x", "cid", "ces"))
-    want = n * ks * gamma * dx * 0.998 * dt                  # spring after n steps of steady slip
+    want = n * ks * gamma * dx * 0.998 * dt  # spring after n steps of steady slip
     found = 0
     for i in range(len(st["x"])):
         for c, e in zip(st["cid"][i], st["ces"][i]):
-            if c >= 0 and abs(st["x"][c, 0] - st["x"][i, 0]) < 0.1 * dx:   # a vertical pair
+            if c >= 0 and abs(st["x"][c, 0] - st["x"][i, 0]) < 0.1 * dx:  # a vertical pair
                 assert abs(e) == pytest.approx(want, rel=0.05), (i, c, e, want)
                 found += 1
     assert found > 100
-
-
 
 
 # ---------------------------------------------------------------------------- pipe wall
@@ -334,6 +375,7 @@ def _flow_past_pipe(steps=600):
     rings 1 dx wide at 0.5, 1.5, 2.5, 3.5 dx from the pipe surface, and the time reached."""
     from tisph.particles import WALL
     from tisph.scenes.pipeline_scour import ring
+
     dx, R, U = 0.005, 0.025, 0.05
     L, H = 0.2, 0.2
     xc, yc = 0.1, 0.1
@@ -346,10 +388,15 @@ def _flow_past_pipe(steps=600):
         ps.add(pts, WALL, 0, 1000.0, 1000.0 * dx * dx, normal=nrm, wall_dist=(k + 0.5) * dx)
     c0 = 1.0
     mats = [dict(name="water", rho0=1000.0, viscosity=1.0, B=tait_B(1000.0, c0))]
-    phys = Physics(kernel="wendland", artificial_viscosity=False, laminar_viscosity=True, periodic_x=True,
-                   noslip=True, density_diffusion="fourtakas")
-    params = dict(dx=dx, h=1.3 * dx, c0=c0, alpha=0.0, delta=0.1, g=(0.0, 0.0), cfl=0.4, dt_max=1e-3,
-                  density_band=0.5)
+    phys = Physics(
+        kernel="wendland",
+        artificial_viscosity=False,
+        laminar_viscosity=True,
+        periodic_x=True,
+        noslip=True,
+        density_diffusion="fourtakas",
+    )
+    params = dict(dx=dx, h=1.3 * dx, c0=c0, alpha=0.0, delta=0.1, g=(0.0, 0.0), cfl=0.4, dt_max=1e-3, density_band=0.5)
     s = Solver(phys, ps, mats, ((0.0, -0.1), (L, 0.3)), params)
     for _ in range(steps):
         s.step()
@@ -357,7 +404,7 @@ def _flow_past_pipe(steps=600):
     d = st["x"] - [xc, yc]
     r = np.hypot(*d.T)
     t = np.column_stack([-d[:, 1], d[:, 0]]) / r[:, None]
-    ut = -(st["v"] * t).sum(1) * np.sign(d[:, 1])   # signed, along the flow: noise averages out
+    ut = -(st["v"] * t).sum(1) * np.sign(d[:, 1])  # signed, along the flow: noise averages out
     fl = st["kind"] == FLUID
     mids = (np.arange(4) + 0.5) * dx
     return np.array([ut[fl & (np.abs(r - R - m) < 0.5 * dx)].mean() for m in mids]), mids, s.time
@@ -365,7 +412,7 @@ def _flow_past_pipe(steps=600):
 
 def test_pipe_wall_is_no_slip():
     prof, mids, t_end = _flow_past_pipe()
-    assert t_end > 0.5       # nu t > 20 dx^2: the boundary layer is several rows thick
+    assert t_end > 0.5  # nu t > 20 dx^2: the boundary layer is several rows thick
     assert np.all(prof > 0)
     # the tangential velocity falls towards the wall and extrapolates to (nearly) zero on its surface
     assert prof[0] < 0.6 * prof[-1], prof
@@ -384,8 +431,10 @@ def _lone_particles(physics, xs, mats, dx=0.01):
 
 
 def _mats():
-    return [dict(name="water", rho0=1000.0, viscosity=1e-3, B=tait_B(1000.0, 10.0)),
-            dict(name="sand", rho0=1950.0, viscosity=0.07, B=tait_B(1950.0, 10.0))]
+    return [
+        dict(name="water", rho0=1000.0, viscosity=1e-3, B=tait_B(1000.0, 10.0)),
+        dict(name="sand", rho0=1950.0, viscosity=0.07, B=tait_B(1950.0, 10.0)),
+    ]
 
 
 def test_driving_force_is_a_pressure_gradient():
@@ -402,35 +451,51 @@ def test_driving_force_is_a_pressure_gradient():
 
 def test_inflow_zone_relaxes_water_to_the_log_law():
     from tisph.scenes.pipeline_scour import log_law
+
     ustar, z0, rate = 0.02, 1e-5, 50.0
     inflow = (0.0, 0.4, rate, 0, 0.0, ustar, z0)
     xs = [((0.2, y), 0) for y in (0.05, 0.15, 0.3)] + [((0.2, 0.45), 1), ((0.7, 0.2), 0)]
     s = _lone_particles(Physics(kernel="wendland", periodic_x=True, inflow=inflow), xs, _mats(), dx=0.02)
-    while s.time < 0.3:      # 15 relaxation times at the zone's middle
+    while s.time < 0.3:  # 15 relaxation times at the zone's middle
         s.step()
     st = s.state(("x", "v", "mat"))
     v = st["v"][:, 0]
     in_zone = (np.abs(st["x"][:, 0] - 0.2) < 0.1) & (st["mat"] == 0)
     target = log_law(st["x"][in_zone, 1], ustar, z0)
     assert np.allclose(v[in_zone], target, rtol=0.02), (v[in_zone], target)
-    assert st["v"][st["mat"] == 1, 0][0] == 0.0          # sand is left alone
-    assert v[(st["mat"] == 0) & (st["x"][:, 0] > 0.5)][0] == 0.0   # outside the zone: untouched
+    assert st["v"][st["mat"] == 1, 0][0] == 0.0  # sand is left alone
+    assert v[(st["mat"] == 0) & (st["x"][:, 0] > 0.5)][0] == 0.0  # outside the zone: untouched
 
 
 def test_dem_step_limit_applies_only_near_contact():
     """Two grains meet head-on at 1 m/s relative. Apart, the solver keeps its acoustic step;
     every step taken while they touch is no longer than the eq. 27 step; they bounce apart."""
     from tisph.terms.dem import critical_step
+
     dx = 0.01
     ps = ParticleSet()
     ps.add(np.array([[0.30, 0.2]]), FLUID, 0, 1950.0, M, v=(0.5, 0.0))
     ps.add(np.array([[0.40, 0.2]]), FLUID, 0, 1950.0, M, v=(-0.5, 0.0))
-    c0 = 2.0      # a slow sound speed: the acoustic step is far above the DEM step
+    c0 = 2.0  # a slow sound speed: the acoustic step is far above the DEM step
     mats = [dict(name="sand", rho0=1950.0, viscosity=0.0, B=tait_B(1950.0, c0), dem=True)]
     phys = Physics(kernel="wendland", artificial_viscosity=False, dem=True)
     dt_dem = critical_step(M, KN) / 20.0
-    params = dict(dx=dx, h=1.3 * dx, c0=c0, g=(0.0, 0.0), cfl=0.4, dt_max=1.0, density_band=0.5,
-                  kn=KN, ks=KS, eta_n=ETA_N, eta_s=ETA_S, mu_c=MU, dc=0.7 * dx, dt_dem=dt_dem)
+    params = dict(
+        dx=dx,
+        h=1.3 * dx,
+        c0=c0,
+        g=(0.0, 0.0),
+        cfl=0.4,
+        dt_max=1.0,
+        density_band=0.5,
+        kn=KN,
+        ks=KS,
+        eta_n=ETA_N,
+        eta_s=ETA_S,
+        mu_c=MU,
+        dc=0.7 * dx,
+        dt_dem=dt_dem,
+    )
     s = Solver(phys, ps, mats, ((0.0, 0.0), (0.7, 0.4)), params)
     apart, touching = [], []
     while s.time < 0.2:
@@ -440,8 +505,8 @@ def test_dem_step_limit_applies_only_near_contact():
         (touching if gap < 0.7 * dx else apart).append(dt)
     v = s.state(("v",))["v"][:, 0]
     assert touching and max(touching) <= dt_dem * (1 + 1e-6)
-    assert max(apart) > 2 * dt_dem          # far apart the acoustic step is kept
-    assert v[0] < 0 < v[1]                  # they bounced
+    assert max(apart) > 2 * dt_dem  # far apart the acoustic step is kept
+    assert v[0] < 0 < v[1]  # they bounced
     # and lost energy in the dashpot (the SPH pressure pushes too here, so e is not the pure
     # contact's 0.904, which the first DEM test checks)
     assert 0.85 < v[1] - v[0] < 1.0
@@ -462,13 +527,12 @@ def test_sps_eddy_viscosity_damps_a_shear_flow_as_its_mixing_length_says():
     energy = {}
     for sps in (False, True):
         phys = Physics(kernel="wendland", artificial_viscosity=False, laminar_viscosity=True, periodic_x=True, sps=sps)
-        params = dict(dx=dx, h=1.3 * dx, c0=c0, g=(0.0, 0.0), cfl=0.4, dt_max=1e-3, density_band=0.5,
-                      mixing_length=lm)
+        params = dict(dx=dx, h=1.3 * dx, c0=c0, g=(0.0, 0.0), cfl=0.4, dt_max=1e-3, density_band=0.5, mixing_length=lm)
         s = Solver(phys, ps, mats, ((0.0, -1.0), (0.2, 1.2)), params)
         for _ in range(150):
             s.step()
         st = s.state(("v", "x"))
-        core = (st["x"][:, 1] > 3 * dx) & (st["x"][:, 1] < H - 3 * dx)   # away from the free edges
+        core = (st["x"][:, 1] > 3 * dx) & (st["x"][:, 1] < H - 3 * dx)  # away from the free edges
         energy[sps] = (st["v"][core] ** 2).sum()
         t = s.time
     nut = lm * lm * (2 / np.pi) * U * k

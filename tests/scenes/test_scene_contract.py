@@ -1,6 +1,7 @@
 """The scene contract (tisph/case.py) and the resolved case (tisph/settings/resolved.py): a new scene
 is one class plus one registry line, a new key is one Key in its SCHEMA, and the case a scene
 sees is resolved once and frozen."""
+
 import dataclasses
 import json
 import sys
@@ -73,6 +74,7 @@ def puddle(tmp_path, monkeypatch):
 def test_a_scene_is_one_class_and_one_registry_line(puddle, tmp_path, capsys):
     from tisph.command import main
     from tisph.describe import describe
+
     assert puddle.DEFAULTS["geometry"]["depth"] == 0.1 and puddle.RANGES["geometry.depth"][1] == 0.3
     out = tmp_path / "run"
     assert main(["run", "puddle", "--max-steps", "20", "--out", str(out), "--quiet"]) == 0
@@ -92,6 +94,7 @@ def test_a_scene_is_one_class_and_one_registry_line(puddle, tmp_path, capsys):
 
 def test_the_resolved_case_is_frozen_and_read_by_attribute():
     from tisph.scenes import flume
+
     cfg = resolve(flume, None, {"paddle.wave_height": 0.05})
     assert cfg.numerics.dx == cfg["numerics"]["dx"] and cfg.materials.water.rho0 == 1000.0
     assert dataclasses.is_dataclass(cfg.numerics) and type(cfg.numerics).__name__ == "Numerics"
@@ -113,6 +116,7 @@ def test_the_resolved_case_is_frozen_and_read_by_attribute():
 
 def test_every_registered_scene_keeps_the_contract():
     from tisph.case import Scene
+
     for name in registry.names():
         scene = registry.load(name)
         assert isinstance(scene, Scene) and name == scene.NAME and scene.doc
@@ -125,6 +129,7 @@ def test_a_key_has_one_default():
     from tisph.settings.engine_keys import KEYED
     from tisph.settings.schemes import DEFAULT, SCHEMES
     from tisph.settings.shared_keys import SHARED
+
     for key, value in SCHEMES[DEFAULT].items():
         assert SHARED["numerics"][key].default == value, key
         if f"numerics.{key}" in KEYED:

@@ -1,5 +1,6 @@
 """Frames drawn in a process of their own (tisph/runner/frames.py): the same pictures as drawn in
 the run's process, the drawer's errors told to the run, and no drawer left behind a killed run."""
+
 import glob
 import os
 import signal
@@ -19,14 +20,31 @@ pytestmark = pytest.mark.skipif(not sys.platform.startswith("linux"), reason="th
 
 def _run(out, inline):
     env = dict(os.environ, PYTHONPATH=ROOT, TISPH_INLINE_FRAMES="1" if inline else "0")
-    r = subprocess.run([sys.executable, "-m", "tisph.scenes.dam_break", "--end-time", "0.1", "--dx", "0.04",
-                        "--out", str(out), "--quiet"], capture_output=True, text=True, env=env, timeout=300)
+    r = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "tisph.scenes.dam_break",
+            "--end-time",
+            "0.1",
+            "--dx",
+            "0.04",
+            "--out",
+            str(out),
+            "--quiet",
+        ],
+        capture_output=True,
+        text=True,
+        env=env,
+        timeout=300,
+    )
     assert r.returncode == 0, r.stderr[-2000:]
     return sorted(glob.glob(os.path.join(str(out), "frames", "*.png")))
 
 
 def test_frames_drawn_beside_the_run_are_the_ones_drawn_in_it(tmp_path):
     import imageio.v2 as imageio
+
     a, b = _run(tmp_path / "beside", False), _run(tmp_path / "inline", True)
     assert len(a) == len(b) > 3
     for x, y in zip(a, b):
@@ -86,8 +104,12 @@ time.sleep(60)
 
 def test_the_drawer_dies_with_a_killed_run(tmp_path):
     env = dict(os.environ, PYTHONPATH=ROOT)
-    p = subprocess.Popen([sys.executable, "-c", CHILD, str(tmp_path / "m.mp4"), str(tmp_path / "0.png")],
-                         stdout=subprocess.PIPE, text=True, env=env)
+    p = subprocess.Popen(
+        [sys.executable, "-c", CHILD, str(tmp_path / "m.mp4"), str(tmp_path / "0.png")],
+        stdout=subprocess.PIPE,
+        text=True,
+        env=env,
+    )
     pid = int(p.stdout.readline())
     os.kill(p.pid, signal.SIGKILL)
     p.wait()
@@ -98,7 +120,7 @@ def test_the_drawer_dies_with_a_killed_run(tmp_path):
                 state = s.read().rsplit(")", 1)[1].split()[0]
         except (ProcessLookupError, FileNotFoundError):
             break
-        if state == "Z":      # gone but for its exit status
+        if state == "Z":  # gone but for its exit status
             break
         time.sleep(0.1)
     else:

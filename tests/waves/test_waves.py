@@ -1,5 +1,6 @@
 """Wave maker: Biesel transfer functions, dispersion, paddle kinematics, wave gauges, ripple
 analysis, the flume against Biesel and the beach command."""
+
 import math
 import os
 
@@ -41,11 +42,11 @@ def test_biesel_limits():
     for kh in (1e-3, 1e-2):
         assert wm.biesel_piston(kh) == pytest.approx(kh, rel=1e-3)
     # flap: H/S -> 2 in deep water, -> kh / 2 in shallow water
-    assert wm.biesel_flap(20.0) == pytest.approx(2.0, rel=0.06)   # 2 (1 - 1/kh) + O(...)
+    assert wm.biesel_flap(20.0) == pytest.approx(2.0, rel=0.06)  # 2 (1 - 1/kh) + O(...)
     assert wm.biesel_flap(200.0) == pytest.approx(2.0, rel=0.006)
     assert wm.biesel_flap(1e-3) == pytest.approx(0.5e-3, rel=1e-3)
     kh = np.linspace(0.05, 5, 50)
-    assert all(wm.biesel_flap(x) < wm.biesel_piston(x) for x in kh)   # a flap moves less water
+    assert all(wm.biesel_flap(x) < wm.biesel_piston(x) for x in kh)  # a flap moves less water
 
 
 def test_motion_ramp_and_rate():
@@ -73,19 +74,21 @@ def test_second_order_stroke_is_madsens_in_shallow_water_and_ramps_as_the_square
     evanescent modes vanish there. At kh = 0.95 (k2 h = 2.8) neither simplification holds. The
     evanescent series converges; a flap hinged far under the bed moves as a piston. The 2 omega
     stroke ramps up as the square of the first-order ramp."""
+
     def madsen(S, omega, h):
         kh = wm.wavenumber(omega, h) * h
         m1 = wm.biesel_piston(kh)
         return (m1 * S) ** 2 / (32 * h) * (3 * np.cosh(kh) / np.sinh(kh) ** 3 - 2 / m1)
+
     h = 1.0
-    omega = 0.01 * np.sqrt(9.81 / h)          # kh = 0.01
+    omega = 0.01 * np.sqrt(9.81 / h)  # kh = 0.01
     kh = wm.wavenumber(omega, h) * h
     H = wm.biesel_piston(kh) * 0.1
     for modes in (0, 100):
         bs, bc = second_order_stroke("piston", 0.1, omega, h, modes=modes)
-        assert bs == pytest.approx(H * H / 32 * (3 / kh ** 3 - 2 / kh), rel=1e-3)
+        assert bs == pytest.approx(H * H / 32 * (3 / kh**3 - 2 / kh), rel=1e-3)
         assert abs(bc) < 1e-3 * bs
-    omega = 2 * np.pi / 1.2                   # the scene flume_second_order.toml: kh = 0.95
+    omega = 2 * np.pi / 1.2  # the scene flume_second_order.toml: kh = 0.95
     progressive = second_order_stroke("piston", 0.04, omega, 0.25, modes=0)
     full = second_order_stroke("piston", 0.04, omega, 0.25)
     assert progressive[1] == 0.0
@@ -93,18 +96,27 @@ def test_second_order_stroke_is_madsens_in_shallow_water_and_ramps_as_the_square
     for T in (0.8, 1.2, 2.5):
         w = 2 * np.pi / T
         for kind in ("piston", "flap"):
-            assert np.allclose(second_order_stroke(kind, 0.04, w, 0.25, modes=100),
-                               second_order_stroke(kind, 0.04, w, 0.25, modes=200), rtol=0.01, atol=1e-7)
-        assert np.allclose(second_order_stroke("flap", 0.04, w, 0.25, lever=2.5e3),
-                           second_order_stroke("piston", 0.04, w, 0.25), rtol=1e-3, atol=1e-8)
-        assert not np.allclose(second_order_stroke("flap", 0.04, w, 0.25),
-                               second_order_stroke("piston", 0.04, w, 0.25), rtol=0.2)
+            assert np.allclose(
+                second_order_stroke(kind, 0.04, w, 0.25, modes=100),
+                second_order_stroke(kind, 0.04, w, 0.25, modes=200),
+                rtol=0.01,
+                atol=1e-7,
+            )
+        assert np.allclose(
+            second_order_stroke("flap", 0.04, w, 0.25, lever=2.5e3),
+            second_order_stroke("piston", 0.04, w, 0.25),
+            rtol=1e-3,
+            atol=1e-8,
+        )
+        assert not np.allclose(
+            second_order_stroke("flap", 0.04, w, 0.25), second_order_stroke("piston", 0.04, w, 0.25), rtol=0.2
+        )
     m = Motion("piston", stroke=0.1, period=1.0, ramp_periods=2.0, second=(0.004, 0.001))
     t = np.arange(0.0, 4.0, 1e-3)
     X = np.array([m(s)[0] for s in t])
     late = t >= 2.0
     c2 = np.exp(-2j * 2 * np.pi * t[late])
-    assert (X[late] * c2).mean() * 2 == pytest.approx(0.001 - 0.004j, rel=1e-3)   # cos - i sin
+    assert (X[late] * c2).mean() * 2 == pytest.approx(0.001 - 0.004j, rel=1e-3)  # cos - i sin
     first = Motion("piston", stroke=0.1, period=1.0, ramp_periods=2.0)
     for s in (0.3, 0.9, 1.6):
         r = 0.5 * (1 - np.cos(np.pi * s / 2.0))
@@ -120,15 +132,17 @@ def test_linear_shoaling_is_greens_law_in_shallow_water_and_weggels_index():
     amplitude to H / (2 kh); Weggel's breaker index on 1:20 for T = 2.5 s, H_b = 0.13 m is
     about 1.0 (b 1.14, a 26.8)."""
     from tisph.scenes.beach.shoaling import linear_shoaling, weggel_index
+
     om = 2 * np.pi / 60.0
     H, A = linear_shoaling(0.1, 1.0, [1.0, 0.5, 0.25], om)
-    assert H[1] / H[0] == pytest.approx(0.5 ** -0.25, rel=2e-3) and H[2] / H[0] == pytest.approx(0.25 ** -0.25, rel=2e-3)
+    assert H[1] / H[0] == pytest.approx(0.5**-0.25, rel=2e-3) and H[2] / H[0] == pytest.approx(0.25**-0.25, rel=2e-3)
     k = wm.wavenumber(om, 0.25)
     assert A[2] == pytest.approx(H[2] / (2 * k * 0.25), rel=1e-3)
     H, A = linear_shoaling(0.1, 0.3, [0.3], 2 * np.pi / 2.5)
     assert H[0] == pytest.approx(0.1)
-    assert weggel_index(1 / 20, 0.13, 2.5) == pytest.approx(1.56 / (1 + np.exp(-19.5 / 20))
-                                                          - 43.8 * (1 - np.exp(-19 / 20)) * 0.13 / (9.81 * 6.25), rel=1e-9)
+    assert weggel_index(1 / 20, 0.13, 2.5) == pytest.approx(
+        1.56 / (1 + np.exp(-19.5 / 20)) - 43.8 * (1 - np.exp(-19 / 20)) * 0.13 / (9.81 * 6.25), rel=1e-9
+    )
     assert 0.95 < weggel_index(1 / 20, 0.13, 2.5) < 1.1
 
 
@@ -138,12 +152,13 @@ def test_shuto_shoaling_is_linear_for_small_waves_and_keeps_its_invariants():
     continuous where the regimes meet; the beach's waves (U = 80 on the flat part) shoal 18 %
     over linear theory by h = 0.2 m."""
     from tisph.scenes.beach.shoaling import linear_shoaling, shuto_shoaling
-    om, T2 = 2 * np.pi / 2.5, 2.5 ** 2
+
+    om, T2 = 2 * np.pi / 2.5, 2.5**2
     h = np.linspace(0.5, 0.08, 200)
     small = shuto_shoaling(1e-3, 0.5, h, om)
     assert np.allclose(small, linear_shoaling(1e-3, 0.5, h, om)[0], rtol=1e-12)
     H = shuto_shoaling(0.05, 0.5, h, om)
-    U = 9.81 * H * T2 / h ** 2
+    U = 9.81 * H * T2 / h**2
     lin = U < 30
     assert lin[0] and not lin[-1]
     assert np.allclose(H[lin], linear_shoaling(0.05, 0.5, h[lin], om)[0], rtol=1e-12)
@@ -154,7 +169,7 @@ def test_shuto_shoaling_is_linear_for_small_waves_and_keeps_its_invariants():
     inv = H[far] * h[far] ** 2.5 * (np.sqrt(U[far]) - 2 * np.sqrt(3))
     assert far.sum() > 50 and np.ptp(inv) < 1e-6 * inv.mean()
     step = np.diff(H) / H[1:]
-    for k in (int(np.argmax(U >= 30)), int(np.argmax(U >= 50))):    # no jump where the regimes meet
+    for k in (int(np.argmax(U >= 30)), int(np.argmax(U >= 50))):  # no jump where the regimes meet
         assert step[k - 1] < 1.5 * max(step[k - 2], step[k])
     H, Hl = shuto_shoaling(0.117, 0.3, [0.3, 0.2], om), linear_shoaling(0.117, 0.3, [0.3, 0.2], om)[0]
     assert H[0] == pytest.approx(0.117) and H[1] / Hl[1] == pytest.approx(1.18, abs=0.01)
@@ -164,6 +179,7 @@ def test_wave_array_separates_incident_reflected_bound_and_free():
     """Synthetic gauge records: a 10 % reflected wave and a free second harmonic beside the bound
     one are recovered from six gauges a tenth of a wavelength apart (Mansard & Funke 1980)."""
     from tisph.measure import harmonics
+
     d, T = 0.25, 0.8
     om = 2 * np.pi / T
     k, k2 = wm.wavenumber(om, d), wm.wavenumber(2 * om, d)
@@ -172,8 +188,12 @@ def test_wave_array_separates_incident_reflected_bound_and_free():
     t = np.arange(0.0, 8.0, 0.01)
     amps1, amps2 = [], []
     for x in xs:
-        eta = (0.03 * np.cos(om * t - k * x) + 0.003 * np.cos(om * t + k * x + 0.7)
-               + 0.004 * np.cos(2 * om * t - 2 * k * x) + 0.0015 * np.cos(2 * om * t - k2 * x + 1.1))
+        eta = (
+            0.03 * np.cos(om * t - k * x)
+            + 0.003 * np.cos(om * t + k * x + 0.7)
+            + 0.004 * np.cos(2 * om * t - 2 * k * x)
+            + 0.0015 * np.cos(2 * om * t - k2 * x + 1.1)
+        )
         a = harmonics.harmonics(t, eta, om, 1.0, 8.0, 2)
         amps1.append(a[0])
         amps2.append(a[1])
@@ -183,8 +203,9 @@ def test_wave_array_separates_incident_reflected_bound_and_free():
     assert b == pytest.approx(0.004, rel=1e-5) and f == pytest.approx(0.0015, rel=1e-5)
     # Stokes' bound harmonic of this wave: a^2 k cosh kh (2 + cosh 2kh) / (4 sinh^3 kh)
     kh = k * d
-    assert harmonics.stokes_bound_ratio(k, d) * 0.03 ** 2 == pytest.approx(
-        0.03 ** 2 * k * np.cosh(kh) * (2 + np.cosh(2 * kh)) / (4 * np.sinh(kh) ** 3))
+    assert harmonics.stokes_bound_ratio(k, d) * 0.03**2 == pytest.approx(
+        0.03**2 * k * np.cosh(kh) * (2 + np.cosh(2 * kh)) / (4 * np.sinh(kh) ** 3)
+    )
 
 
 def test_irregular_paddle_signal_makes_the_target_spectrum():
@@ -193,6 +214,7 @@ def test_irregular_paddle_signal_makes_the_target_spectrum():
     3 % over 440 peak periods; and the spectral analysis reads a synthetic sea it did not make
     (other phases, transfer 1) as well."""
     from tisph.measure import harmonics
+
     p = dict(type="piston", spectrum="jonswap", hs=0.04, tp=0.9, gamma=3.3, seed=1, band=[0.5, 2.0], ramp_periods=2.0)
     d = 0.25
     t, x = irregular.irregular_series(p, d, 400.0)
@@ -201,7 +223,7 @@ def test_irregular_paddle_signal_makes_the_target_spectrum():
     fp = 1 / 0.9
     m = (f > 0.3 * fp) & (f < 2.2 * fp)
     tr = np.array([wm.biesel_piston(wm.wavenumber(2 * np.pi * v, d) * d) for v in f[m]])
-    hm0, tp = harmonics.spectral_height_and_peak(f[m], S[m] * tr ** 2, 0.5 * fp, 2.0 * fp)
+    hm0, tp = harmonics.spectral_height_and_peak(f[m], S[m] * tr**2, 0.5 * fp, 2.0 * fp)
     assert hm0 == pytest.approx(0.04, rel=0.04) and tp == pytest.approx(0.9, rel=0.03)
     k = 400
     fr = 0.5 * fp + (np.arange(k) + 0.5) * 1.5 * fp / k
@@ -214,7 +236,9 @@ def test_irregular_paddle_signal_makes_the_target_spectrum():
     assert hm0 == pytest.approx(0.04, rel=0.04) and tp == pytest.approx(0.9, rel=0.03)
     # the same seed makes the same sea; another seed another
     assert np.array_equal(irregular.irregular_series(p, d, 50.0)[1], irregular.irregular_series(p, d, 50.0)[1])
-    assert not np.allclose(irregular.irregular_series(dict(p, seed=2), d, 50.0)[1], irregular.irregular_series(p, d, 50.0)[1])
+    assert not np.allclose(
+        irregular.irregular_series(dict(p, seed=2), d, 50.0)[1], irregular.irregular_series(p, d, 50.0)[1]
+    )
 
 
 def test_irregular_target_is_the_components_waves_where_the_gauge_is():
@@ -238,7 +262,7 @@ def test_irregular_target_is_the_components_waves_where_the_gauge_is():
     k = wm.wavenumber(w, d)
     F = wm.biesel_piston(k * d)
     late = (t > 5.0) & (t < t[-2])
-    v = np.gradient(x, t)                                  # X sin(w t) -> X w cos(w t)
+    v = np.gradient(x, t)  # X sin(w t) -> X w cos(w t)
     assert e0[late] == pytest.approx(F * v[late] / w, abs=0.003 * np.abs(e0).max())
     shifted = np.interp(t[late] - k * 0.3 / w, t, e0)
     assert e1[late] == pytest.approx(shifted, abs=0.01 * np.abs(e0).max())
@@ -246,9 +270,17 @@ def test_irregular_target_is_the_components_waves_where_the_gauge_is():
 
 @pytest.mark.parametrize("kind", ["piston", "flap"])
 def test_paddle_particles_follow_the_prescribed_motion(tmp_path, kind):
-    cfg = resolve(flume, overrides={"paddle.type": kind, "numerics.dx": 0.025, "geometry.length": 2.0,
-                                    "geometry.damping_length": 0.5, "geometry.gauges_wavelengths": [1.0],
-                                    "paddle.ramp_periods": 0.5})
+    cfg = resolve(
+        flume,
+        overrides={
+            "paddle.type": kind,
+            "numerics.dx": 0.025,
+            "geometry.length": 2.0,
+            "geometry.damping_length": 0.5,
+            "geometry.gauges_wavelengths": [1.0],
+            "paddle.ramp_periods": 0.5,
+        },
+    )
     case = build_case(flume, cfg, Log(str(tmp_path / "log"), True))
     s = Solver(case.physics, case.particles, case.materials, case.domain, case.params)
     for _ in range(300):
@@ -274,25 +306,32 @@ def test_paddle_particles_follow_the_prescribed_motion(tmp_path, kind):
 def test_wave_gauge_reads_the_still_level():
     # a still layer 0.25 m deep at dx 0.02: the gauge reads the top of the water within dx / 2
     from tisph.particles import FLUID, block
+
     dx, h = 0.02, 0.026
     x = block(0.0, 0.0, 1.0, 0.25, dx)
-    st = dict(x=x, kind=np.full(len(x), FLUID), m=np.full(len(x), 1000 * dx * dx), rho=np.full(len(x), 1000.0),
-              mat=np.zeros(len(x), int))
+    st = dict(
+        x=x,
+        kind=np.full(len(x), FLUID),
+        m=np.full(len(x), 1000 * dx * dx),
+        rho=np.full(len(x), 1000.0),
+        mat=np.zeros(len(x), int),
+    )
     from tisph.measure.field import surface_at
+
     assert surface_at(st, 0.5, dx, h) == pytest.approx(0.25, abs=0.5 * dx)
 
 
 def test_ripple_analysis_recovers_a_synthetic_bed():
     x = np.linspace(0.0, 3.0, 601)
     lam, H = 0.25, 0.03
-    z = 0.5 * H * np.sin(2 * np.pi * x / lam + 0.3) + 0.01 * x   # ripples on a linear trend
+    z = 0.5 * H * np.sin(2 * np.pi * x / lam + 0.3) + 0.01 * x  # ripples on a linear trend
     L, Hr, rms = ripple_stats(x, z)
     assert pytest.approx(lam, rel=0.01) == L
     assert Hr == pytest.approx(H, rel=0.02)
     assert rms > 0.5 * H / math.sqrt(2) * 0.9
-    assert math.isnan(ripple_stats(x, 0.01 * x)[0])    # no ripple in a plane bed
+    assert math.isnan(ripple_stats(x, 0.01 * x)[0])  # no ripple in a plane bed
     # on a bar 10 cm high and 2 m long the bar is what zero crossings see; the high-pass finds the ripples
-    bar = 0.1 * np.exp(-((x - 1.5) / 0.8) ** 2)
+    bar = 0.1 * np.exp(-(((x - 1.5) / 0.8) ** 2))
     assert ripple_stats(x, z + bar)[0] > 2 * lam
     L, Hr, _ = ripple_stats(x, z + bar, window=0.5, min_length=0.05, min_height=0.005)
     assert pytest.approx(lam, rel=0.05) == L and Hr == pytest.approx(H, rel=0.1)
@@ -304,9 +343,9 @@ def test_ripple_analysis_recovers_a_synthetic_bed():
 
 def test_wiberg_harris_regimes_and_limits():
     D = 3e-4
-    lam, eta, regime = wiberg_harris(0.1, D)          # d0 / D = 333: orbital
+    lam, eta, regime = wiberg_harris(0.1, D)  # d0 / D = 333: orbital
     assert regime == "orbital" and lam == pytest.approx(0.062) and eta == pytest.approx(0.17 * 0.062)
-    lam, eta, regime = wiberg_harris(2.0, D)          # d0 / D = 6,700: anorbital, 535 D long
+    lam, eta, regime = wiberg_harris(2.0, D)  # d0 / D = 6,700: anorbital, 535 D long
     assert regime == "anorbital" and lam == pytest.approx(535 * D) and 0 < eta < 0.17 * lam
     # anorbital height obeys the steepness law
     y = math.log(2.0 / eta)
@@ -340,8 +379,18 @@ def test_tunnel_holds_the_oscillation_and_a_200_pa_bed_rests(tmp_path):
     within 3 % (rms) and the Bingham bed (tau_B = 200 Pa, against a bed shear of order 1 Pa)
     does not move by more than a tenth of a spacing; the Wiberg & Harris prediction is reported."""
     out = tmp_path / "t"
-    s = simulate(tunnel, {"numerics.dx": 0.02, "run.end_time": 4.0, "output.render": False, "sediment.model": "particles",
-                          "output.quiet": True, "output.snapshot_every": 0.0}, out=str(out))
+    s = simulate(
+        tunnel,
+        {
+            "numerics.dx": 0.02,
+            "run.end_time": 4.0,
+            "output.render": False,
+            "sediment.model": "particles",
+            "output.quiet": True,
+            "output.snapshot_every": 0.0,
+        },
+        out=str(out),
+    )
     m = s["metrics"]
     assert s["status"] == "ok" and s["leaked_particles"] == 0
     assert m["free_stream_error"] < 0.03, m
@@ -354,10 +403,19 @@ def test_tunnel_holds_the_oscillation_and_a_200_pa_bed_rests(tmp_path):
 def test_tunnel_seeded_bed_reads_as_its_ripples(tmp_path):
     """A bed seeded with ripples at the predicted length (rounded to fit: 1.2 m / 6 = 0.2 m) and
     4 cm high reads, at the start, as ripples that long and about that high."""
-    s = simulate(tunnel, {"numerics.dx": 0.02, "geometry.seed_ripple_height": 0.04, "run.max_steps": 2,
-                          "sediment.model": "particles",
-                          "output.render": False, "output.quiet": True, "output.snapshot_every": 0.0},
-                 out=str(tmp_path / "t"))
+    s = simulate(
+        tunnel,
+        {
+            "numerics.dx": 0.02,
+            "geometry.seed_ripple_height": 0.04,
+            "run.max_steps": 2,
+            "sediment.model": "particles",
+            "output.render": False,
+            "output.quiet": True,
+            "output.snapshot_every": 0.0,
+        },
+        out=str(tmp_path / "t"),
+    )
     m = s["metrics"]
     assert m["ripple_length"] == pytest.approx(0.2, rel=0.05), m
     assert 0.02 <= m["ripple_height"] <= 0.05, m
@@ -368,8 +426,11 @@ def test_beach_runs_and_writes_a_frame_and_bed_statistics(tmp_path):
     """The default beach (the bed-load bed) for 0.12 s with its movie: frames with the bed panel,
     the bed's CSVs, the sand volume kept."""
     out = tmp_path / "beach"
-    s = simulate(beach, {"run.end_time": 0.12, "output.quiet": True, "output.snapshot_every": 0.0,
-                         "output.frame_interval": 0.04}, out=str(out))
+    s = simulate(
+        beach,
+        {"run.end_time": 0.12, "output.quiet": True, "output.snapshot_every": 0.0, "output.frame_interval": 0.04},
+        out=str(out),
+    )
     assert s["status"] == "ok" and s["leaked_particles"] == 0
     assert (out / "frames" / "00000.png").exists() and (out / "beach.mp4").exists()
     assert (out / "stills" / "t0.000.png").exists()
@@ -382,13 +443,14 @@ def test_beach_runs_and_writes_a_frame_and_bed_statistics(tmp_path):
     m = s["metrics"]
     assert m["sediment_model"] == "bedload" and m["morfac"] == beach.SCENE.DEFAULTS["sediment"]["morfac"]
     assert m["sand_volume_error"] < 1e-9
-    assert np.isfinite(m["bed_change_rms"]) and m["bed_change_rms"] < 0.001   # 0.12 s: the bed has barely moved
+    assert np.isfinite(m["bed_change_rms"]) and m["bed_change_rms"] < 0.001  # 0.12 s: the bed has barely moved
     import imageio.v2 as imageio
+
     img = imageio.imread(out / "frames" / "00002.png")
     sand = np.all(np.abs(img[..., :3].astype(int) - [219, 178, 107]) < 4, axis=-1)
     # the bed panel under the flow (above the label strip, 32 px at 1280 wide): sand across its
     # lower half; the title strip at the top holds none
-    assert sand[-52:-34, :img.shape[1] // 2].mean() > 0.9 and sand[:30].mean() < 0.05
+    assert sand[-52:-34, : img.shape[1] // 2].mean() > 0.9 and sand[:30].mean() < 0.05
 
 
 @pytest.mark.slow
@@ -397,15 +459,18 @@ def test_bingham_beach_predicts_ripples_from_its_near_bed_motion(tmp_path):
     arrive. The near-bed orbital diameter measured there agrees with linear theory through the
     toe's measured wave height within 30 %, and the prediction is Wiberg & Harris's for it."""
     out = tmp_path / "b"
-    s = simulate(beach, {"run.end_time": 7.0, "output.render": False, "output.quiet": True,
-                         "output.snapshot_every": 0.0}, out=str(out),
-                 config=os.path.join(ROOT, "scenes", "beach_bingham_tau200.toml"))
+    s = simulate(
+        beach,
+        {"run.end_time": 7.0, "output.render": False, "output.quiet": True, "output.snapshot_every": 0.0},
+        out=str(out),
+        config=os.path.join(ROOT, "scenes", "beach_bingham_tau200.toml"),
+    )
     m = s["metrics"]
     assert s["status"] == "ok" and m["periods_measured_at_toe"] >= 1
     assert m["near_bed_orbital_diameter_toe"] == pytest.approx(m["orbital_diameter_d0"], rel=0.3), m
     lam, eta, regime = wiberg_harris(m["near_bed_orbital_diameter_toe"], 0.0003)
     assert m["predicted_ripple_length_toe"] == pytest.approx(lam) and m["predicted_ripple_regime_toe"] == regime
-    assert m["dx_to_resolve_ripples_toe"] < 0.04          # the default dx does not resolve them
+    assert m["dx_to_resolve_ripples_toe"] < 0.04  # the default dx does not resolve them
     rows = (out / "ripple_prediction.csv").read_text().splitlines()
     assert rows[0].startswith("x,bed_initial,near_bed_velocity_amplitude,orbital_diameter_d0") and len(rows) > 50
 
@@ -417,10 +482,22 @@ def test_flume_wave_height_against_biesel(tmp_path):
     paddle is within 3 % of Biesel and two wavelengths out within 6 %, its first harmonic within
     5 % and 8 %. The earlier numerics (dynamic walls, artificial viscosity 0.01) read 9.5 % and
     15 % low at these distances in the whole flume (docs/waves.md)."""
-    s = simulate(flume, {"numerics.dx": 0.0125, "geometry.length": 3.0, "geometry.damping_length": 1.0,
-                         "geometry.gauges_wavelengths": [1.0, 2.0], "geometry.array_gauges": 0,
-                         "paddle.ramp_periods": 1.0, "run.end_time": 5.9, "output.render": False,
-                         "output.quiet": True, "output.snapshot_every": 0.0}, out=str(tmp_path / "f"))
+    s = simulate(
+        flume,
+        {
+            "numerics.dx": 0.0125,
+            "geometry.length": 3.0,
+            "geometry.damping_length": 1.0,
+            "geometry.gauges_wavelengths": [1.0, 2.0],
+            "geometry.array_gauges": 0,
+            "paddle.ramp_periods": 1.0,
+            "run.end_time": 5.9,
+            "output.render": False,
+            "output.quiet": True,
+            "output.snapshot_every": 0.0,
+        },
+        out=str(tmp_path / "f"),
+    )
     m = s["metrics"]
     assert s["status"] == "ok" and s["leaked_particles"] == 0
     e1, e2 = m["wave_height_errors"]
@@ -433,9 +510,20 @@ def test_flume_wave_height_against_biesel(tmp_path):
 def test_flume_gauges_in_metres_read_zero_in_still_water(tmp_path):
     """geometry.gauges_x puts gauges at those x in metres; every gauge reads 0 in the still water
     of t = 0 (zeroed there, the lattice's dx/2 offset reported as gauge_zero_offset)."""
-    s = simulate(flume, {"numerics.dx": 0.025, "geometry.length": 2.0, "geometry.damping_length": 0.5,
-                         "geometry.gauges_x": [0.3, 0.9], "run.max_steps": 3, "output.render": False,
-                         "output.quiet": True, "output.snapshot_every": 0.0}, out=str(tmp_path / "f"))
+    s = simulate(
+        flume,
+        {
+            "numerics.dx": 0.025,
+            "geometry.length": 2.0,
+            "geometry.damping_length": 0.5,
+            "geometry.gauges_x": [0.3, 0.9],
+            "run.max_steps": 3,
+            "output.render": False,
+            "output.quiet": True,
+            "output.snapshot_every": 0.0,
+        },
+        out=str(tmp_path / "f"),
+    )
     m = s["metrics"]
     assert m["gauges_x"] == [0.3, 0.9]
     assert len(m["gauge_zero_offset"]) == 2 and all(-0.025 < z < 0 for z in m["gauge_zero_offset"])
@@ -463,9 +551,20 @@ def test_bedload_beach_grows_ripples_under_waves_that_shoal(tmp_path):
     volume is kept. (At this dx a predicted ripple spans 5 spacings: the waves' height and the
     near-bed amplitude up the slope are checked on the fixed bed, below and in docs/waves.md.)"""
     out = tmp_path / "b"
-    s = simulate(beach, {"numerics.dx": 0.03, "run.end_time": 9.0, "output.render": False, "output.quiet": True,
-                         "output.snapshot_every": 0.0, "sediment.seed_rms": 0.005, "sediment.morfac": 30.0},
-                 out=str(out), config=os.path.join(ROOT, "scenes", "beach_1to20.toml"))
+    s = simulate(
+        beach,
+        {
+            "numerics.dx": 0.03,
+            "run.end_time": 9.0,
+            "output.render": False,
+            "output.quiet": True,
+            "output.snapshot_every": 0.0,
+            "sediment.seed_rms": 0.005,
+            "sediment.morfac": 30.0,
+        },
+        out=str(out),
+        config=os.path.join(ROOT, "scenes", "beach_1to20.toml"),
+    )
     m = s["metrics"]
     assert s["status"] == "ok" and m["sand_volume_error"] < 1e-9
     t, x, z = read_station_rows(str(out / "bed_profile.csv"))
@@ -483,9 +582,18 @@ def test_fixed_bed_beach_holds_its_sand_and_its_waves_reach_the_toe(tmp_path):
     the waves reach the toe within 10 % of Biesel's height (measured 7.7 % low at H = 4 dx; on the
     moving bed at this dx, 10.8 % low: the roughened bed takes height)."""
     out = tmp_path / "f"
-    s = simulate(beach, {"numerics.dx": 0.03, "run.end_time": 9.0, "output.render": False, "output.quiet": True,
-                         "output.snapshot_every": 0.0}, out=str(out),
-                 config=os.path.join(ROOT, "scenes", "beach_fixed_bed.toml"))
+    s = simulate(
+        beach,
+        {
+            "numerics.dx": 0.03,
+            "run.end_time": 9.0,
+            "output.render": False,
+            "output.quiet": True,
+            "output.snapshot_every": 0.0,
+        },
+        out=str(out),
+        config=os.path.join(ROOT, "scenes", "beach_fixed_bed.toml"),
+    )
     m = s["metrics"]
     assert s["status"] == "ok" and m["bed_change_rms"] == 0.0
     assert m["wave_height_at_toe"] == pytest.approx(m["biesel_wave_height"], rel=0.1), m
@@ -498,15 +606,30 @@ def test_the_paddle_check_reads_the_config_and_the_resolved_stroke_is_said_in_ru
 
     from tisph.settings.config import build_config
     from tisph.waves.paddle import check_paddle, stroke_for
-    cfg = freeze(build_config(flume.SCENE.DEFAULTS, None, {"paddle.wave_height": 0.05}, flume.SCENE.RANGES, flume.SCENE.CHOICES))
+
+    cfg = freeze(
+        build_config(flume.SCENE.DEFAULTS, None, {"paddle.wave_height": 0.05}, flume.SCENE.RANGES, flume.SCENE.CHOICES)
+    )
     before = copy.deepcopy(cfg)
     check_paddle(cfg, 0.25, 4.5, default_stroke=0.04)
     assert cfg == before
     S = stroke_for(cfg, 0.25, default_stroke=0.04)
     assert S * wm.linear_wave(cfg, 0.25)[4] == pytest.approx(0.05)
-    simulate(flume, {"paddle.wave_height": 0.05, "numerics.dx": 0.025, "geometry.length": 2.0,
-                     "geometry.damping_length": 0.5, "geometry.gauges_x": [0.5], "run.max_steps": 1, "output.render": False,
-                     "output.quiet": True, "output.snapshot_every": 0.0}, out=str(tmp_path / "f"))
+    simulate(
+        flume,
+        {
+            "paddle.wave_height": 0.05,
+            "numerics.dx": 0.025,
+            "geometry.length": 2.0,
+            "geometry.damping_length": 0.5,
+            "geometry.gauges_x": [0.5],
+            "run.max_steps": 1,
+            "output.render": False,
+            "output.quiet": True,
+            "output.snapshot_every": 0.0,
+        },
+        out=str(tmp_path / "f"),
+    )
     log = (tmp_path / "f" / "run.log").read_text()
     assert f"paddle.stroke = {S:.6g} m: resolved from paddle.wave_height = 0.05 m" in log
 
@@ -516,22 +639,40 @@ def test_waves_asked_for_by_height_get_biesels_stroke():
     at the case's kh; a stroke beside it, a height whose stroke passes the depth, or a height
     with a spectrum are refused by name."""
     from tisph.settings.config import ConfigError
+
     for kind in ("piston", "flap"):
         cfg = resolve(flume, None, {"paddle.wave_height": 0.05, "paddle.type": kind, "paddle.period": 1.2})
         _, k, _, _, ratio = wm.linear_wave(cfg, cfg["geometry"]["depth"])
         bi = wm.biesel_piston if kind == "piston" else wm.biesel_flap
         assert ratio == pytest.approx(bi(k * cfg["geometry"]["depth"]))
         assert cfg["paddle"]["stroke"] * ratio == pytest.approx(0.05)
-        again = resolve(flume, None, {"paddle.wave_height": 0.05, "paddle.type": kind, "paddle.period": 1.2,
-                                      "paddle.stroke": cfg["paddle"]["stroke"]})   # a stored, resolved config
+        again = resolve(
+            flume,
+            None,
+            {
+                "paddle.wave_height": 0.05,
+                "paddle.type": kind,
+                "paddle.period": 1.2,
+                "paddle.stroke": cfg["paddle"]["stroke"],
+            },
+        )  # a stored, resolved config
         assert again["paddle"]["stroke"] == pytest.approx(cfg["paddle"]["stroke"])
     with pytest.raises(ConfigError, match="paddle.stroke.*give one of"):
         resolve(flume, None, {"paddle.wave_height": 0.05, "paddle.stroke": 0.03})
     with pytest.raises(ConfigError, match="paddle.wave_height.*at most the depth"):
         resolve(flume, None, {"paddle.wave_height": 0.5})
     with pytest.raises(ConfigError, match="paddle.wave_height.*paddle.hs"):
-        resolve(flume, None, {"paddle.wave_height": 0.05, "paddle.spectrum": "jonswap", "paddle.hs": 0.04,
-                              "paddle.tp": 1.0, "run.end_time": 20.0})
+        resolve(
+            flume,
+            None,
+            {
+                "paddle.wave_height": 0.05,
+                "paddle.spectrum": "jonswap",
+                "paddle.hs": 0.04,
+                "paddle.tp": 1.0,
+                "run.end_time": 20.0,
+            },
+        )
 
 
 def test_gauge_period_and_mean_level_over_whole_waves():
@@ -548,6 +689,7 @@ def test_free_oscillation_reads_the_loss_a_period_and_its_standard_error():
     and a standard error near zero; a higher mode beating in it spreads the cycles' amplitudes, and
     the standard error covers the loss's error; under three cycles nothing."""
     from tisph.measure.records import free_oscillation
+
     t = np.arange(0.0, 12.0, 0.01)
     T0, lam = 1.2, -np.log(0.98) / 1.2
     clean = 0.02 * np.exp(-lam * t) * np.cos(2 * np.pi * t / T0)
@@ -569,11 +711,28 @@ def _closed_flume(tmp_path, absorb, end_time, length=2.0, gauges=(0.9,), **more)
     """A closed flume (no absorbing zone; 2 m: the wall's reflection is back at the paddle by 6 s)."""
     from tisph import runtime
     from tisph.runner import Run
+
     out = str(tmp_path / f"absorb_{absorb}")
-    cfg = resolve(flume, None, dict({"numerics.dx": 0.025, "geometry.length": length, "geometry.damping_length": 0.0,
-                                     "geometry.gauges_x": list(gauges), "geometry.array_gauges": 0,
-                                     "paddle.absorb": absorb, "run.end_time": end_time, "output.render": False,
-                                     "output.quiet": True, "output.snapshot_every": 0.0, "output.dir": out}, **more))
+    cfg = resolve(
+        flume,
+        None,
+        dict(
+            {
+                "numerics.dx": 0.025,
+                "geometry.length": length,
+                "geometry.damping_length": 0.0,
+                "geometry.gauges_x": list(gauges),
+                "geometry.array_gauges": 0,
+                "paddle.absorb": absorb,
+                "run.end_time": end_time,
+                "output.render": False,
+                "output.quiet": True,
+                "output.snapshot_every": 0.0,
+                "output.dir": out,
+            },
+            **more,
+        ),
+    )
     runtime.init("cpu", "f32")
     os.makedirs(out, exist_ok=True)
     log = Log(os.path.join(out, "run.log"), True)
@@ -595,12 +754,19 @@ def test_absorbing_paddle_makes_its_wave_then_takes_out_the_wave_that_comes_back
     gauge's reading delayed by x_g / c, 0.32 without the delay; a flap, its correction made at the
     still-water level and turned about the hinge, 0.17)."""
     import csv
+
     cg = wm.group_velocity(2 * math.pi / 0.8, wm.wavenumber(2 * math.pi / 0.8, 0.25), 0.25)
     w0, w1 = 4.0 + 2 * 2.5 / cg + 0.8, 0.3 + 4 * 2.5 / cg
     rms = {}
     for absorb in (False, True):
-        s, m = _closed_flume(tmp_path, absorb, w1, length=2.5, gauges=(0.5, 0.875, 1.25, 1.625, 2.0),
-                             **{"paddle.duration": 4.0, "paddle.ramp_periods": 1.0, "paddle.type": kind})
+        s, m = _closed_flume(
+            tmp_path,
+            absorb,
+            w1,
+            length=2.5,
+            gauges=(0.5, 0.875, 1.25, 1.625, 2.0),
+            **{"paddle.duration": 4.0, "paddle.ramp_periods": 1.0, "paddle.type": kind},
+        )
         assert s["status"] == "ok"
         with open(os.path.join(str(tmp_path), f"absorb_{absorb}", "probes.csv")) as f:
             rows = list(csv.DictReader(f))
@@ -610,10 +776,10 @@ def test_absorbing_paddle_makes_its_wave_then_takes_out_the_wave_that_comes_back
     t, eta, target, uc = np.array(m.history).T
     early = (t > 0.8) & (t < 3.2)
     assert np.corrcoef(eta[early], target[early])[0, 1] > 0.98
-    assert uc[early].std() < 0.15 * (0.5 * 0.04 * 2 * math.pi / 0.8)   # of the stroke's velocity amplitude
-    back = (t > 0.8 + 2 * 2.5 / cg) & (t < w0 - 0.8)                          # the train meets the paddle
+    assert uc[early].std() < 0.15 * (0.5 * 0.04 * 2 * math.pi / 0.8)  # of the stroke's velocity amplitude
+    back = (t > 0.8 + 2 * 2.5 / cg) & (t < w0 - 0.8)  # the train meets the paddle
     assert uc[back].std() > 2.0 * uc[early].std()
-    assert rms[False] > 0.004                          # the rigid paddle's train is still there
+    assert rms[False] > 0.004  # the rigid paddle's train is still there
     assert rms[True] < 0.25 * rms[False]
 
 
@@ -621,14 +787,25 @@ def test_absorbing_paddle_makes_its_wave_then_takes_out_the_wave_that_comes_back
 def test_absorbing_paddle_makes_an_irregular_sea(tmp_path):
     """paddle.absorb with a JONSWAP sea: before anything comes back the gauge at the paddle reads
     the components' summed linear waves, so the correction stays small."""
-    s, m = _closed_flume(tmp_path, True, 5.0, length=3.0, **{"numerics.dx": 0.02, "paddle.spectrum": "jonswap",
-                                                              "paddle.hs": 0.04, "paddle.tp": 0.9, "paddle.band": [0.5, 1.6]})
+    s, m = _closed_flume(
+        tmp_path,
+        True,
+        5.0,
+        length=3.0,
+        **{
+            "numerics.dx": 0.02,
+            "paddle.spectrum": "jonswap",
+            "paddle.hs": 0.04,
+            "paddle.tp": 0.9,
+            "paddle.band": [0.5, 1.6],
+        },
+    )
     assert s["status"] == "ok"
     t, eta, target, uc = np.array(m.history).T
     early = (t > 1.8) & (t < 5.0)
     assert np.corrcoef(eta[early], target[early])[0, 1] > 0.95
-    assert 4 * target[early].std() > 0.02                         # a sea, not a still target
-    assert uc[early].std() < 0.15 * m.gain * target[early].std()   # of the paddle velocity that makes the sea
+    assert 4 * target[early].std() > 0.02  # a sea, not a still target
+    assert uc[early].std() < 0.15 * m.gain * target[early].std()  # of the paddle velocity that makes the sea
 
 
 def test_paddle_duration_ramps_down_and_stops():
@@ -647,6 +824,7 @@ def test_paddle_duration_ramps_down_and_stops():
 
 def test_absorbing_paddle_is_refused_where_its_target_is_not_defined(tmp_path):
     from tisph.settings.config import ConfigError
+
     for ov in ({"paddle.series": "x.csv"}, {"paddle.order": 2}):
         with pytest.raises(ConfigError, match="paddle.absorb"):
             resolve(flume, None, dict(ov, **{"paddle.absorb": True}))
@@ -655,11 +833,12 @@ def test_absorbing_paddle_is_refused_where_its_target_is_not_defined(tmp_path):
 def test_flume_water_stops_at_the_end_wall_whatever_the_length():
     """A length that is not a whole number of spacings (3.23 m at dx = 0.02 m: 161.5) puts no water
     particle inside the end wall: the last column ends before it."""
-    case = flume.SCENE.build(resolve(flume, None, {"numerics.dx": 0.02, "geometry.length": 3.23,
-                                             "geometry.gauges_wavelengths": [1.0]}))
+    case = flume.SCENE.build(
+        resolve(flume, None, {"numerics.dx": 0.02, "geometry.length": 3.23, "geometry.gauges_wavelengths": [1.0]})
+    )
     x = case.particles.x[case.particles.kind == FLUID]
     assert x[:, 0].max() + 0.01 <= 3.23 + 1e-9
-    assert x[:, 0].max() > 3.23 - 0.03          # and reaches the wall to within a spacing and a half
+    assert x[:, 0].max() > 3.23 - 0.03  # and reaches the wall to within a spacing and a half
 
 
 def test_renormalised_diffusion_keeps_the_standing_wave_fourtakas_damps(tmp_path):
@@ -671,6 +850,7 @@ def test_renormalised_diffusion_keeps_the_standing_wave_fourtakas_damps(tmp_path
     dynamic pressure under the surface."""
     import tisph
     from tisph.bench import standing
+
     last, rate = {}, {}
     for kind in ("fourtakas", "antuono"):
         r = tisph.run(standing.case(0.025, 10, kind), out=str(tmp_path / kind), render=False, progress=False)
@@ -688,6 +868,7 @@ def test_flume_fits_the_free_second_harmonic_once_it_is_over_the_array(tmp_path,
     one (0.48 against 1.09 m/s). The fit reads the free wave's size only once it is there; a
     window from the first harmonic's arrival would catch its front."""
     from tisph.measure import harmonics
+
     path = os.path.join(os.path.dirname(__file__), "..", "..", "scenes", "flume_second_order.toml")
     cfg = resolve(flume, path, overrides={"paddle.type": kind})
     case = build_case(flume, cfg, Log(str(tmp_path / "log"), True))
@@ -704,6 +885,7 @@ def test_flume_fits_the_free_second_harmonic_once_it_is_over_the_array(tmp_path,
         on, on2 = np.clip((t - x / cg) / ramp, 0, 1), np.clip((t - x / cg2) / ramp, 0, 1)
         ph = k * x - w * t
         return on * (a * np.cos(ph) + bound * np.cos(2 * ph)) + on2 * free * np.cos(k2 * x - 2 * w * t + 0.7)
+
     cols = case.observers.probe_columns
     m0 = case.observers.metrics({"t": t[:2], **{col: np.zeros(2) for col in cols}})
     xs = list(m0["gauges_x"]) + list(m0["array_x"])
@@ -720,6 +902,7 @@ def test_first_order_modes_sum_to_the_paddles_velocity(kind):
     profile (uniform for a piston, linear for a flap), more closely with more modes; each K_n
     solves omega^2 = g K tanh K h."""
     from tisph.waves.second_order import first_order, shape
+
     h, w, S = 0.25, 2 * np.pi / 1.2, 0.04
     z = np.linspace(-0.9 * h, -0.1 * h, 9)
     c0, c1 = shape(kind, h)
@@ -746,13 +929,16 @@ def test_hunt_run_up_the_swash_probe_and_the_crest_warning():
     from tisph.scenes import beach
     from tisph.scenes.beach.shoaling import run_up, warn_run_up
     from tisph.waves.theory import hunt_run_up, linear_wave, wavenumber
+
     om = 2 * math.pi / 2.5
     k = wavenumber(om, 50.0)
-    assert hunt_run_up(0.1, om, k, 50.0, 10.0) == pytest.approx(0.1 * math.sqrt(0.1 * 9.81 * 2.5 ** 2 / (2 * math.pi)), rel=2e-3)
+    assert hunt_run_up(0.1, om, k, 50.0, 10.0) == pytest.approx(
+        0.1 * math.sqrt(0.1 * 9.81 * 2.5**2 / (2 * math.pi)), rel=2e-3
+    )
     assert hunt_run_up(0.1, om, k, 50.0, 1.0) == pytest.approx(0.23, rel=2e-3)
     stations = np.arange(0.0, 5.0, 0.01)
     zb = 0.1 + np.maximum(0.0, stations - 1.0) / 10.0
-    xs = np.array([[3.0, 0.35], [4.2, 0.425], [4.5, 0.455], [4.9, 0.9]])     # the last a droplet
+    xs = np.array([[3.0, 0.35], [4.2, 0.425], [4.5, 0.455], [4.9, 0.9]])  # the last a droplet
     st = {"x": xs, "kind": np.zeros(4, int), "mat": np.zeros(4, int)}
     assert run_up(st, stations, zb, 4.0, 0.4, 0.01) == pytest.approx(0.05, abs=1e-9)
     cfg = resolve(beach.SCENE, None, {})

@@ -1,5 +1,6 @@
 """`python -m tisph.bench`: the options, and which benchmark each runs (the run-time-against-
 error ladder unless another is named)."""
+
 import argparse
 import os
 
@@ -18,93 +19,183 @@ def _peers(text):
 
 def table_options(p):
     """The validation table's and the schemes' options."""
-    p.add_argument("--validate", action="store_true",
-                   help="run every validation case and write docs/validation.md, its figures and the README's "
-                        "table (tisph/bench/validate.py; with --quick: coarse, short versions)")
-    p.add_argument("--schemes", action="store_true",
-                   help="run time against error by numerics scheme: four validation cases at two or three spacings "
-                        "under five schemes (tisph/bench/scheme_costs.py; about 25 minutes on two cores)")
-    p.add_argument("--jobs", type=int, default=0, metavar="N",
-                   help="with --validate or --schemes: runs at a time, each in a process of its own on cores / N CPU "
-                        "threads (default 0: one a core; 1: one after another on every core)")
-    p.add_argument("--resume", action="store_true",
-                   help="with --validate: take a run whose summary.json under --out ended well as run (its wall "
-                        "time from it) instead of running it again")
+    p.add_argument(
+        "--validate",
+        action="store_true",
+        help="run every validation case and write docs/validation.md, its figures and the README's "
+        "table (tisph/bench/validate.py; with --quick: coarse, short versions)",
+    )
+    p.add_argument(
+        "--schemes",
+        action="store_true",
+        help="run time against error by numerics scheme: four validation cases at two or three spacings "
+        "under five schemes (tisph/bench/scheme_costs.py; about 25 minutes on two cores)",
+    )
+    p.add_argument(
+        "--jobs",
+        type=int,
+        default=0,
+        metavar="N",
+        help="with --validate or --schemes: runs at a time, each in a process of its own on cores / N CPU "
+        "threads (default 0: one a core; 1: one after another on every core)",
+    )
+    p.add_argument(
+        "--resume",
+        action="store_true",
+        help="with --validate: take a run whose summary.json under --out ended well as run (its wall "
+        "time from it) instead of running it again",
+    )
     p.add_argument("--docs", help="with --validate: the folder of validation.md (default the tree's docs/)")
     p.add_argument("--readme", help="with --validate: the README whose table to fill (default the tree's; '' none)")
 
 
 def make_parser():
     """Every benchmark's options (which benchmark each runs: main)."""
-    p = argparse.ArgumentParser(prog="python -m tisph.bench", description=LADDER_DOC,
-                                formatter_class=argparse.RawDescriptionHelpFormatter)
+    p = argparse.ArgumentParser(
+        prog="python -m tisph.bench", description=LADDER_DOC, formatter_class=argparse.RawDescriptionHelpFormatter
+    )
     p.add_argument("--quick", action="store_true", help="coarse ladders and short runs (about 5 minutes)")
-    p.add_argument("--peer", type=_peers, default=(), metavar="pysph,dualsphysics",
-                   help="also run these codes' dam break beside ours (with --speed: all three at dp 0.03 and 0.015, "
-                        "back to back)")
-    p.add_argument("--peer-venv", help="PySPH's virtual environment (default ~/.cache/tisph/peers/pysph-venv; made "
-                                       "if absent)")
-    p.add_argument("--dualsphysics", metavar="CLONE",
-                   help="a git clone of DualSPHysics to build its v5.0 CPU solver from, once, into "
-                        "~/.cache/tisph/peers (needed until it is built)")
-    p.add_argument("--arch", choices=["cpu", "gpu"], default="cpu",
-                   help="with --speed: gpu runs the tank ladder on CUDA, Vulkan or Metal, on the CPU with a warning "
-                        "where none is present")
-    p.add_argument("--out", help="where the runs and the report go (default renders/bench, renders/validate "
-                                 "with --validate; a --validate with --out or --quick writes its page and "
-                                 "figures there too, and leaves docs/ and the README alone)")
-    p.add_argument("--scheduler", metavar="ADDRESS",
-                   help="run the ladders on this Dask scheduler (tcp://host:8786), the path tisph.sweep takes; "
-                        "timings then share the cluster's cores")
+    p.add_argument(
+        "--peer",
+        type=_peers,
+        default=(),
+        metavar="pysph,dualsphysics",
+        help="also run these codes' dam break beside ours (with --speed: all three at dp 0.03 and 0.015, back to back)",
+    )
+    p.add_argument(
+        "--peer-venv", help="PySPH's virtual environment (default ~/.cache/tisph/peers/pysph-venv; made if absent)"
+    )
+    p.add_argument(
+        "--dualsphysics",
+        metavar="CLONE",
+        help="a git clone of DualSPHysics to build its v5.0 CPU solver from, once, into "
+        "~/.cache/tisph/peers (needed until it is built)",
+    )
+    p.add_argument(
+        "--arch",
+        choices=["cpu", "gpu"],
+        default="cpu",
+        help="with --speed: gpu runs the tank ladder on CUDA, Vulkan or Metal, on the CPU with a warning "
+        "where none is present",
+    )
+    p.add_argument(
+        "--out",
+        help="where the runs and the report go (default renders/bench, renders/validate "
+        "with --validate; a --validate with --out or --quick writes its page and "
+        "figures there too, and leaves docs/ and the README alone)",
+    )
+    p.add_argument(
+        "--scheduler",
+        metavar="ADDRESS",
+        help="run the ladders on this Dask scheduler (tcp://host:8786), the path tisph.sweep takes; "
+        "timings then share the cluster's cores",
+    )
     p.add_argument("--only", nargs="*", help="run only the cases whose name contains one of these words")
     p.add_argument("--no-scaling", action="store_true", help="skip the scaling, specialisation and profile parts")
-    p.add_argument("--speed", action="store_true",
-                   help="engine speed only (tisph/bench/speed.py): particle-steps/s from 3.4e3 to 6.5e5 particles, compile")
-    p.add_argument("--traffic", action="store_true",
-                   help="kernel launches and host-device transfers a step, one golden case a scene, in the run loop "
-                        "(tisph/bench/traffic.py; from a source checkout)")
-    p.add_argument("--sizes", type=lambda t: int(float(t)), nargs="+", metavar="N",
-                   help="with --speed: the dam break and the flume at about N particles each (1e4 to 1e6: the GPU "
-                        "check, with --arch gpu)")
+    p.add_argument(
+        "--speed",
+        action="store_true",
+        help="engine speed only (tisph/bench/speed.py): particle-steps/s from 3.4e3 to 6.5e5 particles, compile",
+    )
+    p.add_argument(
+        "--traffic",
+        action="store_true",
+        help="kernel launches and host-device transfers a step, one golden case a scene, in the run loop "
+        "(tisph/bench/traffic.py; from a source checkout)",
+    )
+    p.add_argument(
+        "--sizes",
+        type=lambda t: int(float(t)),
+        nargs="+",
+        metavar="N",
+        help="with --speed: the dam break and the flume at about N particles each (1e4 to 1e6: the GPU "
+        "check, with --arch gpu)",
+    )
     p.add_argument("--against", metavar="REV", help="with --speed: the same runs on this git revision, back to back")
     p.add_argument("--repeats", type=int, default=3, help="with --speed: runs (pairs) per case (default 3)")
-    p.add_argument("--threads", type=int, help="with --speed: Taichi's CPU threads in every run (default all cores; "
-                                               "1 measured 4 %% run-to-run spread here against 10 %% on two)")
-    p.add_argument("--shedding", action="store_true",
-                   help="vortex shedding behind a pipe above a fixed bed against the gap (tisph/bench/shedding.py)")
-    p.add_argument("--mao-held", action="store_true",
-                   help="the pipeline case over Mao's measured beds held still: does the flow erode them where his "
-                        "did? (tisph/bench/mao_held.py)")
+    p.add_argument(
+        "--threads",
+        type=int,
+        help="with --speed: Taichi's CPU threads in every run (default all cores; "
+        "1 measured 4 %% run-to-run spread here against 10 %% on two)",
+    )
+    p.add_argument(
+        "--shedding",
+        action="store_true",
+        help="vortex shedding behind a pipe above a fixed bed against the gap (tisph/bench/shedding.py)",
+    )
+    p.add_argument(
+        "--mao-held",
+        action="store_true",
+        help="the pipeline case over Mao's measured beds held still: does the flow erode them where his "
+        "did? (tisph/bench/mao_held.py)",
+    )
     p.add_argument("--gaps", type=float, nargs="*", help="with --shedding: gaps in pipe diameters (default 0.5 1 2)")
-    p.add_argument("--live-bed", action="store_true",
-                   help="with --shedding: the case file as written, its bed scouring, the wake judged over each 2 s "
-                        "of flow")
-    p.add_argument("--times", type=float, nargs="*", choices=[11.0, 18.0, 25.0],
-                   help="with --mao-held: Mao's profiles to hold (default 11 18 25)")
-    p.add_argument("--dx", type=float, help="with --shedding or --mao-held: particle spacing (default the case "
-                                            "file's, D/20); with --waves: one dx in place of the ladder")
-    p.add_argument("--end-time", type=float, help="with --shedding, --mao-held or --waves: seconds of flow (default 4; "
-                                                  "2.5 held; 9.6 waves)")
-    p.add_argument("--config", help="with --shedding or --mao-held: the pipeline case file whose current and "
-                                    "numerics it runs (default scenes/pipeline_scour_mao.toml)")
-    p.add_argument("--ripples", action="store_true",
-                   help="the tunnel's ripples against the orbital diameter, 15 cases through the Dask sweep "
-                        "(tisph/bench/ripple_sweep.py; about an hour on two cores)")
-    p.add_argument("--waves", action="store_true",
-                   help="the default flume against Biesel, tisph at H/dx = 3, 5, 8, 12 and DualSPHysics beside it, "
-                        "back to back (tisph/bench/peers/flume_codes.py; about an hour on two cores)")
-    p.add_argument("--standing", action="store_true",
-                   help="a standing wave in a closed tank: the height the flume's numerics take per period, with "
-                        "each density diffusion (tisph/bench/standing.py; --dx, --end-time in periods)")
-    p.add_argument("--convergence", action="store_true",
-                   help="the breakwater's overtopping and the seawall's peak force at three resolutions, with the "
-                        "observed order and Roache's GCI (tisph/bench/gci_examples.py; about an hour on two cores)")
-    p.add_argument("--peer-finest", type=float, default=0.0125,
-                   help="with --waves: the finest dp DualSPHysics runs at (default 0.0125, H/dx = 5; at 0.0075 its two "
-                        "runs take about two hours)")
+    p.add_argument(
+        "--live-bed",
+        action="store_true",
+        help="with --shedding: the case file as written, its bed scouring, the wake judged over each 2 s of flow",
+    )
+    p.add_argument(
+        "--times",
+        type=float,
+        nargs="*",
+        choices=[11.0, 18.0, 25.0],
+        help="with --mao-held: Mao's profiles to hold (default 11 18 25)",
+    )
+    p.add_argument(
+        "--dx",
+        type=float,
+        help="with --shedding or --mao-held: particle spacing (default the case "
+        "file's, D/20); with --waves: one dx in place of the ladder",
+    )
+    p.add_argument(
+        "--end-time",
+        type=float,
+        help="with --shedding, --mao-held or --waves: seconds of flow (default 4; 2.5 held; 9.6 waves)",
+    )
+    p.add_argument(
+        "--config",
+        help="with --shedding or --mao-held: the pipeline case file whose current and "
+        "numerics it runs (default scenes/pipeline_scour_mao.toml)",
+    )
+    p.add_argument(
+        "--ripples",
+        action="store_true",
+        help="the tunnel's ripples against the orbital diameter, 15 cases through the Dask sweep "
+        "(tisph/bench/ripple_sweep.py; about an hour on two cores)",
+    )
+    p.add_argument(
+        "--waves",
+        action="store_true",
+        help="the default flume against Biesel, tisph at H/dx = 3, 5, 8, 12 and DualSPHysics beside it, "
+        "back to back (tisph/bench/peers/flume_codes.py; about an hour on two cores)",
+    )
+    p.add_argument(
+        "--standing",
+        action="store_true",
+        help="a standing wave in a closed tank: the height the flume's numerics take per period, with "
+        "each density diffusion (tisph/bench/standing.py; --dx, --end-time in periods)",
+    )
+    p.add_argument(
+        "--convergence",
+        action="store_true",
+        help="the breakwater's overtopping and the seawall's peak force at three resolutions, with the "
+        "observed order and Roache's GCI (tisph/bench/gci_examples.py; about an hour on two cores)",
+    )
+    p.add_argument(
+        "--peer-finest",
+        type=float,
+        default=0.0125,
+        help="with --waves: the finest dp DualSPHysics runs at (default 0.0125, H/dx = 5; at 0.0075 its two "
+        "runs take about two hours)",
+    )
     table_options(p)
-    p.add_argument("--dry-run", action="store_true",
-                   help="exercise every code path in seconds: one tiny case, tiny scaling, no profile (for tests)")
+    p.add_argument(
+        "--dry-run",
+        action="store_true",
+        help="exercise every code path in seconds: one tiny case, tiny scaling, no profile (for tests)",
+    )
     return p
 
 
@@ -151,6 +242,7 @@ def main(argv=None):  # noqa: C901 (one branch a bench the command line names)
         p.error("--live-bed needs --shedding")
     for name in ("gaps", "times", "dx", "end_time", "config"):
         if getattr(a, name) is not None:
-            p.error(f"--{name.replace('_', '-')} needs --shedding, --mao-held (or --waves, --standing for --dx, "
-                    "--end-time)")
+            p.error(
+                f"--{name.replace('_', '-')} needs --shedding, --mao-held (or --waves, --standing for --dx, --end-time)"
+            )
     return ladder.run(a)

@@ -1,4 +1,5 @@
 """What the benchmark tools share: the source tree they run, one case run, and their Markdown tables."""
+
 import importlib
 import os
 import sys
@@ -20,9 +21,12 @@ def peers(name):
     except ModuleNotFoundError as e:
         if not (e.name or "").startswith(f"{__package__}.peers"):
             raise
-        print(f"error: --peer and --waves run the peers' benches (tisph/bench/peers/), which build DualSPHysics and "
-              f"install PySPH: they come with a clone of tisph's source (pip install -e .), not with the installed "
-              f"package {os.path.dirname(os.path.dirname(os.path.abspath(__file__)))}", file=sys.stderr)
+        print(
+            f"error: --peer and --waves run the peers' benches (tisph/bench/peers/), which build DualSPHysics and "
+            f"install PySPH: they come with a clone of tisph's source (pip install -e .), not with the installed "
+            f"package {os.path.dirname(os.path.dirname(os.path.abspath(__file__)))}",
+            file=sys.stderr,
+        )
         raise SystemExit(2) from None
 
 
@@ -54,6 +58,6 @@ def run_case(case, dx, quick, out):
     cfg = os.path.join(ROOT, "scenes", case.config) if case.config else None
     t0 = time.perf_counter()
     s = simulate(importlib.import_module(f"tisph.{case.scene}"), ov, out=out, config=cfg)
-    if s["status"] == "interrupted":    # Ctrl-C or a kill stops the whole bench, not this case alone
+    if s["status"] == "interrupted":  # Ctrl-C or a kill stops the whole bench, not this case alone
         raise SystemExit(143 if "SIGTERM" in s.get("message", "") else 130)
     return s, time.perf_counter() - t0

@@ -14,6 +14,7 @@ scaling table, the specialisation ratio, a kernel profile and, with --peer, the 
 comparison) and OUT/bench.png (run time against error, log-log).
 Timings are for this machine and this run; compare them as ratios within one run.
 """
+
 import dataclasses
 import math
 import os
@@ -35,16 +36,18 @@ from .speed import measure
 @dataclasses.dataclass
 class BenchCase:
     name: str
-    scene: str                 # module under tisph (scenes.x or validation.x)
-    metric: str                # the error metric in summary.json
+    scene: str  # module under tisph (scenes.x or validation.x)
+    metric: str  # the error metric in summary.json
     reference: str
-    ladder: tuple              # dx values, full run
-    quick: tuple               # dx values, --quick
+    ladder: tuple  # dx values, full run
+    quick: tuple  # dx values, --quick
     overrides: dict = dataclasses.field(default_factory=dict)
-    config: str = ""           # a case file under scenes/
+    config: str = ""  # a case file under scenes/
     quick_overrides: dict = dataclasses.field(default_factory=dict)
 
 
+# a table, one case a row: kept as written
+# fmt: off
 CASES = [
     BenchCase("hydrostatic tank", "scenes.tank", "pressure_error", "rho g d below the top two rows",
               (0.04, 0.02, 0.01), (0.05, 0.04, 0.025), {"run.end_time": 1.5, "geometry.depth": 0.4}),
@@ -62,17 +65,27 @@ CASES = [
     BenchCase("flume, piston (Biesel)", "scenes.flume", "wave_height_error", "Biesel H/S, worst of 1, 2, 3 wavelengths",
               (0.02, 0.0125, 0.0075, 0.005), (0.03, 0.025), {"run.end_time": 9.6, "geometry.array_gauges": 0}),
 ]
+# fmt: on
 
 
 def run_one(case, dx, out, quick):
     slug = "".join(c if c.isalnum() else "_" for c in case.name)[:30] + f"_dx{dx:g}"
     s, wall = run_case(case, dx, quick, os.path.join(out, "runs", slug))
     err = s["metrics"].get(case.metric, float("nan"))
-    return dict(case=case.name, dx=dx, particles=s["particles"], steps=s["steps"], sim_time=s["sim_time"],
-                wall_time_s=round(wall, 3), compile_time_s=round(s["compile_time_s"], 3),
-                step_time_s=round(s["step_time_s"], 3),
-                particle_steps_per_s=round(s["particle_steps_per_s"]), metric=case.metric,
-                error=float(err) if err is not None else float("nan"), status=s["status"])
+    return dict(
+        case=case.name,
+        dx=dx,
+        particles=s["particles"],
+        steps=s["steps"],
+        sim_time=s["sim_time"],
+        wall_time_s=round(wall, 3),
+        compile_time_s=round(s["compile_time_s"], 3),
+        step_time_s=round(s["step_time_s"], 3),
+        particle_steps_per_s=round(s["particle_steps_per_s"]),
+        metric=case.metric,
+        error=float(err) if err is not None else float("nan"),
+        status=s["status"],
+    )
 
 
 def convergence_order(dxs, errs):
@@ -93,15 +106,25 @@ def scaling(sizes, steps=100):
     rows = []
     for n in sizes:
         side = math.sqrt(n) * 0.01
-        m = measure(ROOT, "tank", {"numerics.dx": 0.01, "geometry.width": side, "geometry.depth": side,
-                                   "geometry.tank_height": side * 1.05}, steps)
-        row = dict(particles=m["particles"], steps=steps, seconds=round(m["seconds"], 3),
-                   particle_steps_per_s=round(m["pps"]), field_bytes_per_particle=round(m["field_bytes"], 1),
-                   peak_rss_mb=round(m["peak_rss_mb"], 1))
+        m = measure(
+            ROOT,
+            "tank",
+            {"numerics.dx": 0.01, "geometry.width": side, "geometry.depth": side, "geometry.tank_height": side * 1.05},
+            steps,
+        )
+        row = dict(
+            particles=m["particles"],
+            steps=steps,
+            seconds=round(m["seconds"], 3),
+            particle_steps_per_s=round(m["pps"]),
+            field_bytes_per_particle=round(m["field_bytes"], 1),
+            peak_rss_mb=round(m["peak_rss_mb"], 1),
+        )
         if rows:
             p = rows[-1]
-            row["rss_bytes_per_particle"] = round((row["peak_rss_mb"] - p["peak_rss_mb"]) * 2**20 /
-                                                  (row["particles"] - p["particles"]), 1)
+            row["rss_bytes_per_particle"] = round(
+                (row["peak_rss_mb"] - p["peak_rss_mb"]) * 2**20 / (row["particles"] - p["particles"]), 1
+            )
         else:
             row["rss_bytes_per_particle"] = float("nan")
         rows.append(row)
@@ -112,14 +135,27 @@ def specialisation(quick, steps=None):
     """The dam break as shipped against the same case compiled with the rheology, laminar
     viscosity, XSPH and no-slip terms switched on at zero strength."""
     from ..engine.solver import Solver
+
     cfg = resolve(dam_break, overrides={"numerics.dx": 0.03, "output.quiet": True})
     case = build_case(dam_break, cfg, Log(os.devnull, True))
     out = {}
     steps = steps or (300 if quick else 1500)
-    for label, phys in (("as shipped", case.physics),
-                        ("rheology + laminar + XSPH + no-slip + SPS + drag + DEM at zero strength",
-                         dataclasses.replace(case.physics, rheology=True, laminar_viscosity=True, xsph=True,
-                                             noslip=True, sps=True, drag=True, dem=True))):
+    for label, phys in (
+        ("as shipped", case.physics),
+        (
+            "rheology + laminar + XSPH + no-slip + SPS + drag + DEM at zero strength",
+            dataclasses.replace(
+                case.physics,
+                rheology=True,
+                laminar_viscosity=True,
+                xsph=True,
+                noslip=True,
+                sps=True,
+                drag=True,
+                dem=True,
+            ),
+        ),
+    ):
         mats = [dict(m, viscosity=0.0) for m in case.materials]
         s = Solver(phys, case.particles, mats, case.domain, dict(case.params, xsph=0.0))
         s.prime()
@@ -161,8 +197,9 @@ print(buf.getvalue())
 def kernel_profile():
     env = this_tree_env()
     try:
-        r = subprocess.run([sys.executable, "-c", PROFILE_SNIPPET], capture_output=True, text=True, env=env,
-                           timeout=600)
+        r = subprocess.run(
+            [sys.executable, "-c", PROFILE_SNIPPET], capture_output=True, text=True, env=env, timeout=600
+        )
         return (r.stdout or r.stderr).strip()
     except Exception as e:  # the profile is informative; the bench goes on without it
         return f"(kernel profile failed: {e})"
@@ -193,20 +230,33 @@ def plot(rows, path):
 def _on_cluster(jobs, a, log):
     """The ladders' runs as Dask tasks on a.scheduler (tisph.sweep's path), rows in job order."""
     from dask.distributed import Client
+
     client = Client(a.scheduler)
     try:
-        res = execute([(f"{i:03d}", run_one, (c, dx, a.out, a.quick)) for i, (c, dx) in enumerate(jobs)],
-                      client, progress=False)
+        res = execute(
+            [(f"{i:03d}", run_one, (c, dx, a.out, a.quick)) for i, (c, dx) in enumerate(jobs)], client, progress=False
+        )
     finally:
         client.close()
     rows = []
     for i, (c, dx) in enumerate(jobs):
         r = res[f"{i:03d}"]
-        if isinstance(r, tuple):      # the task failed
+        if isinstance(r, tuple):  # the task failed
             log(f"{c.name}, dx {dx:g}: failed: {r[1]}")
-            r = dict(case=c.name, dx=dx, particles=0, steps=0, sim_time=0.0, wall_time_s=float("nan"),
-                     compile_time_s=float("nan"), step_time_s=float("nan"), particle_steps_per_s=0,
-                     metric=c.metric, error=float("nan"), status="error")
+            r = dict(
+                case=c.name,
+                dx=dx,
+                particles=0,
+                steps=0,
+                sim_time=0.0,
+                wall_time_s=float("nan"),
+                compile_time_s=float("nan"),
+                step_time_s=float("nan"),
+                particle_steps_per_s=0,
+                metric=c.metric,
+                error=float("nan"),
+                status="error",
+            )
         rows.append(r)
     return rows
 
@@ -217,32 +267,70 @@ def _engine_sections(a, log):
     sc = scaling([int(n) for n in sizes], steps=5 if a.dry_run else 50 if a.quick else 100)
     for r in sc:
         log(f"scaling: {r}")
-    md = ["## Scaling (hydrostatic tank, dx 0.01, fixed steps)", "",
-           table(("particles", "steps", "s", "particle-steps/s", "field bytes/particle", "peak RSS MB",
-                   "RSS bytes/particle (slope)"),
-                  [(r["particles"], r["steps"], r["seconds"], f"{r['particle_steps_per_s']:.3g}",
-                    r["field_bytes_per_particle"], r["peak_rss_mb"], r["rss_bytes_per_particle"])
-                   for r in sc]), ""]
+    md = [
+        "## Scaling (hydrostatic tank, dx 0.01, fixed steps)",
+        "",
+        table(
+            (
+                "particles",
+                "steps",
+                "s",
+                "particle-steps/s",
+                "field bytes/particle",
+                "peak RSS MB",
+                "RSS bytes/particle (slope)",
+            ),
+            [
+                (
+                    r["particles"],
+                    r["steps"],
+                    r["seconds"],
+                    f"{r['particle_steps_per_s']:.3g}",
+                    r["field_bytes_per_particle"],
+                    r["peak_rss_mb"],
+                    r["rss_bytes_per_particle"],
+                )
+                for r in sc
+            ],
+        ),
+        "",
+    ]
     write_csv(os.path.join(a.out, "scaling.csv"), tuple(sc[0]), [tuple(r.values()) for r in sc])
     sp = specialisation(a.quick, 20 if a.dry_run else None)
     (k0, v0), (k1, v1) = sp.items()
     log(f"specialisation: {sp}")
-    md += ["## Specialisation (dam break, dx 0.03)", "",
-           table(("build", "particle-steps/s", "ratio"),
-                  [(k0, f"{v0:.3g}", "1"), (k1, f"{v1:.3g}", f"{v0 / v1:.2f}x slower")]),
-           "", "Zero strength: no viscosity, XSPH epsilon 0, drag coefficient 0, no material with DEM "
-           "contacts; the terms are compiled and evaluated, their effect is nil.", ""]
+    md += [
+        "## Specialisation (dam break, dx 0.03)",
+        "",
+        table(
+            ("build", "particle-steps/s", "ratio"),
+            [(k0, f"{v0:.3g}", "1"), (k1, f"{v1:.3g}", f"{v0 / v1:.2f}x slower")],
+        ),
+        "",
+        "Zero strength: no viscosity, XSPH epsilon 0, drag coefficient 0, no material with DEM "
+        "contacts; the terms are compiled and evaluated, their effect is nil.",
+        "",
+    ]
     prof = "(skipped in a dry run)" if a.dry_run else kernel_profile()
-    md += ["## Kernel profile (dam break dx 0.03, 500 steps, Taichi kernel profiler)", "", "```", prof, "```",
-           "", "One time step is one fused kernel (`_step`); the profiler lists its parallel loops: "
-           "kernel_1 drift and cell keys, kernel_2 the serial prefix sum, kernel_3 the scatter, kernel_4 "
-           "the per-cell sort and gather, kernel_5 the force pass, kernel_6/7 the time-step reduction.", ""]
+    md += [
+        "## Kernel profile (dam break dx 0.03, 500 steps, Taichi kernel profiler)",
+        "",
+        "```",
+        prof,
+        "```",
+        "",
+        "One time step is one fused kernel (`_step`); the profiler lists its parallel loops: "
+        "kernel_1 drift and cell keys, kernel_2 the serial prefix sum, kernel_3 the scatter, kernel_4 "
+        "the per-cell sort and gather, kernel_5 the force pass, kernel_6/7 the time-step reduction.",
+        "",
+    ]
     return md
 
 
 def run(a):
     """The ladder, scaling and profile parts of `python -m tisph.bench` (options parsed by cli.py)."""
     from .. import runtime
+
     runtime.init("cpu", "f32")
     ensure_dir(a.out)
     log = lambda m: print(m, file=sys.stderr, flush=True)
@@ -257,26 +345,61 @@ def run(a):
     else:
         rows = [run_one(c, dx, a.out, a.quick) for c, dx in jobs]
     for (c, dx), r in zip(jobs, rows):
-        log(f"{c.name}, dx {dx:g}: {r['particles']} particles, {r['steps']} steps, {r['wall_time_s']:.1f} s "
+        log(
+            f"{c.name}, dx {dx:g}: {r['particles']} particles, {r['steps']} steps, {r['wall_time_s']:.1f} s "
             f"(compile {r['compile_time_s']:.1f} s), {r['particle_steps_per_s']:.3g} p-steps/s, "
-            f"{c.metric} = {r['error']:.4g}")
-    cols = ("case", "dx", "particles", "steps", "sim_time", "wall_time_s", "compile_time_s", "step_time_s",
-            "particle_steps_per_s", "metric", "error", "status")
+            f"{c.metric} = {r['error']:.4g}"
+        )
+    cols = (
+        "case",
+        "dx",
+        "particles",
+        "steps",
+        "sim_time",
+        "wall_time_s",
+        "compile_time_s",
+        "step_time_s",
+        "particle_steps_per_s",
+        "metric",
+        "error",
+        "status",
+    )
     write_csv(os.path.join(a.out, "bench.csv"), cols, [tuple(r[k] for k in cols) for r in rows])
-    md = ["# tisph benchmark", "",
-          f"{'Quick' if a.quick else 'Full'} run, {time.strftime('%Y-%m-%d %H:%M')}, CPU backend, f32, "
-          f"{os.cpu_count()} threads. Wall time includes set-up and compilation; compile is the first call.", "",
-          "## Run time against error", "",
-          table(("case", "dx", "particles", "steps", "wall s", "compile s", "particle-steps/s", "error", "metric"),
-                 [(r["case"], f"{r['dx']:g}", r["particles"], r["steps"], f"{r['wall_time_s']:.1f}",
-                   f"{r['compile_time_s']:.1f}", f"{r['particle_steps_per_s']:.3g}", f"{r['error']:.4g}",
-                   r["metric"]) for r in rows]), "",
-          "Observed convergence order (slope of log error against log dx; positive means the error falls "
-          "with dx):", ""]
+    md = [
+        "# tisph benchmark",
+        "",
+        f"{'Quick' if a.quick else 'Full'} run, {time.strftime('%Y-%m-%d %H:%M')}, CPU backend, f32, "
+        f"{os.cpu_count()} threads. Wall time includes set-up and compilation; compile is the first call.",
+        "",
+        "## Run time against error",
+        "",
+        table(
+            ("case", "dx", "particles", "steps", "wall s", "compile s", "particle-steps/s", "error", "metric"),
+            [
+                (
+                    r["case"],
+                    f"{r['dx']:g}",
+                    r["particles"],
+                    r["steps"],
+                    f"{r['wall_time_s']:.1f}",
+                    f"{r['compile_time_s']:.1f}",
+                    f"{r['particle_steps_per_s']:.3g}",
+                    f"{r['error']:.4g}",
+                    r["metric"],
+                )
+                for r in rows
+            ],
+        ),
+        "",
+        "Observed convergence order (slope of log error against log dx; positive means the error falls with dx):",
+        "",
+    ]
     orders = []
     for c in cases:
         rr = [r for r in rows if r["case"] == c.name]
-        orders.append((c.name, c.reference, f"{convergence_order([r['dx'] for r in rr], [r['error'] for r in rr]):.2f}"))
+        orders.append(
+            (c.name, c.reference, f"{convergence_order([r['dx'] for r in rr], [r['error'] for r in rr]):.2f}")
+        )
     md += [table(("case", "reference", "order"), orders), ""]
     try:
         plot(rows, os.path.join(a.out, "bench.png"))

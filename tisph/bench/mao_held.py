@@ -17,6 +17,7 @@ tisph/bench/shedding.py, on snapshots every 0.05 s over the same averaging windo
 Writes OUT/mao_held.md, OUT/mao_held.csv and OUT/mao_held.png; a benchmark, not a test (about
 13,700 steps of 48,000 particles per time at 2.5 s).
 """
+
 import os
 import shutil
 import time
@@ -30,7 +31,7 @@ from ..validation import mao
 from .common import ROOT, table
 from .shedding import SAMPLE, average_from, judge, run_pipeline, wake_series
 
-BINS = np.arange(-2.0, 6.01, 0.5)      # x / D from the pipe's centre: the CSV's bins' centres, D/2 wide
+BINS = np.arange(-2.0, 6.01, 0.5)  # x / D from the pipe's centre: the CSV's bins' centres, D/2 wide
 REGIONS = (("upstream", -2.0, -0.5), ("hole", -0.5, 1.0), ("lee", 1.0, 3.0), ("dune", 3.0, 6.0))
 
 
@@ -65,16 +66,28 @@ def mao_rate(tp, x_rel, D):
 
 def run_time(tp, end_time, out, cfg_file, dx=None):
     """One run over Mao's bed at tp held still; the shear and rates along the bed."""
-    ov = {"geometry.initial_profile": f"mao_{tp:g}s", "sediment.morph_start": 10.0 * end_time,
-          "run.end_time": end_time, "output.render": False, "output.quiet": True, "output.snapshot_every": SAMPLE}
+    ov = {
+        "geometry.initial_profile": f"mao_{tp:g}s",
+        "sediment.morph_start": 10.0 * end_time,
+        "run.end_time": end_time,
+        "output.render": False,
+        "output.quiet": True,
+        "output.snapshot_every": SAMPLE,
+    }
     run_dir = os.path.join(out, "runs", f"mao_held_{tp:g}s")
     cfg, s, wall, g = run_pipeline(cfg_file, ov, dx, run_dir)
     # does the wake shed over his hole? (the fixed-bed benchmark's test, over the averaging window)
     t, v = wake_series(run_dir, g.xc, g.yc, g.D, average_from(end_time))
     shutil.rmtree(os.path.join(run_dir, "snapshots"), ignore_errors=True)
     std, freq, _, best, sheds = judge(t, v, g)
-    info = dict(particles=s["particles"], steps=s["steps"], wall_time_s=round(wall, 1), sheds=sheds,
-                strouhal=float(freq[best] * g.D / g.U), v_std=float(np.max(std)))
+    info = dict(
+        particles=s["particles"],
+        steps=s["steps"],
+        wall_time_s=round(wall, 1),
+        sheds=sheds,
+        strouhal=float(freq[best] * g.D / g.U),
+        v_std=float(np.max(std)),
+    )
     return analyse(tp, run_dir, cfg, g, info)
 
 
@@ -83,14 +96,22 @@ def analyse(tp, run_dir, cfg, g, info):
     t, st, taus = read_station_rows(os.path.join(run_dir, "bed_shear.csv"))
     _, _, beds = read_station_rows(os.path.join(run_dir, "scour_profile.csv"))
     keep = t >= average_from(cfg.run.end_time)
-    tau_inf = g.rw * g.ustar ** 2
+    tau_inf = g.rw * g.ustar**2
     x_rel = (st - g.xc) / g.D
     rate = exner_rate(cfg.sediment, st, beds[0], taus[keep], g.d50, g.rs, g.rw)
     m_rate, m_under = mao_rate(tp, st - g.xc, g.D)
     under = np.abs(x_rel) < 1.0
-    return dict(info, time=tp, x=x_rel, bed=(beds[0] - g.hs) / g.D,
-                tau=taus[keep].mean(axis=0) / tau_inf, rate=rate / g.D, mao_rate=m_rate / g.D,
-                under_model=float(rate[under].min() / g.D), under_mao=m_under / g.D)
+    return dict(
+        info,
+        time=tp,
+        x=x_rel,
+        bed=(beds[0] - g.hs) / g.D,
+        tau=taus[keep].mean(axis=0) / tau_inf,
+        rate=rate / g.D,
+        mao_rate=m_rate / g.D,
+        under_model=float(rate[under].min() / g.D),
+        under_mao=m_under / g.D,
+    )
 
 
 def region_means(r):
@@ -105,8 +126,14 @@ def region_means(r):
 def plot(rows, path):
     plt = pyplot()
     # the bed panel's height is about what its equal aspect over 10 D by 2.3 D leaves it
-    fig, axes = plt.subplots(3, len(rows), figsize=(4.2 * len(rows), 5.6), sharex=True, squeeze=False,
-                             gridspec_kw=dict(height_ratios=(0.5, 1, 1.2)))
+    fig, axes = plt.subplots(
+        3,
+        len(rows),
+        figsize=(4.2 * len(rows), 5.6),
+        sharex=True,
+        squeeze=False,
+        gridspec_kw=dict(height_ratios=(0.5, 1, 1.2)),
+    )
     for c, r in enumerate(rows):
         a0, a1, a2 = axes[:, c]
         a0.fill_between(r["x"], r["bed"], -1.2, color="tan")
@@ -142,8 +169,11 @@ def main(a):
     for tp in times:
         r = run_time(tp, end, a.out, cfg_file, a.dx)
         reg = region_means(r)
-        print(f"Mao's bed at {tp:g} s held: {r['particles']} particles, {r['steps']} steps, {r['wall_time_s']:.0f} s; "
-              + "; ".join(f"{n} {m:+.4f} D/s (Mao {o:+.4f}), shear {s:.2f}" for n, m, o, s in reg), flush=True)
+        print(
+            f"Mao's bed at {tp:g} s held: {r['particles']} particles, {r['steps']} steps, {r['wall_time_s']:.0f} s; "
+            + "; ".join(f"{n} {m:+.4f} D/s (Mao {o:+.4f}), shear {s:.2f}" for n, m, o, s in reg),
+            flush=True,
+        )
         rows.append(r)
     return write_report(rows, a.out, cfg_file, end)
 
@@ -155,26 +185,70 @@ def write_report(rows, out, cfg_file, end):
     for r in rows:
         for xb in BINS:
             m = (r["x"] >= xb - 0.25) & (r["x"] < xb + 0.25)
-            csv.append((r["time"], xb, float(r["bed"][m].mean()), float(r["tau"][m].mean()),
-                        float(r["rate"][m].mean()), _mean(r["mao_rate"], m)))
-    write_csv(os.path.join(out, "mao_held.csv"), ("t_mao", "x_over_D", "bed_over_D", "shear_over_far_field",
-                                                   "rate_D_per_s", "mao_rate_D_per_s"), csv)
+            csv.append(
+                (
+                    r["time"],
+                    xb,
+                    float(r["bed"][m].mean()),
+                    float(r["tau"][m].mean()),
+                    float(r["rate"][m].mean()),
+                    _mean(r["mao_rate"], m),
+                )
+            )
+    write_csv(
+        os.path.join(out, "mao_held.csv"),
+        ("t_mao", "x_over_D", "bed_over_D", "shear_over_far_field", "rate_D_per_s", "mao_rate_D_per_s"),
+        csv,
+    )
     plot(rows, os.path.join(out, "mao_held.png"))
-    md = ["# Mao's measured beds held still under the case file's flow", "",
-          f"{time.strftime('%Y-%m-%d %H:%M')}; `{os.path.relpath(cfg_file)}` with `geometry.initial_profile`, "
-          f"the bed held still for {end:g} s of flow; the bed shear averaged from {average_from(end):g} s on and put "
-          "through the case's bed model for the rate the bed would start to change at (D per second on Mao's clock; "
-          "negative: it goes down). Mao's rate is his next profile less this one over the 7 s between them; "
-          "under the pipe, his series' deepening.", "",
-          table(("Mao's bed", "particles", "steps", "wall s", "fastest rate within 1 D of the pipe (D/s)",
-                  "Mao's series under the pipe (D/s)", "wake sheds (St; v std m/s)"),
-                 [(f"{r['time']:g} s", r["particles"], r["steps"], f"{r['wall_time_s']:.0f}",
-                   f"{r['under_model']:+.4f}", f"{r['under_mao']:+.4f}",
-                   f"{'yes' if r['sheds'] else 'no'} ({r['strouhal']:.2f}; {r['v_std']:.3f})") for r in rows]), "",
-          table(("Mao's bed", "region (x / D)", "shear / far field", "rate (D/s)", "Mao's rate (D/s)"),
-                 [(f"{r['time']:g} s", f"{n} ({lo:g} to {hi:g})", f"{s:.2f}", f"{m:+.4f}",
-                   "-" if not np.isfinite(o) else f"{o:+.4f}")
-                  for r in rows for (n, m, o, s), (_, lo, hi) in zip(region_means(r), REGIONS)])]
+    md = [
+        "# Mao's measured beds held still under the case file's flow",
+        "",
+        f"{time.strftime('%Y-%m-%d %H:%M')}; `{os.path.relpath(cfg_file)}` with `geometry.initial_profile`, "
+        f"the bed held still for {end:g} s of flow; the bed shear averaged from {average_from(end):g} s on and put "
+        "through the case's bed model for the rate the bed would start to change at (D per second on Mao's clock; "
+        "negative: it goes down). Mao's rate is his next profile less this one over the 7 s between them; "
+        "under the pipe, his series' deepening.",
+        "",
+        table(
+            (
+                "Mao's bed",
+                "particles",
+                "steps",
+                "wall s",
+                "fastest rate within 1 D of the pipe (D/s)",
+                "Mao's series under the pipe (D/s)",
+                "wake sheds (St; v std m/s)",
+            ),
+            [
+                (
+                    f"{r['time']:g} s",
+                    r["particles"],
+                    r["steps"],
+                    f"{r['wall_time_s']:.0f}",
+                    f"{r['under_model']:+.4f}",
+                    f"{r['under_mao']:+.4f}",
+                    f"{'yes' if r['sheds'] else 'no'} ({r['strouhal']:.2f}; {r['v_std']:.3f})",
+                )
+                for r in rows
+            ],
+        ),
+        "",
+        table(
+            ("Mao's bed", "region (x / D)", "shear / far field", "rate (D/s)", "Mao's rate (D/s)"),
+            [
+                (
+                    f"{r['time']:g} s",
+                    f"{n} ({lo:g} to {hi:g})",
+                    f"{s:.2f}",
+                    f"{m:+.4f}",
+                    "-" if not np.isfinite(o) else f"{o:+.4f}",
+                )
+                for r in rows
+                for (n, m, o, s), (_, lo, hi) in zip(region_means(r), REGIONS)
+            ],
+        ),
+    ]
     write_text(os.path.join(out, "mao_held.md"), "\n".join(md) + "\n")
     print("\n".join(md))
     return 0

@@ -14,6 +14,7 @@ morfac) at morfac 10, or at the lower morfac that keeps the bed turning over no 
 period than in the default tunnel (tunnel.morfac_limit). Writes OUT/ripples.md, ripples.csv, ripples.png (length
 and steepness against d0 with the bands) and growth.png (the length against bed periods).
 """
+
 import json
 import math
 import os
@@ -32,20 +33,32 @@ from ..runner import resolve
 from ..scenes import tunnel
 from .common import table
 
-GRAIN = 0.0003                 # d50 (m): the tunnel's default
-S_GRAIN = 2.65                 # quartz
-BED_PERIODS = 200              # periods of bed change (wave periods x morfac) per case
-SEEDED_BED_PERIODS = 300       # a seeded bed must change its length first, then hold it
-MIN_RIPPLES = 6.5              # predicted ripples in the periodic length
+GRAIN = 0.0003  # d50 (m): the tunnel's default
+S_GRAIN = 2.65  # quartz
+BED_PERIODS = 200  # periods of bed change (wave periods x morfac) per case
+SEEDED_BED_PERIODS = 300  # a seeded bed must change its length first, then hold it
+MIN_RIPPLES = 6.5  # predicted ripples in the periodic length
 CALIBRATION = (0.3, 2.0)
-RIPPLE_DX = 18.6               # predicted ripple length over dx in every case (the default tunnel's)
-MORFAC = 10.0                  # the default tunnel's, where the bed turns over no faster than there
+RIPPLE_DX = 18.6  # predicted ripple length over dx in every case (the default tunnel's)
+MORFAC = 10.0  # the default tunnel's, where the bed turns over no faster than there
 # (d0 m, T s): mobility 20-170 with ripples, and two above 240 (sheet flow)
-SWEEP = [(0.15, 1.5), (0.2, 2.0), (0.3, 3.0), (0.45, 3.5), (0.3, 2.0), (0.6, 3.5), (0.5, 2.5),
-         (0.4, 1.75), (0.4, 1.5), (0.5, 1.75), (0.6, 1.6), (0.55, 1.4)]
+SWEEP = [
+    (0.15, 1.5),
+    (0.2, 2.0),
+    (0.3, 3.0),
+    (0.45, 3.5),
+    (0.3, 2.0),
+    (0.6, 3.5),
+    (0.5, 2.5),
+    (0.4, 1.75),
+    (0.4, 1.5),
+    (0.5, 1.75),
+    (0.6, 1.6),
+    (0.55, 1.4),
+]
 # seeded at 1.5 d0 as well: a smaller period (morfac 4.2) and a larger d0 than the calibration's
 SEEDED_CHECKS = [(0.4, 1.5), (0.5, 2.5)]
-SHEET_STEEPNESS = 0.03         # above mobility 240 a bed this flat has no ripples
+SHEET_STEEPNESS = 0.03  # above mobility 240 a bed this flat has no ripples
 
 
 def mobility(d0, T, d50=GRAIN, s=S_GRAIN, g=9.81):
@@ -88,8 +101,15 @@ def seeded(base, f, d0, T, morfac):
     run SEEDED_BED_PERIODS, over sand deep enough for the seed (tunnel: sand_depth - 2 dx)."""
     height = 0.17 * f * d0 * 0.5
     sand = max(0.08, math.ceil((height + 2 * base["numerics.dx"]) * 100) / 100)
-    return dict(base, **{"geometry.seed_ripple_length": f * d0, "geometry.seed_ripple_height": height,
-                         "geometry.sand_depth": sand, "run.end_time": round(SEEDED_BED_PERIODS * T / morfac, 2)})
+    return dict(
+        base,
+        **{
+            "geometry.seed_ripple_length": f * d0,
+            "geometry.seed_ripple_height": height,
+            "geometry.sand_depth": sand,
+            "run.end_time": round(SEEDED_BED_PERIODS * T / morfac, 2),
+        },
+    )
 
 
 def cases(quick=False):
@@ -97,33 +117,53 @@ def cases(quick=False):
     'resolution'."""
     out = []
     for d0, T in SWEEP:
-        kind = ("calibration" if (d0, T) == CALIBRATION else "sheet" if mobility(d0, T) > 240 else "check")
+        kind = "calibration" if (d0, T) == CALIBRATION else "sheet" if mobility(d0, T) > 240 else "check"
         dx, (m, rms) = resolved_dx(d0), tunnel_bed(d0, T)
-        out.append((f"d0 {d0:g} T {T:g}", kind, {"geometry.orbital_diameter": d0, "geometry.period": T,
-                                                  "geometry.length": periodic_length(d0, dx),
-                                                  "geometry.water_depth": water_depth(d0),
-                                                  "sediment.seed_rms": rms, "sediment.morfac": m,
-                                                  "run.end_time": round(BED_PERIODS * T / m, 2),
-                                                  "numerics.dx": dx}))
+        out.append(
+            (
+                f"d0 {d0:g} T {T:g}",
+                kind,
+                {
+                    "geometry.orbital_diameter": d0,
+                    "geometry.period": T,
+                    "geometry.length": periodic_length(d0, dx),
+                    "geometry.water_depth": water_depth(d0),
+                    "sediment.seed_rms": rms,
+                    "sediment.morfac": m,
+                    "run.end_time": round(BED_PERIODS * T / m, 2),
+                    "numerics.dx": dx,
+                },
+            )
+        )
     d0, T = CALIBRATION
     dx, (_, rms) = resolved_dx(d0), tunnel_bed(d0, T)
-    base = {"geometry.orbital_diameter": d0, "geometry.period": T, "geometry.length": periodic_length(d0, dx),
-            "geometry.water_depth": water_depth(d0), "sediment.seed_rms": rms,
-            "sediment.morfac": MORFAC, "run.end_time": round(BED_PERIODS * T / MORFAC, 2), "numerics.dx": dx}
+    base = {
+        "geometry.orbital_diameter": d0,
+        "geometry.period": T,
+        "geometry.length": periodic_length(d0, dx),
+        "geometry.water_depth": water_depth(d0),
+        "sediment.seed_rms": rms,
+        "sediment.morfac": MORFAC,
+        "run.end_time": round(BED_PERIODS * T / MORFAC, 2),
+        "numerics.dx": dx,
+    }
     for f in (0.3, 1.5):
         out.append((f"seeded {f:g} d0", "seeded", seeded(base, f, d0, T, MORFAC)))
-    for d0_, T_ in SEEDED_CHECKS:   # ripples too long split where the throw was not chosen
+    for d0_, T_ in SEEDED_CHECKS:  # ripples too long split where the throw was not chosen
         case = next(ov for lab, _, ov in out if lab == f"d0 {d0_:g} T {T_:g}")
-        out.append((f"seeded 1.5 d0 at d0 {d0_:g} T {T_:g}", "seeded",
-                    seeded(case, 1.5, d0_, T_, case["sediment.morfac"])))
+        out.append(
+            (f"seeded 1.5 d0 at d0 {d0_:g} T {T_:g}", "seeded", seeded(case, 1.5, d0_, T_, case["sediment.morfac"]))
+        )
     # dx against dx / 1.5 in twice the length (13 predicted ripples, so one ripple is 8 % of the
     # count), both on the gather pass so the two differ only in dx
     twice = dict(base, **{"geometry.length": 2 * base["geometry.length"], "run.pair_once": "off"})
     out.append(("twice the length, dx", "resolution", twice))
     out.append(("twice the length, dx / 1.5", "resolution", dict(twice, **{"numerics.dx": round(dx / 1.5, 6)})))
-    if quick:   # exercise every path in seconds
-        out = [(lab, kind, dict(ov, **{"run.end_time": 0.2, "geometry.length": 0.3, "numerics.dx": 0.015}))
-               for lab, kind, ov in out[:1] + out[-1:]]
+    if quick:  # exercise every path in seconds
+        out = [
+            (lab, kind, dict(ov, **{"run.end_time": 0.2, "geometry.length": 0.3, "numerics.dx": 0.015}))
+            for lab, kind, ov in out[:1] + out[-1:]
+        ]
     return out
 
 
@@ -176,14 +216,34 @@ def rows_from(out, plan):
         lam, h = m.get("ripple_length"), m.get("ripple_height")
         lam = float(lam) if lam is not None else float("nan")
         count = int(m.get("ripple_count") or 0)
-        steep = (float(h) / lam) if (h is not None and count > 0 and lam > 0) else \
-            float(m.get("bed_change_rms") or 0.0) * 2.83 / ov["geometry.length"]
-        rows.append(dict(label=label, kind=kind, d0=d0, T=T, psi=mobility(d0, T), dx=ov["numerics.dx"],
-                         morfac=ov["sediment.morfac"],
-                         length=ov["geometry.length"], lam_d0=lam / d0, steepness=steep, count=count,
-                         rho_max=num(s.get("max_density_error")), rho_mean=num(s.get("mean_density_error")),
-                         near_bed=num(m.get("near_bed_velocity_ratio")),
-                         particles=s.get("particles", 0), steps=s.get("steps", 0), wall=num(s.get("wall_time_s")), status=s.get("status"), dir=os.path.join(out, cid)))
+        steep = (
+            (float(h) / lam)
+            if (h is not None and count > 0 and lam > 0)
+            else float(m.get("bed_change_rms") or 0.0) * 2.83 / ov["geometry.length"]
+        )
+        rows.append(
+            dict(
+                label=label,
+                kind=kind,
+                d0=d0,
+                T=T,
+                psi=mobility(d0, T),
+                dx=ov["numerics.dx"],
+                morfac=ov["sediment.morfac"],
+                length=ov["geometry.length"],
+                lam_d0=lam / d0,
+                steepness=steep,
+                count=count,
+                rho_max=num(s.get("max_density_error")),
+                rho_mean=num(s.get("mean_density_error")),
+                near_bed=num(m.get("near_bed_velocity_ratio")),
+                particles=s.get("particles", 0),
+                steps=s.get("steps", 0),
+                wall=num(s.get("wall_time_s")),
+                status=s.get("status"),
+                dir=os.path.join(out, cid),
+            )
+        )
         t, lam_t = growth(os.path.join(out, cid, "probes.csv"))
         rows[-1]["held"] = held_bed_periods(t, lam_t, T, ov["sediment.morfac"], d0)
         rows[-1]["in_band"] = in_band(rows[-1])
@@ -193,15 +253,18 @@ def rows_from(out, plan):
 def plot(rows, path_fig, path_growth):
     plt = pyplot()
     fig, (a1, a2) = plt.subplots(1, 2, figsize=(10, 4))
-    marks = {"check": ("o", "C0", "checks"), "sheet": ("x", "C2", "sheet flow (mobility > 240)"),
-             "seeded": ("s", "C1", "seeded at 0.3 / 1.5 d0"),
-             "resolution": ("^", "C4", "twice the length, dx and dx / 1.5"),
-             "calibration": ("*", "C3", "calibration case")}   # drawn last: on top of a check at its d0
+    marks = {
+        "check": ("o", "C0", "checks"),
+        "sheet": ("x", "C2", "sheet flow (mobility > 240)"),
+        "seeded": ("s", "C1", "seeded at 0.3 / 1.5 d0"),
+        "resolution": ("^", "C4", "twice the length, dx and dx / 1.5"),
+        "calibration": ("*", "C3", "calibration case"),
+    }  # drawn last: on top of a check at its d0
     for kind, (m, c, lab) in marks.items():
         rr = [r for r in rows if r["kind"] == kind]
         if not rr:
             continue
-        if kind != "sheet":       # a flat bed has no ripple length to show
+        if kind != "sheet":  # a flat bed has no ripple length to show
             a1.plot([r["d0"] for r in rr], [r["lam_d0"] for r in rr], m, color=c, label=lab, ms=8)
         a2.plot([r["d0"] for r in rr], [r["steepness"] for r in rr], m, color=c, label=lab, ms=8)
     for ax, band, ref, name in ((a1, BAND, 0.62, "ripple length / d0"), (a2, STEEP_BAND, 0.17, "steepness")):
@@ -210,17 +273,23 @@ def plot(rows, path_fig, path_growth):
         ax.set_xlabel("orbital diameter d0 (m)")
         ax.set_ylabel(name)
         ax.grid(alpha=0.3)
-    a2.legend(fontsize=7, loc="lower left")   # the empty corner under the band
+    a2.legend(fontsize=7, loc="lower left")  # the empty corner under the band
     a1.set_title("ripple length at the end, every case at the defaults")
     a2.set_title("steepness (height / length)")
     save(fig, path_fig)
     fig, ax = plt.subplots(figsize=(8, 4.5))
-    shown = [r for r in rows if r["kind"] != "sheet"]       # a flat bed's count is noise
+    shown = [r for r in rows if r["kind"] != "sheet"]  # a flat bed's count is noise
     for k, r in enumerate(shown):
         t, lam = growth(os.path.join(r["dir"], "probes.csv"))
         if len(t):
-            ax.plot(t / r["T"] * r["morfac"], lam / r["d0"], color=f"C{k % 10}", lw=1.2,
-                    ls="-" if k < 10 else "--", label=f"{r['label']} ({r['kind']})")
+            ax.plot(
+                t / r["T"] * r["morfac"],
+                lam / r["d0"],
+                color=f"C{k % 10}",
+                lw=1.2,
+                ls="-" if k < 10 else "--",
+                label=f"{r['label']} ({r['kind']})",
+            )
     ax.axhspan(*BAND, color="0.9")
     ax.set_xlabel("bed periods (wave periods x morfac)")
     ax.set_ylabel("mean ripple length / d0")
@@ -231,29 +300,78 @@ def plot(rows, path_fig, path_growth):
 
 
 def report(rows, wall):
-    head = ("case", "kind", "d0 m", "T s", "mobility", "dx m", "morfac", "ripples", "length / d0", "steepness", "in band",
-            "held in the band (bed periods)",
-            "density error max / mean", "near-bed at z_r / U_m", "particles", "steps", "wall s")
-    body = [(r["label"], r["kind"], f"{r['d0']:g}", f"{r['T']:g}", f"{r['psi']:.0f}", f"{r['dx']:g}", f"{r['morfac']:g}",
-             r["count"],
-             f"{r['lam_d0']:.2f}", f"{r['steepness']:.3f}", "yes" if r["in_band"] else "**no**", f"{r['held']:.0f}",
-             f"{r['rho_max']:.1%} / {r['rho_mean']:.2%}", f"{r['near_bed']:.2f}", r["particles"], r["steps"],
-             f"{r['wall']:.0f}") for r in rows]
+    head = (
+        "case",
+        "kind",
+        "d0 m",
+        "T s",
+        "mobility",
+        "dx m",
+        "morfac",
+        "ripples",
+        "length / d0",
+        "steepness",
+        "in band",
+        "held in the band (bed periods)",
+        "density error max / mean",
+        "near-bed at z_r / U_m",
+        "particles",
+        "steps",
+        "wall s",
+    )
+    body = [
+        (
+            r["label"],
+            r["kind"],
+            f"{r['d0']:g}",
+            f"{r['T']:g}",
+            f"{r['psi']:.0f}",
+            f"{r['dx']:g}",
+            f"{r['morfac']:g}",
+            r["count"],
+            f"{r['lam_d0']:.2f}",
+            f"{r['steepness']:.3f}",
+            "yes" if r["in_band"] else "**no**",
+            f"{r['held']:.0f}",
+            f"{r['rho_max']:.1%} / {r['rho_mean']:.2%}",
+            f"{r['near_bed']:.2f}",
+            r["particles"],
+            r["steps"],
+            f"{r['wall']:.0f}",
+        )
+        for r in rows
+    ]
     ok = sum(r["in_band"] for r in rows)
     rip = [r for r in rows if r["kind"] != "sheet"]
     n_len = sum(BAND[0] <= r["lam_d0"] <= BAND[1] for r in rip)
     n_st = sum(STEEP_BAND[0] <= r["steepness"] <= STEEP_BAND[1] for r in rip)
     cost = sum(r["wall"] for r in rows if np.isfinite(r["wall"]))
     pair = [r for r in rows if r["kind"] == "resolution"]
-    res = (f"At twice the length, dx / 1.5 against dx: {pair[1]['count']} against {pair[0]['count']} ripples, "
-           f"lengths {abs(pair[1]['lam_d0'] / pair[0]['lam_d0'] - 1):.0%} apart." if len(pair) == 2 else "")
-    return "\n".join(["# Ripples against the orbital diameter", "",
-                      f"{len(rows)} tunnel cases, {ok} in the band (length 0.5-0.75 d0 and steepness 0.10-0.20; "
-                      f"sheet flow: steepness under {SHEET_STEEPNESS}). Of the {len(rip)} with ripples, {n_len} have "
-                      f"their length in the band and {n_st} their steepness. The cases' wall times add up to "
-                      f"{cost:.0f} s ({wall:.0f} s of wall time for this call, on the sweep's workers).", "",
-                      table(head, body), "", res, "", "![length and steepness against d0](ripples.png)", "",
-                      "![growth](growth.png)", ""])
+    res = (
+        f"At twice the length, dx / 1.5 against dx: {pair[1]['count']} against {pair[0]['count']} ripples, "
+        f"lengths {abs(pair[1]['lam_d0'] / pair[0]['lam_d0'] - 1):.0%} apart."
+        if len(pair) == 2
+        else ""
+    )
+    return "\n".join(
+        [
+            "# Ripples against the orbital diameter",
+            "",
+            f"{len(rows)} tunnel cases, {ok} in the band (length 0.5-0.75 d0 and steepness 0.10-0.20; "
+            f"sheet flow: steepness under {SHEET_STEEPNESS}). Of the {len(rip)} with ripples, {n_len} have "
+            f"their length in the band and {n_st} their steepness. The cases' wall times add up to "
+            f"{cost:.0f} s ({wall:.0f} s of wall time for this call, on the sweep's workers).",
+            "",
+            table(head, body),
+            "",
+            res,
+            "",
+            "![length and steepness against d0](ripples.png)",
+            "",
+            "![growth](growth.png)",
+            "",
+        ]
+    )
 
 
 def main(a):
@@ -261,24 +379,35 @@ def main(a):
     ensure_dir(out)
     plan_cases = cases(quick=a.quick or a.dry_run)
     keys = sorted({k for _, _, ov in plan_cases for k in ov})
-    defaults = {"geometry.seed_ripple_length": 0.0, "geometry.seed_ripple_height": 0.0, "run.pair_once": "auto",
-                "geometry.sand_depth": tunnel.SCENE.DEFAULTS["geometry"]["sand_depth"]}
+    defaults = {
+        "geometry.seed_ripple_length": 0.0,
+        "geometry.seed_ripple_height": 0.0,
+        "run.pair_once": "auto",
+        "geometry.sand_depth": tunnel.SCENE.DEFAULTS["geometry"]["sand_depth"],
+    }
     sets = [(k, [ov.get(k, defaults.get(k)) for _, _, ov in plan_cases]) for k in keys]
     argv = ["tunnel", "--zip", "--out", out, "--resume"] + sum(
-        [["--set", f"{k}=" + ",".join(repr(v) for v in vals)] for k, vals in sets], [])
+        [["--set", f"{k}=" + ",".join(repr(v) for v in vals)] for k, vals in sets], []
+    )
     if a.scheduler:
         argv += ["--scheduler", a.scheduler]
     t0 = time.perf_counter()
     code = sweep.main(argv)
     wall = time.perf_counter() - t0
-    planned = sweep.plan(tunnel, None, sweep.parse_sets([f"{k}=" + ",".join(repr(v) for v in vals)
-                                                         for k, vals in sets]), True, out, {"output.render": False})
+    planned = sweep.plan(
+        tunnel,
+        None,
+        sweep.parse_sets([f"{k}=" + ",".join(repr(v) for v in vals) for k, vals in sets]),
+        True,
+        out,
+        {"output.render": False},
+    )
     rows = rows_from(out, list(zip(planned, plan_cases)))
     cols = [k for k in rows[0] if k != "dir"]
     write_csv(os.path.join(out, "ripples.csv"), cols, [tuple(r[k] for k in cols) for r in rows])
     try:
         plot(rows, os.path.join(out, "ripples.png"), os.path.join(out, "growth.png"))
-    except Exception as e:    # the table stands without the figure
+    except Exception as e:  # the table stands without the figure
         print(f"warning: no ripple figure: {e}", file=sys.stderr)
     md = report(rows, wall)
     write_text(os.path.join(out, "ripples.md"), md)

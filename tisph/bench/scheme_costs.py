@@ -9,6 +9,7 @@ Writes OUT/schemes.md (every run: dx, particles, steps, wall time, error), OUT/s
 OUT/schemes.png (each case's |error| against wall time, one curve a scheme). The runs go N at
 a time (runner/pool.py), so each run's wall time is the time it took beside the others.
 """
+
 import dataclasses
 import json
 import os
@@ -52,11 +53,21 @@ def figure(rows, path):
     fig, axes = plt.subplots(2, 2, figsize=(9, 6.5))
     for ax, name in zip(axes.flat, LADDERS):
         for k, s in enumerate(SCHEMES):
-            rr = [r for r in rows if r["case"] == name and r["scheme"] == s and np.isfinite(r["error"] or np.nan)
-                  and r["error"] != 0]
+            rr = [
+                r
+                for r in rows
+                if r["case"] == name and r["scheme"] == s and np.isfinite(r["error"] or np.nan) and r["error"] != 0
+            ]
             if rr:
-                ax.loglog([r["wall"] for r in rr], [abs(r["error"]) for r in rr], "-o", ms=4, color=f"C{k}",
-                          label=s, lw=2.2 if k == 0 else 1.2)
+                ax.loglog(
+                    [r["wall"] for r in rr],
+                    [abs(r["error"]) for r in rr],
+                    "-o",
+                    ms=4,
+                    color=f"C{k}",
+                    label=s,
+                    lw=2.2 if k == 0 else 1.2,
+                )
         ax.set_title(f"{name}: {CASES_BY_NAME[name].error}", fontsize=8)
         ax.set_xlabel("wall time (s)", fontsize=8)
         ax.set_ylabel("|error|", fontsize=8)
@@ -70,11 +81,16 @@ def figure(rows, path):
 
 def main(a):
     from ..runner.pool import plan, run_all
+
     out = ensure_dir(os.path.join(a.out, "schemes"))
     log = lambda m: print(m, file=sys.stderr, flush=True)
-    tasks = [((c, s, dx), run_task, (c, s, dx, out, a.quick)) for c, ladder in LADDERS.items()
-             for s in SCHEMES for dx in ((CASES_BY_NAME[c].quick,) if a.quick else ladder)]
-    tasks.sort(key=lambda t: t[0][2])           # the finest (the longest) first
+    tasks = [
+        ((c, s, dx), run_task, (c, s, dx, out, a.quick))
+        for c, ladder in LADDERS.items()
+        for s in SCHEMES
+        for dx in ((CASES_BY_NAME[c].quick,) if a.quick else ladder)
+    ]
+    tasks.sort(key=lambda t: t[0][2])  # the finest (the longest) first
     jobs, threads = plan(getattr(a, "jobs", 0), len(tasks))
     log(f"{len(tasks)} runs, {jobs} at a time on {threads} CPU thread{'s' if threads > 1 else ''} each")
     rows = []
@@ -85,22 +101,45 @@ def main(a):
             log(f"{c}, {s}, dx {dx:g}: failed: {e}")
             return
         rows.append(dict(r, scheme=s, threads=threads, jobs=jobs))
-        log(f"{c}, {s}, dx {dx:g}: {r['particles']} particles, {r['steps']} steps, {r['wall']:.1f} s, "
-            f"error {r['error']:.4g}")
+        log(
+            f"{c}, {s}, dx {dx:g}: {r['particles']} particles, {r['steps']} steps, {r['wall']:.1f} s, "
+            f"error {r['error']:.4g}"
+        )
 
     t0 = time.perf_counter()
     run_all(tasks, jobs, threads, done)
     rows.sort(key=lambda r: (list(LADDERS).index(r["case"]), list(SCHEMES).index(r["scheme"]), -r["dx"]))
-    clean = [{k: (None if isinstance(v, float) and not np.isfinite(v) else v) for k, v in r.items() if k != "dir"}
-             for r in rows]
+    clean = [
+        {k: (None if isinstance(v, float) and not np.isfinite(v) else v) for k, v in r.items() if k != "dir"}
+        for r in rows
+    ]
     write_text(os.path.join(out, "schemes.json"), json.dumps(clean, indent=1) + "\n")
     figure(rows, os.path.join(out, "schemes.png"))
-    md = ["# Run time against error by scheme", "",
-          f"{len(tasks)} runs in {(time.perf_counter() - t0) / 60:.1f} minutes, {jobs} at a time on {threads} CPU "
-          f"thread{'s' if threads > 1 else ''} each" + (" (--quick: coarse, short runs)" if a.quick else "") + ".", "",
-          table(("case", "scheme", "dx (m)", "particles", "steps", "wall s", "error", "status"),
-                [(r["case"], r["scheme"], f"{r['dx']:g}", r["particles"], r["steps"], f"{r['wall']:.1f}",
-                  f"{r['error']:.4g}", r["status"]) for r in rows]), "", "![run time against error](schemes.png)"]
+    md = [
+        "# Run time against error by scheme",
+        "",
+        f"{len(tasks)} runs in {(time.perf_counter() - t0) / 60:.1f} minutes, {jobs} at a time on {threads} CPU "
+        f"thread{'s' if threads > 1 else ''} each" + (" (--quick: coarse, short runs)" if a.quick else "") + ".",
+        "",
+        table(
+            ("case", "scheme", "dx (m)", "particles", "steps", "wall s", "error", "status"),
+            [
+                (
+                    r["case"],
+                    r["scheme"],
+                    f"{r['dx']:g}",
+                    r["particles"],
+                    r["steps"],
+                    f"{r['wall']:.1f}",
+                    f"{r['error']:.4g}",
+                    r["status"],
+                )
+                for r in rows
+            ],
+        ),
+        "",
+        "![run time against error](schemes.png)",
+    ]
     write_text(os.path.join(out, "schemes.md"), "\n".join(md) + "\n")
     log(f"wrote {os.path.join(out, 'schemes.md')}")
     return 0

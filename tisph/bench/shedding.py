@@ -18,6 +18,7 @@ Writes OUT/shedding.md and OUT/shedding.csv; the snapshots are deleted after the
 Each run is long (D/20, 4 s of flow: about 27,000 steps of 28,000 particles); this is a
 benchmark, not a test.
 """
+
 import os
 import shutil
 import time
@@ -30,14 +31,14 @@ from ..runner import resolve, simulate
 from ..scenes import pipeline_scour
 from .common import ROOT, table
 
-POINTS = (1.0, 1.5, 2.0, 3.0)     # x / D behind the pipe's centre, on its axis
-RADIUS = 0.15                     # the averaging disc, in D
-SPIN_UP = 1.0                     # s of flow before the series starts
-SAMPLE = 0.05                     # s between snapshots
+POINTS = (1.0, 1.5, 2.0, 3.0)  # x / D behind the pipe's centre, on its axis
+RADIUS = 0.15  # the averaging disc, in D
+SPIN_UP = 1.0  # s of flow before the series starts
+SAMPLE = 0.05  # s between snapshots
 # a wake sheds when a spectral peak at a Strouhal number in the band holds this share of the
 # power and v varies by this much of U (a peak below the band is the wake's slow drift)
 SHEDS_POWER, SHEDS_STD, ST_BAND = 0.3, 0.05, (0.1, 0.4)
-WINDOW = 2.0                      # s of flow a live bed's wake is judged over (about 3 periods at St 0.2)
+WINDOW = 2.0  # s of flow a live bed's wake is judged over (about 3 periods at St 0.2)
 
 
 def wake_spectrum(t, v):
@@ -106,24 +107,43 @@ def run_pipeline(cfg_file, overrides, dx, run_dir):
 
 def run_gap(gap, D, dx, end_time, out, cfg_file):
     """One fixed-bed run with the pipe gap * D above the bed, and its wake's verdict."""
-    ov = {"geometry.gap": gap * D, "geometry.perturbation": 0.0, "sediment.morph_start": 10.0 * end_time,
-          "run.end_time": end_time, "output.render": False, "output.quiet": True,
-          "output.snapshot_every": SAMPLE,
-          # 15 D, the domain the shedding table of docs/sediment.md was measured on: with the bed held still no
-          # dune comes round the seam (what makes the scour case need 25 D), and it costs 0.6 times as much
-          "geometry.length": 15 * D}
+    ov = {
+        "geometry.gap": gap * D,
+        "geometry.perturbation": 0.0,
+        "sediment.morph_start": 10.0 * end_time,
+        "run.end_time": end_time,
+        "output.render": False,
+        "output.quiet": True,
+        "output.snapshot_every": SAMPLE,
+        # 15 D, the domain the shedding table of docs/sediment.md was measured on: with the bed held still no
+        # dune comes round the seam (what makes the scour case need 25 D), and it costs 0.6 times as much
+        "geometry.length": 15 * D,
+    }
     run_dir = os.path.join(out, "runs", f"shedding_gap{gap:g}")
     cfg, s, wall, g = run_pipeline(cfg_file, ov, dx, run_dir)
     t_from = average_from(end_time)
     t, v = wake_series(run_dir, g.xc, g.yc, g.D, t_from)
     shutil.rmtree(os.path.join(run_dir, "snapshots"), ignore_errors=True)
     std, freq, share, best, sheds = judge(t, v, g)
-    return dict(gap_over_D=gap, dx=cfg.numerics.dx, particles=s["particles"], steps=s["steps"],
-                sim_time=s["sim_time"], wall_time_s=round(wall, 1), t_from=t_from, samples=len(t),
-                v_std_min=float(np.nanmin(std)), v_std_max=float(np.nanmax(std)),
-                peak_hz=float(freq[best]), strouhal=float(freq[best] * g.D / g.U),
-                peak_share_min=float(np.nanmin(share)), peak_share_max=float(np.nanmax(share)), sheds=sheds,
-                U=g.U, D=g.D)
+    return dict(
+        gap_over_D=gap,
+        dx=cfg.numerics.dx,
+        particles=s["particles"],
+        steps=s["steps"],
+        sim_time=s["sim_time"],
+        wall_time_s=round(wall, 1),
+        t_from=t_from,
+        samples=len(t),
+        v_std_min=float(np.nanmin(std)),
+        v_std_max=float(np.nanmax(std)),
+        peak_hz=float(freq[best]),
+        strouhal=float(freq[best] * g.D / g.U),
+        peak_share_min=float(np.nanmin(share)),
+        peak_share_max=float(np.nanmax(share)),
+        sheds=sheds,
+        U=g.U,
+        D=g.D,
+    )
 
 
 def windows(t, v, t_start, width=WINDOW):
@@ -146,11 +166,19 @@ def wake_windows(run_dir, g, t_start):
     t, v = wake_series(run_dir, g.xc, g.yc, g.D, t0=t_start)
     depth = np.loadtxt(os.path.join(run_dir, "probes.csv"), delimiter=",", skiprows=1, usecols=(0, 1), ndmin=2)
     rows = []
-    for t0, t1, tv in windows(t, np.column_stack([t, v]), t_start):     # each window's times with its v
+    for t0, t1, tv in windows(t, np.column_stack([t, v]), t_start):  # each window's times with its v
         std, freq, share, best, sheds = judge(tv[:, 0], tv[:, 1:], g)
-        rows.append(dict(t0=t0, t1=t1, s_over_d=float(np.interp(t1, depth[:, 0], depth[:, 1])),
-                         v_std_max=float(np.max(std)), strouhal=float(freq[best] * g.D / g.U),
-                         peak_share_max=float(np.max(share)), sheds=sheds))
+        rows.append(
+            dict(
+                t0=t0,
+                t1=t1,
+                s_over_d=float(np.interp(t1, depth[:, 0], depth[:, 1])),
+                v_std_max=float(np.max(std)),
+                strouhal=float(freq[best] * g.D / g.U),
+                peak_share_max=float(np.max(share)),
+                sheds=sheds,
+            )
+        )
     return rows
 
 
@@ -167,20 +195,40 @@ def live_bed(a, cfg_file):
     cols = tuple(rows[0].keys())
     write_csv(os.path.join(a.out, "shedding.csv"), cols, [tuple(r[c] for c in cols) for r in rows])
     nm = cfg.numerics
+
     def f(key):
         x = m.get(key)
         return "-" if x is None or not np.isfinite(x) else f"{x:.3f}"
-    errs = (f"Largest S/D error to 15 s on Mao's clock {f('mao_depth_max_error_15s')}, profiles at 11 / 18 / 25 s "
-            + " / ".join(f(f"scour_profile_error_{k}s") for k in (11, 18, 25)) + " D RMS")
-    md = ["# The wake over a scouring bed", "",
-          f"{time.strftime('%Y-%m-%d %H:%M')}; `{os.path.relpath(cfg_file)}` as written (scheme {nm.scheme}, "
-          f"h = {nm.h_factor:g} dx, turbulence {nm.turbulence}), dx = {nm.dx:g}: {s['particles']} particles, "
-          f"{s['steps']} steps, {wall:.0f} s. The wake's vertical velocity {', '.join(f'{p:g}' for p in POINTS)} D "
-          f"behind the pipe every {SAMPLE:g} s, its spectrum over each {WINDOW:g} s of flow; sheds as in the "
-          f"fixed-bed table. {errs}.", "",
-          table(("flow s", "S/D at the end", "v std (m/s)", "St", "peak's share", "sheds"),
-                [(f"{r['t0']:.1f}-{r['t1']:.1f}", f"{r['s_over_d']:.2f}", f"{r['v_std_max']:.3f}",
-                  f"{r['strouhal']:.2f}", f"{r['peak_share_max']:.0%}", "yes" if r["sheds"] else "no") for r in rows])]
+
+    errs = (
+        f"Largest S/D error to 15 s on Mao's clock {f('mao_depth_max_error_15s')}, profiles at 11 / 18 / 25 s "
+        + " / ".join(f(f"scour_profile_error_{k}s") for k in (11, 18, 25))
+        + " D RMS"
+    )
+    md = [
+        "# The wake over a scouring bed",
+        "",
+        f"{time.strftime('%Y-%m-%d %H:%M')}; `{os.path.relpath(cfg_file)}` as written (scheme {nm.scheme}, "
+        f"h = {nm.h_factor:g} dx, turbulence {nm.turbulence}), dx = {nm.dx:g}: {s['particles']} particles, "
+        f"{s['steps']} steps, {wall:.0f} s. The wake's vertical velocity {', '.join(f'{p:g}' for p in POINTS)} D "
+        f"behind the pipe every {SAMPLE:g} s, its spectrum over each {WINDOW:g} s of flow; sheds as in the "
+        f"fixed-bed table. {errs}.",
+        "",
+        table(
+            ("flow s", "S/D at the end", "v std (m/s)", "St", "peak's share", "sheds"),
+            [
+                (
+                    f"{r['t0']:.1f}-{r['t1']:.1f}",
+                    f"{r['s_over_d']:.2f}",
+                    f"{r['v_std_max']:.3f}",
+                    f"{r['strouhal']:.2f}",
+                    f"{r['peak_share_max']:.0%}",
+                    "yes" if r["sheds"] else "no",
+                )
+                for r in rows
+            ],
+        ),
+    ]
     write_text(os.path.join(a.out, "shedding.md"), "\n".join(md) + "\n")
     print("\n".join(md))
     return 0
@@ -197,26 +245,45 @@ def main(a):
     rows = []
     for gap in gaps:
         r = run_gap(gap, D, a.dx, end, a.out, cfg_file)
-        print(f"gap {gap:g} D: {r['particles']} particles, {r['steps']} steps, {r['wall_time_s']:.0f} s; "
-              f"v std {r['v_std_min']:.3f}-{r['v_std_max']:.3f} m/s, peak {r['peak_hz']:.2f} Hz "
-              f"(St {r['strouhal']:.2f}), {r['peak_share_min']:.0%}-{r['peak_share_max']:.0%} of the power: "
-              f"{'sheds' if r['sheds'] else 'no regular shedding'}", flush=True)
+        print(
+            f"gap {gap:g} D: {r['particles']} particles, {r['steps']} steps, {r['wall_time_s']:.0f} s; "
+            f"v std {r['v_std_min']:.3f}-{r['v_std_max']:.3f} m/s, peak {r['peak_hz']:.2f} Hz "
+            f"(St {r['strouhal']:.2f}), {r['peak_share_min']:.0%}-{r['peak_share_max']:.0%} of the power: "
+            f"{'sheds' if r['sheds'] else 'no regular shedding'}",
+            flush=True,
+        )
         rows.append(r)
     cols = tuple(rows[0].keys())
     write_csv(os.path.join(a.out, "shedding.csv"), cols, [tuple(r[c] for c in cols) for r in rows])
-    md = ["# Vortex shedding behind a pipe above a fixed bed", "",
-          f"{time.strftime('%Y-%m-%d %H:%M')}; `{os.path.relpath(cfg_file)}`: Mao's current (U = {rows[0]['U']:g} m/s, D = {rows[0]['D']:g} m), "
-          f"the bed held still; the wake's vertical velocity {', '.join(f'{p:g}' for p in POINTS)} D behind the "
-          f"pipe, snapshots every {SAMPLE:g} s from {rows[0]['t_from']:g} s on. Sheds: a spectral peak at a Strouhal "
-          f"number of {ST_BAND[0]:g}-{ST_BAND[1]:g} holds at least {SHEDS_POWER:.0%} of the power and v varies by at "
-          f"least {SHEDS_STD:.0%} of U. The peak and St columns give that peak (else the largest, the wake's drift). Experiments: regular "
-          "shedding at St about 0.2 from a gap of about 0.3 D up (Bearman & Zdravkovich 1978).", "",
-          table(("gap / D", "dx", "particles", "steps", "wall s", "v std (m/s)", "peak Hz", "St", "peak's share",
-                  "sheds"),
-                 [(f"{r['gap_over_D']:g}", f"{r['dx']:g}", r["particles"], r["steps"], f"{r['wall_time_s']:.0f}",
-                   f"{r['v_std_min']:.3f}-{r['v_std_max']:.3f}", f"{r['peak_hz']:.2f}", f"{r['strouhal']:.2f}",
-                   f"{r['peak_share_min']:.0%}-{r['peak_share_max']:.0%}", "yes" if r["sheds"] else "no")
-                  for r in rows])]
+    md = [
+        "# Vortex shedding behind a pipe above a fixed bed",
+        "",
+        f"{time.strftime('%Y-%m-%d %H:%M')}; `{os.path.relpath(cfg_file)}`: Mao's current (U = {rows[0]['U']:g} m/s, D = {rows[0]['D']:g} m), "
+        f"the bed held still; the wake's vertical velocity {', '.join(f'{p:g}' for p in POINTS)} D behind the "
+        f"pipe, snapshots every {SAMPLE:g} s from {rows[0]['t_from']:g} s on. Sheds: a spectral peak at a Strouhal "
+        f"number of {ST_BAND[0]:g}-{ST_BAND[1]:g} holds at least {SHEDS_POWER:.0%} of the power and v varies by at "
+        f"least {SHEDS_STD:.0%} of U. The peak and St columns give that peak (else the largest, the wake's drift). Experiments: regular "
+        "shedding at St about 0.2 from a gap of about 0.3 D up (Bearman & Zdravkovich 1978).",
+        "",
+        table(
+            ("gap / D", "dx", "particles", "steps", "wall s", "v std (m/s)", "peak Hz", "St", "peak's share", "sheds"),
+            [
+                (
+                    f"{r['gap_over_D']:g}",
+                    f"{r['dx']:g}",
+                    r["particles"],
+                    r["steps"],
+                    f"{r['wall_time_s']:.0f}",
+                    f"{r['v_std_min']:.3f}-{r['v_std_max']:.3f}",
+                    f"{r['peak_hz']:.2f}",
+                    f"{r['strouhal']:.2f}",
+                    f"{r['peak_share_min']:.0%}-{r['peak_share_max']:.0%}",
+                    "yes" if r["sheds"] else "no",
+                )
+                for r in rows
+            ],
+        ),
+    ]
     write_text(os.path.join(a.out, "shedding.md"), "\n".join(md) + "\n")
     print("\n".join(md))
     return 0

@@ -16,6 +16,7 @@ the ratio is the median of the pairs: these machines are shared and drift, so on
 one run mean anything. With --peer, PySPH's and DualSPHysics' dam breaks beside ours
 (tisph/bench/peers/dambreak_codes.py). Writes OUT/speed.md and OUT/speed.csv.
 """
+
 import json
 import math
 import os
@@ -38,26 +39,56 @@ CASES = [
     # cannot read its case file is reported as not measured)
     # at 15 D (2.9e4 particles) with the Smagorinsky SPS and the log-law shear, so that older
     # revisions, which cannot read the case file's later keys, run the same case
-    ("pipeline Mao D/20 (periodic)", "pipeline_scour", {"--config": "scenes/pipeline_scour_mao.toml",
-                                                       "geometry.length": 0.75,
-                                                       "numerics.turbulence": "smagorinsky",
-                                                       "sediment.shear": "log_far_field"}, 150),
-    ("tank 4.4e4", "tank", {"numerics.dx": 0.01, "geometry.width": 2.1, "geometry.depth": 2.1,
-                            "geometry.tank_height": 2.2}, 150),
-    ("tank 1.8e5", "tank", {"numerics.dx": 0.005, "geometry.width": 2.1, "geometry.depth": 2.1,
-                            "geometry.tank_height": 2.2}, 50),
-    ("tank 6.5e5", "tank", {"numerics.dx": 0.0025, "geometry.width": 2.0, "geometry.depth": 2.0,
-                            "geometry.tank_height": 2.1}, 20),
+    (
+        "pipeline Mao D/20 (periodic)",
+        "pipeline_scour",
+        {
+            "--config": "scenes/pipeline_scour_mao.toml",
+            "geometry.length": 0.75,
+            "numerics.turbulence": "smagorinsky",
+            "sediment.shear": "log_far_field",
+        },
+        150,
+    ),
+    (
+        "tank 4.4e4",
+        "tank",
+        {"numerics.dx": 0.01, "geometry.width": 2.1, "geometry.depth": 2.1, "geometry.tank_height": 2.2},
+        150,
+    ),
+    (
+        "tank 1.8e5",
+        "tank",
+        {"numerics.dx": 0.005, "geometry.width": 2.1, "geometry.depth": 2.1, "geometry.tank_height": 2.2},
+        50,
+    ),
+    (
+        "tank 6.5e5",
+        "tank",
+        {"numerics.dx": 0.0025, "geometry.width": 2.0, "geometry.depth": 2.0, "geometry.tank_height": 2.1},
+        20,
+    ),
 ]
-QUICK = 4   # --quick: the first four
+QUICK = 4  # --quick: the first four
 # the bed-load scenes as a user runs them, the Python side of the bed coupling included: steps
 # timed by the runner (its step_time_s, without the outputs), from the start of the run past
 # the first wave period (the bed's outer scaling and its amplitude start once it has seen one)
 SCENES = [
     # the 1:20 beach (scenes/beach_1to20.toml) by its keys, which older trees have too
-    ("beach (1:20, dx 0.015)", "beach", {"geometry.length": 8.0, "geometry.toe_x": 1.5, "geometry.slope": 20.0,
-                                         "geometry.gauges_x": [1.0, 3.0, 4.5, 5.5, 6.5], "paddle.stroke": 0.26,
-                                         "numerics.dx": 0.015, "sediment.morfac": 22.0}, 8000),
+    (
+        "beach (1:20, dx 0.015)",
+        "beach",
+        {
+            "geometry.length": 8.0,
+            "geometry.toe_x": 1.5,
+            "geometry.slope": 20.0,
+            "geometry.gauges_x": [1.0, 3.0, 4.5, 5.5, 6.5],
+            "paddle.stroke": 0.26,
+            "numerics.dx": 0.015,
+            "sediment.morfac": 22.0,
+        },
+        8000,
+    ),
     ("tunnel (default)", "tunnel", {}, 8000),
 ]
 # --arch gpu: the tank ladder, the case whose size a GPU is for
@@ -130,12 +161,18 @@ def measure(tree, scene, overrides, steps, cache=None, arch="cpu", whole=False, 
     env = dict(os.environ, PYTHONPATH=tree)
     if threads:
         env["TISPH_THREADS"] = str(threads)
-    if "--config" in overrides:   # this tree's case file, whichever tree runs it
+    if "--config" in overrides:  # this tree's case file, whichever tree runs it
         overrides = dict(overrides, **{"--config": os.path.join(ROOT, overrides["--config"])})
     if cache:
         env["TI_OFFLINE_CACHE_FILE_PATH"] = cache
-    r = subprocess.run([sys.executable, "-c", CHILD_SCENE if whole else CHILD, scene, json.dumps(overrides),
-                        str(steps), arch], cwd=tree, capture_output=True, text=True, env=env, timeout=3600)
+    r = subprocess.run(
+        [sys.executable, "-c", CHILD_SCENE if whole else CHILD, scene, json.dumps(overrides), str(steps), arch],
+        cwd=tree,
+        capture_output=True,
+        text=True,
+        env=env,
+        timeout=3600,
+    )
     if r.returncode != 0:
         raise RuntimeError(f"{scene} {overrides} on {tree} failed: {r.stderr[-1500:]}")
     return json.loads(r.stdout.strip().splitlines()[-1])
@@ -146,15 +183,16 @@ def worktree(rev, base):
     path = os.path.join(base, "rev")
     r = subprocess.run(["git", "-C", ROOT, "worktree", "add", "--detach", path, rev], capture_output=True, text=True)
     if r.returncode != 0:
-        raise SystemExit(f"python -m tisph.bench --speed: --against {rev!r}: not a revision of {ROOT} "
-                         f"({r.stderr.strip()})")
+        raise SystemExit(
+            f"python -m tisph.bench --speed: --against {rev!r}: not a revision of {ROOT} ({r.stderr.strip()})"
+        )
     return path
 
 
 def _measure_old(tree, rev, name, scene, ov, steps, log, arch, whole, threads):
     try:
         return measure(tree, scene, ov, steps, arch=arch, whole=whole, threads=threads)["pps"]
-    except RuntimeError as e:   # a case newer than REV
+    except RuntimeError as e:  # a case newer than REV
         log(f"{name}: not measured on {rev}: {str(e).splitlines()[-1]}")
         return float("nan")
 
@@ -169,6 +207,7 @@ def dx_for(scene_name, n):
     import importlib
 
     from ..runner import Log, build_case, resolve
+
     scene = importlib.import_module("tisph.scenes." + scene_name).SCENE
     dx = resolve(scene, overrides={"output.quiet": True}).numerics.dx
     for _ in range(2):
@@ -194,7 +233,7 @@ def cases_for(a):
     arch = getattr(a, "arch", "cpu") or "cpu"
     if getattr(a, "sizes", None):
         return sized_cases(a)
-    if arch == "gpu":   # --quick: the smallest tank, a few steps (the fallback's test)
+    if arch == "gpu":  # --quick: the smallest tank, a few steps (the fallback's test)
         return [GPU_CASES[0][:3] + (20, False)] if a.quick else [c + (False,) for c in GPU_CASES]
     if a.quick:
         return [c + (False,) for c in CASES[:QUICK]]
@@ -205,7 +244,7 @@ def cases_for(a):
 
 def run(a, log):
     arch = getattr(a, "arch", "cpu") or "cpu"
-    threads = getattr(a, "threads", None)   # Taichi's CPU threads in every run (None: all cores)
+    threads = getattr(a, "threads", None)  # Taichi's CPU threads in every run (None: all cores)
     cases = cases_for(a)
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
@@ -216,8 +255,10 @@ def run(a, log):
             cold = measure(ROOT, *CASES[0][1:3], 5, cache, arch=arch)
             warm = measure(ROOT, *CASES[0][1:3], 5, cache, arch=arch)["compile"]
             if arch == "gpu" and cold.get("arch") in ("x64", "arm64"):
-                log("warning: --arch gpu: Taichi found no GPU (CUDA, Vulkan or Metal) here; the cases run on the "
-                    "CPU, and the table says so")
+                log(
+                    "warning: --arch gpu: Taichi found no GPU (CUDA, Vulkan or Metal) here; the cases run on the "
+                    "CPU, and the table says so"
+                )
             used = cold.get("arch", "x64")
             cold = cold["compile"]
             for name, scene, ov, steps, whole in cases:
@@ -226,21 +267,30 @@ def run(a, log):
                     # every other pair REV first: the one run second measured 8-10 % faster on
                     # these VMs whichever tree it was (cases the change could not touch, 3 pairs)
                     if old and k % 2:
-                        old_pps.append(_measure_old(old, a.against, name, scene, ov, steps, log, arch, whole,
-                                                    threads))
+                        old_pps.append(_measure_old(old, a.against, name, scene, ov, steps, log, arch, whole, threads))
                     m = measure(ROOT, scene, ov, steps, arch=arch, whole=whole, threads=threads)
                     new_pps.append(m["pps"])
                     if old and not k % 2:
-                        old_pps.append(_measure_old(old, a.against, name, scene, ov, steps, log, arch, whole,
-                                                    threads))
-                    log(f"{name}: {m['particles']} particles, {new_pps[-1]:.3g} particle-steps/s"
-                        + (f", {a.against}: {old_pps[-1]:.3g}" if old else ""))
-                row = dict(case=name, particles=m["particles"], steps=m.get("steps", steps),
-                           pps=statistics.median(new_pps), field_bytes=round(m["field_bytes"], 1), arch=used)
+                        old_pps.append(_measure_old(old, a.against, name, scene, ov, steps, log, arch, whole, threads))
+                    log(
+                        f"{name}: {m['particles']} particles, {new_pps[-1]:.3g} particle-steps/s"
+                        + (f", {a.against}: {old_pps[-1]:.3g}" if old else "")
+                    )
+                row = dict(
+                    case=name,
+                    particles=m["particles"],
+                    steps=m.get("steps", steps),
+                    pps=statistics.median(new_pps),
+                    field_bytes=round(m["field_bytes"], 1),
+                    arch=used,
+                )
                 if old:
                     row["pps_against"] = statistics.median(old_pps)
-                    row["ratio"] = float("nan") if any(math.isnan(o) for o in old_pps) else \
-                        statistics.median(n / o for n, o in zip(new_pps, old_pps))
+                    row["ratio"] = (
+                        float("nan")
+                        if any(math.isnan(o) for o in old_pps)
+                        else statistics.median(n / o for n, o in zip(new_pps, old_pps))
+                    )
                 rows.append(row)
         finally:
             if old:
@@ -254,20 +304,30 @@ def report(a, rows, cold, warm):
     if a.against:
         hdr += f" {a.against} particle-steps/s | ratio (median of {a.repeats} pairs) |"
         sep += "---|---|"
-    lines = ["# tisph engine speed", "",
-             f"{time.strftime('%Y-%m-%d %H:%M')}, Taichi arch {rows[0]['arch']}, f32, "
-             f"{getattr(a, 'threads', None) or os.cpu_count()} threads; "
-             "each figure the "
-             f"median of {a.repeats} runs, each in a fresh process"
-             + (f", alternating with {a.against} back to back" if a.against else "") + ".", "",
-             hdr, sep]
+    lines = [
+        "# tisph engine speed",
+        "",
+        f"{time.strftime('%Y-%m-%d %H:%M')}, Taichi arch {rows[0]['arch']}, f32, "
+        f"{getattr(a, 'threads', None) or os.cpu_count()} threads; "
+        "each figure the "
+        f"median of {a.repeats} runs, each in a fresh process"
+        + (f", alternating with {a.against} back to back" if a.against else "")
+        + ".",
+        "",
+        hdr,
+        sep,
+    ]
     for r in rows:
         line = f"| {r['case']} | {r['particles']} | {r['steps']} | {r['pps']:.3g} | {r['field_bytes']} |"
         if a.against:
             line += f" {r['pps_against']:.3g} | {r['ratio']:.2f} |"
         lines.append(line)
-    lines += ["", f"Compile (dam break dx 0.03, set-up excluded): cold {cold:.2f} s (empty offline cache), "
-              f"warm {warm:.2f} s (Taichi's offline kernel cache).", ""]
+    lines += [
+        "",
+        f"Compile (dam break dx 0.03, set-up excluded): cold {cold:.2f} s (empty offline cache), "
+        f"warm {warm:.2f} s (Taichi's offline kernel cache).",
+        "",
+    ]
     return lines
 
 
@@ -277,7 +337,9 @@ def main(a):
     rows, cold, warm = run(a, log)
     lines = report(a, rows, cold, warm)
     if getattr(a, "peer", ()):
-        lines += peers("dambreak_codes").compare(a.out, log, a.peer, getattr(a, "peer_venv", None), getattr(a, "dualsphysics", None))
+        lines += peers("dambreak_codes").compare(
+            a.out, log, a.peer, getattr(a, "peer_venv", None), getattr(a, "dualsphysics", None)
+        )
     write_text(os.path.join(a.out, "speed.md"), "\n".join(lines) + "\n")
     write_csv(os.path.join(a.out, "speed.csv"), tuple(rows[0]), [tuple(r.values()) for r in rows])
     print("\n".join(lines))

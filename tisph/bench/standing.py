@@ -13,6 +13,7 @@ period. It runs the flume's numerics (tisph.scenes.flume) with each density diff
 flume's waves lose c / c_g = 1.6 times as much per wavelength as the mode does per period.
 Writes OUT/standing/standing.md and standing.csv.
 """
+
 import functools
 import math
 import os
@@ -42,21 +43,36 @@ def mode():
 def case(dx, periods, diffusion):
     import tisph
     from tisph.geometry import Polyline
+
     k, omega, T, L, cg = mode()
     num = dict(resolve(flume).numerics.items(), dx=dx, density_diffusion=diffusion)
     xs = np.linspace(0.0, L, 241)
     top = [[float(x), DEPTH + AMPLITUDE * math.cos(k * x)] for x in xs]
     tank = Polyline([[0.0, 0.6], [0.0, 0.0], [L, 0.0], [L, 0.6]], label="tank")
     gauges = [{"type": "surface", "x": f * L, "label": f"g{n}"} for n, f in enumerate((0.1, 0.4, 0.6, 0.9))]
-    keep = ("dx", "h_factor", "kernel", "wall", "wall_layers", "artificial_viscosity", "laminar_viscosity",
-            "density_diffusion", "delta", "cfl")
+    keep = (
+        "dx",
+        "h_factor",
+        "kernel",
+        "wall",
+        "wall_layers",
+        "artificial_viscosity",
+        "laminar_viscosity",
+        "density_diffusion",
+        "delta",
+        "cfl",
+    )
     # the flume's sound speed, c0_factor sqrt(g h) (a custom case would take its own estimate)
     c0 = num["c0_factor"] * math.sqrt(G * DEPTH)
-    return tisph.Case.custom(box=[0.0, L, 0.0, 0.6], solids=[tank],
-                             water=[{"polygon": [[0.0, 0.0], [L, 0.0]] + top[::-1]}], gauges=gauges,
-                             numerics=dict({key: num[key] for key in keep}, c0=c0,
-                                           u_max=AMPLITUDE * omega / math.tanh(k * DEPTH)),
-                             run={"end_time": periods * T}, output={"probe_interval": T / 40})
+    return tisph.Case.custom(
+        box=[0.0, L, 0.0, 0.6],
+        solids=[tank],
+        water=[{"polygon": [[0.0, 0.0], [L, 0.0]] + top[::-1]}],
+        gauges=gauges,
+        numerics=dict({key: num[key] for key in keep}, c0=c0, u_max=AMPLITUDE * omega / math.tanh(k * DEPTH)),
+        run={"end_time": periods * T},
+        output={"probe_interval": T / 40},
+    )
 
 
 def decay(probes, periods):
@@ -77,6 +93,7 @@ def decay(probes, periods):
 
 def main(a):
     import tisph
+
     dx = a.dx or 0.0125
     periods = int(a.end_time or (8 if a.quick else 20))
     out = ensure_dir(os.path.join(a.out, "standing"))
@@ -84,26 +101,60 @@ def main(a):
     k, omega, T, L, cg = mode()
     for kind in KINDS:
         t0 = time.time()
-        r = tisph.run(case(dx, periods, kind), out=os.path.join(out, f"{kind}_dx{dx:g}"), render=False,
-                      progress=False)
+        r = tisph.run(case(dx, periods, kind), out=os.path.join(out, f"{kind}_dx{dx:g}"), render=False, progress=False)
         wall = time.time() - t0
         amp, rate = decay(r.probes, periods)
         s = r.summary
-        rows.append((kind, dx, s["particles"], s["steps"], round(wall, 1), round(float(amp[-1]), 4),
-                     round(float(rate), 5), round(float(rate * L / (T * cg)), 5), s["status"]))
-        print(f"{kind}: {s['particles']} particles, {s['steps']} steps, {wall:.1f} s, amplitude after "
-              f"{periods} periods {amp[-1]:.3f} a, decay {rate * 100:.2f} % a period", flush=True)
-    cols = ("diffusion", "dx", "particles", "steps", "wall_s", "last_amplitude", "decay_per_period",
-            "decay_per_wavelength_progressive", "status")
+        rows.append(
+            (
+                kind,
+                dx,
+                s["particles"],
+                s["steps"],
+                round(wall, 1),
+                round(float(amp[-1]), 4),
+                round(float(rate), 5),
+                round(float(rate * L / (T * cg)), 5),
+                s["status"],
+            )
+        )
+        print(
+            f"{kind}: {s['particles']} particles, {s['steps']} steps, {wall:.1f} s, amplitude after "
+            f"{periods} periods {amp[-1]:.3f} a, decay {rate * 100:.2f} % a period",
+            flush=True,
+        )
+    cols = (
+        "diffusion",
+        "dx",
+        "particles",
+        "steps",
+        "wall_s",
+        "last_amplitude",
+        "decay_per_period",
+        "decay_per_wavelength_progressive",
+        "status",
+    )
     write_csv(os.path.join(out, "standing.csv"), cols, rows)
-    md = ["# A standing wave in a closed tank", "",
-          f"One wavelength ({L:.3f} m) of the default flume's wave (T = {T:.3f} s over {DEPTH} m), a = "
-          f"{AMPLITUDE} m, dx = {dx:g} m, {periods} periods; the flume's numerics with each density diffusion.", "",
-          table(("diffusion", "particles", "steps", "wall s", f"amplitude after {periods} periods",
-                 "decay a period", "as a progressive wave's a wavelength"),
-                [(r[0], r[2], r[3], r[4], f"{r[5]:.3f} a", f"{r[6] * 100:.2f} %", f"{r[7] * 100:.2f} %")
-                 for r in rows]), ""]
+    md = [
+        "# A standing wave in a closed tank",
+        "",
+        f"One wavelength ({L:.3f} m) of the default flume's wave (T = {T:.3f} s over {DEPTH} m), a = "
+        f"{AMPLITUDE} m, dx = {dx:g} m, {periods} periods; the flume's numerics with each density diffusion.",
+        "",
+        table(
+            (
+                "diffusion",
+                "particles",
+                "steps",
+                "wall s",
+                f"amplitude after {periods} periods",
+                "decay a period",
+                "as a progressive wave's a wavelength",
+            ),
+            [(r[0], r[2], r[3], r[4], f"{r[5]:.3f} a", f"{r[6] * 100:.2f} %", f"{r[7] * 100:.2f} %") for r in rows],
+        ),
+        "",
+    ]
     write_text(os.path.join(out, "standing.md"), "\n".join(md) + "\n")
     print("\n".join(md))
     return 0
-

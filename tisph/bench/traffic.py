@@ -17,6 +17,7 @@ every step. A step runs from its step kernel's launch to the next one's: what th
 read of a batch of steps, the health check, the backup, a control, the next step's paddle) is
 the step's. It "writes nothing" where none of the run's outputs (probes, frames, snapshots,
 checkpoints, the scene's events) was written in it. Printed as a table and written to OUT/traffic.md and traffic.json."""
+
 import collections
 import contextlib
 import importlib
@@ -28,9 +29,23 @@ import numpy as np
 
 # one golden case per registered scene, and the cases whose steps have host work of their own
 # (a paddle, a drive, a coupled bed, absorption)
-CASES = ("dam_break", "orifice", "tank", "erodible_bed", "poiseuille_bingham", "flume", "flume_jonswap",
-         "beach", "beach_bedload", "tunnel", "tunnel_bedload", "pipeline_scour", "pipeline_bedload",
-         "breakwater", "dam_break_custom")
+CASES = (
+    "dam_break",
+    "orifice",
+    "tank",
+    "erodible_bed",
+    "poiseuille_bingham",
+    "flume",
+    "flume_jonswap",
+    "beach",
+    "beach_bedload",
+    "tunnel",
+    "tunnel_bedload",
+    "pipeline_scour",
+    "pipeline_bedload",
+    "breakwater",
+    "dam_break_custom",
+)
 STEPS = 200
 
 
@@ -48,7 +63,7 @@ class Counter:
     def install(self):
         """Patch Taichi's kernel call and field element accessors; put them back on exit. Field
         accessors made before this are not seen: install before the solver is built."""
-        field = importlib.import_module("taichi.lang.field")   # not ti.lang.field: that name is ti.field
+        field = importlib.import_module("taichi.lang.field")  # not ti.lang.field: that name is ti.field
         kernel_impl = importlib.import_module("taichi.lang.kernel_impl")
         counter = self
         call, acc_init = kernel_impl.Kernel.__call__, field.SNodeHostAccessor.__init__
@@ -66,7 +81,7 @@ class Counter:
             acc_init(acc, snode)
             get, put = acc.getter, acc.setter
 
-            def getter(*key):   # Taichi reads an element with a small kernel of its own
+            def getter(*key):  # Taichi reads an element with a small kernel of its own
                 counter.launches["element read"] += 1
                 counter.transfers["element read"] += 1
                 return get(*key)
@@ -75,6 +90,7 @@ class Counter:
                 counter.launches["element write"] += 1
                 counter.transfers["element write"] += 1
                 return put(value, *key)
+
             acc.getter, acc.setter = getter, setter
 
         kernel_impl.Kernel.__call__ = counted_call
@@ -94,6 +110,7 @@ def measure(case_id, steps=STEPS, arch="cpu"):
 
     from .. import runtime
     from ..runner import Log, Run, build_case, resolve
+
     _, modname, cfile, ov = next(c for c in GOLDEN if c[0] == case_id)
     scene = importlib.import_module(modname).SCENE
     counter = Counter()
@@ -104,8 +121,8 @@ def measure(case_id, steps=STEPS, arch="cpu"):
         runtime.init(arch, cfg.run.precision)
         log = Log(os.path.join(out, "run.log"), True)
         case = build_case(scene, cfg, log)
-        case.params["paddle_series"] = True   # as a GPU runs it (on the CPU the host gives the paddle,
-        case.params["read_elements"] = 0       # and a short batch's log is read element by element)
+        case.params["paddle_series"] = True  # as a GPU runs it (on the CPU the host gives the paddle,
+        case.params["read_elements"] = 0  # and a short batch's log is read element by element)
         run = Run(case, cfg, out, log, scene.NAME)
         run.arch = runtime.current_arch()
         wrote = [False]
@@ -118,49 +135,68 @@ def measure(case_id, steps=STEPS, arch="cpu"):
             n = len(run.events)
             orig_fire()
             wrote[0] |= len(run.events) != n
+
         run.fire_events = fire
         last = {}
 
         def step_wrapper(step):
             def stepped(*args):
-                if last:   # close the previous step: its kernel, the reads and outputs after it
+                if last:  # close the previous step: its kernel, the reads and outputs after it
                     rows.append(_row(counter, last, wrote[0]))
-                last.update(mark=counter.total(), launches=collections.Counter(counter.launches),
-                            transfers=collections.Counter(counter.transfers))
+                last.update(
+                    mark=counter.total(),
+                    launches=collections.Counter(counter.launches),
+                    transfers=collections.Counter(counter.transfers),
+                )
                 wrote[0] = False
                 return step(*args)
+
             return stepped
+
         orig_start = run._start
 
         def start():
             r = orig_start()
             run.solver.stepper.step = step_wrapper(run.solver.stepper.step)
             return r
+
         run._start = start
         run.execute()
         if last:
             rows.append(_row(counter, last, wrote[0]))
     quiet = [r for r in rows if not r["wrote"]]
     worst = max(quiet, key=lambda r: (r["transfers"], r["launches"])) if quiet else None
-    return dict(case=case_id, scene=scene.NAME, particles=len(case.particles), steps=len(rows), quiet_steps=len(quiet),
-                launches_quiet=_stats([r["launches"] for r in quiet]),
-                transfers_quiet=_stats([r["transfers"] for r in quiet]),
-                launches_all=_stats([r["launches"] for r in rows]),
-                transfers_all=_stats([r["transfers"] for r in rows]),
-                worst_quiet=worst)
+    return dict(
+        case=case_id,
+        scene=scene.NAME,
+        particles=len(case.particles),
+        steps=len(rows),
+        quiet_steps=len(quiet),
+        launches_quiet=_stats([r["launches"] for r in quiet]),
+        transfers_quiet=_stats([r["transfers"] for r in quiet]),
+        launches_all=_stats([r["launches"] for r in rows]),
+        transfers_all=_stats([r["transfers"] for r in rows]),
+        worst_quiet=worst,
+    )
 
 
 def _flagging(f, wrote):
     def g(*a, **k):
         wrote[0] = True
         return f(*a, **k)
+
     return g
 
 
 def _row(counter, last, wrote):
     launches, transfers = counter.total()
-    return dict(launches=launches - last["mark"][0], transfers=transfers - last["mark"][1], wrote=wrote,
-                which=dict(counter.launches - last["launches"]), what=dict(counter.transfers - last["transfers"]))
+    return dict(
+        launches=launches - last["mark"][0],
+        transfers=transfers - last["mark"][1],
+        wrote=wrote,
+        which=dict(counter.launches - last["launches"]),
+        what=dict(counter.transfers - last["transfers"]),
+    )
 
 
 def _stats(v):
@@ -168,14 +204,18 @@ def _stats(v):
 
 
 def table(results):
-    lines = ["| case | scene | particles | quiet steps | launches a quiet step (mean, max) | transfers a quiet step "
-             "(mean, max) | launches a step, all (mean) | transfers a step, all (mean) |",
-             "|---|---|---|---|---|---|---|---|"]
+    lines = [
+        "| case | scene | particles | quiet steps | launches a quiet step (mean, max) | transfers a quiet step "
+        "(mean, max) | launches a step, all (mean) | transfers a step, all (mean) |",
+        "|---|---|---|---|---|---|---|---|",
+    ]
     for r in results:
         lq, tq = r["launches_quiet"], r["transfers_quiet"]
-        lines.append(f"| {r['case']} | {r['scene']} | {r['particles']:,} | {r['quiet_steps']} of {r['steps']} | "
-                     f"{lq['mean']:.2f}, {lq['max']} | {tq['mean']:.2f}, {tq['max']} | "
-                     f"{r['launches_all']['mean']:.2f} | {r['transfers_all']['mean']:.2f} |")
+        lines.append(
+            f"| {r['case']} | {r['scene']} | {r['particles']:,} | {r['quiet_steps']} of {r['steps']} | "
+            f"{lq['mean']:.2f}, {lq['max']} | {tq['mean']:.2f}, {tq['max']} | "
+            f"{r['launches_all']['mean']:.2f} | {r['transfers_all']['mean']:.2f} |"
+        )
     return "\n".join(lines)
 
 
@@ -183,6 +223,7 @@ def main(a):
     import sys
 
     from ..io import ensure_dir
+
     root = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
     if not os.path.isdir(os.path.join(root, "tests", "golden")):
         raise SystemExit("--traffic runs the golden cases of a source checkout (tests/golden): run it from one")
@@ -194,8 +235,11 @@ def main(a):
         r = measure(c, steps, a.arch)
         results.append(r)
         w = r["worst_quiet"]
-        print(f"{c}: quiet steps {r['quiet_steps']}/{r['steps']}, launches {r['launches_quiet']}, transfers "
-              f"{r['transfers_quiet']}; the costliest quiet step: {w and w['which']} {w and w['what']}", flush=True)
+        print(
+            f"{c}: quiet steps {r['quiet_steps']}/{r['steps']}, launches {r['launches_quiet']}, transfers "
+            f"{r['transfers_quiet']}; the costliest quiet step: {w and w['which']} {w and w['what']}",
+            flush=True,
+        )
     ensure_dir(a.out)
     with open(os.path.join(a.out, "traffic.json"), "w") as f:
         json.dump(results, f, indent=1)

@@ -2,6 +2,7 @@
 reported run where it ran three spacings (Celik et al. 2008, measure/gci.py), the standard
 error over its seeds where the metric is chaotic (a ripple field, measure/spread.py), or the
 reason there is none."""
+
 import math
 
 from ..measure.gci import verdict

@@ -1,5 +1,6 @@
 """The validation table's cases: each a scene or case file, the metric its error comes from, the
 reference it is measured against, and the spacings it runs at (tisph/bench/validate.py runs them)."""
+
 import dataclasses
 
 import numpy as np
@@ -10,24 +11,26 @@ from ..constants import G
 @dataclasses.dataclass
 class Case:
     name: str
-    scene: str                 # module under tisph
-    metric: str                # the summary metric the error comes from
-    error: str                 # what the error is
-    reference: str             # the reference and its source
-    ladder: tuple              # dx values, coarse to fine; the last is the reported run
-    quick: float               # dx in --quick
-    config: str = ""           # a case file under scenes/
+    scene: str  # module under tisph
+    metric: str  # the summary metric the error comes from
+    error: str  # what the error is
+    reference: str  # the reference and its source
+    ladder: tuple  # dx values, coarse to fine; the last is the reported run
+    quick: float  # dx in --quick
+    config: str = ""  # a case file under scenes/
     overrides: dict = dataclasses.field(default_factory=dict)
     quick_overrides: dict = dataclasses.field(default_factory=dict)
-    figure: str = ""           # a picture the scene writes; "" draws the probes
-    probes: tuple = ()         # probes.csv columns drawn when the scene writes no picture
-    reference_value: float = None   # the error is metric / reference_value - 1 when set
-    also: tuple = ()           # more metrics shown beside the error
+    figure: str = ""  # a picture the scene writes; "" draws the probes
+    probes: tuple = ()  # probes.csv columns drawn when the scene writes no picture
+    reference_value: float = None  # the error is metric / reference_value - 1 when set
+    also: tuple = ()  # more metrics shown beside the error
     has_reference: bool = True  # False: the metric is shown, no error is computed
     note: str = ""
-    seeds: int = 0             # > 1: the reported run with this many bed seeds, the metric their mean
+    seeds: int = 0  # > 1: the reported run with this many bed seeds, the metric their mean
 
 
+# a table, one case a row: kept as written
+# fmt: off
 CASES = [
     Case("Still water in a tank", "scenes.tank", "pressure_error", "pressure against rho g d, below the top two rows",
          "hydrostatics", (0.04, 0.03, 0.02), 0.05, overrides={"run.end_time": 2.0}, quick_overrides={"run.end_time": 0.2},
@@ -110,6 +113,7 @@ CASES = [
          probes=("front_x", "eroded_area"), also=("bed_drop_at_gate",), has_reference=False,
          note="Shown for its cost and its bed change; the paper gives no value to compare with."),
 ]
+# fmt: on
 
 
 CASES_BY_NAME = {c.name: c for c in CASES}

@@ -1,5 +1,6 @@
 """The morphodynamic sand bed as a boundary: columns of BED particles, one per bed station,
 wall_layers deep under the bed surface z_b(x), follow the bed as tisph/sediment moves it."""
+
 import numpy as np
 import taichi as ti
 
@@ -13,17 +14,20 @@ class MovingBed(Module):
     position plus (0, z_b(c) - z_b0(c)) and carries the bed's vertical speed, so the water sees
     the bed rise and fall. The whole column moves, so it stays wall_layers thick and no gap opens
     under the water. Set with solver.set_bed(dz, w) (per station)."""
+
     name = "moving_bed"
     on = {"moving_bed": True}
 
     def fields(self, real):
-        return {"bx0": ti.types.vector(2, real),   # the particle's start position
-                "bcol": ti.i32}                    # its bed station (-1: not a bed particle)
+        return {
+            "bx0": ti.types.vector(2, real),  # the particle's start position
+            "bcol": ti.i32,
+        }  # its bed station (-1: not a bed particle)
 
     def allocate(self, S):
         self.nst = int(S.params.get("bed_stations", 1))
-        self.dz = ti.field(S.real, self.nst)     # z_b - z_b0 per station
-        self.w = ti.field(S.real, self.nst)      # dz_b/dt per station
+        self.dz = ti.field(S.real, self.nst)  # z_b - z_b0 per station
+        self.w = ti.field(S.real, self.nst)  # dz_b/dt per station
 
     def setup(self, S):
         S.p.bx0.from_numpy(S.particles.x.astype(S.np_real))

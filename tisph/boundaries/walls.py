@@ -1,4 +1,5 @@
 """Wall treatments as modules."""
+
 import taichi as ti
 
 from ..hooks.module import Module, Param
@@ -12,6 +13,7 @@ from ..terms.repulsive import lennard_jones
 class DynamicWall(Module):
     """Dynamic boundary particles (Crespo et al. 2007): wall particles obey continuity from the
     fluid around them, never below rest density, and push back through the pressure term."""
+
     name = "dynamic_wall"
     on = {"wall": "dynamic"}
 
@@ -52,13 +54,16 @@ class ExtrapolatedWall(Module):
     and their density the Tait density of p_w, never below rest density (as the dynamic wall's).
     Unlike the dynamic wall's continuity, it has no memory: a floor particle a paddle sweeps over
     cannot ratchet up in density cycle after cycle. a_w is the wall's acceleration (the paddle's)."""
+
     name = "extrapolated_wall"
     on = {"wall": "adami"}
 
     def fields(self, real):
         vec2 = ti.types.vector(2, real)
-        return {"vw": vec2,   # the wall's velocity a step ago: its acceleration
-                "nw": vec2}   # the wall's unit normal, out of the wall (the impact guard's)
+        return {
+            "vw": vec2,  # the wall's velocity a step ago: its acceleration
+            "nw": vec2,
+        }  # the wall's unit normal, out of the wall (the impact guard's)
 
     @ti.func
     def boundary_pass(self, S, i, dt):
@@ -68,7 +73,7 @@ class ExtrapolatedWall(Module):
         if acc.sw > 0.0:
             mi = ti.cast(S.tmp.mat[i], ti.i32)
             rho0, B = S.mat.rho0[mi], S.mat.B[mi]
-            aw = (S.tmp.v[i] - S.tmp.vw[i]) / dt     # a static wall's is zero
+            aw = (S.tmp.v[i] - S.tmp.vw[i]) / dt  # a static wall's is zero
             pw = (acc.sp + (S.prm[None].g - aw).dot(acc.sr)) / acc.sw
             S.p.rho[i] = rho0 * ti.pow(ti.max(pw, 0.0) / B + 1.0, 1.0 / 7.0)
             n2 = acc.sn.dot(acc.sn)
@@ -87,7 +92,7 @@ class ExtrapolatedWall(Module):
             acc.sp += s.p[j] * w
             acc.sr += s.rhoe[j] * r * w
         elif s.kind[j] >= 0:
-            acc.sn += r * w      # away from the wall's own particles: the wall's normal
+            acc.sn += r * w  # away from the wall's own particles: the wall's normal
 
     def setup(self, S):
         self.S = S
@@ -119,12 +124,19 @@ class WallImpact(Module):
     negative pressure the wall's (clamped at zero) does not balance, is drawn into the wall
     particles, and inside them nothing extrapolated pushes it out (a breakwater's run-up on a
     1:2 staircase slope did so at t = 5.7 s without it)."""
+
     name = "wall_impact"
     on = {"wall": "adami"}
     pair_once = {}
-    params = {"wall_D": WALL_D,
-              "guard_r0": Param(lambda S, values: 0.75 * S.dx, "m", (0.0, None),
-                                "the guard's cut-off, under the closest a water and a wall particle sit")}
+    params = {
+        "wall_D": WALL_D,
+        "guard_r0": Param(
+            lambda S, values: 0.75 * S.dx,
+            "m",
+            (0.0, None),
+            "the guard's cut-off, under the closest a water and a wall particle sit",
+        ),
+    }
 
     @ti.func
     def pair(self, S, i, j, r, r2, nb, acc: ti.template()):
@@ -136,17 +148,17 @@ class WallImpact(Module):
 
     @ti.func
     def pair2(self, S, i, j, r, r2, nb, acc: ti.template(), sj: ti.template()):
-        pass    # fluid pairs: nothing
+        pass  # fluid pairs: nothing
 
 
 @ti.data_oriented
 class RepulsiveWall(Module):
     """Repulsive wall particles, paper 000 eq. 6 (Lennard-Jones type); in the SPH sums the inert
     wall particle mirrors the fluid particle's pressure plus the hydrostatic difference."""
+
     name = "repulsive_wall"
     on = {"wall": "repulsive"}
-    params = {"wall_D": WALL_D,
-              "wall_r0": Param("dx", "m", (0.0, None), "cut-off distance r0 of eq. 6")}
+    params = {"wall_D": WALL_D, "wall_r0": Param("dx", "m", (0.0, None), "cut-off distance r0 of eq. 6")}
 
     @ti.func
     def view(self, S, i, j, r, r2, nb: ti.template(), acc: ti.template()):
@@ -163,14 +175,17 @@ class NoSlip(Module):
     """No-slip walls in the viscous terms, Morris et al. (1997), paper 002 eq. 39: the wall
     particle carries the ghost velocity u_B = -(d_B/d_A) u_A (relative to the wall), so the
     no-slip sits on the wall surface; d_B/d_A capped at 1.5 as Morris does for close approach."""
+
     name = "noslip"
     on = {"noslip": True}
-    pair_once = {}   # a wall pair's ghost velocity only (engine/pairs.py gives those pairs the pair hooks)
+    pair_once = {}  # a wall pair's ghost velocity only (engine/pairs.py gives those pairs the pair hooks)
 
     def fields(self, real):
         vec2 = ti.types.vector(2, real)
-        return {"wn": vec2,   # wall normal (into the fluid) and distance behind the wall surface
-                "wd": real}
+        return {
+            "wn": vec2,  # wall normal (into the fluid) and distance behind the wall surface
+            "wd": real,
+        }
 
     def setup(self, S):
         S.p.wn.from_numpy(S.particles.wall_normal.astype(S.np_real))

@@ -1,5 +1,6 @@
 """Zones as modules: open outflow boxes, the container check, the absorbing (damping) zone, the
 inflow zone of a periodic current, and the periodic current's driving pressure gradient."""
+
 import math
 
 import taichi as ti
@@ -14,6 +15,7 @@ from ..settings.engine_keys import KEYED
 @ti.data_oriented
 class Outflow(Module):
     """Open boundaries: fluid entering one of the boxes (x0, y0, x1, y1) leaves the simulation."""
+
     name = "outflow"
     on = {"outflow": ((0.05, -1.0, 1.0, 1.0),)}
 
@@ -33,12 +35,19 @@ class Spray(Module):
     as they fly apart (or clump) leaves the density band; such a particle is removed as SPRAY and
     counted, as DualSPHysics removes particles outside RhopOutMin/Max, instead of stopping the
     run. More than spray_limit of the water is the flow coming apart, not spray: the run stops."""
+
     name = "spray"
     on = {"spray": True}
     kind_out = SPRAY
-    params = {"spray_limit": KEYED["numerics.spray_limit"],
-              "spray_cap": Param(lambda S, v: max(1, int(v.get("spray_limit", 0.0) * S.particles.count(FLUID))),
-                                 "particles", (1, None, True, True), "spray particles beyond which the run stops")}
+    params = {
+        "spray_limit": KEYED["numerics.spray_limit"],
+        "spray_cap": Param(
+            lambda S, v: max(1, int(v.get("spray_limit", 0.0) * S.particles.count(FLUID))),
+            "particles",
+            (1, None, True, True),
+            "spray particles beyond which the run stops",
+        ),
+    }
     stats = {"spray": "int"}
 
     @ti.func
@@ -56,6 +65,7 @@ class Container(Module):
     """The box the walls enclose, (x0, y0, x1, y1, side-wall top), widened by dx/2: fluid outside
     it (below the top of the side walls, above which it may overtop) crossed a wall, and the run
     stops. It counts as crossed once past the first row of wall particles."""
+
     name = "container"
     on = {"container": (0.0, 0.0, 0.07, 1.0)}
 
@@ -76,6 +86,7 @@ class Container(Module):
 class Damping(Module):
     """Absorbing zone (x0, x1, rate 1/s): an implicit relaxation of the velocity, ramped in
     quadratically, so waves leave the flume without reflecting."""
+
     name = "damping"
     on = {"damping": (0.03, 0.07, 5.0)}
 
@@ -91,6 +102,7 @@ class Inflow(Module):
     """Inflow zone of a periodic current (x0, x1, rate, material, y_bed, u*, z0): the recirculated
     wake is relaxed back to the log law u = (u*/kappa) ln(z/z0) (paper 002 eq. 32), as an inlet
     would feed it; ramped in and out as sin^2 so no front forms."""
+
     name = "inflow"
     on = {"inflow": (0.0, 0.02, 5.0, 0, 0.0, 0.01, 1e-4), "periodic_x": True}
 
@@ -112,12 +124,18 @@ class Drive(Module):
     """The driving pressure gradient of a periodic current, -grad p / rho of material 0. It
     pushes each material by rho_0 / rho of it: the pore water carries it through a sediment
     layer, which does not feel it at its own density. Set with solver.set_drive()."""
+
     name = "drive"
     on = {"periodic_x": True}
-    params = {"drive": Param((0.0, 0.0), "m/s2", (None, None), "driving pressure gradient / rho_water",
-                             vector=True)}
-    material = {"drive": MatParam(None, "-", "the drive's factor rho_0 / rho (set by the solver)",
-                                  convert=lambda v, mat, S: S.materials[0]["rho0"] / mat["rho0"])}
+    params = {"drive": Param((0.0, 0.0), "m/s2", (None, None), "driving pressure gradient / rho_water", vector=True)}
+    material = {
+        "drive": MatParam(
+            None,
+            "-",
+            "the drive's factor rho_0 / rho (set by the solver)",
+            convert=lambda v, mat, S: S.materials[0]["rho0"] / mat["rho0"],
+        )
+    }
 
     @ti.func
     def body_force(self, S, i, mi, a):

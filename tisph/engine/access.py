@@ -1,5 +1,6 @@
 """The solver's Python API for the run loop: stepping, runtime inputs, state, checkpoints,
 the backup of the last healthy state. A mixin of engine.solver.Solver."""
+
 import numpy as np
 import taichi as ti
 
@@ -25,7 +26,7 @@ class SolverAPI:
     def prime(self):
         """Bin the particles and evaluate forces at t = 0 (a zero-length step) to get a^0, dt^0."""
         self.table.set_dt(0.0)
-        self.stepper.step(0, 0, 0.0, 0.0)    # the paddle at rest where it starts
+        self.stepper.step(0, 0, 0.0, 0.0)  # the paddle at rest where it starts
         self._dt = float(self.stepper.dtlog[0])
         self._primed = True
 
@@ -67,15 +68,15 @@ class SolverAPI:
         is taken. Returns the steps taken."""
         if not self._primed:
             self.prime()
-        self.dt     # the step's dt, read once after a restart
+        self.dt  # the step's dt, read once after a restart
         if not 1 <= n <= self.batch:
             raise ValueError(f"step_ahead takes 1 to {self.batch} steps, not {n}")
         if n > 1 and not self.steps_ahead_allowed:
             raise ValueError("a paddle moved from the host steps one at a time")
         fit = paddle_fit(self.motion, self.time, n * self.dt_bound) if n > 1 and self.moves_paddle else None
         if n > 1 and self.moves_paddle and fit is None:
-            n = 1      # the series did not hold: this step alone, its paddle from the host
-        if fit is None:   # the kernel moves the paddle to t + dt
+            n = 1  # the series did not hold: this step alone, its paddle from the host
+        if fit is None:  # the kernel moves the paddle to t + dt
             args = (0,) + self._paddle_at(self.time + self._dt)
         else:
             span, cd, cv = fit
@@ -87,19 +88,19 @@ class SolverAPI:
             self.steps += 1
             for m in self.hooks["after_step"]:
                 m.after_step(self)
-        if n <= self.read_elements:   # the CPU, a short batch: element by element
+        if n <= self.read_elements:  # the CPU, a short batch: element by element
             log = [self.stepper.dtlog[k] for k in range(n)]
-            self.health_read = n > 1 or self.steps % 10 == 0     # a single step: every 10 steps
+            self.health_read = n > 1 or self.steps % 10 == 0  # a single step: every 10 steps
             if self.health_read:
                 self.health = int(self.stepper.dtlog[self.batch])
         else:
-            log = self.stepper.dtlog.to_numpy()       # the batch's one transfer, the health with it
+            log = self.stepper.dtlog.to_numpy()  # the batch's one transfer, the health with it
             self.health_read = True
             self.health = int(log[-1])
-        for k in range(n):                    # the dt each step took, summed in step order
+        for k in range(n):  # the dt each step took, summed in step order
             self.time += self._dt
             self._dt = float(log[k])
-        return n      # the steps taken: fewer than asked where the paddle's series did not hold
+        return n  # the steps taken: fewer than asked where the paddle's series did not hold
 
     def read_health(self):
         """The health code as the last step left it (one read of the device)."""
@@ -161,7 +162,7 @@ class SolverAPI:
             dev = np.abs(st["rho"][fl] / rho0 - 1.0)
             self.rhodev_sum += float(np.mean(dev))
             self.rhodev_n += 1
-            if len(dev) >= 100:    # a bulk to speak of; the 10th-largest under 1e4 particles
+            if len(dev) >= 100:  # a bulk to speak of; the 10th-largest under 1e4 particles
                 q = 100.0 * (1.0 - max(1e-3, 10.0 / len(dev)))
                 self.rhodev_p999 = max(self.rhodev_p999, float(np.percentile(dev, q)))
 
@@ -229,14 +230,23 @@ class SolverAPI:
     def raw_state(self):
         """Everything needed to continue bit for bit: every member in the current sorted order."""
         d = self.store.arrays()
-        for m in self.modules:   # a module's runtime fields (the moving bed's displacement)
+        for m in self.modules:  # a module's runtime fields (the moving bed's displacement)
             for k, f in getattr(m, "state_fields", {}).items():
                 d[f"module.{m.name}.{k}"] = f.to_numpy()
         st = self.stats[None]
-        scal = dict(time=self.time, steps=self.steps, dt=self.table.get("dt"), leaked=int(st.leaked),
-                    n=self.n, primed=int(self._primed), rhodev=float(st.rhodev),
-                    rhodev_sum=self.rhodev_sum, rhodev_n=self.rhodev_n,
-                    rhodev_p999=self.rhodev_p999, params=self.table.snapshot())
+        scal = dict(
+            time=self.time,
+            steps=self.steps,
+            dt=self.table.get("dt"),
+            leaked=int(st.leaked),
+            n=self.n,
+            primed=int(self._primed),
+            rhodev=float(st.rhodev),
+            rhodev_sum=self.rhodev_sum,
+            rhodev_n=self.rhodev_n,
+            rhodev_p999=self.rhodev_p999,
+            params=self.table.snapshot(),
+        )
         return d, scal
 
     def load_raw_state(self, arrays, scalars):
@@ -247,14 +257,14 @@ class SolverAPI:
             for k, f in getattr(m, "state_fields", {}).items():
                 if f"module.{m.name}.{k}" in arrays:
                     f.from_numpy(arrays[f"module.{m.name}.{k}"])
-        if "params" in scalars:   # the runtime inputs as they were (drive, paddle), not their defaults
+        if "params" in scalars:  # the runtime inputs as they were (drive, paddle), not their defaults
             self.table.restore(scalars["params"])
         self.time = float(scalars["time"])
         self.steps = int(scalars["steps"])
         self.table.set_dt(float(scalars["dt"]))
         self._dt = None
         self.stats[None].leaked = int(scalars["leaked"])
-        if self.physics.spray:   # the spray removed so far counts towards its cap
+        if self.physics.spray:  # the spray removed so far counts towards its cap
             self.stats[None].spray = int(np.sum(np.asarray(arrays["kind"]) == SPRAY))
         self.stats[None].rhodev = float(scalars.get("rhodev", 0.0))
         self.rhodev_sum = float(scalars.get("rhodev_sum", 0.0))
@@ -288,8 +298,13 @@ class SolverAPI:
                 idsum[self.p.id[i]] = acc.ids
 
     @ti.kernel
-    def _sample(self, pts: ti.types.ndarray(dtype=ti.f64, ndim=2), out: ti.types.ndarray(dtype=ti.f64, ndim=2),
-                mat: ti.i32, with_k: ti.template()):
+    def _sample(
+        self,
+        pts: ti.types.ndarray(dtype=ti.f64, ndim=2),
+        out: ti.types.ndarray(dtype=ti.f64, ndim=2),
+        mat: ti.i32,
+        with_k: ti.template(),
+    ):
         for k in range(pts.shape[0]):
             acc = ti.Struct(u=ti.Vector([0.0, 0.0], ti.f64), w=ti.f64(0.0), k=ti.f64(0.0), mat=mat)
             xk = ti.Vector([pts[k, 0], pts[k, 1]], self.real)
@@ -323,7 +338,7 @@ class SolverAPI:
         """(sum of u, count) over the selected particles, in one pass."""
         s = ti.f64(0.0)
         n = ti.f64(0.0)
-        ti.loop_config(serialize=True)   # one order: the drive's feedback restarts bit for bit
+        ti.loop_config(serialize=True)  # one order: the drive's feedback restarts bit for bit
         for i in range(self.n):
             if self.p.kind[i] == FLUID and ti.cast(self.p.mat[i], ti.i32) == mat and self.p.x[i][1] > above:
                 s += ti.cast(self.p.v[i][0], ti.f64)

@@ -1,6 +1,7 @@
 """Steps in batches with no read of the device between them (access.py, step_ahead): the batch's
 size, how its log is read, and the paddle's motion as a Chebyshev series over a batch, fitted on
 the host (paddle_fit) and evaluated by the step kernel (chebyshev)."""
+
 import numpy as np
 import taichi as ti
 

@@ -4,6 +4,7 @@ same sum (float addition is not associative): the order here is the order of the
 Adding a term: write its Module, add it here, add its switch to config.Physics (and the
 config key that sets it), and test it (tests/engine/test_terms.py).
 """
+
 from ..boundaries.moving_bed import MovingBed
 from ..boundaries.walls import DynamicWall, ExtrapolatedWall, NoSlip, RepulsiveWall, WallImpact
 from ..boundaries.wavemaker import Paddle
@@ -25,13 +26,36 @@ from ..physics.suspension import Suspension
 from ..physics.turbulence import SPS, TKE, Omega
 
 MODULES = (
-    RepulsiveWall,        # view: the wall particle mirrors i's pressure; Lennard-Jones force first
-    Continuity, Pressure, WallImpact, ArtificialViscosity,
-    NoSlip,               # the ghost velocity, before the viscous terms read it
-    LaminarViscosity, VelocityGradient, TKE, Omega, SPS, DEM, Drag, DensityDiffusion, XSPH, Shifting, Suspension,
-    Rheology,             # finish: the effective viscosity for the next step (may rest the plug)
-    Drive, Damping, Inflow, Paddle, MovingBed, DynamicWall, ExtrapolatedWall, Outflow, Spray, Container, Shepard,
-    DualCriteria,         # last: its finish reads the step's velocity; its dt_limit the final step
+    RepulsiveWall,  # view: the wall particle mirrors i's pressure; Lennard-Jones force first
+    Continuity,
+    Pressure,
+    WallImpact,
+    ArtificialViscosity,
+    NoSlip,  # the ghost velocity, before the viscous terms read it
+    LaminarViscosity,
+    VelocityGradient,
+    TKE,
+    Omega,
+    SPS,
+    DEM,
+    Drag,
+    DensityDiffusion,
+    XSPH,
+    Shifting,
+    Suspension,
+    Rheology,  # finish: the effective viscosity for the next step (may rest the plug)
+    Drive,
+    Damping,
+    Inflow,
+    Paddle,
+    MovingBed,
+    DynamicWall,
+    ExtrapolatedWall,
+    Outflow,
+    Spray,
+    Container,
+    Shepard,
+    DualCriteria,  # last: its finish reads the step's velocity; its dt_limit the final step
 )
 
 

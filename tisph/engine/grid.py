@@ -4,6 +4,7 @@ Cells are half the kernel support with a 5 x 5 stencil (25 h^2 of candidates ins
 with cells of the support), numbered row by row, so the cells of one stencil row are one
 contiguous range of the sorted particles: one range per row, not one per cell.
 """
+
 import math
 
 import numpy as np
@@ -28,10 +29,12 @@ class Grid:
             self.period = float(hi[0] - lo[0])
             self.nx = int(math.floor(self.period / self.cell))
             if self.nx < 2 * self.cdiv + 1:
-                raise ValueError(f"periodic length {self.period:g} m is shorter than {2 * self.cdiv + 1} cells "
-                                 f"of {self.cell:g} m: lengthen the domain or reduce h")
+                raise ValueError(
+                    f"periodic length {self.period:g} m is shorter than {2 * self.cdiv + 1} cells "
+                    f"of {self.cell:g} m: lengthen the domain or reduce h"
+                )
             self.cell_x = self.period / self.nx
-            self.inv_period = 1.0 / self.period   # nearest image: r/P is never near a half in the stencil
+            self.inv_period = 1.0 / self.period  # nearest image: r/P is never near a half in the stencil
         else:
             self.period = 0.0
             self.nx = max(1, int(math.ceil((hi[0] - lo[0]) / self.cell)))
@@ -162,7 +165,7 @@ class Grid:
                 cy = c[1] + dy
                 if 0 <= cy < self.ny:
                     row = cy * self.nx
-                    lo = c[0] - d            # the first cell, and one past the last
+                    lo = c[0] - d  # the first cell, and one past the last
                     hi = c[0] + d + 1
                     b0 = 0
                     b1 = 0
@@ -177,7 +180,7 @@ class Grid:
                         hi = self.nx
                     a0 = self.start[row + lo]
                     a1 = self.start[row + hi]
-                    for seg in range(2):   # a runtime loop: one copy of the pair tasks
+                    for seg in range(2):  # a runtime loop: one copy of the pair tasks
                         j0, j1 = a0, a1
                         if seg == 1:
                             j0, j1 = b0, b1

@@ -24,15 +24,16 @@ omega equations, as in the pipeline (not its rheology, drag, DEM or suspended sa
 gather pass; run.pair_once chooses (by default, runs
 long enough to repay its longer compile, runner/setup.py).
 """
+
 import numpy as np
 import taichi as ti
 
 from ..particles import FLUID
 
-ZONES = 16      # 8 a phase: the rows are cut the same way whatever the thread count
-LANE = 512      # Taichi's CPU range-for deals each thread max(ceil(N / T), 512) iterations in one
-                # piece: a loop of (zones a phase) x 512 iterations, one zone at every 512th,
-                # runs the zones on all threads (a loop under 1,024 iterations runs on one)
+ZONES = 16  # 8 a phase: the rows are cut the same way whatever the thread count
+LANE = 512  # Taichi's CPU range-for deals each thread max(ceil(N / T), 512) iterations in one
+# piece: a loop of (zones a phase) x 512 iterations, one zone at every 512th,
+# runs the zones on all threads (a loop under 1,024 iterations runs on one)
 
 
 def deal(per_phase, threads):
@@ -68,7 +69,7 @@ class PairOnce:
         self.names = tuple(self.slots)
         self.SumT = ti.types.struct(**{k: acc_types[k] for k in self.names})
         self.sums = self.SumT.field(shape=S.n)
-        self.zr = ti.field(ti.i32, ZONES + 1)     # each zone's first cell row
+        self.zr = ti.field(ti.i32, ZONES + 1)  # each zone's first cell row
         # which of a phase's zones each LANE of its loop takes: Taichi deals each thread one
         # contiguous piece of the loop, and a shallow domain's water fills only the first few
         # zones, so in row order one thread would get them all; dealt round the threads instead.
@@ -162,8 +163,21 @@ class PairOnce:
         q, ie, gw = self.kernel(r, r2)
         m_j, ir_j = s.m[j], s.ir[j]
         v_ij = acc.vi - s.ve[j]
-        nb = ti.Struct(kj=kj, rho_j=s.rhoe[j], ir_j=ir_j, p_j=s.p[j], q=q, m_j=m_j, vol_j=m_j * ir_j,
-                       m_i=acc.m, vol_i=acc.m * acc.inv_rhoi, ie=ie, gw=gw, v_ij=v_ij, v_visc=v_ij)
+        nb = ti.Struct(
+            kj=kj,
+            rho_j=s.rhoe[j],
+            ir_j=ir_j,
+            p_j=s.p[j],
+            q=q,
+            m_j=m_j,
+            vol_j=m_j * ir_j,
+            m_i=acc.m,
+            vol_i=acc.m * acc.inv_rhoi,
+            ie=ie,
+            gw=gw,
+            v_ij=v_ij,
+            v_visc=v_ij,
+        )
         if kj == FLUID:
             sj = self.SumT(0)
             for m in ti.static(S.hooks["pair"]):
@@ -186,8 +200,19 @@ class PairOnce:
             v_ij = acc.vi - ve_j
             accj = self.Acc(0)
             self.own(j, accj, ve_j, s.rhoe[j], s.ir[j], s.p[j], ti.cast(s.mat[j], ti.i32))
-            nbi = ti.Struct(kj=acc.kind, rho_j=acc.rhoi, ir_j=acc.inv_rhoi, p_j=acc.pi, q=q, m_j=acc.m,
-                            vol_j=acc.m * acc.inv_rhoi, ie=ie, gw=-gw, v_ij=-v_ij, v_visc=-v_ij)
+            nbi = ti.Struct(
+                kj=acc.kind,
+                rho_j=acc.rhoi,
+                ir_j=acc.inv_rhoi,
+                p_j=acc.pi,
+                q=q,
+                m_j=acc.m,
+                vol_j=acc.m * acc.inv_rhoi,
+                ie=ie,
+                gw=-gw,
+                v_ij=-v_ij,
+                v_visc=-v_ij,
+            )
             for m in ti.static(S.hooks["pair"]):
                 m.pair(S, j, i, -r, r2, nbi, accj)
             self.add_to(j, accj)

@@ -1,5 +1,6 @@
 """The smoothing kernels as Taichi functions, for the pair loop: shape(q) and fshape(q) of
 tisph/kernels.py's kernels (the constants and the NumPy twins are there)."""
+
 import taichi as ti
 
 from .. import kernels as shapes

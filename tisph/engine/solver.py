@@ -9,6 +9,7 @@ parts and the run's Python API (access.py); each part keeps its own state:
 Inside the step kernel the modules' hooks take the solver S and reach the parts through it:
 S.p and S.tmp (the store's), S.prm, S.mat and S.stats (the table's), S.grid.
 """
+
 import taichi as ti
 
 from ..hooks.health import BAD_NONE
@@ -27,8 +28,7 @@ from .table import ParamTable, Setup
 
 @ti.data_oriented
 class Solver(SolverAPI):
-    def __init__(self, physics: Physics, particles, materials, domain, params: dict, outflow=(),
-                 container=None):
+    def __init__(self, physics: Physics, particles, materials, domain, params: dict, outflow=(), container=None):
         """particles: ParticleSet; materials: list of dicts (rho0, B, viscosity and the modules'
         material keys); domain: ((xlo, ylo), (xhi, yhi)); params: dx, h, c0 and the modules'
         runtime parameters (missing ones take their one default, engine/table.py and the modules);
@@ -44,9 +44,14 @@ class Solver(SolverAPI):
         if container is not None:
             x0, y0, x1, y1, *top = (float(v) for v in container)
             tol = 0.5 * self.dx
-            big = 1e30   # float32-safe stand-in for an open side
-            self.container = (max(x0 - tol, -big), max(y0 - tol, -big), min(x1 + tol, big),
-                              min(y1 + tol, big), min(top[0] if top else big, big))
+            big = 1e30  # float32-safe stand-in for an open side
+            self.container = (
+                max(x0 - tol, -big),
+                max(y0 - tol, -big),
+                min(x1 + tol, big),
+                min(y1 + tol, big),
+                min(top[0] if top else big, big),
+            )
         self._build_fields(physics, domain)
         self._build_tables(params, materials)
         self.store.load(particles)
@@ -55,11 +60,11 @@ class Solver(SolverAPI):
         self._reset_stats()
         self.steps = 0
         self.time = 0.0
-        self.rhodev_sum, self.rhodev_n, self.rhodev_p999 = 0.0, 0, 0.0   # the probe samples' (access.py)
+        self.rhodev_sum, self.rhodev_n, self.rhodev_p999 = 0.0, 0, 0.0  # the probe samples' (access.py)
         self._primed = False
-        self._dt = None          # the next step's dt as the step kernel logged it (None: read prm)
-        self.health = BAD_NONE   # the health code the last batch of steps read back
-        self.health_read = False   # whether the last step_ahead read it (a single step: every 10th)
+        self._dt = None  # the next step's dt as the step kernel logged it (None: read prm)
+        self.health = BAD_NONE  # the health code the last batch of steps read back
+        self.health_read = False  # whether the last step_ahead read it (a single step: every 10th)
 
     def _build_fields(self, physics, domain):
         """The kernel's constants, the enabled modules and their hooks, the particle fields (the
@@ -69,8 +74,8 @@ class Solver(SolverAPI):
         self.np_real = st_mod.float_type(self.real)
         # compile-time constants baked into the kernels
         self.inv_h = 1.0 / self.h
-        self.w_scale = self.K.sigma / self.h ** 2
-        self.g_scale = self.K.sigma / self.h ** 4
+        self.w_scale = self.K.sigma / self.h**2
+        self.g_scale = self.K.sigma / self.h**4
         self.eta2 = 0.01 * self.h * self.h
         self.modules = enabled_modules(self)
         self.hooks = {k: [m for m in self.modules if m.has(k)] for k in HOOKS}
@@ -95,7 +100,7 @@ class Solver(SolverAPI):
         """The parameter table (runtime parameters, materials, statistics), the stepper (the step
         kernel, its maxima, log and accumulator; each pair once where asked), the modules' own
         fields, then every table written at once."""
-        self.cpu = st_mod.on_cpu()   # the CPU-only paths below; a GPU build turns them off
+        self.cpu = st_mod.on_cpu()  # the CPU-only paths below; a GPU build turns them off
         setup = Setup(self.dx, self.h, self.c0, materials, self.particles)
         self.table = ParamTable(self.modules, params, setup, self.real)
         self.prm, self.mat, self.stats = self.table.prm, self.table.mat, self.table.stats
@@ -104,9 +109,9 @@ class Solver(SolverAPI):
         self.stepper = Stepper(self, params.get("pair_once", False))
         self.batch, self.pair_once = self.stepper.batch, self.stepper.pair_once
         for m in self.modules:
-            m.allocate(self)          # module fields that are not per particle, if any
-        self.table.write()            # every field exists now
-        self.motion = params.get("motion")   # motion(t) -> (displacement, rate), for the paddle
+            m.allocate(self)  # module fields that are not per particle, if any
+        self.table.write()  # every field exists now
+        self.motion = params.get("motion")  # motion(t) -> (displacement, rate), for the paddle
         # a smooth paddle motion followed on the device by a series over a batch of steps
         # (batch.py, paddle_fit), which rounds differently from the host's motion(t) cast to f32:
         # on a GPU, where the host's value every step costs a wait for the device; on the CPU,

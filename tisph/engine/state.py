@@ -1,6 +1,7 @@
 """Particle state: the fields (struct of arrays) composed from the declarations of the enabled
 modules, their types and their initial values (the material table and the runtime parameters are
 table.py's)."""
+
 import numpy as np
 import taichi as ti
 
@@ -9,8 +10,13 @@ from ..runtime import arch_name
 
 def types(real):
     """Names modules use for their slot types."""
-    return {"real": real, "int": ti.i32, "vec2": ti.types.vector(2, real), "vec3": ti.types.vector(3, real),
-            "mat2": ti.types.matrix(2, 2, real)}
+    return {
+        "real": real,
+        "int": ti.i32,
+        "vec2": ti.types.vector(2, real),
+        "vec3": ti.types.vector(3, real),
+        "mat2": ti.types.matrix(2, 2, real),
+    }
 
 
 def resolve(t, real):
@@ -48,12 +54,12 @@ def core_members(real):
     """The state every case has: what a step carries over, the reorder permutes, a checkpoint
     and the backup keep (p is kept for the snapshots)."""
     vec2 = ti.types.vector(2, real)
-    return dict(x=vec2, v=vec2, a=vec2, rho=real, drho=real, m=real, kind=small_int(), mat=small_int(), id=ti.i32,
-                p=real)
+    return dict(
+        x=vec2, v=vec2, a=vec2, rho=real, drho=real, m=real, kind=small_int(), mat=small_int(), id=ti.i32, p=real
+    )
 
 
-NP_TYPES = {ti.i8: np.int8, ti.u8: np.uint8, ti.i32: np.int32, ti.i64: np.int64, ti.f32: np.float32,
-            ti.f64: np.float64}
+NP_TYPES = {ti.i8: np.int8, ti.u8: np.uint8, ti.i32: np.int32, ti.i64: np.int64, ti.f32: np.float32, ti.f64: np.float64}
 
 
 def type_bytes(t):

@@ -30,6 +30,7 @@ The step's loops, in order:
 The modules' hooks take the solver S (its store's fields S.p and S.tmp, its table's S.prm,
 S.mat and S.stats, its grid); the stepper reads the same and keeps its own state apart.
 """
+
 import taichi as ti
 
 from ..hooks.health import BAD_DENSITY, BAD_LEAK, BAD_NONE, fluid_code, report
@@ -43,8 +44,18 @@ from .state import resolve
 from .table import CORE_MAXIMA
 
 # The base slots of a fluid particle's accumulator (the modules add theirs).
-ACC_CORE = {"a": "vec2", "drho": "real", "vi": "vec2", "rhoi": "real", "pi": "real", "inv_rhoi": "real",
-            "mui": "real", "mat": "int", "kind": "int", "m": "real"}
+ACC_CORE = {
+    "a": "vec2",
+    "drho": "real",
+    "vi": "vec2",
+    "rhoi": "real",
+    "pi": "real",
+    "inv_rhoi": "real",
+    "mui": "real",
+    "mat": "int",
+    "kind": "int",
+    "m": "real",
+}
 
 
 @ti.data_oriented
@@ -67,11 +78,12 @@ class Stepper:
         # the last slot: the host reads the batch back in one transfer (access.py, step_ahead)
         self.batch = BATCH
         self.dtlog = ti.field(S.real, shape=BATCH + 1)
-        self.ptau = ti.field(S.real, shape=())   # time into a batch, for the paddle's series
-        self.pfit = ti.field(S.real, shape=2 * CHEB + 3)   # its displacement's, its rate's, the span
+        self.ptau = ti.field(S.real, shape=())  # time into a batch, for the paddle's series
+        self.pfit = ti.field(S.real, shape=2 * CHEB + 3)  # its displacement's, its rate's, the span
         # the maxima a finish hook raises through pt (the pass itself raises amax2 and rhodev)
-        self._module_max0 = {k: 0 if t == "int" else 0.0 for k, t in self.maxima.items()
-                             if k not in ("amax2", "rhodev")}
+        self._module_max0 = {
+            k: 0 if t == "int" else 0.0 for k, t in self.maxima.items() if k not in ("amax2", "rhodev")
+        }
         self._module_max, self._maxima = tuple(self._module_max0), tuple(self.maxima)
         acc = dict(ACC_CORE)
         for m in S.modules:
@@ -80,8 +92,9 @@ class Stepper:
         self.Acc = ti.types.struct(**self.acc_types)
         # each pair once where asked (run.pair_once, runner/setup.py) and the modules allow it
         # (engine/pairs.py); otherwise the gather pass
-        self.pair_once = (PairOnce(S, self.Acc, self.acc_types) if pair_once and pairs.applicable(S)
-                          and S.dual is None else None)
+        self.pair_once = (
+            PairOnce(S, self.Acc, self.acc_types) if pair_once and pairs.applicable(S) and S.dual is None else None
+        )
         self.once = self.pair_once is not None
 
     @ti.func
@@ -115,7 +128,7 @@ class Stepper:
                 if k == FLUID:
                     for m in ti.static(S.hooks["remove"]):
                         if not gone and m.remove(S, i):
-                            gone = True   # parked as the module says: OUTFLOW, or SPRAY
+                            gone = True  # parked as the module says: OUTFLOW, or SPRAY
                             p.kind[i] = ti.cast(ti.static(getattr(m, "kind_out", OUTFLOW)), p.kind.dtype)
             if ti.static(len(S.hooks["position_check"]) > 0):
                 if k == FLUID and not gone:
@@ -154,7 +167,7 @@ class Stepper:
                 for m in ti.static(S.hooks["prepare"]):
                     re = m.prepare(S, a, re, dt)
                 t.rhoe[a] = re
-            mt = ti.cast(t.mat[a], ti.i32)       # a byte on the CPU; an index here
+            mt = ti.cast(t.mat[a], ti.i32)  # a byte on the CPU; an index here
             t.p[a] = tait(t.rhoe[a], S.mat.rho0[mt], S.mat.B[mt])
             t.ir[a] = 1.0 / t.rhoe[a]
             if ti.static(self.once):
@@ -173,12 +186,23 @@ class Stepper:
         """How fluid particle i sees neighbour j: its state, the kernel gradient, v_ij."""
         S = self.S
         s = S.tmp
-        nb = ti.Struct(kj=s.kind[j], rho_j=s.rhoe[j], ir_j=s.ir[j], p_j=s.p[j], q=0.0, m_j=0.0, vol_j=0.0, ie=0.0,
-                       gw=ti.Vector([0.0, 0.0]), v_ij=ti.Vector([0.0, 0.0]), v_visc=ti.Vector([0.0, 0.0]))
+        nb = ti.Struct(
+            kj=s.kind[j],
+            rho_j=s.rhoe[j],
+            ir_j=s.ir[j],
+            p_j=s.p[j],
+            q=0.0,
+            m_j=0.0,
+            vol_j=0.0,
+            ie=0.0,
+            gw=ti.Vector([0.0, 0.0]),
+            v_ij=ti.Vector([0.0, 0.0]),
+            v_visc=ti.Vector([0.0, 0.0]),
+        )
         for m in ti.static(S.hooks["view"]):
             m.view(S, i, j, r, r2, nb, acc)
         nb.q = ti.sqrt(r2) * S.inv_h
-        nb.ie = 1.0 / (r2 + S.eta2)    # one division per pair, shared by the terms that need it
+        nb.ie = 1.0 / (r2 + S.eta2)  # one division per pair, shared by the terms that need it
         nb.gw = S.g_scale * S.K.fshape(nb.q) * r
         nb.m_j = s.m[j]
         nb.vol_j = nb.m_j * nb.ir_j
@@ -206,9 +230,9 @@ class Stepper:
             full = False
             acc_s = self.Acc(0)
             if ti.static(self.once):
-                self.pair_once.load(i, acc)         # the pair passes' sums
+                self.pair_once.load(i, acc)  # the pair passes' sums
             elif ti.static(bool(S.dual)):
-                acc_s = acc   # a copy: the slots the advection-rate hooks read
+                acc_s = acc  # a copy: the slots the advection-rate hooks read
                 full = S.dual.sums(S, i, acc, acc_s)
             else:
                 S.grid.for_neighbours(t, i, t.x[i], self.fluid_pair, acc)
@@ -240,7 +264,7 @@ class Stepper:
             code = fluid_code(a, rho, pt.v.dot(pt.v), dev, prm.c0, prm.band)
             if ti.static(S.physics.spray):
                 if code == BAD_DENSITY:
-                    code = BAD_NONE       # spray: the next step removes it (zones.Spray), up to its limit
+                    code = BAD_NONE  # spray: the next step removes it (zones.Spray), up to its limit
             if code != BAD_NONE:
                 report(S.stats, code, t.id[i])
         elif k >= 0:
@@ -283,7 +307,7 @@ class Stepper:
         for c in range(ncell + 1):
             self.gather(c, dt)
         if ti.static(self.once):
-            for u in range(pairs.ZONES // 2 * pairs.LANE):   # the even zones, then the odd ones
+            for u in range(pairs.ZONES // 2 * pairs.LANE):  # the even zones, then the odd ones
                 self.pair_once.phase(u, 0)
             for u in range(pairs.ZONES // 2 * pairs.LANE):
                 self.pair_once.phase(u, 1)
@@ -302,7 +326,7 @@ class Stepper:
         for c in range(ncell + 2):
             S.grid.fcnt[c] = ti.cast(0, S.grid.fdtype)
         ti.loop_config(serialize=True)
-        for _ in range(1):   # one serial task after the parallel loops
+        for _ in range(1):  # one serial task after the parallel loops
             for b in range(self.nblk if ti.static(S.cpu) else 0):
                 for k in ti.static(self._maxima):
                     S.stats[None][k] = ti.max(S.stats[None][k], self.bmax[b][k])

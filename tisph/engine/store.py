@@ -5,6 +5,7 @@ The solver steps the store; it does not own its fields. Inside the step kernel t
 the state as S.p and the sorted copy the neighbour pass reads as S.tmp: the store's two
 ParticleFields, handed to the solver once. Everything in Python scope (the run loop, the
 checkpoints, the snapshots) goes through the store's methods."""
+
 import numpy as np
 import taichi as ti
 
@@ -34,7 +35,7 @@ class ParticleStore:
         f = fields or self.p
         inv = np.argsort(f.id.to_numpy())
         out = {k: getattr(f, k).to_numpy()[inv] for k in names}
-        for k, a in out.items():   # kind and mat are bytes on the CPU: the outputs keep 32 bits
+        for k, a in out.items():  # kind and mat are bytes on the CPU: the outputs keep 32 bits
             if a.dtype == np.int8:
                 out[k] = a.astype(np.int32)
         return out
@@ -67,7 +68,9 @@ class ParticleStore:
 
     def nbytes(self):
         """Bytes the particle fields take (from their shapes and types)."""
+
         def size(types):
             return sum(type_bytes(t) for t in types.values())
-        copies = 2 + (self.bak is not None)          # the state, the sorted copy, the backup
+
+        copies = 2 + (self.bak is not None)  # the state, the sorted copy, the backup
         return (size(self.types) * copies + size(self.eval_types)) * self.n

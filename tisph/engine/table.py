@@ -6,6 +6,7 @@ The solver builds it and hands its fields to the step kernel, where the modules 
 S.prm[None].name, S.mat.name[material] and S.stats[None].name. In Python scope (the run loop,
 checkpoints, the run log) it is read and written through its methods: get, set, snapshot,
 restore, describe."""
+
 import dataclasses
 import json
 import types
@@ -47,6 +48,7 @@ CORE_STATS = dict(CORE_MAXIMA, bad_code="int", bad_idx="int", leaked="int")
 class Setup:
     """What a default computed from the case reads (a Param's or a MatParam's callable): the
     spacing, the kernel's h, the sound speed, the step's CFL, the materials and the particles."""
+
     dx: float
     h: float
     c0: float
@@ -66,7 +68,7 @@ class ParamTable:
         self.real = real
         self.np_real = float_type(real)
         self.decl, self.values = self._params(modules, values, setup)
-        self.setup = dataclasses.replace(setup, cfl=float(self.values["cfl"]))   # the viscosity cap reads it
+        self.setup = dataclasses.replace(setup, cfl=float(self.values["cfl"]))  # the viscosity cap reads it
         self.mat = types.SimpleNamespace()
         self._mat_writes = self._materials(modules, self.setup)
         self.stat_decl = dict(CORE_STATS)
@@ -153,12 +155,16 @@ class ParamTable:
 
     def describe(self):
         """Each runtime parameter as resolved, "name = value unit", for run.log."""
+
         def text(v):
             if isinstance(v, tuple):
                 return "(" + ", ".join(f"{u:.4g}" for u in v) + ")"
             return f"{v:.4g}" if isinstance(v, float) else str(v)
-        return ", ".join(f"{k} = {text(self.values[k])}" + (f" {d.unit}" if d.unit not in ("", "-") else "")
-                         for k, d in self.decl.items())
+
+        return ", ".join(
+            f"{k} = {text(self.values[k])}" + (f" {d.unit}" if d.unit not in ("", "-") else "")
+            for k, d in self.decl.items()
+        )
 
     @ti.kernel
     def set_dt(self, dt: ti.f64):

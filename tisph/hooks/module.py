@@ -42,37 +42,58 @@ Hooks (define only those the module uses; `S` is the solver):
   dt_limit(S, st, dt) -> dt        a bound on the next time step
   after_step(S)                    Python, after the kernel (Shepard filter)
 """
+
 import dataclasses
 
 from ..settings.schema import Param  # noqa: F401 (re-exported: the modules declare theirs with it)
 
-HOOKS = ("drift", "move", "boundary_motion", "boundary_kick", "remove", "position_check", "prepare", "init_acc",
-         "view", "pair", "pair2", "body_force", "relax", "finish", "hold", "boundary_pass", "dt_limit", "after_step")
+HOOKS = (
+    "drift",
+    "move",
+    "boundary_motion",
+    "boundary_kick",
+    "remove",
+    "position_check",
+    "prepare",
+    "init_acc",
+    "view",
+    "pair",
+    "pair2",
+    "body_force",
+    "relax",
+    "finish",
+    "hold",
+    "boundary_pass",
+    "dt_limit",
+    "after_step",
+)
 
 
 @dataclasses.dataclass(frozen=True)
 class MatParam:
     """A per-material parameter: default, unit, doc; kind 'real' or 'int'. convert(value, mat, S)
     turns the material dict's value (or the default) into the stored number."""
+
     default: object
     unit: str = "-"
     doc: str = ""
     kind: str = "real"
     convert: object = None
-    field: str = ""          # the field is S.mat.<field> (default: the key)
+    field: str = ""  # the field is S.mat.<field> (default: the key)
 
 
 class Module:
     """Base of every module. `enabled(physics)` says whether a case compiles it in."""
+
     name = "module"
-    on = None      # the switches that turn it on (Physics fields; outflow/container: solver
-                   # arguments); None: always on. The tests build every module from this.
+    on = None  # the switches that turn it on (Physics fields; outflow/container: solver
+    # arguments); None: always on. The tests build every module from this.
     material = {}
     params = {}
     acc = {}
     stats = {}
     maxima = {}
-    pair_once = None   # {acc slot: "sum" | "max"} it sums, with a pair2 hook (engine/pairs.py)
+    pair_once = None  # {acc slot: "sum" | "max"} it sums, with a pair2 hook (engine/pairs.py)
     # "advection": with numerics.time_stepping = "dual", its pair and finish hooks run only on the
     # steps that evaluate the terms that change at the flow's pace, its sums held between (physics/dual.py)
     rate = "acoustic"

@@ -15,6 +15,6 @@ class PIDrive:
     def update(self, solver, error, feedforward):
         self.integral += error * (solver.time - self.t)
         self.t = solver.time
-        self.value = feedforward + error / self.Tc + self.integral / self.Tc ** 2
+        self.value = feedforward + error / self.Tc + self.integral / self.Tc**2
         solver.set_drive(self.value)
         return self.value

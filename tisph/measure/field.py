@@ -1,4 +1,5 @@
 """Numerical gauges: the free surface (or a sediment surface) along x from the particles."""
+
 import functools
 
 import numpy as np
@@ -39,15 +40,15 @@ def surface_heights(st, xs, dx, h, floor=0.0, mat=0):
     for k, xg in enumerate(xs):
         if hi[k] <= lo[k]:
             continue
-        xn, vn = x[lo[k]:hi[k]], vol[lo[k]:hi[k]]
+        xn, vn = x[lo[k] : hi[k]], vol[lo[k] : hi[k]]
         ys = np.arange(max(floor, xn[:, 1].min() - dx), xn[:, 1].max() + 2 * h, step)
         r = np.hypot(xn[None, :, 0] - xg, xn[None, :, 1] - ys[:, None]) / h
-        frac = (K.sigma / h ** 2 * K.shape_np(r) * vn[None, :]).sum(1)
+        frac = (K.sigma / h**2 * K.shape_np(r) * vn[None, :]).sum(1)
         wet = np.nonzero(frac >= 0.5)[0]
         if len(wet):
             i = wet[-1]
             out[k] = ys[i]
-            if i + 1 < len(ys):   # where the fraction crosses 1/2 between two samples
+            if i + 1 < len(ys):  # where the fraction crosses 1/2 between two samples
                 out[k] += step * (frac[i] - 0.5) / max(frac[i] - frac[i + 1], 1e-12)
     return out
 
@@ -59,8 +60,12 @@ def lattice_offset(dx, h):
     it reads the water's level, whatever the surface at the start (a tilted one included)."""
     n = int(np.ceil(K.support * h / dx)) + 2
     X, Y = np.meshgrid(np.arange(-n, n + 1) * dx, (np.arange(-2 * n, 0) + 0.5) * dx)
-    st = {"x": np.c_[X.ravel(), Y.ravel()], "kind": np.full(X.size, FLUID), "m": np.full(X.size, dx * dx),
-          "rho": np.ones(X.size)}
+    st = {
+        "x": np.c_[X.ravel(), Y.ravel()],
+        "kind": np.full(X.size, FLUID),
+        "m": np.full(X.size, dx * dx),
+        "rho": np.ones(X.size),
+    }
     return float(surface_heights(st, [0.0], dx, h, floor=-1e9, mat=None)[0])
 
 
@@ -102,7 +107,7 @@ def shepard_at(st, points, h, name, mat=0, min_fraction=0.0):
     j = np.repeat(lo, counts) + (np.arange(counts.sum()) - np.repeat(first, counts))
     w = K.shape_np(np.hypot(x[j, 0] - pts[k, 0], x[j, 1] - pts[k, 1]) / h) * vol[j]
     sw = np.bincount(k, w, minlength=len(pts))
-    ok = sw > max(min_fraction * h * h / K.sigma, 0.0)    # sum V W with W's normalisation sigma / h^2 left out
+    ok = sw > max(min_fraction * h * h / K.sigma, 0.0)  # sum V W with W's normalisation sigma / h^2 left out
     for c in range(f.shape[1]):
         out[ok, c] = np.bincount(k, w * f[j, c], minlength=len(pts))[ok] / sw[ok]
     return out if f.shape[1] > 1 else out[:, 0]

@@ -14,6 +14,7 @@ front      front_<label>: the leading water along a floor at z (the largest x of
 A new type is one subclass here (type, needs, prefixes, read or read_all, metrics, panel) in
 GAUGE_TYPES; the [[gauge]] keys it needs are checked in tisph/scenes/custom/elements.py.
 """
+
 from __future__ import annotations
 
 import itertools
@@ -40,11 +41,12 @@ class Gauge:
     columns; read_all: one pass for every gauge of the type (read together, as one batch);
     metrics: summary.json's entries from its record; panel: gauges.png's (axis label, scale) of its
     first column."""
+
     type = ""
     needs = {}
     prefixes = ()
     panel = None
-    cutoff = None        # a load gauge's low-pass (Hz): GaugeSet sets it from the case's sound speed
+    cutoff = None  # a load gauge's low-pass (Hz): GaugeSet sets it from the case's sound speed
 
     def filtered(self, c: dict):
         """Its first column low-passed at cutoff (a load gauge's), or None."""
@@ -78,8 +80,13 @@ class Gauge:
         if H is not None and math.isfinite(H):
             text += f": H = {H:.3g} m"
         h = [v for v in (m.get(f"{self.label}_harmonic_{k}") for k in (1, 2, 3)) if v is not None]
-        if h:   # in the panel's unit (kPa for pressure), named in its axis label "... (unit)"
-            text += "; harmonics " + ", ".join(f"{self.panel[1] * v:.2g}" for v in h) + " " + self.panel[0][:-1].split("(")[-1]
+        if h:  # in the panel's unit (kPa for pressure), named in its axis label "... (unit)"
+            text += (
+                "; harmonics "
+                + ", ".join(f"{self.panel[1] * v:.2g}" for v in h)
+                + " "
+                + self.panel[0][:-1].split("(")[-1]
+            )
         return text
 
     def metrics(self, c: dict, t: np.ndarray, w: np.ndarray, period: float | None) -> dict:
@@ -103,11 +110,12 @@ class SurfaceGauge(Gauge):
     half a spacing), so the record starts at the water's level; a gauge dry at the start takes
     a deep still surface's offset on the lattice (field.lattice_offset). floor and mat: where the
     surface search starts and which material counts as water (None: every fluid)."""
+
     type = "surface"
     needs = {"x": "a number (m): a surface gauge's position"}
     prefixes = ("eta",)
     panel = ("surface (m)", 1.0)
-    irregular = False        # an irregular sea (a case's paddle.spectrum): its spectrum's metrics instead
+    irregular = False  # an irregular sea (a case's paddle.spectrum): its spectrum's metrics instead
 
     def __init__(self, label, x, from_time=0.0, floor=-1e9, mat=None, level=0.0, column=None, still_start=False):
         super().__init__(label, from_time)
@@ -122,11 +130,11 @@ class SurfaceGauge(Gauge):
 
     @classmethod
     def read_all(cls, gauges, st, site):
-        out = []   # one surface search for each run of gauges alike in floor and material
+        out = []  # one surface search for each run of gauges alike in floor and material
         for (floor, mat), run in itertools.groupby(gauges, key=lambda g: (g.floor, g.mat)):
             run = list(run)
             for g, z in zip(run, surface_heights(st, [g.x for g in run], site.dx, site.h, floor=floor, mat=mat)):
-                if z <= floor:             # no water over the gauge (dry land, a drained basin): no reading
+                if z <= floor:  # no water over the gauge (dry land, a drained basin): no reading
                     out.append([float("nan")])
                     continue
                 if g.zero is None and g.still_start:
@@ -139,26 +147,35 @@ class SurfaceGauge(Gauge):
 
     def metrics(self, c, t, w, period):
         e = np.asarray(c[self.columns[0]], float)
-        wet = e[w][np.isfinite(e[w])]             # a dry gauge's readings are NaN
-        out = {f"{self.label}_eta_max": float(wet.max()) if wet.size else float("nan"),
-               f"{self.label}_eta_min": float(wet.min()) if wet.size else float("nan")}
-        if self.irregular:       # its spectrum's Hm0 and Tp instead (CaseGauges.spectra)
+        wet = e[w][np.isfinite(e[w])]  # a dry gauge's readings are NaN
+        out = {
+            f"{self.label}_eta_max": float(wet.max()) if wet.size else float("nan"),
+            f"{self.label}_eta_min": float(wet.min()) if wet.size else float("nan"),
+        }
+        if self.irregular:  # its spectrum's Hm0 and Tp instead (CaseGauges.spectra)
             return out
         if period:
             H, n = wave_height(t, e, self.from_time, float(t[-1]), period)
             out[f"{self.label}_wave_height"] = H if n else float("nan")
             out[f"{self.label}_waves"] = int(n)
             out.update(harmonic_amplitudes(self.label, t, e, period, self.from_time))
-        else:       # no wave maker: the water's own oscillation (sloshing, a seiche)
+        else:  # no wave maker: the water's own oscillation (sloshing, a seiche)
             T, loss, se, n = free_oscillation(np.asarray(t)[w], e[w])
             if n:
-                out.update({f"{self.label}_period": T, f"{self.label}_loss_per_period": loss,
-                            f"{self.label}_loss_stderr": se, f"{self.label}_cycles": n})
+                out.update(
+                    {
+                        f"{self.label}_period": T,
+                        f"{self.label}_loss_per_period": loss,
+                        f"{self.label}_loss_stderr": se,
+                        f"{self.label}_cycles": n,
+                    }
+                )
         return out
 
 
 class _PointGauge(Gauge):
     """A Shepard-interpolated field of the water at (x, z); NaN where the point is dry."""
+
     field = ""
 
     def __init__(self, label, x, z, from_time=0.0):
@@ -194,7 +211,11 @@ def _peaks(label, col, t, w):
     if not np.isfinite(col).any():
         return {f"{label}_{k}": None for k in ("max", "time_of_max", "mean")}
     k = int(np.nanargmax(col))
-    return {f"{label}_max": float(col[k]), f"{label}_time_of_max": float(t[w][k]), f"{label}_mean": float(np.nanmean(col))}
+    return {
+        f"{label}_max": float(col[k]),
+        f"{label}_time_of_max": float(t[w][k]),
+        f"{label}_mean": float(np.nanmean(col)),
+    }
 
 
 def _load_metrics(g, col, t, w, period):
@@ -209,10 +230,14 @@ def _load_metrics(g, col, t, w, period):
         tw, y = t[w], low_pass(t[w], np.asarray(col)[w], g.cutoff)
         inner = (tw - tw[0] > 1.0 / g.cutoff) & (tw[-1] - tw > 1.0 / g.cutoff) & (y is not None)
         k = int(np.argmax(np.where(inner, y, -np.inf))) if inner.any() else None
-        out.update({f"{label}_filtered_max": None if k is None else float(y[k]),
-                    f"{label}_filtered_time_of_max": None if k is None else float(tw[k]),
-                    f"{label}_filtered_min": None if k is None else float(y[inner].min()),
-                    f"{label}_filter_hz": float(g.cutoff)})
+        out.update(
+            {
+                f"{label}_filtered_max": None if k is None else float(y[k]),
+                f"{label}_filtered_time_of_max": None if k is None else float(tw[k]),
+                f"{label}_filtered_min": None if k is None else float(y[inner].min()),
+                f"{label}_filter_hz": float(g.cutoff),
+            }
+        )
     return out
 
 
@@ -241,6 +266,7 @@ class PressureGauge(_PointGauge, _LoadGauge):
 class ForceGauge(_LoadGauge):
     """The pressure integrated along a wall face: points a spacing apart, read half a smoothing
     length into the water (towards `side`, unit vectors), where the kernel is not cut by the wall."""
+
     type = "force"
     needs = {"line": "two points [[x0, z0], [x1, z1]] along the wall face"}
     prefixes = ("F",)
@@ -267,6 +293,7 @@ class ForceGauge(_LoadGauge):
 class DischargeGauge(Gauge):
     """The water beyond the vertical section at x; spray removed beyond x went over too, counted
     where it was parked."""
+
     type = "discharge"
     needs = {"x": "a number (m): a discharge gauge's position"}
     prefixes = ("V",)
@@ -282,13 +309,16 @@ class DischargeGauge(Gauge):
 
     def metrics(self, c, t, w, period):
         V, tw = np.asarray(c[self.columns[0]])[w], t[w]
-        return {f"{self.label}_volume_end": float(V[-1]),
-                f"{self.label}_mean_discharge": float((V[-1] - V[0]) / (tw[-1] - tw[0]))}
+        return {
+            f"{self.label}_volume_end": float(V[-1]),
+            f"{self.label}_mean_discharge": float((V[-1] - V[0]) / (tw[-1] - tw[0])),
+        }
 
 
 class FrontGauge(Gauge):
     """The leading water along the floor at z: the largest x of the water within two spacings
     above it, plus half a spacing."""
+
     type = "front"
     needs = {"z": "a number (m): the floor level a front gauge follows the water along"}
     prefixes = ("front",)
@@ -307,8 +337,9 @@ class FrontGauge(Gauge):
         return {f"{self.label}_end": float(np.asarray(c[self.columns[0]])[-1])}
 
 
-GAUGE_TYPES = {cls.type: cls for cls in (SurfaceGauge, VelocityGauge, PressureGauge, ForceGauge, DischargeGauge,
-                                         FrontGauge)}
+GAUGE_TYPES = {
+    cls.type: cls for cls in (SurfaceGauge, VelocityGauge, PressureGauge, ForceGauge, DischargeGauge, FrontGauge)
+}
 
 
 class GaugeSet:
@@ -367,27 +398,43 @@ class WaveGauges(GaugeSet):
         self.xs = [float(x) for x in xs]
         self.dry = [x for x in self.xs if x >= dry_from]
         if self.dry:
-            warnings.warn(f"gauges at x = {', '.join(f'{x:g}' for x in self.dry)} m stand on dry land (the "
-                          f"still-water shoreline is at x = {dry_from:.3g} m): their wave heights are reported "
-                          "as null")
+            warnings.warn(
+                f"gauges at x = {', '.join(f'{x:g}' for x in self.dry)} m stand on dry land (the "
+                f"still-water shoreline is at x = {dry_from:.3g} m): their wave heights are reported "
+                "as null"
+            )
         cols = tuple(columns or (f"eta_x{x:.2f}" for x in self.xs))
-        super().__init__([SurfaceGauge(col, x, floor=0.0, mat=0, level=level, column=col, still_start=True)
-                          for x, col in zip(self.xs, cols)], dx, h)
+        super().__init__(
+            [
+                SurfaceGauge(col, x, floor=0.0, mat=0, level=level, column=col, still_start=True)
+                for x, col in zip(self.xs, cols)
+            ],
+            dx,
+            h,
+        )
 
     @property
-    def zero(self):     # each gauge's first reading (the lattice's offset under the still water)
+    def zero(self):  # each gauge's first reading (the lattice's offset under the still water)
         return [g.zero for g in self.gauges if g.zero is not None]
 
     def metrics(self, c, p, cg):
         """gauges_x and the mean wave height at each over whole periods once the ramped waves
         have reached it at the group velocity cg (at the paddle's depth: on a slope, where waves
         slow, an early bound) and to the end of the run."""
-        out = dict(gauges_x=list(self.xs), gauges_on_dry_land=list(self.dry),
-                   wave_height_at_gauges=[], wave_period_at_gauges=[], mean_level_at_gauges=[])
+        out = dict(
+            gauges_x=list(self.xs),
+            gauges_on_dry_land=list(self.dry),
+            wave_height_at_gauges=[],
+            wave_period_at_gauges=[],
+            mean_level_at_gauges=[],
+        )
         for x, col in zip(self.xs, self.columns):
             wet = x not in self.dry and len(c["t"])
-            T, level = (crossing_period_and_level(c["t"], c[col], arrival_time(p, x, cg), float(c["t"][-1]))
-                        if wet else (None, None))
+            T, level = (
+                crossing_period_and_level(c["t"], c[col], arrival_time(p, x, cg), float(c["t"][-1]))
+                if wet
+                else (None, None)
+            )
             out["wave_height_at_gauges"].append(height_at(c, col, x, p, cg)[0] if wet else None)
             out["wave_period_at_gauges"].append(T)
             out["mean_level_at_gauges"].append(level)

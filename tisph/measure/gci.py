@@ -1,6 +1,7 @@
 """A result's numerical uncertainty from three spacings: the observed order of convergence, the
 Richardson estimate of the zero-spacing value and Roache's grid convergence index (Roache 1994,
 J. Fluids Eng. 116:405), by the procedure of Celik et al. (2008, J. Fluids Eng. 130:078001)."""
+
 import math
 
 # metric names that are the largest value of a record: an impact's peak, which need not converge
@@ -18,14 +19,14 @@ def gci(f1, f2, f3, r21, r32):
         return float("nan"), float("nan"), float("nan"), float("nan")
     p = math.log(abs(e32 / e21)) / math.log(r21)
     for _ in range(100):
-        q = math.log((r21 ** p - 1.0) / (r32 ** p - 1.0)) if p > 0 else 0.0
+        q = math.log((r21**p - 1.0) / (r32**p - 1.0)) if p > 0 else 0.0
         p_new = abs(math.log(abs(e32 / e21)) + q) / math.log(r21)
         if abs(p_new - p) < 1e-10:
             break
         p = p_new
-    ext = (r21 ** p * f1 - f2) / (r21 ** p - 1.0)
-    gci21 = 1.25 * abs(e21 / f1) / (r21 ** p - 1.0)
-    gci32 = 1.25 * abs(e32 / f2) / (r32 ** p - 1.0)
+    ext = (r21**p * f1 - f2) / (r21**p - 1.0)
+    gci21 = 1.25 * abs(e21 / f1) / (r21**p - 1.0)
+    gci32 = 1.25 * abs(e32 / f2) / (r32**p - 1.0)
     return p, ext, gci21, gci32
 
 
@@ -44,8 +45,10 @@ def verdict(name, f1, f2, f3, r21, r32):
     elif abs(e32 / e21) <= math.log(r32) / math.log(r21):
         # f = f0 + C dx^p gives e32 / e21 = r21^p (r32^p - 1) / (r21^p - 1), which falls to
         # ln r32 / ln r21 as p falls to 0 (to 1 where the ratios are equal): at or under it, p <= 0
-        out["reason"] = ("not converging yet: the change does not shrink as the spacing does (no asymptotic range), "
-                         "so no order or GCI")
+        out["reason"] = (
+            "not converging yet: the change does not shrink as the spacing does (no asymptotic range), "
+            "so no order or GCI"
+        )
     elif f1 == 0:
         out["reason"] = "zero on the finest spacing: no relative GCI"
     else:

@@ -4,6 +4,7 @@ bound and free second harmonics.
 Convention: a gauge's complex amplitude C at angular frequency w is the least-squares fit of
 eta(t) = Re[C exp(i w t)] over whole periods; a wave travelling towards +x has C(x) = A exp(-i k x).
 """
+
 import math
 
 import numpy as np
@@ -87,9 +88,9 @@ def welch(t, eta, t0, t1, segment):
     starts = range(0, len(x) - n + 1, n // 2)
     P = np.zeros(n // 2 + 1)
     for s in starts:
-        seg = x[s:s + n] - x[s:s + n].mean()
+        seg = x[s : s + n] - x[s : s + n].mean()
         P += np.abs(np.fft.rfft(seg * win)) ** 2
-    P *= 2 * dt / ((win ** 2).sum() * len(starts))
+    P *= 2 * dt / ((win**2).sum() * len(starts))
     P[0] /= 2
     return np.fft.rfftfreq(n, dt), P, len(starts)
 

@@ -1,22 +1,26 @@
 """Figures without a display, saved whole or not at all (atomic rename)."""
+
 from ..io import atomic_path
 
 
 def pyplot():
     """matplotlib.pyplot on the Agg backend (no window, no display needed)."""
     import matplotlib
+
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+
     return plt
 
 
 def save(fig, path, dpi=110, tight=True):
     """Lay out, write to a temporary name and rename, close."""
     import matplotlib.pyplot as plt
+
     if tight:
         fig.tight_layout()
     with atomic_path(path) as tmp:
-        fig.savefig(tmp, dpi=dpi, format="png", bbox_inches="tight", pad_inches=0.08)   # titles never clipped
+        fig.savefig(tmp, dpi=dpi, format="png", bbox_inches="tight", pad_inches=0.08)  # titles never clipped
     plt.close(fig)
 
 
@@ -24,12 +28,13 @@ def gauge_panels(shown, c, metrics, path, title=""):
     """gauges.png: a panel each gauge of `shown` (tisph.measure.gauges.GaugeSet.plot), the gauges
     of a type on one vertical scale; a load gauge's low-passed record over its raw one."""
     import numpy as np
+
     plt = pyplot()
     fig, axes = plt.subplots(len(shown), 1, figsize=(7.5, 1.15 * len(shown) + 0.8), sharex=True, squeeze=False)
     t = np.asarray(c["t"])
-    rec = [g.panel[1] * np.asarray(c[g.columns[0]], float) for g in shown]   # in the panel's unit
+    rec = [g.panel[1] * np.asarray(c[g.columns[0]], float) for g in shown]  # in the panel's unit
     span = {}
-    for g, v in zip(shown, rec):   # one range a type
+    for g, v in zip(shown, rec):  # one range a type
         v = v[np.isfinite(v)]
         if v.size:
             lo, hi = span.get(type(g), (np.inf, -np.inf))
@@ -45,8 +50,15 @@ def gauge_panels(shown, c, metrics, path, title=""):
         ax.set_ylim(lo - pad, hi + pad)
         ax.set_ylabel(g.panel[0], fontsize=7)
         ax.tick_params(labelsize=7)
-        ax.text(0.005, 0.95, g.describe(metrics), transform=ax.transAxes, fontsize=7, va="top",
-                bbox=dict(facecolor="white", edgecolor="none", alpha=0.8, pad=1.5))
+        ax.text(
+            0.005,
+            0.95,
+            g.describe(metrics),
+            transform=ax.transAxes,
+            fontsize=7,
+            va="top",
+            bbox=dict(facecolor="white", edgecolor="none", alpha=0.8, pad=1.5),
+        )
     axes[-1, 0].set_xlabel("t (s)", fontsize=8)
     if title:
         fig.suptitle(title, fontsize=9)

@@ -1,6 +1,7 @@
 """What a gauge's record says of the waves: the mean height over whole periods, the zero
 up-crossing period and the mean level, and the window a regular wave is read in (from the
 fully ramped waves' arrival at the group velocity to the end of the run)."""
+
 import numpy as np
 
 
@@ -50,7 +51,7 @@ def crossing_period_and_level(t, eta, t0, t1):
     tc = _crossing_times(tt, d, up)
     if len(tc) < 2:
         return float("nan"), level
-    whole = (tt >= tc[0]) & (tt < tc[-1])          # the level over whole waves only
+    whole = (tt >= tc[0]) & (tt < tc[-1])  # the level over whole waves only
     return float(np.mean(np.diff(tc))), float(e[whole].mean())
 
 
@@ -72,11 +73,11 @@ def free_oscillation(t, eta):
     if len(up) < 4:
         return nothing
     tc = _crossing_times(t, e, up)
-    amp = np.array([0.5 * (e[a:b + 1].max() - e[a:b + 1].min()) for a, b in zip(up[:-1], up[1:])])
+    amp = np.array([0.5 * (e[a : b + 1].max() - e[a : b + 1].min()) for a, b in zip(up[:-1], up[1:])])
     k, y = np.arange(len(amp), dtype=float), np.log(amp)
     slope, icept = np.polyfit(k, y, 1)
     res = y - (slope * k + icept)
-    se = np.sqrt(np.sum(res ** 2) / (len(k) - 2) / np.sum((k - k.mean()) ** 2))
+    se = np.sqrt(np.sum(res**2) / (len(k) - 2) / np.sum((k - k.mean()) ** 2))
     return float(np.mean(np.diff(tc))), float(1.0 - np.exp(slope)), float(np.exp(slope) * se), len(amp)
 
 
@@ -111,7 +112,7 @@ def low_pass(t, x, cutoff, order=2):
         return None
     dt = float(np.median(np.diff(np.asarray(t, float))))
     pad = min(len(x) - 1, int(np.ceil(4.0 / (cutoff * dt))))
-    y = np.concatenate([2 * x[0] - x[pad:0:-1], x, 2 * x[-1] - x[-2:-pad - 2:-1]])
+    y = np.concatenate([2 * x[0] - x[pad:0:-1], x, 2 * x[-1] - x[-2 : -pad - 2 : -1]])
     f = np.fft.rfftfreq(len(y), dt)
     gain = 1.0 / (1.0 + (f / cutoff) ** (2 * order))
-    return np.fft.irfft(np.fft.rfft(y) * gain, len(y))[pad:pad + len(x)]
+    return np.fft.irfft(np.fft.rfft(y) * gain, len(y))[pad : pad + len(x)]

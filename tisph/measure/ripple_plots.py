@@ -1,5 +1,6 @@
 """The oscillating tunnel's bed figures: the bed at five times against the predicted ripple, and
 the ripples' length and steepness against bed periods with Wiberg & Harris's bands."""
+
 import numpy as np
 
 from ..ripples import ORBITAL_BAND, STEEPNESS_BAND
@@ -13,19 +14,23 @@ def plot_bed(path, arr, stations, geo, dx, lam_wh, eta_wh, level=None):
     plt = pyplot()
     fig, ax = plt.subplots(figsize=(8, 3))
     times = np.linspace(arr[0, 0], arr[-1, 0], 5)
-    for tt in (times if level is not None else times[1:]):
+    for tt in times if level is not None else times[1:]:
         r = arr[np.argmin(np.abs(arr[:, 0] - tt))]
         base = level if level is not None else arr[0, 1:]
         ax.plot(stations, 1e3 * (r[1:] - base), lw=0.9, label=f"t = {r[0]:.1f} s")
     # the predicted equilibrium ripple, for scale
     xr = np.linspace(0.0, min(Lx, 2 * lam_wh), 100)
-    ax.plot(xr, 1e3 * 0.5 * eta_wh * np.sin(2 * np.pi * xr / lam_wh), "k--", lw=0.8,
-            label=f"Wiberg & Harris: {100 * lam_wh:.1f} cm x {100 * eta_wh:.1f} cm")
+    ax.plot(
+        xr,
+        1e3 * 0.5 * eta_wh * np.sin(2 * np.pi * xr / lam_wh),
+        "k--",
+        lw=0.8,
+        label=f"Wiberg & Harris: {100 * lam_wh:.1f} cm x {100 * eta_wh:.1f} cm",
+    )
     ax.axhspan(-0.5e3 * dx, 0.5e3 * dx, color="0.93")
     ax.set_xlabel("x (m)")
     ax.set_ylabel("bed change (mm)" if level is None else "bed level (mm)")
-    ax.set_title(f"oscillating tunnel, d0 = {geo['orbital_diameter']:g} m, T = {Tp:g} s "
-                 f"(grey: +-dx/2)", fontsize=9)
+    ax.set_title(f"oscillating tunnel, d0 = {geo['orbital_diameter']:g} m, T = {Tp:g} s (grey: +-dx/2)", fontsize=9)
     ax.legend(fontsize=7, ncol=2)
     save(fig, path)
 

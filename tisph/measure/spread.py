@@ -1,6 +1,7 @@
 """An ensemble: one case run with several random seeds (the initial bed's), each metric as its
 mean, standard deviation and standard error over the runs, the scatter a chaotic metric carries
 (a ripple count, a ripple length, a scour depth) that one run hides."""
+
 import math
 
 
@@ -15,8 +16,13 @@ def spread(values):
     n = len(v)
     mean = sum(v) / n if n else None
     std = math.sqrt(sum((x - mean) ** 2 for x in v) / (n - 1)) if n >= 2 else None
-    return {"values": [float(x) if _finite(x) else None for x in values], "n": n, "mean": mean, "std": std,
-            "stderr": std / math.sqrt(n) if std is not None else None}
+    return {
+        "values": [float(x) if _finite(x) else None for x in values],
+        "n": n,
+        "mean": mean,
+        "std": std,
+        "stderr": std / math.sqrt(n) if std is not None else None,
+    }
 
 
 def ensemble_metrics(metric_dicts):

@@ -6,6 +6,7 @@ it drives) are evaluated at the advection criterion dt_ad = advection_cfl h / |v
 continuity, the walls and the artificial viscosity (acoustic damping: its coefficient is c0's).
 The step kernel splits the sums (engine/stepper.py, forces); on the steps between, a held module's
 `hold` hook does what it must every step (the k equation's step with its held production)."""
+
 import taichi as ti
 
 from ..hooks.module import Module, Param
@@ -16,12 +17,14 @@ from ..settings.engine_keys import KEYED
 class DualCriteria(Module):
     name = "dual_criteria"
     on = {"time_stepping": "dual"}
-    params = {"advection_cfl": KEYED["numerics.advection_cfl"],
-              "acoustic_steps": KEYED["numerics.acoustic_steps"],
-              "since": Param(0.0, "s", (0.0, None), "how long the advection terms' last evaluation has acted (the kernel's)"),
-              "sub": Param(0.0, "-", (0.0, None), "acoustic steps since then (the kernel's)"),
-              "full": Param(1.0, "-", (0.0, 1.0), "1: this step evaluates the advection terms (the kernel's)"),
-              "dt_vis": Param(1e30, "s", (0.0, None), "this step's viscous limit (the kernel's)")}
+    params = {
+        "advection_cfl": KEYED["numerics.advection_cfl"],
+        "acoustic_steps": KEYED["numerics.acoustic_steps"],
+        "since": Param(0.0, "s", (0.0, None), "how long the advection terms' last evaluation has acted (the kernel's)"),
+        "sub": Param(0.0, "-", (0.0, None), "acoustic steps since then (the kernel's)"),
+        "full": Param(1.0, "-", (0.0, 1.0), "1: this step evaluates the advection terms (the kernel's)"),
+        "dt_vis": Param(1e30, "s", (0.0, None), "this step's viscous limit (the kernel's)"),
+    }
     maxima = {"vmax2": "real"}
 
     def fields(self, real):
@@ -73,7 +76,7 @@ class DualCriteria(Module):
         held viscous term is an explicit step as long as it is held: a Bingham sand's effective
         viscosity, whose limit sets the step, is evaluated every step), or after acoustic_steps."""
         prm = S.prm[None]
-        since = prm.since + prm.dt    # how long the last evaluation has acted, its own step included
+        since = prm.since + prm.dt  # how long the last evaluation has acted, its own step included
         sub = prm.sub + 1.0
         if prm.full > 0.5:
             since = prm.dt
@@ -81,7 +84,7 @@ class DualCriteria(Module):
         vmax2 = S.stats[None].vmax2
         full = 0.0
         held = since + dt_new
-        if sub + 1.0 >= prm.acoustic_steps or held > prm.dt_vis or vmax2 * held ** 2 > (prm.advection_cfl * S.h) ** 2:
+        if sub + 1.0 >= prm.acoustic_steps or held > prm.dt_vis or vmax2 * held**2 > (prm.advection_cfl * S.h) ** 2:
             full = 1.0
         S.prm[None].since = since
         S.prm[None].sub = sub

@@ -3,6 +3,7 @@
 Each pair hook adds neighbour j's contribution to fluid particle i; `nb` is how i sees j
 (its density, pressure, volume, relative velocity, kernel gradient), `acc` i's sums.
 """
+
 import taichi as ti
 
 from ..hooks.module import Module, Param
@@ -28,14 +29,15 @@ SURFACE_DIV = 1.5
 def viscous_step(h, materials):
     """The explicit viscous limit 0.125 h^2 / nu of the most viscous material (1e30: inviscid)."""
     nu_max = max((m.get("viscosity", 0.0) / m["rho0"] for m in materials), default=0.0)
-    return 0.125 * h ** 2 / nu_max if nu_max > 0 else 1e30
+    return 0.125 * h**2 / nu_max if nu_max > 0 else 1e30
 
 
 @ti.data_oriented
 class Continuity(Module):
     """Continuity equation, paper 000 eq. 8 / paper 002 eq. 8: d rho_i/dt = rho_i sum V_j v_ij . grad W."""
+
     name = "continuity"
-    pair_once = {}   # a and drho only (engine/pairs.py)
+    pair_once = {}  # a and drho only (engine/pairs.py)
 
     @ti.func
     def pair(self, S, i, j, r, r2, nb, acc: ti.template()):
@@ -52,6 +54,7 @@ class Continuity(Module):
 @ti.data_oriented
 class Pressure(Module):
     """Momentum equation's pressure term, paper 000 eq. 7 (Tait pressure, eqs. 11-12)."""
+
     name = "pressure"
     pair_once = {}
 
@@ -78,12 +81,15 @@ class ArtificialViscosity(Module):
     torn off a breaker, or left in the swash, ring as the Tait tension pulls them together and
     apart (density +-20 % at alpha 0.01, docs/waves.md), where a constant alpha large enough to
     damp them damps the waves too."""
+
     name = "artificial_viscosity"
     pair_once = {"mu": "max"}
     on = {"artificial_viscosity": True}
-    params = {"alpha": KEYED["numerics.artificial_viscosity"],
-              "alpha_s": KEYED["numerics.artificial_viscosity_surface"],
-              "div_s": KEYED["numerics.surface_divergence"]}
+    params = {
+        "alpha": KEYED["numerics.artificial_viscosity"],
+        "alpha_s": KEYED["numerics.artificial_viscosity_surface"],
+        "div_s": KEYED["numerics.surface_divergence"],
+    }
     acc = {"mu": "real"}
     SURFACE_DIV = SURFACE_DIV
 
@@ -94,7 +100,7 @@ class ArtificialViscosity(Module):
             self.pair_once = dict(self.pair_once, dvr="sum")
 
     def fields(self, real):
-        return {"fs": real} if self.surface else {}   # 1 at the free surface, one step behind
+        return {"fs": real} if self.surface else {}  # 1 at the free surface, one step behind
 
     @ti.func
     def init_acc(self, S, i, acc: ti.template()):
@@ -133,7 +139,7 @@ class ArtificialViscosity(Module):
         acc.mu = ti.max(acc.mu, -mu)
         sj.mu = ti.max(sj.mu, -mu)
         if ti.static(self.surface):
-            rg = r.dot(nb.gw)               # r_ji . grad W_ji is the same
+            rg = r.dot(nb.gw)  # r_ji . grad W_ji is the same
             acc.dvr -= nb.vol_j * rg
             sj.dvr -= nb.vol_i * rg
 
@@ -147,24 +153,32 @@ class ArtificialViscosity(Module):
 @ti.data_oriented
 class LaminarViscosity(Module):
     """Laminar viscosity, paper 002 eq. 10 (Morris et al. 1997), with the harmonic pair mean."""
+
     name = "laminar_viscosity"
     rate = "advection"
     pair_once = {}
     on = {"laminar_viscosity": True}
-    params = {"dt_visc": Param(lambda S, values: viscous_step(S.h, S.materials), "s", (0.0, None),
-                               "viscous step 0.125 h^2 / nu_max of the materials")}
+    params = {
+        "dt_visc": Param(
+            lambda S, values: viscous_step(S.h, S.materials),
+            "s",
+            (0.0, None),
+            "viscous step 0.125 h^2 / nu_max of the materials",
+        )
+    }
 
     @ti.func
     def pair(self, S, i, j, r, r2, nb, acc: ti.template()):
         s = S.tmp
-        mu_j = acc.mui                      # a wall particle takes the fluid's viscosity
+        mu_j = acc.mui  # a wall particle takes the fluid's viscosity
         if nb.kj == FLUID:
             if ti.static(S.physics.rheology):
                 mu_j = s.mu[j]
             else:
                 mu_j = S.mat.mu[ti.cast(s.mat[j], ti.i32)]
-        acc.a += laminar_viscosity(nb.m_j, harmonic_pair(acc.mui, mu_j), acc.inv_rhoi, nb.ir_j,
-                                   nb.v_visc, r, nb.ie, nb.gw)
+        acc.a += laminar_viscosity(
+            nb.m_j, harmonic_pair(acc.mui, mu_j), acc.inv_rhoi, nb.ir_j, nb.v_visc, r, nb.ie, nb.gw
+        )
 
     @ti.func
     def pair2(self, S, i, j, r, r2, nb, acc: ti.template(), sj: ti.template()):
@@ -197,6 +211,7 @@ def rate_of_gradient(m, S):
 class VelocityGradient(Module):
     """The SPH velocity gradient grad v_i = sum V_j (v_j - v_i) (x) grad W, for the shear rate of
     the rheology (paper 000 eq. 14) and the SPS strain rate (paper 002 eq. 10)."""
+
     name = "velocity_gradient"
     on = {"sps": True}
     acc = {"gv": "mat2"}
@@ -234,13 +249,14 @@ class DensityDiffusion(Module):
     L_i = sum_j V_j r_ji (x) grad W_ij (Randles & Libersky 1996), comes from the same neighbour
     pass one step behind (a second pass a step would double the cost); where L is near singular
     (a droplet) the gradient is 0, Molteni's term."""
+
     name = "density_diffusion"
     rate = "advection"
-    pair_once = {}   # rho0_c02 is set per particle (init_acc)
+    pair_once = {}  # rho0_c02 is set per particle (init_acc)
     on = {"density_diffusion": "molteni"}
     params = {"delta": KEYED["numerics.delta"]}
     acc = {"rho0_c02": "real"}
-    DET_MIN = 0.05   # det L: 1 in a full support; a droplet's few neighbours fall under this
+    DET_MIN = 0.05  # det L: 1 in a full support; a droplet's few neighbours fall under this
 
     @staticmethod
     def enabled(S):
@@ -284,12 +300,10 @@ class DensityDiffusion(Module):
             hyd = 0.0
             if ti.static(S.physics.density_diffusion == "fourtakas"):
                 hyd = hydrostatic_density_difference(acc.rho0_c02, prm.g, r)
-            acc.drho += density_diffusion(prm.delta, S.h, prm.c0, nb.vol_j, acc.rhoi,
-                                          nb.rho_j, hyd, r, nb.ie, nb.gw)
+            acc.drho += density_diffusion(prm.delta, S.h, prm.c0, nb.vol_j, acc.rhoi, nb.rho_j, hyd, r, nb.ie, nb.gw)
             if ti.static(self.renormalised):
                 gr, lm = renormalisation_sums(acc.rhoi, nb.rho_j, r, nb.gw)
-                acc.drho -= nb.vol_j * renormalised_correction(prm.delta, S.h, prm.c0, acc.gi, S.tmp.grho[j],
-                                                               nb.gw)
+                acc.drho -= nb.vol_j * renormalised_correction(prm.delta, S.h, prm.c0, acc.gi, S.tmp.grho[j], nb.gw)
                 acc.gr += nb.vol_j * gr
                 acc.lm += nb.vol_j * lm
 
@@ -303,8 +317,7 @@ class DensityDiffusion(Module):
             if ti.static(S.physics.density_diffusion == "fourtakas"):
                 hyd = hydrostatic_density_difference(acc.rho0_c02, prm.g, r)
             acc.drho += density_diffusion(prm.delta, S.h, prm.c0, nb.vol_j, acc.rhoi, nb.rho_j, hyd, r, nb.ie, nb.gw)
-            sj.drho += density_diffusion(prm.delta, S.h, prm.c0, nb.vol_i, nb.rho_j, acc.rhoi, -hyd, -r, nb.ie,
-                                         -nb.gw)
+            sj.drho += density_diffusion(prm.delta, S.h, prm.c0, nb.vol_i, nb.rho_j, acc.rhoi, -hyd, -r, nb.ie, -nb.gw)
 
 
 @ti.data_oriented
@@ -320,6 +333,7 @@ class Shifting(Module):
     the shifted position to first order (the Taylor correction of Xu et al. 2009 and Lind et
     al. 2012); the density is not (its
     gradient is not at hand, and the shift is a small fraction of dx a step)."""
+
     name = "shifting"
     on = {"shifting": True}
     SURFACE_DIV = SURFACE_DIV
@@ -327,7 +341,7 @@ class Shifting(Module):
     acc = {"gc": "vec2", "divr": "real"}
 
     def fields(self, real):
-        return {"sh": ti.types.vector(2, real)}    # the shifting velocity, one step behind
+        return {"sh": ti.types.vector(2, real)}  # the shifting velocity, one step behind
 
     @ti.func
     def drift(self, S, i, u):
@@ -352,13 +366,14 @@ class Shifting(Module):
 @ti.data_oriented
 class XSPH(Module):
     """XSPH, paper 000 eq. 10: particles drift with v + eps sum m_j / rho_ij (v_j - v_i) W."""
+
     name = "xsph"
     on = {"xsph": True}
     params = {"eps": KEYED["numerics.xsph"]}
     acc = {"xs": "vec2"}
 
     def fields(self, real):
-        return {"xs": ti.types.vector(2, real)}    # the correction, one step behind
+        return {"xs": ti.types.vector(2, real)}  # the correction, one step behind
 
     @ti.func
     def drift(self, S, i, u):

@@ -1,4 +1,5 @@
 """Shepard density filter, paper 002 eqs. 13-15, every numerics.shepard_every steps."""
+
 import taichi as ti
 
 from ..hooks.module import Module
@@ -9,6 +10,7 @@ from ..particles import FLUID
 class Shepard(Module):
     """rho_i = sum m_j W / sum V_j W over fluid neighbours, fluid particles only; a kernel of its
     own after the step (it needs every particle's new density)."""
+
     name = "shepard"
     on = {"shepard": True}
 

@@ -18,6 +18,7 @@ reference concentration c_a (tisph/sediment/transport.py), as the grid models of
 do (Brors 1999; Liang, Cheng & Li 2005). What the water gains the bed loses (times morfac,
 as Delft3D's morphological factor does: (1 - n) V_bed + morfac V_suspended is conserved).
 """
+
 import numpy as np
 import taichi as ti
 
@@ -25,23 +26,27 @@ from ..constants import KAPPA
 from ..hooks.module import Module, Param
 from ..particles import FLUID
 
-LAYER = 2.0    # particle spacings above the bed that exchange sand with it
+LAYER = 2.0  # particle spacings above the bed that exchange sand with it
 
 
 @ti.data_oriented
 class Suspension(Module):
     name = "suspension"
     on = {"suspension": True}
-    params = {"w_s": Param(0.0, "m/s", (0.0, None, True, True), "settling velocity of the suspended sand"),
-              "eps_max": Param(0.0, "m2/s", (0.0, None, True, True), "largest sediment diffusivity (time step)")}
+    params = {
+        "w_s": Param(0.0, "m/s", (0.0, None, True, True), "settling velocity of the suspended sand"),
+        "eps_max": Param(0.0, "m2/s", (0.0, None, True, True), "largest sediment diffusivity (time step)"),
+    }
     acc = {"dc": "real", "ci": "real", "epsi": "real"}
 
     def fields(self, real):
-        return {"c": real,     # volume concentration of suspended sand
-                "eps": real}   # its turbulent diffusivity (m2/s)
+        return {
+            "c": real,  # volume concentration of suspended sand
+            "eps": real,
+        }  # its turbulent diffusivity (m2/s)
 
     def allocate(self, S):
-        self.nst = int(S.params.get("bed_stations", 1))   # the bed's stations, dx apart from x = 0
+        self.nst = int(S.params.get("bed_stations", 1))  # the bed's stations, dx apart from x = 0
 
     def setup(self, S):
         """The initial concentration, where the scene gives one (ParticleSet.concentration)."""
@@ -62,9 +67,9 @@ class Suspension(Module):
             vj = nb.m_j / S.mat.rho0[ti.cast(s.mat[j], ti.i32)]
             acc.dc += vj * (acc.epsi + s.eps[j]) * (acc.ci - cj) * r.dot(nb.gw) * nb.ie
             f = 2.0 * S.prm[None].w_s * vj * ti.abs(nb.gw[1])
-            if r[1] < 0.0:          # j above i: its sand settles into i
+            if r[1] < 0.0:  # j above i: its sand settles into i
                 acc.dc += f * cj
-            elif r[1] > 0.0:        # j below i: i's sand settles into j
+            elif r[1] > 0.0:  # j below i: i's sand settles into j
                 acc.dc -= f * acc.ci
 
     @ti.func
@@ -110,9 +115,10 @@ class Suspension(Module):
         return ti.max(0, ti.min(self.nst - 1, ti.cast(ti.floor(x / S.dx), ti.i32)))
 
     @ti.kernel
-    def _layer_sums(self, S: ti.template(), zb: ti.types.ndarray(dtype=ti.f64, ndim=1),
-                    out: ti.types.ndarray(dtype=ti.f64, ndim=2)):
-        ti.loop_config(serialize=True)   # one order: restarts bit for bit
+    def _layer_sums(
+        self, S: ti.template(), zb: ti.types.ndarray(dtype=ti.f64, ndim=1), out: ti.types.ndarray(dtype=ti.f64, ndim=2)
+    ):
+        ti.loop_config(serialize=True)  # one order: restarts bit for bit
         for i in range(S.n):
             if S.p.kind[i] == FLUID:
                 v = ti.cast(S.p.m[i] / S.mat.rho0[ti.cast(S.p.mat[i], ti.i32)], ti.f64)
@@ -124,9 +130,15 @@ class Suspension(Module):
                 out[self.nst, 1] += cv
 
     @ti.kernel
-    def _layer_apply(self, S: ti.template(), zb: ti.types.ndarray(dtype=ti.f64, ndim=1),
-                     frac: ti.types.ndarray(dtype=ti.f64, ndim=1), gain: ti.types.ndarray(dtype=ti.f64, ndim=1),
-                     ustar: ti.types.ndarray(dtype=ti.f64, ndim=1), top: ti.f64):
+    def _layer_apply(
+        self,
+        S: ti.template(),
+        zb: ti.types.ndarray(dtype=ti.f64, ndim=1),
+        frac: ti.types.ndarray(dtype=ti.f64, ndim=1),
+        gain: ti.types.ndarray(dtype=ti.f64, ndim=1),
+        ustar: ti.types.ndarray(dtype=ti.f64, ndim=1),
+        top: ti.f64,
+    ):
         for i in range(S.n):
             if S.p.kind[i] == FLUID:
                 k = self.station(S, S.p.x[i][0])

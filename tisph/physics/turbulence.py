@@ -1,6 +1,7 @@
 """Turbulence closures of the water: the Smagorinsky SPS (paper 002 eq. 10), the k equation
 (the k-l model of Launder & Spalding 1972 and Rodi 1993) and its transported omega length
 (Wilcox 2006)."""
+
 import numpy as np
 import taichi as ti
 
@@ -27,11 +28,12 @@ from .fluid import rate_of_gradient
 class SPS(Module):
     """Sub-particle-scale (Smagorinsky) turbulence in Newtonian materials, paper 002 eq. 10; the
     stress is one step behind the velocity gradient it comes from."""
+
     name = "sps"
     on = {"sps": True}
     maxima = {"numax": "real"}
     params = {"mixing_length": KEYED["numerics.mixing_length"]}
-    pair_once = {}   # into a (engine/pairs.py)
+    pair_once = {}  # into a (engine/pairs.py)
 
     def __init__(self, S=None):
         # a held Smagorinsky nu_t still bounds the step between its evaluations (the k equation's
@@ -39,9 +41,9 @@ class SPS(Module):
         self.held_nu = rate_of_gradient(self, S) and S.physics.turbulence != "k_equation"
 
     def fields(self, real):
-        f = {"sps": ti.types.vector(3, real)}    # SPS stress / rho (xx, xy, yy)
+        f = {"sps": ti.types.vector(3, real)}  # SPS stress / rho (xx, xy, yy)
         if self.held_nu:
-            f["nus"] = real                      # nu_t of the last evaluation (dual time stepping)
+            f["nus"] = real  # nu_t of the last evaluation (dual time stepping)
         return f
 
     acc = {"sps_i": "vec3"}
@@ -52,7 +54,7 @@ class SPS(Module):
 
     @ti.func
     def pair(self, S, i, j, r, r2, nb, acc: ti.template()):
-        t_j = acc.sps_i                      # a wall particle mirrors i's SPS stress
+        t_j = acc.sps_i  # a wall particle mirrors i's SPS stress
         if nb.kj == FLUID:
             t_j = S.tmp.sps[j]
         acc.a += sps_accel(nb.m_j, acc.sps_i, acc.inv_rhoi, t_j, nb.ir_j, nb.gw)
@@ -74,7 +76,7 @@ class SPS(Module):
             newtonian = S.mat.rheo[mi] == 0
         if newtonian:
             if ti.static(S.physics.turbulence == "k_equation"):
-                nut = S.p.nut[i]          # TKE.finish, just before, from this step's k
+                nut = S.p.nut[i]  # TKE.finish, just before, from this step's k
                 tau = tke_stress(acc.gv, nut, S.p.kt[i])
             else:
                 tau, nut = sps_stress(acc.gv, S.dx, S.prm[None].mixing_length)
@@ -88,7 +90,7 @@ class SPS(Module):
         """A step that holds the stress: its eddy viscosity still bounds the step."""
         nut = 0.0
         if ti.static(S.physics.turbulence == "k_equation"):
-            nut = S.p.nut[i]              # TKE.hold, just before, from this step's k
+            nut = S.p.nut[i]  # TKE.hold, just before, from this step's k
         else:
             nut = S.tmp.nus[i]
         pt.numax = ti.max(pt.numax, nut + S.mat.mu[mi] / pt.rho)
@@ -100,6 +102,7 @@ class Omega(Module):
     tisph/terms/tke.py omega_update), bounded by the prescribed length (numerics.length_scale =
     "omega"): it moves with the particles, diffuses between them as k does and steps after TKE,
     which takes its length sqrt(k) / (C_mu^(1/4) omega) from the old omega."""
+
     name = "omega"
     on = {"sps": True, "turbulence": "k_equation", "tke_length": "omega"}
     acc = {"wi": "real", "dw": "real"}
@@ -109,9 +112,9 @@ class Omega(Module):
         self.held = rate_of_gradient(self, S)
 
     def fields(self, real):
-        f = {"wt": real}       # specific dissipation omega (1/s)
+        f = {"wt": real}  # specific dissipation omega (1/s)
         if self.held:
-            f["kdw"] = real    # omega's diffusion rate of the last evaluation (dual time stepping)
+            f["kdw"] = real  # omega's diffusion rate of the last evaluation (dual time stepping)
         return f
 
     def setup(self, S):
@@ -142,7 +145,7 @@ class Omega(Module):
     def finish(self, S, i, mi, acc: ti.template(), pt: ti.template()):
         if ti.static(self.held):
             S.p.kdw[i] = acc.dw
-        self.step(S, i, acc.wi, acc.ki, strain2(acc.gv), acc.dw)   # TKE's acc: k before the step
+        self.step(S, i, acc.wi, acc.ki, strain2(acc.gv), acc.dw)  # TKE's acc: k before the step
 
     @ti.func
     def hold(self, S, i, mi, pt: ti.template()):
@@ -152,8 +155,7 @@ class Omega(Module):
 
     @ti.func
     def step(self, S, i, w, k, s2, dw):
-        S.p.wt[i] = omega_update(w, ti.max(k, K_FLOOR), S.tmp.lt[i], s2, dw, S.prm[None].dt,
-                                 S.prm[None].stress_limiter)
+        S.p.wt[i] = omega_update(w, ti.max(k, K_FLOOR), S.tmp.lt[i], s2, dw, S.prm[None].dt, S.prm[None].stress_limiter)
 
 
 @ti.data_oriented
@@ -162,6 +164,7 @@ class TKE(Module):
     tisph/terms/tke.py): k moves with the particles, diffuses between them and is made and
     dissipated per particle; the length l is per particle (the scene sets it; else
     numerics.mixing_length)."""
+
     name = "tke"
     on = {"sps": True, "turbulence": "k_equation"}
     acc = {"ki": "real", "nuti": "real", "dk": "real"}
@@ -172,10 +175,12 @@ class TKE(Module):
         self.held = rate_of_gradient(self, S)
 
     def fields(self, real):
-        f = {"kt": real,    # turbulent kinetic energy k (m2/s2)
-             "lt": real,    # its length scale l (m)
-             "nut": real}   # eddy viscosity C_mu^(1/4) sqrt(k) l (m2/s)
-        if self.held:       # dual time stepping: the last evaluation's |S|^2 and diffusion of k
+        f = {
+            "kt": real,  # turbulent kinetic energy k (m2/s2)
+            "lt": real,  # its length scale l (m)
+            "nut": real,
+        }  # eddy viscosity C_mu^(1/4) sqrt(k) l (m2/s)
+        if self.held:  # dual time stepping: the last evaluation's |S|^2 and diffusion of k
             f.update(ks2=real, kdk=real)
         return f
 
@@ -229,12 +234,12 @@ class TKE(Module):
     @ti.func
     def step(self, S, i, mi, k0, s2, dk):
         l = S.tmp.lt[i]
-        if ti.static(S.physics.tke_length == "omega"):      # k and omega both step from the old state
+        if ti.static(S.physics.tke_length == "omega"):  # k and omega both step from the old state
             l = ti.min(l, length_of_omega(k0, S.tmp.wt[i]))
         clim = S.prm[None].stress_limiter
         k = tke_update(k0, l, s2, dk, S.prm[None].dt, clim)
         if ti.static(S.physics.rheology):
-            if S.mat.rheo[mi] != 0:     # the SPS is the Newtonian materials' only
+            if S.mat.rheo[mi] != 0:  # the SPS is the Newtonian materials' only
                 k = K_FLOOR
         S.p.kt[i] = k
         S.p.nut[i] = eddy_viscosity(k, l, s2, clim)

@@ -9,6 +9,7 @@ What a run writes into OUT (the contract scenes and the benchmark rely on):
                leaked_particles, metrics{...}, status
   run.log      the resolved config, warnings and timings
 """
+
 from .entry import run_scene  # noqa: F401
 from .loop import Run  # noqa: F401
 from .reading import resolve  # noqa: F401

@@ -5,6 +5,7 @@ spacing (measure/gci.py), or the reason there is none (oscillatory, not convergi
 
 Writes convergence/convergence.md, convergence.csv and convergence.png in the run's folder (each
 rung's own run under convergence/dx<value>/), and `convergence` in summary.json."""
+
 import json
 import math
 import os
@@ -15,14 +16,22 @@ from ..settings.config import ConfigError
 from .start import simulate
 
 RATIO = 1.5
-QUIET = {"output.render": False, "output.quiet": True, "output.snapshot_every": 0.0, "output.checkpoint_every": 0.0,
-         "output.live": False}
+QUIET = {
+    "output.render": False,
+    "output.quiet": True,
+    "output.snapshot_every": 0.0,
+    "output.checkpoint_every": 0.0,
+    "output.live": False,
+}
 
 
 def scalars(metrics):
     """The metrics a convergence study can take: finite numbers (not flags or lists)."""
-    return {k: float(v) for k, v in metrics.items()
-            if isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)}
+    return {
+        k: float(v)
+        for k, v in metrics.items()
+        if isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)
+    }
 
 
 def study(scene, config, overrides, cfg, summary, out, log=print):
@@ -52,10 +61,14 @@ def study(scene, config, overrides, cfg, summary, out, log=print):
         entry["cost_over_run"] = sum(s["wall_time_s"] for s in sums[1:]) / max(summary["wall_time_s"], 1e-9)
     folder = ensure_dir(os.path.join(out, "convergence"))
     write_text(os.path.join(folder, "convergence.md"), report(entry))
-    write_csv(os.path.join(folder, "convergence.csv"),
-              ("metric", "dx_fine", "fine", "middle", "coarse", "order", "richardson", "gci_fine", "reason"),
-              [(k, rungs[0], *m["values"], m["order"], m["richardson"], m["gci_fine"], m["reason"])
-               for k, m in entry["metrics"].items()])
+    write_csv(
+        os.path.join(folder, "convergence.csv"),
+        ("metric", "dx_fine", "fine", "middle", "coarse", "order", "richardson", "gci_fine", "reason"),
+        [
+            (k, rungs[0], *m["values"], m["order"], m["richardson"], m["gci_fine"], m["reason"])
+            for k, m in entry["metrics"].items()
+        ],
+    )
     if entry["metrics"]:
         figure(entry, os.path.join(folder, "convergence.png"))
     return add_to_summary(out, "convergence", entry)
@@ -78,24 +91,37 @@ def fmt(v, spec=".4g"):
 
 def report(entry):
     dx = entry["dx"]
-    lines = ["# Convergence", "",
-             f"The case at dx = {dx[0]:.4g} m and at {dx[1]:.4g} and {dx[2]:.4g} m (ratio {entry['ratio']:g}); "
-             "the observed order, Richardson's estimate and the GCI on the finest spacing by Celik et al. (2008)."
-             + (f" The two coarser runs took {entry['cost_over_run']:.2f} of the run's wall time."
-                if "cost_over_run" in entry else ""), ""]
+    lines = [
+        "# Convergence",
+        "",
+        f"The case at dx = {dx[0]:.4g} m and at {dx[1]:.4g} and {dx[2]:.4g} m (ratio {entry['ratio']:g}); "
+        "the observed order, Richardson's estimate and the GCI on the finest spacing by Celik et al. (2008)."
+        + (
+            f" The two coarser runs took {entry['cost_over_run']:.2f} of the run's wall time."
+            if "cost_over_run" in entry
+            else ""
+        ),
+        "",
+    ]
     if entry["reason"]:
         return "\n".join(lines + [f"No study: {entry['reason']}.", ""])
-    lines += ["| metric | fine | middle | coarse | order | Richardson | GCI (fine) | why none |", "|---|---|---|---|---|---|---|---|"]
+    lines += [
+        "| metric | fine | middle | coarse | order | Richardson | GCI (fine) | why none |",
+        "|---|---|---|---|---|---|---|---|",
+    ]
     for k, m in entry["metrics"].items():
         why = "; ".join(x for x in (m["reason"], m.get("note", "")) if x)
-        lines.append(f"| {k} | {' | '.join(fmt(v) for v in m['values'])} | {fmt(m['order'], '.2f')} | "
-                     f"{fmt(m['richardson'])} | {fmt(m['gci_fine'], '.2%') if m['gci_fine'] is not None else '-'} | {why} |")
+        lines.append(
+            f"| {k} | {' | '.join(fmt(v) for v in m['values'])} | {fmt(m['order'], '.2f')} | "
+            f"{fmt(m['richardson'])} | {fmt(m['gci_fine'], '.2%') if m['gci_fine'] is not None else '-'} | {why} |"
+        )
     return "\n".join(lines) + "\n"
 
 
 def panels(names, path, draw, xlabel):
     """One small panel a metric, four to a row: draw(ax, name) fills each; saved to path."""
     from ..measure.plots import pyplot, save
+
     plt = pyplot()
     cols = min(4, len(names))
     rows = math.ceil(len(names) / cols)
@@ -104,7 +130,7 @@ def panels(names, path, draw, xlabel):
         draw(ax, k)
         ax.tick_params(labelsize=6)
         ax.set_xlabel(xlabel, fontsize=6)
-    for ax in list(axes.flat)[len(names):]:
+    for ax in list(axes.flat)[len(names) :]:
         ax.axis("off")
     save(fig, path)
 
@@ -122,4 +148,5 @@ def figure(entry, path):
         else:
             ax.set_title(f"{k}\n{m['reason'].split(':')[0] or 'no study'}", fontsize=7)
         ax.set_xlim(left=0.0)
+
     panels(list(entry["metrics"]), path, draw, "dx (m)")

@@ -5,6 +5,7 @@ it runs: its N runs would be the same run.
 
 Writes seeds/ensemble.md, ensemble.csv and ensemble.png in the run's folder (each further seed's
 own run under seeds/seed<N>/), and `ensemble` in summary.json."""
+
 import importlib
 import os
 import time
@@ -24,16 +25,23 @@ def check_seeds(cfg, n):
     if not isinstance(n, int) or isinstance(n, bool) or not 2 <= n <= MAX_SEEDS:
         raise ConfigError("--seeds", n, f"a whole number of runs from 2 to {MAX_SEEDS}")
     if not random_bed(cfg):
-        raise ConfigError("--seeds", n, "a case with a random initial bed (the bed-load bed with sediment.seed_rms "
-                                        "or geometry.roughness above 0: the tunnel, the beach); this case has "
-                                        "nothing random, so its runs would all be the same run")
+        raise ConfigError(
+            "--seeds",
+            n,
+            "a case with a random initial bed (the bed-load bed with sediment.seed_rms "
+            "or geometry.roughness above 0: the tunnel, the beach); this case has "
+            "nothing random, so its runs would all be the same run",
+        )
 
 
 def random_bed(cfg):
     """Whether the case starts from a random bed that sediment.seed draws (sediment/initial.py)."""
     sed = cfg.get("sediment", {})
-    return (sed.get("model") == "bedload" and "seed" in sed
-            and (sed.get("seed_rms", 0.0) > 0.0 or cfg.get("geometry", {}).get("roughness", 0.0) > 0.0))
+    return (
+        sed.get("model") == "bedload"
+        and "seed" in sed
+        and (sed.get("seed_rms", 0.0) > 0.0 or cfg.get("geometry", {}).get("roughness", 0.0) > 0.0)
+    )
 
 
 def seeds_of(cfg, n):
@@ -59,8 +67,10 @@ def study(scene, config, overrides, cfg, summary, out, n, log=print, jobs=0):
         tasks.append((s, seed_run, (scene.module, config, ov, sub)))
     # the first run's size says whether the others go side by side or one at a time on every core
     ((tasks, jobs, threads),) = stages(tasks, [summary["particles"]] * len(tasks), jobs)
-    log(f"seeds: {len(tasks)} more runs, {jobs} at a time on {threads} CPU thread{'s' if threads > 1 else ''} "
-        f"each, in {os.path.join(out, 'seeds')}")
+    log(
+        f"seeds: {len(tasks)} more runs, {jobs} at a time on {threads} CPU thread{'s' if threads > 1 else ''} "
+        f"each, in {os.path.join(out, 'seeds')}"
+    )
 
     def finished(s, r, e):
         if e is not None:
@@ -72,15 +82,22 @@ def study(scene, config, overrides, cfg, summary, out, n, log=print, jobs=0):
     run_all(tasks, jobs, threads, finished)
     runs = [(s, done[s]) for s in seeds]
     ok = [r for r in runs if r[1]["status"] == "ok"]
-    entry = {"seeds": seeds, "status": {str(s): r["status"] for s, r in runs},
-             "metrics": ensemble_metrics([r[1].get("metrics") for r in ok]),
-             "seeds_ok": [r[0] for r in ok], "jobs": jobs, "threads": threads,
-             "cost_over_run": (time.perf_counter() - t0) / max(summary["wall_time_s"], 1e-9)}
+    entry = {
+        "seeds": seeds,
+        "status": {str(s): r["status"] for s, r in runs},
+        "metrics": ensemble_metrics([r[1].get("metrics") for r in ok]),
+        "seeds_ok": [r[0] for r in ok],
+        "jobs": jobs,
+        "threads": threads,
+        "cost_over_run": (time.perf_counter() - t0) / max(summary["wall_time_s"], 1e-9),
+    }
     folder = ensure_dir(os.path.join(out, "seeds"))
     write_text(os.path.join(folder, "ensemble.md"), report(entry))
-    write_csv(os.path.join(folder, "ensemble.csv"),
-              ("metric", "n", "mean", "std", "stderr", *(f"seed{s}" for s in entry["seeds_ok"])),
-              [(k, m["n"], m["mean"], m["std"], m["stderr"], *m["values"]) for k, m in entry["metrics"].items()])
+    write_csv(
+        os.path.join(folder, "ensemble.csv"),
+        ("metric", "n", "mean", "std", "stderr", *(f"seed{s}" for s in entry["seeds_ok"])),
+        [(k, m["n"], m["mean"], m["std"], m["stderr"], *m["values"]) for k, m in entry["metrics"].items()],
+    )
     if varying(entry):
         figure(entry, os.path.join(folder, "ensemble.png"))
     return add_to_summary(out, "ensemble", entry)
@@ -89,19 +106,27 @@ def study(scene, config, overrides, cfg, summary, out, n, log=print, jobs=0):
 def report(entry):
     ok, seeds = entry["seeds_ok"], entry["seeds"]
     bad = [f"{s} ({entry['status'][str(s)]})" for s in seeds if s not in ok]
-    lines = ["# Ensemble", "",
-             f"The case with sediment.seed = {', '.join(str(s) for s in seeds)}: each metric's mean, standard "
-             f"deviation (n - 1) and standard error of the mean over the {len(ok)} runs that finished. The further "
-             f"runs, {entry.get('jobs', 1)} at a time, took {entry['cost_over_run']:.2f} of the first run's wall time."
-             + (f" Left out: {', '.join(bad)}." if bad else ""), "",
-             "| metric | n | mean | std | standard error | " + " | ".join(f"seed {s}" for s in ok) + " |",
-             "|---|---|---|---|---|" + "---|" * len(ok)]
+    lines = [
+        "# Ensemble",
+        "",
+        f"The case with sediment.seed = {', '.join(str(s) for s in seeds)}: each metric's mean, standard "
+        f"deviation (n - 1) and standard error of the mean over the {len(ok)} runs that finished. The further "
+        f"runs, {entry.get('jobs', 1)} at a time, took {entry['cost_over_run']:.2f} of the first run's wall time."
+        + (f" Left out: {', '.join(bad)}." if bad else ""),
+        "",
+        "| metric | n | mean | std | standard error | " + " | ".join(f"seed {s}" for s in ok) + " |",
+        "|---|---|---|---|---|" + "---|" * len(ok),
+    ]
     moved = varying(entry)
-    lines[2] += (f" {len(moved)} of the {len(entry['metrics'])} metrics moved between the seeds"
-                 + (" (ensemble.png)." if moved else "."))
+    lines[2] += f" {len(moved)} of the {len(entry['metrics'])} metrics moved between the seeds" + (
+        " (ensemble.png)." if moved else "."
+    )
     for k, m in entry["metrics"].items():
-        lines.append(f"| {k} | {m['n']} | {fmt(m['mean'])} | {fmt(m['std'])} | {fmt(m['stderr'])} | "
-                     + " | ".join(fmt(v) for v in m["values"]) + " |")
+        lines.append(
+            f"| {k} | {m['n']} | {fmt(m['mean'])} | {fmt(m['std'])} | {fmt(m['stderr'])} | "
+            + " | ".join(fmt(v) for v in m["values"])
+            + " |"
+        )
     return "\n".join(lines) + "\n"
 
 
@@ -126,4 +151,5 @@ def figure(entry, path):
         se = f" +- {m['stderr']:.3g}" if m["stderr"] is not None else ""
         ax.set_title(f"{k}\n{fmt(m['mean'], '.3g')}{se}", fontsize=7)
         ax.set_xticks(seeds)
+
     panels(varying(entry)[:16], path, draw, "sediment.seed")

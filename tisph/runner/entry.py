@@ -1,5 +1,6 @@
 """The command line's entry point: run a scene, or describe it, or study it (--convergence,
 --seeds)."""
+
 import os
 import sys
 
@@ -40,8 +41,10 @@ def run_scene(scene, argv=None, prog=None):
             out = output_dir(scene, cfg)
             if args.convergence:
                 entry = convergence_study(scene, args.config, overrides, cfg, summary, out, say)
-                say(f"convergence: {os.path.join(out, 'convergence', 'convergence.md')}"
-                    + (f" ({entry['reason']})" if entry["reason"] else ""))
+                say(
+                    f"convergence: {os.path.join(out, 'convergence', 'convergence.md')}"
+                    + (f" ({entry['reason']})" if entry["reason"] else "")
+                )
             else:
                 seeds_study(scene, args.config, overrides, cfg, summary, out, args.seeds, say)
                 say(f"seeds: {os.path.join(out, 'seeds', 'ensemble.md')}")

@@ -8,6 +8,7 @@ the particles and the bed (Renderer.live_inputs) at the frame's time and hands t
 drawer, forked with the Renderer as built, keeps its state (the held pressure range, the bed
 panel's range) from frame to frame as one renderer does. Where fork is not had (not Linux) or a
 window shows the frames (--live), they are drawn in the run's process (Inline)."""
+
 import multiprocessing
 import os
 import queue
@@ -19,7 +20,7 @@ from ..io import OutputError
 from ..viz.files import MovieWriter, write_png
 from .pool import die_with_parent
 
-AHEAD = 2    # frames handed over and not yet drawn: the run waits for the drawer past this
+AHEAD = 2  # frames handed over and not yet drawn: the run waits for the drawer past this
 
 
 class Inline:
@@ -60,6 +61,7 @@ def _rebuild(movie, frames):
     """A restart's movie: the frames already on disk first."""
     if frames:
         import imageio.v2 as imageio
+
         for f in frames:
             if os.path.exists(f):
                 movie.append(imageio.imread(f))
@@ -98,8 +100,11 @@ class Background:
         ctx = multiprocessing.get_context("fork")
         self.renderer = renderer
         self.inbox, self.outbox = ctx.Queue(AHEAD), ctx.Queue()
-        self.proc = ctx.Process(target=_drawer, args=(renderer, movie_path, fps, list(rebuild), self.inbox,
-                                                      self.outbox, os.getpid()), daemon=True)
+        self.proc = ctx.Process(
+            target=_drawer,
+            args=(renderer, movie_path, fps, list(rebuild), self.inbox, self.outbox, os.getpid()),
+            daemon=True,
+        )
         with warnings.catch_warnings():
             # Python 3.12 warns of fork beside threads (Taichi's); the drawer touches none of
             # their state (NumPy, PIL and ffmpeg only)
@@ -121,7 +126,7 @@ class Background:
         raises its error, or that it died without a word."""
         while True:
             alive = self.proc.is_alive()
-            try:     # a dead drawer's last word may still be on the way: a second for it
+            try:  # a dead drawer's last word may still be on the way: a second for it
                 kind, text = self.outbox.get(timeout=1.0) if block or not alive else self.outbox.get_nowait()
                 break
             except queue.Empty:

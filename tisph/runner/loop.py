@@ -1,5 +1,6 @@
 """The time loop of one run: build the solver, step it, check its health, call the outputs,
 stop cleanly on instability or a signal."""
+
 import math
 import os
 import signal as _signal
@@ -40,8 +41,7 @@ def run_title(cfg, scene_name):
 class Run(Outputs):
     """One simulation run: the time loop and everything it writes."""
 
-    def __init__(self, case: Case, cfg: dict, out: str, log: Log, scene_name: str,
-                 restart=None, force=False):
+    def __init__(self, case: Case, cfg: dict, out: str, log: Log, scene_name: str, restart=None, force=False):
         self.case, self.cfg, self.out, self.log, self.name = case, cfg, out, log, scene_name
         self.title = run_title(cfg, scene_name)
         self.restart, self.force = restart, force
@@ -58,7 +58,7 @@ class Run(Outputs):
         self._xdmf_dirty = False
         self.next = dict(probe=0.0, frame=0.0, snapshot=0.0, checkpoint=self.ckpt_dt)
         self.signal = None
-        self.wall_before = self.step_before = 0.0   # earlier segments of a restarted run
+        self.wall_before = self.step_before = 0.0  # earlier segments of a restarted run
         self._t0 = None
         self.step_s = 0.0
         self._flushed_at = 0.0
@@ -87,7 +87,7 @@ class Run(Outputs):
             # beach: 38 KB against 115 KB); the movie adds about a tenth
             parts["frames and movie"] = first("frames", ".png") * n * 3.3
         if self.ckpt_dt > 0:
-            parts["checkpoints"] = 2 * first("snapshots", ".h5")   # two kept, each about a snapshot
+            parts["checkpoints"] = 2 * first("snapshots", ".h5")  # two kept, each about a snapshot
         return parts
 
     def _say_disk(self):
@@ -98,8 +98,10 @@ class Run(Outputs):
         text = ", ".join(f"{k} {v / 1e6:.0f} MB" for k, v in parts.items() if v)
         self.log(f"disk: about {total / 1e6:.0f} MB in {self.out} ({text})")
         if total > DISK_WARN_BYTES:
-            w = (f"this run will write about {total / 1e9:.1f} GB ({text}); output.snapshot_every and "
-                 "output.frame_interval set how much")
+            w = (
+                f"this run will write about {total / 1e9:.1f} GB ({text}); output.snapshot_every and "
+                "output.frame_interval set how much"
+            )
             self.case.warnings.append(w)
             self.log(f"warning: {w}", always=True)
 
@@ -114,8 +116,10 @@ class Run(Outputs):
         else:
             s.prime()
         compile_s = time.perf_counter() - t_build
-        self.log(f"{s.n} particles ({self.case.particles.count(FLUID)} fluid), h = {s.h:.4g} m, "
-                 f"c0 = {s.c0:.4g} m/s, dt = {s.dt:.3g} s, set-up and compile {compile_s:.1f} s")
+        self.log(
+            f"{s.n} particles ({self.case.particles.count(FLUID)} fluid), h = {s.h:.4g} m, "
+            f"c0 = {s.c0:.4g} m/s, dt = {s.dt:.3g} s, set-up and compile {compile_s:.1f} s"
+        )
         self.log("the step's runtime parameters, as resolved: " + s.table.describe(), file_only=True)
         return compile_s
 
@@ -129,8 +133,12 @@ class Run(Outputs):
         speed = outc["speed_scale"] if outc["speed_scale"] > 0 else (pic.speed_scale or pic.u_max)
         self.renderer = make_renderer(pic, outc, self.solver.dx, self.title, speed)
         # a restart's movie is rebuilt from the frames already on disk
-        rebuild = [os.path.join(self.out, "frames", f"{k:05d}.png") for k in range(self.frame_no if self.restart else 0)]
-        self.frames = open_frames(self.renderer, os.path.join(self.out, f"{self.title}.mp4"), outc["fps"], rebuild, live)
+        rebuild = [
+            os.path.join(self.out, "frames", f"{k:05d}.png") for k in range(self.frame_no if self.restart else 0)
+        ]
+        self.frames = open_frames(
+            self.renderer, os.path.join(self.out, f"{self.title}.mp4"), outc["fps"], rebuild, live
+        )
 
     def _progress_bar(self):
         if self.cfg.output.quiet:
@@ -139,13 +147,20 @@ class Run(Outputs):
             from tqdm import tqdm
         except ImportError:
             return None
-        return tqdm(total=self.cfg.run.end_time, unit="sim s", disable=None, file=sys.stderr,
-                    bar_format="{l_bar}{bar}| {n:.3f}/{total:.3f} s [{elapsed}<{remaining}{postfix}]")
+        return tqdm(
+            total=self.cfg.run.end_time,
+            unit="sim s",
+            disable=None,
+            file=sys.stderr,
+            bar_format="{l_bar}{bar}| {n:.3f}/{total:.3f} s [{elapsed}<{remaining}{postfix}]",
+        )
 
     def _catch_signals(self):
         """SIGINT and SIGTERM set a flag the loop reads (it then writes a checkpoint)."""
+
         def on_signal(signum, frame):
             self.signal = signum
+
         old = {}
         for sig in (_signal.SIGINT, _signal.SIGTERM):
             try:
@@ -175,7 +190,7 @@ class Run(Outputs):
         if not self.restart:
             self.outputs()
             if self.frames is not None:
-                self.frames.sync()     # the first frame on disk: the estimate reads its size
+                self.frames.sync()  # the first frame on disk: the estimate reads its size
             self._say_disk()
         self.solver.backup()
         bar = self._progress_bar()
@@ -199,8 +214,16 @@ class Run(Outputs):
             if self.frames is not None:
                 self.frames.close()
         wall = time.perf_counter() - t0
-        return summarize(self, status, message, wall + self.wall_before, self.step_s + self.step_before,
-                         self.solver.steps - self.steps0, compile_s, segment=(wall, self.step_s))
+        return summarize(
+            self,
+            status,
+            message,
+            wall + self.wall_before,
+            self.step_s + self.step_before,
+            self.solver.steps - self.steps0,
+            compile_s,
+            segment=(wall, self.step_s),
+        )
 
     def wall_so_far(self):
         """Wall seconds of this run's loop so far, earlier segments included."""
@@ -215,8 +238,10 @@ class Run(Outputs):
         last_bar = time.perf_counter()
         # off a terminal (a log being tailed, a batch job) a progress line every 5 % instead of the bar
         report = not self.cfg.output.quiet and (bar is None or bar.disable)
+
         def next_pct():
             return (math.floor(20.0 * s.time / t_end + 1e-9) + 1) * t_end / 20.0
+
         t_report = next_pct()
         backed = s.steps
         while s.time < t_end - 1e-12 and (max_steps == 0 or s.steps < max_steps):
@@ -226,8 +251,8 @@ class Run(Outputs):
                 obs.control(s)
             self.step_s += time.perf_counter() - ts
             if not s.health_read and (s.time >= self.next_output - 1e-12 or self._event_due()):
-                s.read_health()   # a single step reads it every 10 steps, and before anything is written
-            if s.health:   # hooks/health.py's BAD_NONE is 0
+                s.read_health()  # a single step reads it every 10 steps, and before anything is written
+            if s.health:  # hooks/health.py's BAD_NONE is 0
                 raise SimulationError(describe_instability(s, *s.check()))
             if s.health_read and s.steps - backed >= 10:
                 s.backup()
@@ -241,8 +266,10 @@ class Run(Outputs):
             now = time.perf_counter()
             if bar is not None and not bar.disable and now - last_bar > 0.25:
                 bar.n = min(s.time, t_end)
-                bar.set_postfix_str(f"dt={s.dt:.2e} s, {s.n * (s.steps - self.steps0) / max(self.step_s, 1e-9):.3g} "
-                                    f"particle-steps/s", refresh=False)
+                bar.set_postfix_str(
+                    f"dt={s.dt:.2e} s, {s.n * (s.steps - self.steps0) / max(self.step_s, 1e-9):.3g} particle-steps/s",
+                    refresh=False,
+                )
                 bar.refresh()
                 last_bar = now
         bad = s.check()
@@ -274,23 +301,30 @@ class Run(Outputs):
         wall = self.wall_so_far()
         rate = s.n * (s.steps - self.steps0) / max(self.step_s, 1e-9)
         left = max(wall / max(s.time, 1e-12) * (t_end - s.time), 0.0)
-        self.log(f"progress {min(100.0 * s.time / t_end, 100.0):3.0f} %: t = {s.time:.4g} of {t_end:g} s, step {s.steps}, "
-                 f"dt = {s.dt:.3g} s, {rate:.3g} particle-steps/s, wall {wall:.0f} s, about {left:.0f} s left")
+        self.log(
+            f"progress {min(100.0 * s.time / t_end, 100.0):3.0f} %: t = {s.time:.4g} of {t_end:g} s, step {s.steps}, "
+            f"dt = {s.dt:.3g} s, {rate:.3g} particle-steps/s, wall {wall:.0f} s, about {left:.0f} s left"
+        )
 
     def _on_unstable(self, message):
         s = self.solver
         self.log(message, always=True)
         if self.snap_dt > 0:
-            self.snapshot(state=s.backup_state(s.snapshot_members), name="last_good.h5",
-                          time=s.bak_time, step=s.bak_steps)
-            self.log(f"wrote the last healthy state (step {s.bak_steps}, t = {s.bak_time:.6g} s) to "
-                     f"snapshots/last_good.h5", always=True)
+            self.snapshot(
+                state=s.backup_state(s.snapshot_members), name="last_good.h5", time=s.bak_time, step=s.bak_steps
+            )
+            self.log(
+                f"wrote the last healthy state (step {s.bak_steps}, t = {s.bak_time:.6g} s) to snapshots/last_good.h5",
+                always=True,
+            )
 
     def _on_signal(self):
         s = self.solver
         sig = self.signal if self.signal is not None else _signal.SIGINT
         path = self.checkpoint()
-        message = (f"stopped by {_signal.Signals(sig).name} at step {s.steps}, t = {s.time:.6g} s; "
-                   f"continue with --restart {path}")
+        message = (
+            f"stopped by {_signal.Signals(sig).name} at step {s.steps}, t = {s.time:.6g} s; "
+            f"continue with --restart {path}"
+        )
         self.log(message, always=True)
         return message

@@ -1,5 +1,6 @@
 """What a run writes while it goes: probes, frames, stills, snapshots, the XDMF index,
 checkpoints, and reading a checkpoint back. A mixin of run.loop.Run."""
+
 import json
 import math
 import os
@@ -15,7 +16,7 @@ from ..settings.config import tomllib as _toml
 from ..viz.render import STATE
 from .setup import config_changes, run_settings
 
-FLUSH_S = 0.5   # wall seconds between rewrites of probes.csv and run.log during a run
+FLUSH_S = 0.5  # wall seconds between rewrites of probes.csv and run.log during a run
 
 
 class _Ref:
@@ -45,8 +46,9 @@ def restore_observers(persist, blob):
     closures and methods see it)."""
     states = pickle.loads(blob)
     if len(states) != len(persist):
-        raise ConfigError("--restart", "observers", f"a checkpoint of this case ({len(persist)} observers)",
-                          f"it holds {len(states)}")
+        raise ConfigError(
+            "--restart", "observers", f"a checkpoint of this case ({len(persist)} observers)", f"it holds {len(states)}"
+        )
     for o, st in zip(persist, states):
         if isinstance(o, list):
             o[:] = st
@@ -67,7 +69,7 @@ class Outputs:
         while self.events and self.solver.time >= self.events[0][0] - 1e-12:
             t, cb = self.events.pop(0)
             st = self.solver.state(("x", "v", "kind", "rho", "p", "m", "mat") + self.solver.optional_members)
-            st["t"] = self.solver.time    # the actual time, at or just after the scheduled t
+            st["t"] = self.solver.time  # the actual time, at or just after the scheduled t
             st["out"] = self.out
             cb(st, t)
 
@@ -75,7 +77,9 @@ class Outputs:
         st = self.solver.state(("x", "v", "kind", "rho", "p", "m", "mat"))
         st["t"] = self.solver.time
         self.solver.sample_density_error(st)
-        row = (self.solver.time,) + (tuple(float(v) for v in self.case.observers.probe(st)) if self.case.observers.probe else ())
+        row = (self.solver.time,) + (
+            tuple(float(v) for v in self.case.observers.probe(st)) if self.case.observers.probe else ()
+        )
         self.probes.append(row)
         self.flush_series()
 
@@ -98,14 +102,21 @@ class Outputs:
 
     def frame(self):
         s = self.solver
-        self.frames.draw(os.path.join(self.out, "frames", f"{self.frame_no:05d}.png"),
-                        s.state(STATE + s.optional_members), s.time)
+        self.frames.draw(
+            os.path.join(self.out, "frames", f"{self.frame_no:05d}.png"), s.state(STATE + s.optional_members), s.time
+        )
         self.frame_no += 1
 
     def snapshot_attrs(self, time, step, dt):
-        return dict(scene=self.name, tisph_version=__version__, config=dump_toml(self.cfg),
-                    time=float(time), step=int(step), dt=float(dt),
-                    material_names=", ".join(f"{i} {m.get('name', '')}" for i, m in enumerate(self.case.materials)))
+        return dict(
+            scene=self.name,
+            tisph_version=__version__,
+            config=dump_toml(self.cfg),
+            time=float(time),
+            step=int(step),
+            dt=float(dt),
+            material_names=", ".join(f"{i} {m.get('name', '')}" for i, m in enumerate(self.case.materials)),
+        )
 
     def snapshot(self, state=None, name=None, time=None, step=None):
         s = self.solver
@@ -129,17 +140,19 @@ class Outputs:
 
     def write_xdmf(self):
         if self._xdmf_dirty:
-            write_xdmf(os.path.join(self.out, "snapshots.xdmf"),
-                       [(t, rel, n, {k: (v[0], np.dtype(v[1])) for k, v in sh.items()})
-                        for t, rel, n, sh in self.snapshots])
+            write_xdmf(
+                os.path.join(self.out, "snapshots.xdmf"),
+                [(t, rel, n, {k: (v[0], np.dtype(v[1])) for k, v in sh.items()}) for t, rel, n, sh in self.snapshots],
+            )
             self._xdmf_dirty = False
             self._xdmf_at = time_mod.perf_counter()
 
     def checkpoint(self, path=None):
         import h5py
+
         path = path or os.path.join(self.out, "checkpoint.h5")
         if self.frames is not None:
-            self.frames.sync()      # the frames it counts on disk first
+            self.frames.sync()  # the frames it counts on disk first
         arrays, scal = self.solver.raw_state()
         try:
             with atomic_path(path) as tmp, h5py.File(tmp, "w") as f:
@@ -147,14 +160,22 @@ class Outputs:
                 for k, a in arrays.items():
                     g.create_dataset(k, data=a)
                 f.create_dataset("probes", data=np.array(self.probes, float).reshape(len(self.probes), -1))
-                f.create_dataset("observers", data=np.frombuffer(observer_state(self.case.observers.persist),
-                                                                 np.uint8))
+                f.create_dataset("observers", data=np.frombuffer(observer_state(self.case.observers.persist), np.uint8))
                 for k, v in scal.items():
                     f.attrs[k] = v
-                f.attrs.update(dict(kind="tisph checkpoint", scene=self.name, tisph_version=__version__,
-                                    config=dump_toml(self.cfg), frame_no=self.frame_no,
-                                    next=json.dumps(self.next), snapshots=json.dumps(self.snapshots),
-                                    wall_time_s=self.wall_so_far(), step_time_s=self.step_s_so_far()))
+                f.attrs.update(
+                    dict(
+                        kind="tisph checkpoint",
+                        scene=self.name,
+                        tisph_version=__version__,
+                        config=dump_toml(self.cfg),
+                        frame_no=self.frame_no,
+                        next=json.dumps(self.next),
+                        snapshots=json.dumps(self.snapshots),
+                        wall_time_s=self.wall_so_far(),
+                        step_time_s=self.step_s_so_far(),
+                    )
+                )
         except OSError as e:
             raise OutputError(f"cannot write checkpoint {path!r}: {e}") from None
         self.log(f"checkpoint at step {self.solver.steps}, t = {self.solver.time:.6g} s: {path}", file_only=True)
@@ -166,13 +187,21 @@ class Outputs:
         if attrs.get("kind") != "tisph checkpoint" or "particles" not in arrays:
             raise ConfigError("--restart", self.restart, "a checkpoint.h5 written by tisph")
         if attrs.get("scene") != self.name:
-            raise ConfigError("--restart", self.restart, f"a checkpoint of scene {self.name!r}",
-                              f"it is a checkpoint of {attrs.get('scene')!r}")
+            raise ConfigError(
+                "--restart",
+                self.restart,
+                f"a checkpoint of scene {self.name!r}",
+                f"it is a checkpoint of {attrs.get('scene')!r}",
+            )
         old = _toml.loads(attrs["config"])
         changes = config_changes(run_settings(old), run_settings(self.cfg))
         if changes and not self.force:
-            raise ConfigError("--restart", self.restart, "the config the checkpoint was written with "
-                              "(or pass --force)", "changed: " + "; ".join(changes))
+            raise ConfigError(
+                "--restart",
+                self.restart,
+                "the config the checkpoint was written with (or pass --force)",
+                "changed: " + "; ".join(changes),
+            )
         if changes:
             self.log("warning: restarting with a changed config: " + "; ".join(changes), always=True)
         try:
@@ -192,8 +221,12 @@ class Outputs:
     @property
     def next_output(self):
         """Time of the next output that is switched on (an off output never advances its entry)."""
-        on = {"probe": self.probe_dt, "frame": self.frame_dt if self.render else 0.0,
-              "snapshot": self.snap_dt, "checkpoint": self.ckpt_dt}
+        on = {
+            "probe": self.probe_dt,
+            "frame": self.frame_dt if self.render else 0.0,
+            "snapshot": self.snap_dt,
+            "checkpoint": self.ckpt_dt,
+        }
         due = [self.next[k] for k, dt in on.items() if dt > 0]
         return min(due) if due else float("inf")
 

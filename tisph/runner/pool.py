@@ -8,6 +8,7 @@ well: the pipeline case of 47,931 particles on one thread beside another run ste
 rate alone on two, so runs of WIDE particles or more go one at a time on every core
 (docs/performance.md, "Runs side by side").
 """
+
 import concurrent.futures as cf
 import multiprocessing
 import os
@@ -23,7 +24,7 @@ def plan(jobs, runs, cores=None):
     return n, max(1, cores // n)
 
 
-WIDE = 20000    # particles: a run this large goes alone, on every core
+WIDE = 20000  # particles: a run this large goes alone, on every core
 
 
 def stages(tasks, sizes, jobs, cores=None):
@@ -45,6 +46,7 @@ def die_with_parent(sig, parent=None):
     parent that died before the prctl took hold cannot send it, so the process exits now."""
     try:
         import ctypes
+
         ctypes.CDLL(None).prctl(1, sig)
     except (OSError, AttributeError):
         pass
@@ -72,11 +74,11 @@ def run_all(tasks, jobs, threads, done):
         for key, fn, args in tasks:
             try:
                 r, e = fn(*args), None
-            except Exception as exc:        # noqa: BLE001 - reported to done, the others go on
+            except Exception as exc:  # noqa: BLE001 - reported to done, the others go on
                 r, e = None, exc
             done(key, r, e)
         return
-    ctx = multiprocessing.get_context("spawn")   # a fresh interpreter: no Taichi state forked
+    ctx = multiprocessing.get_context("spawn")  # a fresh interpreter: no Taichi state forked
     ex = cf.ProcessPoolExecutor(jobs, mp_context=ctx, initializer=_start, initargs=(threads,))
     # a kill of this process stops the workers' runs too (below), not only this one
     old = signal.signal(signal.SIGTERM, _term) if threading.current_thread() is threading.main_thread() else None
@@ -85,11 +87,11 @@ def run_all(tasks, jobs, threads, done):
         for f in cf.as_completed(futures):
             try:
                 r, e = f.result(), None
-            except Exception as exc:        # noqa: BLE001
+            except Exception as exc:  # noqa: BLE001
                 r, e = None, exc
             done(futures[f], r, e)
     except BaseException:
-        for p in list(getattr(ex, "_processes", {}).values()):    # each running run stops as a killed run does
+        for p in list(getattr(ex, "_processes", {}).values()):  # each running run stops as a killed run does
             p.terminate()
         raise
     finally:

@@ -1,5 +1,6 @@
 """Reading a case: the scene's keys from its defaults, the case file and the flags, checked, then
 the resolving steps and one final check, frozen (tisph/settings/resolved.py)."""
+
 import os
 import warnings
 
@@ -47,14 +48,14 @@ def resolve(scene, config=None, overrides=None):
         errors += [x for x in e.errors if x.field not in bad]
     except ConfigError as e:
         errors += [e] if e.field not in bad else []
-    except Exception:       # noqa: BLE001  (a check that cannot run on what is left stands aside)
+    except Exception:  # noqa: BLE001  (a check that cannot run on what is left stands aside)
         pass
     raise_collected(errors)
 
 
 def _checked(scene, raw, config, overrides):
     if isinstance(config, str) and raw.get("domain", {}).get("base_dir") == "":
-        raw["domain"]["base_dir"] = os.path.dirname(os.path.abspath(config))   # a case's files sit beside it
+        raw["domain"]["base_dir"] = os.path.dirname(os.path.abspath(config))  # a case's files sit beside it
     cfg, notes = freeze(raw), []
     refuse_unused_sediment_keys(cfg, scene.DEFAULTS)
     check_materials(cfg)
@@ -62,7 +63,7 @@ def _checked(scene, raw, config, overrides):
     for step in (apply_scheme, scene.derive):
         changes, said = step(cfg, given)
         cfg, notes = cfg.replace(changes), notes + list(said)
-    if notes:      # what the steps chose is held to the rules the user's values were
+    if notes:  # what the steps chose is held to the rules the user's values were
         validate(thaw(cfg), scene.RANGES, scene.CHOICES)
     scene.check(cfg)
     return freeze(thaw(cfg), notes=notes, case_file=config if isinstance(config, str) else "")

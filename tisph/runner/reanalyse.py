@@ -8,6 +8,7 @@ the run's final state gave (final_metrics) is not in the probes. A metric that r
 kept besides its probes (a bed below particle scale: the probes hold only its statistics; the
 flume's gauges' zero offsets) cannot be worked out again this way and is said to be "not in the
 probes" or to differ (docs/scenes.md)."""
+
 import argparse
 import json
 import math
@@ -21,7 +22,7 @@ from ..errors import ConfigError
 from ..io import read_csv
 from .reading import rebuild
 
-RTOL = 1e-6    # probes.csv keeps 9 significant digits
+RTOL = 1e-6  # probes.csv keeps 9 significant digits
 
 
 def run_config(run_dir):
@@ -34,7 +35,7 @@ def run_config(run_dir):
     if not lines or lines[0] != "# resolved config":
         raise ConfigError("RUN", path, "a run.log that starts with the resolved config")
     body, after_blank = [], False
-    for ln in lines[1:]:     # tables apart by blank lines; what follows the last is the log
+    for ln in lines[1:]:  # tables apart by blank lines; what follows the last is the log
         if ln.startswith("# ") or (after_blank and ln and not ln.startswith("[")):
             break
         after_blank = not ln
@@ -50,7 +51,7 @@ def _same(a, b):
             return (math.isnan(a) and math.isnan(b)) or a == b
         return abs(a - b) <= RTOL * max(abs(a), abs(b), 1e-30)
     if b is None and isinstance(a, float) and not math.isfinite(a):
-        return True          # summary.json writes a missing value as null
+        return True  # summary.json writes a missing value as null
     return a == b
 
 
@@ -82,8 +83,12 @@ def reanalyse(run_dir):
     header, cols = read_csv(os.path.join(run_dir, "probes.csv"))
     obs = case.observers
     if tuple(header[1:]) != tuple(obs.probe_columns):
-        raise ConfigError("RUN", run_dir, "probes.csv with the columns this version of the scene writes",
-                          f"it has {', '.join(header[1:])}")
+        raise ConfigError(
+            "RUN",
+            run_dir,
+            "probes.csv with the columns this version of the scene writes",
+            f"it has {', '.join(header[1:])}",
+        )
     arr = {c: np.array(v, float) for c, v in cols.items()}
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
@@ -94,6 +99,7 @@ def reanalyse(run_dir):
         if _same(v, old):
             return "same"
         return "not in the probes" if _empty(v) and not _empty(old) else "differs"
+
     return summary, {k: (stored.get(k), v, verdict(stored.get(k), v)) for k, v in new.items()}
 
 
@@ -116,7 +122,9 @@ def main(argv=None):
         print(f"{k:{width}s}  {_fmt(old):>22s}  {_fmt(new):>22s}  {v.upper() if v == 'differs' else v}")
     differ = [k for k, (_, _, v) in rows.items() if v == "differs"]
     missing = [k for k, (_, _, v) in rows.items() if v == "not in the probes"]
-    print(f"{sum(v == 'same' for _, _, v in rows.values())} of {len(rows)} the same (relative {RTOL:g})"
-          + (f"; differing: {', '.join(differ)}" if differ else "")
-          + (f"; not in the probes: {', '.join(missing)}" if missing else ""))
+    print(
+        f"{sum(v == 'same' for _, _, v in rows.values())} of {len(rows)} the same (relative {RTOL:g})"
+        + (f"; differing: {', '.join(differ)}" if differ else "")
+        + (f"; not in the probes: {', '.join(missing)}" if missing else "")
+    )
     return 0

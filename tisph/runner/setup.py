@@ -1,5 +1,6 @@
 """Run set-up: sound speed and common parameters, the log, building a case, the instability
 message, and what a restart may change."""
+
 import sys
 import warnings
 from collections.abc import Mapping
@@ -31,8 +32,16 @@ def common_params(cfg, c0, g=9.81, depth=1.0):
     n = cfg.numerics
     dx = n.dx
     wall_D = n.wall_strength if n.wall_strength > 0 else 5.0 * g * depth
-    return dict(dx=dx, h=n.h_factor * dx, c0=c0, g=(0.0, -g), wall_D=wall_D, wall_r0=dx,
-                shepard_every=n.shepard_every, **keyed_params(cfg))
+    return dict(
+        dx=dx,
+        h=n.h_factor * dx,
+        c0=c0,
+        g=(0.0, -g),
+        wall_D=wall_D,
+        wall_r0=dx,
+        shepard_every=n.shepard_every,
+        **keyed_params(cfg),
+    )
 
 
 def keyed_params(cfg):
@@ -40,12 +49,13 @@ def keyed_params(cfg):
     new module's key reaches the solver without a line here (a missed one would run at its default)."""
     from ..engine.enabled import MODULES
     from ..engine.table import CORE_PARAMS, PARAM_ALIASES
+
     out = {}
     for decl in [CORE_PARAMS] + [m.params for m in MODULES]:
         for name, p in decl.items():
             if p.key:
                 sec, key = p.key.split(".")
-                out[PARAM_ALIASES.get(name, name)] = getattr(cfg, sec).get(key, p.default)   # a scene without the key
+                out[PARAM_ALIASES.get(name, name)] = getattr(cfg, sec).get(key, p.default)  # a scene without the key
     return out
 
 
@@ -85,14 +95,17 @@ def pair_once_wanted(cfg, n, h, c0):
 def build_case(scene, cfg, log):
     """scene.build(cfg), with its warnings and the sound-speed check logged."""
     from ..case import as_scene
+
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         case = as_scene(scene).build(cfg)
         c0 = case.params["c0"]
         case.params["pair_once"] = pair_once_wanted(cfg, len(case.particles), case.params["h"], c0)
         if c0 < 10.0 * case.u_max * (1 - 1e-9):
-            warnings.warn(f"sound speed c0 = {c0:.3g} m/s is below 10 x the expected peak speed "
-                          f"{case.u_max:.3g} m/s: density errors above 1 % are likely")
+            warnings.warn(
+                f"sound speed c0 = {c0:.3g} m/s is below 10 x the expected peak speed "
+                f"{case.u_max:.3g} m/s: density errors above 1 % are likely"
+            )
         check_size(case, cfg)
     for w in caught:
         log(f"warning: {w.message}", always=True)
@@ -112,23 +125,29 @@ def check_size(case, cfg):
     check_fits(n, RUN_BYTES_PER_PARTICLE, dx, "this case")
     p = case.params
     from ..engine.table import CORE_PARAMS
-    dt = p.get("cfl", CORE_PARAMS["cfl"].default) * p["h"] / p["c0"]   # the acoustic step, an upper bound
+
+    dt = p.get("cfl", CORE_PARAMS["cfl"].default) * p["h"] / p["c0"]  # the acoustic step, an upper bound
     wall_per_sim_s = n / PARTICLE_STEPS_PER_S / dt
     if wall_per_sim_s > 3600.0:
-        warnings.warn(f"{n:,} particles at dt about {dt:.2g} s: expect about {wall_per_sim_s / 3600:.3g} hours "
-                      f"of wall time per simulated second on 2 cores (at {PARTICLE_STEPS_PER_S:.2g} "
-                      f"particle-steps/s); numerics.dx = {dx:g}")
+        warnings.warn(
+            f"{n:,} particles at dt about {dt:.2g} s: expect about {wall_per_sim_s / 3600:.3g} hours "
+            f"of wall time per simulated second on 2 cores (at {PARTICLE_STEPS_PER_S:.2g} "
+            f"particle-steps/s); numerics.dx = {dx:g}"
+        )
 
 
 def describe_instability(solver, code, pid):
     from ..hooks.health import BAD_TEXT
+
     what, cause = BAD_TEXT.get(code, ("unknown", ""))
-    s = solver.state(("x", "v", "rho", "kind", "mat"))   # ordered by particle id
+    s = solver.state(("x", "v", "rho", "kind", "mat"))  # ordered by particle id
     if 0 <= pid < solver.n:
         x, v, rho = s["x"][pid], s["v"][pid], s["rho"][pid]
         rho0 = solver.materials[int(s["mat"][pid])]["rho0"]
-        where = (f"particle {pid} ({KIND_NAMES.get(int(s['kind'][pid]), '?')}) at x = ({x[0]:.4g}, {x[1]:.4g}) m, "
-                 f"|v| = {np.hypot(*v):.4g} m/s, rho = {rho:.6g} kg/m3 (rest {rho0:g})")
+        where = (
+            f"particle {pid} ({KIND_NAMES.get(int(s['kind'][pid]), '?')}) at x = ({x[0]:.4g}, {x[1]:.4g}) m, "
+            f"|v| = {np.hypot(*v):.4g} m/s, rho = {rho:.6g} kg/m3 (rest {rho0:g})"
+        )
     else:
         where = f"time step dt = {solver.dt:.3g} s"
     return unstable(solver, what, where, cause)

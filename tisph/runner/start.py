@@ -1,5 +1,6 @@
 """Starting a run from Python (simulate), as the command line does: the resolved case, its log,
 its build and its time loop."""
+
 import os
 
 from ..case import as_scene
@@ -15,6 +16,7 @@ from .setup import Log, build_case
 
 def run_case(case, cfg, out, log, scene_name, restart=None, force=False):
     from .. import runtime
+
     if case.particles.count(FLUID) == 0:
         raise ConfigError("geometry", "no fluid particles", "a case with at least one fluid particle")
     check_rules(cfg, case.physics, case.particles)
@@ -37,21 +39,25 @@ def check_live(cfg):
     if not cfg.output.live:
         return
     if not cfg.output.render:
-        raise ConfigError("output.live", True, "false with --no-render (output.render = false)",
-                          "--live shows the frames as they are rendered")
+        raise ConfigError(
+            "output.live",
+            True,
+            "false with --no-render (output.render = false)",
+            "--live shows the frames as they are rendered",
+        )
     why = display_problem()
     if why:
         raise ConfigError("output.live", True, "false on a machine without a display", why)
 
 
-def simulate(scene, overrides=None, out=None, config=None, restart=None, force=False, cfg=None,
-             echo=False):
+def simulate(scene, overrides=None, out=None, config=None, restart=None, force=False, cfg=None, echo=False):
     """Run a scene: the path the CLI takes, callable from Python (tests, benchmarks).
 
     Returns the summary dict; raises ConfigError or OutputError on bad input. echo: print
     messages as the CLI does (otherwise only to run.log and only warnings to stderr).
     """
     from .. import runtime
+
     scene = as_scene(scene)
     cfg = cfg if cfg is not None else resolve(scene, config, overrides)
     check_live(cfg)

@@ -1,4 +1,5 @@
 """The end of a run: probes.csv, the scene's metrics, the mass balance, summary.json, plots."""
+
 import json
 import math
 import os
@@ -23,10 +24,16 @@ def mass_balance(initial, final):
     m_out = float(np.sum(final["m"][final["kind"] == OUTFLOW], dtype=np.float64))
     m_leak = float(np.sum(final["m"][final["kind"] == OUT], dtype=np.float64))
     m_spray = float(np.sum(final["m"][final["kind"] == SPRAY], dtype=np.float64))
-    return dict(initial_fluid_mass=m0, fluid_mass=m_in, outflow_mass=m_out, leaked_mass=m_leak, spray_mass=m_spray,
-                mass_balance_error=abs(m_in + m_out + m_leak + m_spray - m0) / m0 if m0 > 0 else 0.0,
-                outflow_particles=int(np.sum(final["kind"] == OUTFLOW)),
-                spray_particles=int(np.sum(final["kind"] == SPRAY)))
+    return dict(
+        initial_fluid_mass=m0,
+        fluid_mass=m_in,
+        outflow_mass=m_out,
+        leaked_mass=m_leak,
+        spray_mass=m_spray,
+        mass_balance_error=abs(m_in + m_out + m_leak + m_spray - m0) / m0 if m0 > 0 else 0.0,
+        outflow_particles=int(np.sum(final["kind"] == OUTFLOW)),
+        spray_particles=int(np.sum(final["kind"] == SPRAY)),
+    )
 
 
 def crossed_wall(solver, final):
@@ -34,7 +41,7 @@ def crossed_wall(solver, final):
     final state tells it all)."""
     if solver.container is None:
         return 0
-    x0, y0, x1, y1, top = solver.container   # with the solver's tolerance
+    x0, y0, x1, y1, top = solver.container  # with the solver's tolerance
     x = final["x"][final["kind"] == FLUID]
     return int(np.sum((x[:, 1] < y0) | (x[:, 1] > y1) | ((x[:, 1] < top) & ((x[:, 0] < x0) | (x[:, 0] > x1)))))
 
@@ -50,52 +57,82 @@ def summarize(run, status, message, wall, step_s, nsteps, compile_s, segment=Non
     final = s.state(("x", "v", "kind", "rho", "p", "mat", "m"))
     if obs.final_metrics:
         metrics.update(obs.final_metrics(final))
+
     def no_value(v):
         if isinstance(v, (list, tuple)):
             return any(no_value(x) for x in v)
         return isinstance(v, float) and not math.isfinite(v)
+
     undefined = [k for k, v in metrics.items() if no_value(v)]
-    if undefined:   # a metric with no value is said, not left as a silent null
-        w = (f"{len(undefined)} metric(s) have no value: {', '.join(undefined)} (the run may be too short "
-             f"for their analysis window, t = {s.time:.4g} s, or the quantity never occurred)")
+    if undefined:  # a metric with no value is said, not left as a silent null
+        w = (
+            f"{len(undefined)} metric(s) have no value: {', '.join(undefined)} (the run may be too short "
+            f"for their analysis window, t = {s.time:.4g} s, or the quantity never occurred)"
+        )
         case.warnings.append(w)
         run.log(f"warning: {w}", always=True)
     density_notes = []
     if max(s.rhodev_p999, s.max_density_error) > DENSITY_ERROR_LIMIT:
-        w = (f"largest density error {s.max_density_error:.1%}, 99.9th percentile {s.rhodev_p999:.1%}, mean "
-             f"{s.mean_density_error:.2%}: ")
-        if s.rhodev_p999 > DENSITY_ERROR_LIMIT:   # the bulk of the water, not a splash
-            w += (f"the water was compressed more than weak compressibility allows ({DENSITY_ERROR_LIMIT:.0%}); "
-                  f"raise numerics.c0 (it is {s.c0:.3g} m/s)")
+        w = (
+            f"largest density error {s.max_density_error:.1%}, 99.9th percentile {s.rhodev_p999:.1%}, mean "
+            f"{s.mean_density_error:.2%}: "
+        )
+        if s.rhodev_p999 > DENSITY_ERROR_LIMIT:  # the bulk of the water, not a splash
+            w += (
+                f"the water was compressed more than weak compressibility allows ({DENSITY_ERROR_LIMIT:.0%}); "
+                f"raise numerics.c0 (it is {s.c0:.3g} m/s)"
+            )
             case.warnings.append(w)
             run.log(f"warning: {w}", always=True)
         else:
-            density_notes.append(w + "only a few particles (an impact, a splash) passed "
-                              f"{DENSITY_ERROR_LIMIT:.0%}; the bulk stayed within it")
+            density_notes.append(
+                w + "only a few particles (an impact, a splash) passed "
+                f"{DENSITY_ERROR_LIMIT:.0%}; the bulk stayed within it"
+            )
     mass = mass_balance(case.particles, final)
     if mass["spray_particles"]:
-        density_notes.append(f"{mass['spray_particles']} particles ({mass['spray_mass'] / mass['initial_fluid_mass']:.2%} "
-                             "of the water) left the density band as spray and were removed "
-                             f"(numerics.spray_limit = {cfg.numerics.spray_limit:g})")
+        density_notes.append(
+            f"{mass['spray_particles']} particles ({mass['spray_mass'] / mass['initial_fluid_mass']:.2%} "
+            "of the water) left the density band as spray and were removed "
+            f"(numerics.spray_limit = {cfg.numerics.spray_limit:g})"
+        )
     crossed = crossed_wall(s, final)
     nb = int(np.sum(case.particles.kind != FLUID))
     seg_step = segment[1] if segment else step_s
     pps = (s.n * nsteps / seg_step) if seg_step > 0 else 0.0
     summary = dict(
-        scene=run.name, status=status, message=message, tisph_version=__version__,
-        dx=float(cfg.numerics.dx), particles=int(s.n),
-        fluid_particles=int(case.particles.count(FLUID)), boundary_particles=nb,
-        steps=int(s.steps), sim_time=float(s.time), wall_time_s=wall, step_time_s=step_s,
-        compile_time_s=compile_s, particle_steps_per_s=pps,
+        scene=run.name,
+        status=status,
+        message=message,
+        tisph_version=__version__,
+        dx=float(cfg.numerics.dx),
+        particles=int(s.n),
+        fluid_particles=int(case.particles.count(FLUID)),
+        boundary_particles=nb,
+        steps=int(s.steps),
+        sim_time=float(s.time),
+        wall_time_s=wall,
+        step_time_s=step_s,
+        compile_time_s=compile_s,
+        particle_steps_per_s=pps,
         wall_s_per_sim_s=(wall / s.time) if s.time > 0 else None,
-        arch=run.arch, pair_once=getattr(s, "pair_once", None) is not None,
-        leaked_particles=int(s.leaked), crossed_wall=crossed,
-        max_density_error=s.max_density_error, mean_density_error=s.mean_density_error,
-        density_error_p999=s.rhodev_p999, frames=run.frame_no,
-        snapshots=len(run.snapshots), c0=float(s.c0), h=float(s.h),
-        physics=case.physics.as_dict(), modules=[m.name for m in s.modules],
+        arch=run.arch,
+        pair_once=getattr(s, "pair_once", None) is not None,
+        leaked_particles=int(s.leaked),
+        crossed_wall=crossed,
+        max_density_error=s.max_density_error,
+        mean_density_error=s.mean_density_error,
+        density_error_p999=s.rhodev_p999,
+        frames=run.frame_no,
+        snapshots=len(run.snapshots),
+        c0=float(s.c0),
+        h=float(s.h),
+        physics=case.physics.as_dict(),
+        modules=[m.name for m in s.modules],
         physics_notes=physics_notes(cfg, case.physics) + density_notes,
-        warnings=list(case.warnings), mass=mass, metrics=metrics,
+        warnings=list(case.warnings),
+        mass=mass,
+        metrics=metrics,
     )
     if run.restart:
         summary["restarted_from"] = os.path.abspath(run.restart)
@@ -107,9 +144,11 @@ def summarize(run, status, message, wall, step_s, nsteps, compile_s, segment=Non
         except Exception as e:  # a failed plot must not lose the run's numbers
             run.log(f"warning: could not write the scene's plots: {e}", always=True)
     write_json(os.path.join(run.out, "summary.json"), summary)
-    run.log(f"{status}: {s.steps} steps to t = {s.time:.4g} s in {wall:.2f} s "
-            f"({pps:.3g} particle-steps/s), leaked {s.leaked}, crossed a wall {crossed}, "
-            f"max density error {s.max_density_error:.3%}")
+    run.log(
+        f"{status}: {s.steps} steps to t = {s.time:.4g} s in {wall:.2f} s "
+        f"({pps:.3g} particle-steps/s), leaked {s.leaked}, crossed a wall {crossed}, "
+        f"max density error {s.max_density_error:.3%}"
+    )
     if metrics:
         run.log("metrics: " + json.dumps(json_safe(metrics)))
     return summary
@@ -119,6 +158,8 @@ def physics_notes(cfg, physics):
     """Why a compiled switch differs from what the config says."""
     notes = []
     if physics.laminar_viscosity and not cfg.numerics.laminar_viscosity and physics.rheology:
-        notes.append("laminar_viscosity is on although numerics.laminar_viscosity = false: a non-Newtonian "
-                     "material's stress is its rheology's viscosity, which the laminar term applies")
+        notes.append(
+            "laminar_viscosity is on although numerics.laminar_viscosity = false: a non-Newtonian "
+            "material's stress is its rheology's viscosity, which the laminar term applies"
+        )
     return notes

@@ -9,6 +9,7 @@ scenes/dam_break_alpha0.toml (dry bed, outflow at the end), _alpha01.toml and _a
 beds, depth ratio 0.1 and 0.4, wall at the end), compared with Ritter's and Stoker's exact
 shallow-water solutions.
 """
+
 import math
 import os
 import sys
@@ -32,8 +33,8 @@ def _channel_case(cfg, common, front, a, H, W, hd, dx, margin):
     geo = cfg.geometry
     c0 = math.sqrt(G * H)
     hm, um, s = shallow_water.stoker_state(H, hd, G)
-    tscale = math.sqrt(H / G)           # T = t / tscale
-    width = 4 * dx                      # profile bins
+    tscale = math.sqrt(H / G)  # T = t / tscale
+    width = 4 * dx  # profile bins
     profiles = []
     wet = hd > 0
 
@@ -92,8 +93,7 @@ def _channel_case(cfg, common, front, a, H, W, hd, dx, margin):
             # and reaches 2 c0 only as dx -> 0. Both numbers are reported.
             u = fit_speed(t, cols["front_x"], lo, hi)
             limit = 2 * c0 - 3 * math.sqrt(G * dx)
-            out.update(front_speed=u, front_speed_error=(2 * c0 - u) / (2 * c0),
-                       front_speed_resolution_limit=limit)
+            out.update(front_speed=u, front_speed_error=(2 * c0 - u) / (2 * c0), front_speed_resolution_limit=limit)
         for tt, xs, hs, he in profiles:
             out[f"profile_l1_error_T{tt / tscale:.2f}"] = float(np.mean(np.abs(hs - he)) / H)
         return out
@@ -103,8 +103,16 @@ def _channel_case(cfg, common, front, a, H, W, hd, dx, margin):
 
     events = [(T * tscale, on_profile) for T in sorted(geo.profile_times)]
     view = ((-margin, -margin), (W + margin, max(H * 2.5, 0.12 * W)))
-    return make_case(view=view, probe_columns=("front_x", "bore_x", "plateau_h", "outflow_mass"), probe=probe,
-                metrics=metrics, events=events, finalize=finalize, persist=(profiles,), **common)
+    return make_case(
+        view=view,
+        probe_columns=("front_x", "bore_x", "plateau_h", "outflow_mass"),
+        probe=probe,
+        metrics=metrics,
+        events=events,
+        finalize=finalize,
+        persist=(profiles,),
+        **common,
+    )
 
 
 def _write_profiles(d, profiles, tscale, a, H, W, hd):
@@ -113,19 +121,37 @@ def _write_profiles(d, profiles, tscale, a, H, W, hd):
     panels = []
     for tt, xs, hs, he in profiles:
         T = tt / tscale
-        write_profile(os.path.join(d, f"profile_T{T:.2f}.csv"), (xs - a) / H, hs / H, he / H,
-                      names=("x_over_h0", "h_over_h0_sph", "h_over_h0_exact"))
+        write_profile(
+            os.path.join(d, f"profile_T{T:.2f}.csv"),
+            (xs - a) / H,
+            hs / H,
+            he / H,
+            names=("x_over_h0", "h_over_h0_sph", "h_over_h0_exact"),
+        )
         xf = np.linspace(-a, W - a, 2000)
-        panels.append((f"T = {T:.2f}, L1 error {np.mean(np.abs(hs - he)) / H:.3f} h0",
-                       (xs - a) / H, hs / H, xf / H, shallow_water.depth(xf, tt, H, hd, G) / H))
+        panels.append(
+            (
+                f"T = {T:.2f}, L1 error {np.mean(np.abs(hs - he)) / H:.3f} h0",
+                (xs - a) / H,
+                hs / H,
+                xf / H,
+                shallow_water.depth(xf, tt, H, hd, G) / H,
+            )
+        )
     if panels:
         ref = "Stoker" if hd > 0 else "Ritter"
-        plot_profiles(os.path.join(d, "profiles.png"), panels, "x / h0 (from the dam)", "h / h0",
-                      f"dam break, alpha = {hd / H:g}: tisph against {ref}")
+        plot_profiles(
+            os.path.join(d, "profiles.png"),
+            panels,
+            "x / h0 (from the dam)",
+            "h / h0",
+            f"dam break, alpha = {hd / H:g}: tisph against {ref}",
+        )
 
 
 class DamBreak(Scene):
     """Dam break: a water column collapses along a flat bed, dry or wet."""
+
     NAME = "dam_break"
 
     SCHEMA = {
@@ -138,7 +164,11 @@ class DamBreak(Scene):
             "column_height": K(2.0, "n^2 a with n^2 = 2 (h0 in the channel cases)", range=POSITIVE),
             "downstream_depth": K(0.0, "still water beyond the dam (wet bed); alpha = this / h0", range=NON_NEGATIVE),
             "right_end": K("wall", "wall | outflow (water leaving the end is removed)", choices=("wall", "outflow")),
-            "reference": K("martin_moyce", "martin_moyce | shallow_water (Ritter, Stoker)", choices=("martin_moyce", "shallow_water")),
+            "reference": K(
+                "martin_moyce",
+                "martin_moyce | shallow_water (Ritter, Stoker)",
+                choices=("martin_moyce", "shallow_water"),
+            ),
             "profile_times": K([], "T = t sqrt(g / h0) at which h(x) is saved and compared"),
         },
         "materials": {"water": {"rho0": 1000.0, "viscosity": 1.0e-3}},
@@ -148,17 +178,21 @@ class DamBreak(Scene):
     def check(self, cfg):
         g, dx = cfg.geometry, cfg.numerics.dx
         if g.column_width > g.tank_width:
-            raise ConfigError("geometry.column_width", g.column_width,
-                              f"at most geometry.tank_width = {g.tank_width}")
+            raise ConfigError("geometry.column_width", g.column_width, f"at most geometry.tank_width = {g.tank_width}")
         if g.column_height > g.tank_height:
-            raise ConfigError("geometry.column_height", g.column_height,
-                              f"at most geometry.tank_height = {g.tank_height}")
+            raise ConfigError(
+                "geometry.column_height", g.column_height, f"at most geometry.tank_height = {g.tank_height}"
+            )
         if g.downstream_depth >= g.column_height:
-            raise ConfigError("geometry.downstream_depth", g.downstream_depth,
-                              f"below geometry.column_height = {g.column_height}")
+            raise ConfigError(
+                "geometry.downstream_depth", g.downstream_depth, f"below geometry.column_height = {g.column_height}"
+            )
         if 0 < g.downstream_depth < 2 * dx:
-            raise ConfigError("geometry.downstream_depth", g.downstream_depth,
-                              f"0 (dry) or at least 2 dx = {2 * dx:g} m (two particle rows)")
+            raise ConfigError(
+                "geometry.downstream_depth",
+                g.downstream_depth,
+                f"0 (dry) or at least 2 dx = {2 * dx:g} m (two particle rows)",
+            )
         smallest = min(g.column_width, g.column_height)
         resolves(smallest, 4, "the column", dx)
         for T in g.profile_times:
@@ -209,11 +243,20 @@ class DamBreak(Scene):
             return floor[:, 0].max() + 0.5 * dx if len(floor) else float("nan")
 
         margin = T + dx
-        common = dict(name=self.NAME, particles=ps, materials=materials, domain=domain, params=params,
-                      physics=physics_from_config(cfg), u_max=u_max, outflow=outflow,
-                      # an outflow end has no wall at x = W: water runs on over the floor's end and leaves
-                      container=(0.0, 0.0, W if geo.right_end == "wall" else float("inf"), float("inf"), Ht))
+        common = dict(
+            name=self.NAME,
+            particles=ps,
+            materials=materials,
+            domain=domain,
+            params=params,
+            physics=physics_from_config(cfg),
+            u_max=u_max,
+            outflow=outflow,
+            # an outflow end has no wall at x = W: water runs on over the floor's end and leaves
+            container=(0.0, 0.0, W if geo.right_end == "wall" else float("inf"), float("inf"), Ht),
+        )
         if not channel:
+
             def probe(st):
                 x = st["x"][st["kind"] == FLUID]
                 wall = x[x[:, 0] < 2.0 * dx]
@@ -221,8 +264,12 @@ class DamBreak(Scene):
 
             def metrics(cols):
                 rms, npts = martin_moyce.front_rms_error(cols["t"], cols["front_x"], a, G)
-                return dict(front_rms_error=rms, front_points=npts,
-                            front_x_end=float(cols["front_x"][-1]), column_h_end=float(cols["column_h"][-1]))
+                return dict(
+                    front_rms_error=rms,
+                    front_points=npts,
+                    front_x_end=float(cols["front_x"][-1]),
+                    column_h_end=float(cols["column_h"][-1]),
+                )
 
             view = ((-margin, -margin), (W + margin, min(Ht, max(H, 0.6 * Ht)) + margin))
             return make_case(view=view, probe_columns=("front_x", "column_h"), probe=probe, metrics=metrics, **common)

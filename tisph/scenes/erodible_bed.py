@@ -14,6 +14,7 @@ Outputs besides the usual: probes.csv `t, front_x, eroded_area`; profiles/ with 
 surface and the bed (sediment surface) at t = 0.25, 0.5, 0.75 s as CSV and one PNG; metrics
 bed_drop_at_gate (m) and front_x at 0.75 s and eroded_area (m^2) at the end.
 """
+
 import math
 import os
 import sys
@@ -53,18 +54,22 @@ def _plot_profiles(path, profiles, stations, bed_initial):
 
 class ErodibleBed(Scene):
     """Dam break over an erodible bed (paper 000 section 4.3, Tables 3-4, Figs. 12-16)."""
+
     NAME = "erodible_bed"
 
     # where the scene departs from its scheme (tisph/settings/schemes.py), and why
-    DEPARTS = {"xsph": "Table 3's XSPH factor, 0.07",
-               "h_factor": "h = 1.3 dx and alpha 0.1 hold the sand's Bingham impact at the gate (the dam break's "
-                           "stable set before the one scheme)",
-               "artificial_viscosity": "as h_factor"}
+    DEPARTS = {
+        "xsph": "Table 3's XSPH factor, 0.07",
+        "h_factor": "h = 1.3 dx and alpha 0.1 hold the sand's Bingham impact at the gate (the dam break's "
+        "stable set before the one scheme)",
+        "artificial_viscosity": "as h_factor",
+    }
 
     SCHEMA = {
         "run": {"end_time": 0.75},
-        "numerics": numerics("paper000", dx=0.01, h_factor=1.3, artificial_viscosity=0.1,
-                             xsph=0.07),   # Table 3's XSPH factor (its "m" is a unit typo)
+        "numerics": numerics(
+            "paper000", dx=0.01, h_factor=1.3, artificial_viscosity=0.1, xsph=0.07
+        ),  # Table 3's XSPH factor (its "m" is a unit typo)
         "geometry": {
             "flume_length": K(2.5, "the channel", "m", range=POSITIVE),
             "sediment_depth": K(0.1, "the Bingham bed over its floor", "m", range=POSITIVE),
@@ -74,8 +79,15 @@ class ErodibleBed(Scene):
         },
         "materials": {
             "water": {"rho0": 1000.0, "viscosity": 1.0e-3},
-            "sediment": {"rho0": 1940.0, "viscosity": 0.04, "rheology": "bingham", "yield_stress": 0.447,
-                         "regularisation": 100.0, "mu_max": 0.0, "unyielded": "rest"},
+            "sediment": {
+                "rho0": 1940.0,
+                "viscosity": 0.04,
+                "rheology": "bingham",
+                "yield_stress": 0.447,
+                "regularisation": 100.0,
+                "mu_max": 0.0,
+                "unyielded": "rest",
+            },
         },
         "output": {"frame_interval": 0.01, "probe_interval": 0.01, "width": 1280},
     }
@@ -87,16 +99,25 @@ class ErodibleBed(Scene):
         if g.water_width >= g.flume_length:
             raise ConfigError("geometry.water_width", g.water_width, f"below geometry.flume_length = {g.flume_length}")
         if g.water_height + g.sediment_depth >= g.wall_height:
-            raise ConfigError("geometry.wall_height", g.wall_height,
-                              f"above sediment_depth + water_height = {g.water_height + g.sediment_depth:g} m")
+            raise ConfigError(
+                "geometry.wall_height",
+                g.wall_height,
+                f"above sediment_depth + water_height = {g.water_height + g.sediment_depth:g} m",
+            )
 
     def build(self, cfg):
         geo, num = cfg.geometry, cfg.numerics
-        dx, Lf, hs, a, hw, Hw = (num.dx, geo.flume_length, geo.sediment_depth, geo.water_width,
-                                 geo.water_height, geo.wall_height)
+        dx, Lf, hs, a, hw, Hw = (
+            num.dx,
+            geo.flume_length,
+            geo.sediment_depth,
+            geo.water_width,
+            geo.water_height,
+            geo.wall_height,
+        )
         mats = cfg.materials
         rw, rs = mats.water["rho0"], mats.sediment["rho0"]
-        c0, u_max = sound_speed(cfg, 2.0 * math.sqrt(G * hw))   # Ritter's front speed
+        c0, u_max = sound_speed(cfg, 2.0 * math.sqrt(G * hw))  # Ritter's front speed
         L = num.wall_layers
         T = L * dx
         h = num.h_factor * dx
@@ -111,8 +132,11 @@ class ErodibleBed(Scene):
         ps.add(water, FLUID, 0, density_from_pressure(rw * G * (hs + hw - water[:, 1]), rw, c0), rw * dx * dx)
         ps.add(sed, FLUID, 1, density_from_pressure(p_sed(sed[:, 0], sed[:, 1]), rs, c0), rs * dx * dx)
         walls = np.vstack([block(-T, -T, Lf + T, 0.0, dx), block(-T, 0.0, 0.0, Hw, dx), block(Lf, 0.0, Lf + T, Hw, dx)])
-        wp = np.where(walls[:, 1] < hs, p_sed(np.clip(walls[:, 0], 0, Lf), np.maximum(walls[:, 1], 0.0)),
-                      np.where(walls[:, 0] < a, rw * G * np.maximum(hs + hw - walls[:, 1], 0.0), 0.0))
+        wp = np.where(
+            walls[:, 1] < hs,
+            p_sed(np.clip(walls[:, 0], 0, Lf), np.maximum(walls[:, 1], 0.0)),
+            np.where(walls[:, 0] < a, rw * G * np.maximum(hs + hw - walls[:, 1], 0.0), 0.0),
+        )
         ps.add(walls, WALL, 0, density_from_pressure(wp, rw, c0), rw * dx * dx)
         materials = [dict(dict(mats[n]), name=n, B=tait_B(mats[n]["rho0"], c0)) for n in ("water", "sediment")]
         pad = 3 * T + 4 * h
@@ -157,17 +181,31 @@ class ErodibleBed(Scene):
             d = os.path.join(out, "profiles")
             os.makedirs(d, exist_ok=True)
             for t, b, top in profiles:
-                write_csv(os.path.join(d, f"profile_t{t:.2f}.csv"), ("x", "bed", "free_surface"),
-                          list(zip(stations, b, top)))
+                write_csv(
+                    os.path.join(d, f"profile_t{t:.2f}.csv"), ("x", "bed", "free_surface"), list(zip(stations, b, top))
+                )
             _plot_profiles(os.path.join(d, "profiles.png"), profiles, stations, bed0["b"])
 
         margin = T + dx
-        return make_case(name=self.NAME, particles=ps, materials=materials, domain=domain,
-                    params=common_params(cfg, c0, G, depth=hs + hw), physics=physics_from_config(cfg),
-                    view=((-margin, -margin), (Lf + margin, min(Hw, 2.2 * (hs + hw)) + margin)), u_max=u_max,
-                    probe_columns=("front_x", "eroded_area"), probe=probe, metrics=metrics, finalize=finalize,
-                    events=[(t, on_profile) for t in PROFILE_TIMES], container=(0.0, 0.0, Lf, float("inf"), Hw),
-                    render_modes=("flat", "speed"), mat_colors=(None, SAND), persist=(bed0, profiles))
+        return make_case(
+            name=self.NAME,
+            particles=ps,
+            materials=materials,
+            domain=domain,
+            params=common_params(cfg, c0, G, depth=hs + hw),
+            physics=physics_from_config(cfg),
+            view=((-margin, -margin), (Lf + margin, min(Hw, 2.2 * (hs + hw)) + margin)),
+            u_max=u_max,
+            probe_columns=("front_x", "eroded_area"),
+            probe=probe,
+            metrics=metrics,
+            finalize=finalize,
+            events=[(t, on_profile) for t in PROFILE_TIMES],
+            container=(0.0, 0.0, Lf, float("inf"), Hw),
+            render_modes=("flat", "speed"),
+            mat_colors=(None, SAND),
+            persist=(bed0, profiles),
+        )
 
 
 SCENE = ErodibleBed()

@@ -20,6 +20,7 @@ with renormalised gradients (Antuono et al. 2010), which leaves a wave's dynamic
 free surface alone; a Wendland kernel with h = 2.5 dx, whose wider support carries the wave with
 less loss.
 """
+
 import math
 import os
 import sys
@@ -54,8 +55,11 @@ def gauge_positions(geo, wavelength):
     end = geo["length"] - geo["damping_length"]
     for x in xg:
         if x >= end:
-            raise ConfigError(f"geometry.{key}", geo[key], f"gauges in front of the absorbing zone "
-                              f"(x < {end:g} m; one wavelength is {wavelength:.3g} m)")
+            raise ConfigError(
+                f"geometry.{key}",
+                geo[key],
+                f"gauges in front of the absorbing zone (x < {end:g} m; one wavelength is {wavelength:.3g} m)",
+            )
     return xg
 
 
@@ -147,20 +151,28 @@ def _particles(cfg, c0):
 
 class Flume(Scene):
     """Wave flume: a piston or flap paddle makes waves over a flat bed, measured against Biesel."""
+
     NAME = "flume"
 
     SCHEMA = {
-        "run": {"end_time": K(16.0, "long enough for the wave reflected from the far end to be back over the "
-                                "array (reflection)", "s")},
+        "run": {
+            "end_time": K(
+                16.0, "long enough for the wave reflected from the far end to be back over the array (reflection)", "s"
+            )
+        },
         "numerics": numerics("default", dx=0.0125),
         "geometry": {
             "length": K(4.5, "paddle (x = 0) to the end wall", "m", range=POSITIVE),
             "depth": K(0.25, "still water", "m", range=POSITIVE),
             "wall_height": K(0.45, "the walls' height", "m", range=POSITIVE),
             "damping_length": K(1.2, "absorbing zone at the far end (m); 0: none", range=NON_NEGATIVE),
-            "damping_rate": K(10.0, "the absorbing zone's strongest velocity relaxation rate", "1/s", range=NON_NEGATIVE),
+            "damping_rate": K(
+                10.0, "the absorbing zone's strongest velocity relaxation rate", "1/s", range=NON_NEGATIVE
+            ),
             "gauges_x": K([], "gauge positions (m from the paddle's mean position)"),
-            "gauges_wavelengths": K([1.0, 2.0, 3.0], "gauge positions in wavelengths from the paddle, when gauges_x is empty"),
+            "gauges_wavelengths": K(
+                [1.0, 2.0, 3.0], "gauge positions in wavelengths from the paddle, when gauges_x is empty"
+            ),
             "array_gauges": K(6, "gauges of the reflection and second-harmonic array", range=(0, 12, True, True)),
         },
         "paddle": dict(PADDLE, **IRREGULAR),
@@ -178,13 +190,18 @@ class Flume(Scene):
         if g.depth >= g.wall_height:
             raise ConfigError("geometry.depth", g.depth, f"below geometry.wall_height = {g.wall_height}")
         if g.damping_length >= 0.8 * g.length:
-            raise ConfigError("geometry.damping_length", g.damping_length, f"under 80 % of the flume length ({0.8 * g.length:g} m)")
+            raise ConfigError(
+                "geometry.damping_length", g.damping_length, f"under 80 % of the flume length ({0.8 * g.length:g} m)"
+            )
         for key, unit in (("gauges_x", "m"), ("gauges_wavelengths", "wavelengths")):
             if not isinstance(g[key], list) or any(not isinstance(v, (int, float)) or v <= 0 for v in g[key]):
                 raise ConfigError(f"geometry.{key}", g[key], f"a list of positive numbers ({unit} from the paddle)")
         if 0 < g.array_gauges < 3:
-            raise ConfigError("geometry.array_gauges", g.array_gauges, "0 (no array) or 3 to 12 (two waves "
-                              "are fitted at each frequency)")
+            raise ConfigError(
+                "geometry.array_gauges",
+                g.array_gauges,
+                "0 (no array) or 3 to 12 (two waves are fitted at each frequency)",
+            )
         check_paddle(cfg, g.depth, g.length, default_stroke=self.DEFAULTS["paddle"]["stroke"])
 
     def build(self, cfg):
@@ -193,7 +210,7 @@ class Flume(Scene):
         rho0 = cfg.materials.water.rho0
         omega, k, wavelength, cg, hs_ratio = linear_wave(cfg, d)
         H_biesel = hs_ratio * p.stroke
-        c0, u_max = sound_speed(cfg, math.sqrt(G * d))   # shallow-water speed bounds the orbital speeds
+        c0, u_max = sound_speed(cfg, math.sqrt(G * d))  # shallow-water speed bounds the orbital speeds
         L = num.wall_layers
         T = L * dx
         h = num.h_factor * dx
@@ -212,27 +229,44 @@ class Flume(Scene):
         if not p.spectrum and not p.series:
             warn_waves(cfg, H_biesel, k, d)
             warn_window(p, xg, cg, cfg.run.end_time, p.period, records.arrival_time)
-            if p.order == 2 and xa:   # the free second harmonic is fitted once it is over the array
-                warn_window(p, xa[-1:], cg2, cfg.run.end_time, p.period, records.arrival_time,
-                            "the free second harmonic (at its group velocity) would")
+            if p.order == 2 and xa:  # the free second harmonic is fitted once it is over the array
+                warn_window(
+                    p,
+                    xa[-1:],
+                    cg2,
+                    cfg.run.end_time,
+                    p.period,
+                    records.arrival_time,
+                    "the free second harmonic (at its group velocity) would",
+                )
         rec = FlumeRecord(cfg, (omega, k, wavelength, cg, hs_ratio, k2, cg2), xg, xa)
         margin = T + dx
-        return make_case(name=self.NAME, particles=ps, materials=[dict(name="water", rho0=rho0,
-                    viscosity=cfg.materials.water.viscosity, B=tait_B(rho0, c0))],
-                    domain=domain, params=params,
-                    physics=physics_from_config(cfg, paddle=p.type, damping=damping),
-                    marks=[(x, f"g{i + 1}") for i, x in enumerate(xg)],
-                    zones=[(damping[0], damping[1], "absorber")] if damping else [],
-                    # the frame: the paddle to half a wavelength past the last gauge (a long flume drawn
-                    # whole is a strip); output.view draws another region
-                    view=((x_left - margin, -margin), (min(Lf + margin, max(xg, default=Lf) + 0.5 * wavelength),
-                                                       min(Hw, 1.6 * d) + margin)), u_max=u_max,
-                    # colour top: twice the linear surface orbital speed, not the sound-speed bound
-                    speed_scale=2.0 * 0.5 * (p.hs if p.spectrum else H_biesel) * omega / math.tanh(k * d),
-                    probe_columns=rec.cols + rec.acols, probe=rec.gauges.read, metrics=rec.metrics,
-                    finalize=rec.finalize,
-                    container=(-reach - dx, 0.0, Lf, float("inf"), Hw), control=with_control(extra["motion"]),
-                    persist=(rec.gauges,) + ((extra["motion"],) if p.absorb else ()))
+        return make_case(
+            name=self.NAME,
+            particles=ps,
+            materials=[dict(name="water", rho0=rho0, viscosity=cfg.materials.water.viscosity, B=tait_B(rho0, c0))],
+            domain=domain,
+            params=params,
+            physics=physics_from_config(cfg, paddle=p.type, damping=damping),
+            marks=[(x, f"g{i + 1}") for i, x in enumerate(xg)],
+            zones=[(damping[0], damping[1], "absorber")] if damping else [],
+            # the frame: the paddle to half a wavelength past the last gauge (a long flume drawn
+            # whole is a strip); output.view draws another region
+            view=(
+                (x_left - margin, -margin),
+                (min(Lf + margin, max(xg, default=Lf) + 0.5 * wavelength), min(Hw, 1.6 * d) + margin),
+            ),
+            u_max=u_max,
+            # colour top: twice the linear surface orbital speed, not the sound-speed bound
+            speed_scale=2.0 * 0.5 * (p.hs if p.spectrum else H_biesel) * omega / math.tanh(k * d),
+            probe_columns=rec.cols + rec.acols,
+            probe=rec.gauges.read,
+            metrics=rec.metrics,
+            finalize=rec.finalize,
+            container=(-reach - dx, 0.0, Lf, float("inf"), Hw),
+            control=with_control(extra["motion"]),
+            persist=(rec.gauges,) + ((extra["motion"],) if p.absorb else ()),
+        )
 
 
 class FlumeRecord:
@@ -255,16 +289,41 @@ class FlumeRecord:
 
     def _names(self):
         geo, p = self.cfg.geometry, self.cfg.paddle
-        return (geo, p, geo.depth, geo.length, self.omega, self.k, self.wavelength, self.cg, self.hs_ratio, self.k2,
-                self.cg2, self.H_biesel, self.xg, self.xa, self.cols, self.acols, self.gauges)
+        return (
+            geo,
+            p,
+            geo.depth,
+            geo.length,
+            self.omega,
+            self.k,
+            self.wavelength,
+            self.cg,
+            self.hs_ratio,
+            self.k2,
+            self.cg2,
+            self.H_biesel,
+            self.xg,
+            self.xa,
+            self.cols,
+            self.acols,
+            self.gauges,
+        )
 
     def metrics(self, c):
-        geo, p, d, Lf, omega, k, wavelength, cg, hs_ratio, k2, cg2, H_biesel, xg, xa, cols, acols, gauges = self._names()
+        geo, p, d, Lf, omega, k, wavelength, cg, hs_ratio, k2, cg2, H_biesel, xg, xa, cols, acols, gauges = (
+            self._names()
+        )
         seen_spectra = self.seen_spectra
         self.seen.update(c)
-        out = dict(kh=k * d, wavelength=wavelength, group_velocity=cg, biesel_H_over_S=hs_ratio,
-                   gauges_x=xg, array_x=xa,
-                   gauge_zero_offset=list(gauges.zero[:len(xg)]))
+        out = dict(
+            kh=k * d,
+            wavelength=wavelength,
+            group_velocity=cg,
+            biesel_H_over_S=hs_ratio,
+            gauges_x=xg,
+            array_x=xa,
+            gauge_zero_offset=list(gauges.zero[: len(xg)]),
+        )
         if not p.spectrum:
             out["biesel_wave_height"] = H_biesel
         elif xg:
@@ -279,7 +338,7 @@ class FlumeRecord:
             if geo.damping_length < 0.5 * wavelength:
                 # no absorbing zone worth the name: stop before the end wall's reflection is back
                 t1 = min(t1, (2 * Lf - x) / cg)
-            if p.duration > 0:   # and before the paddle's ramp down has arrived
+            if p.duration > 0:  # and before the paddle's ramp down has arrived
                 t1 = min(t1, p.duration - p.ramp_periods * p.period + x / cg)
             h_pp, n = records.wave_height(c["t"], c[col], t0, t1, p.period)
             per, level = records.crossing_period_and_level(c["t"], c[col], t0, t1)
@@ -290,11 +349,17 @@ class FlumeRecord:
             H1.append(2 * abs(a[0]) if a is not None else float("nan"))
             err.append(abs(H[-1] - H_biesel) / H_biesel)
             err1.append(abs(H1[-1] - H_biesel) / H_biesel)
-        out.update(wave_height_at_gauges=H, wave_period_at_gauges=Tz, mean_level_at_gauges=mean_level,
-                   first_harmonic_height_at_gauges=H1,
-                   wave_height_errors=err, first_harmonic_errors=err1,
-                   # the worst gauge: the target is Biesel's height everywhere in the flume
-                   wave_height_error=worst(err), first_harmonic_error=worst(err1))
+        out.update(
+            wave_height_at_gauges=H,
+            wave_period_at_gauges=Tz,
+            mean_level_at_gauges=mean_level,
+            first_harmonic_height_at_gauges=H1,
+            wave_height_errors=err,
+            first_harmonic_errors=err1,
+            # the worst gauge: the target is Biesel's height everywhere in the flume
+            wave_height_error=worst(err),
+            first_harmonic_error=worst(err1),
+        )
         if len(xg) > 1:
             # decay per wavelength of the first harmonic, fitted over the gauges
             ok = np.isfinite(H1)
@@ -309,8 +374,12 @@ class FlumeRecord:
             amps = [harmonics.harmonics(c["t"], c[col], omega, max(t0, t_back), t_end, 2) for col in acols]
             if all(a is not None for a in amps):
                 ai, ar, kr = harmonics.reflection(xa, [a[0] for a in amps], k)
-                out.update(reflection_coefficient=kr, reflection_window=[max(t0, t_back), t_end],
-                           incident_height=2 * ai, reflected_height=2 * ar)
+                out.update(
+                    reflection_coefficient=kr,
+                    reflection_window=[max(t0, t_back), t_end],
+                    incident_height=2 * ai,
+                    reflected_height=2 * ar,
+                )
             # the free second harmonic travels at its own, slower group velocity: fit once it is there
             t0 = records.arrival_time(p, xa[-1], cg2)
             amps = [harmonics.harmonics(c["t"], c[col], omega, t0, t_end, 2) for col in acols]
@@ -318,8 +387,11 @@ class FlumeRecord:
                 out["second_harmonic_window"] = [t0, t_end]
                 b, f = harmonics.free_second_harmonic(xa, [a[1] for a in amps], k, k2)
                 ai = np.mean([abs(a[0]) for a in amps])
-                out.update(second_harmonic_bound=b, second_harmonic_free=f,
-                           second_harmonic_bound_stokes=harmonics.stokes_bound_ratio(k, d) * ai * ai)
+                out.update(
+                    second_harmonic_bound=b,
+                    second_harmonic_free=f,
+                    second_harmonic_bound_stokes=harmonics.stokes_bound_ratio(k, d) * ai * ai,
+                )
         return out
 
     def finalize(self, out, metrics):
@@ -336,15 +408,23 @@ class FlumeRecord:
                 ax.axhline(0.5 * H_biesel, color="k", ls="--", lw=0.6)
                 ax.axhline(-0.5 * H_biesel, color="k", ls="--", lw=0.6)
             ax.set_ylabel(f"eta (m) at {xg[i]:.2f} m")
-            ax.axvspan(records.arrival_time(p, xg[i], cg), data["t"][-1], color="0.9",
-                       label="measured from here: the fully ramped waves have arrived" if i == 0 else None)
+            ax.axvspan(
+                records.arrival_time(p, xg[i], cg),
+                data["t"][-1],
+                color="0.9",
+                label="measured from here: the fully ramped waves have arrived" if i == 0 else None,
+            )
             if i == 0:
                 ax.legend(fontsize=7, loc="lower right")
         axes[-1, 0].set_xlabel("t (s)")
         if seen_spectra:
             write_spectra(out, seen_spectra, p, xg)
-        fig.suptitle(f"{p.type} paddle, {p.spectrum} spectrum Hm0 {p.hs:g} m, Tp {p.tp:g} s" if p.spectrum
-                     else f"{p.type} paddle: gauges against Biesel H = {H_biesel:.3g} m (dashed)", fontsize=10)
+        fig.suptitle(
+            f"{p.type} paddle, {p.spectrum} spectrum Hm0 {p.hs:g} m, Tp {p.tp:g} s"
+            if p.spectrum
+            else f"{p.type} paddle: gauges against Biesel H = {H_biesel:.3g} m (dashed)",
+            fontsize=10,
+        )
         save(fig, os.path.join(out, "gauges.png"))
 
 

@@ -9,6 +9,7 @@ The discharge coefficient is the measured discharge over a sqrt(2 g dh) in the q
 (dh: head over the opening's centre). A sharp-edged opening gives about 0.6; the 2D contraction
 limit of a slot is pi / (pi + 2) = 0.611.
 """
+
 import math
 import os
 import sys
@@ -44,6 +45,7 @@ def discharge_coefficient(t, level, a, b, L, window, g=G):
 
 class Hatch(Scene):
     """Outflow through a submerged hatch (paper 000 section 4.1, Table 1, Fig. 3)."""
+
     NAME = "hatch"
 
     SCHEMA = {
@@ -68,8 +70,11 @@ class Hatch(Scene):
         g, dx = cfg.geometry, cfg.numerics.dx
         top = g.opening_bottom + g.opening_height
         if top >= g.wall_height:
-            raise ConfigError("geometry.opening_height", g.opening_height,
-                              f"an opening whose top ({top:g} m) stays below geometry.wall_height = {g.wall_height}")
+            raise ConfigError(
+                "geometry.opening_height",
+                g.opening_height,
+                f"an opening whose top ({top:g} m) stays below geometry.wall_height = {g.wall_height}",
+            )
         if g.water_depth > g.wall_height:
             raise ConfigError("geometry.water_depth", g.water_depth, f"at most geometry.wall_height = {g.wall_height}")
         if g.water_depth <= top:
@@ -94,19 +99,23 @@ class Hatch(Scene):
         fluid = block(0.0, 0.0, L, H, dx)
         ps.add(fluid, FLUID, 0, hydrostatic_density(H - fluid[:, 1], rho0, c0, G), rho0 * dx * dx)
         x_end = L + T + Ld
-        parts = [block(-T, -T, x_end, 0.0, dx),          # floor, under the reservoir and downstream
-                 block(-T, 0.0, 0.0, Wh, dx),            # left wall
-                 block(L, b + a, L + T, Wh, dx)]         # the gate, above the opening
+        parts = [
+            block(-T, -T, x_end, 0.0, dx),  # floor, under the reservoir and downstream
+            block(-T, 0.0, 0.0, Wh, dx),  # left wall
+            block(L, b + a, L + T, Wh, dx),
+        ]  # the gate, above the opening
         if b > 0:
-            parts.append(block(L, 0.0, L + T, b, dx))    # below an orifice
+            parts.append(block(L, 0.0, L + T, b, dx))  # below an orifice
         walls = np.vstack([p for p in parts if len(p)])
         h = num.h_factor * dx
         ps.add(walls, WALL, 0, wall_density(walls, fluid, dx, h, rho0, c0, G), rho0 * dx * dx)
 
         pad = T + 4 * h
         domain = ((-pad, -pad - 0.1), (x_end + pad + 0.05, Wh + pad))
-        outflow = [(x_end, -1.0, x_end + 1.0, Wh + 1.0),           # off the end of the floor
-                   (-1.0, -1.0, x_end + 1.0, -T - 2 * dx)]         # (and anything that falls below it)
+        outflow = [
+            (x_end, -1.0, x_end + 1.0, Wh + 1.0),  # off the end of the floor
+            (-1.0, -1.0, x_end + 1.0, -T - 2 * dx),
+        ]  # (and anything that falls below it)
         materials = [dict(name="water", rho0=rho0, viscosity=water.viscosity, B=tait_B(rho0, c0))]
         surfaces = []
 
@@ -120,6 +129,7 @@ class Hatch(Scene):
             probe.prev = (t, level)
             out_m = float(st["m"][st["kind"] == -2].sum())
             return level, q, out_m
+
         probe.prev = None
 
         def surface_event(state, t):
@@ -128,26 +138,46 @@ class Hatch(Scene):
 
         def metrics(cols):
             cd, q = discharge_coefficient(cols["t"], cols["reservoir_level"], a, b, L, geo.cd_window)
-            return dict(discharge_coefficient=cd, mean_discharge=q, contraction_limit=math.pi / (math.pi + 2),
-                        reservoir_level_end=float(cols["reservoir_level"][-1]))
+            return dict(
+                discharge_coefficient=cd,
+                mean_discharge=q,
+                contraction_limit=math.pi / (math.pi + 2),
+                reservoir_level_end=float(cols["reservoir_level"][-1]),
+            )
 
         def finalize(out, metrics):
             os.makedirs(os.path.join(out, "profiles"), exist_ok=True)
             for t, xs, ys in surfaces:
                 write_profile(os.path.join(out, "profiles", f"surface_t{t:.3f}.csv"), xs, ys, names=("x", "y_surface"))
             if surfaces:
-                plot_profiles(os.path.join(out, "profiles", "surface.png"),
-                              [(f"t = {t:.3f} s", xs, ys, None, None) for t, xs, ys in surfaces],
-                              "x (m)", "free surface (m)", f"{self.NAME}: free surface")
+                plot_profiles(
+                    os.path.join(out, "profiles", "surface.png"),
+                    [(f"t = {t:.3f} s", xs, ys, None, None) for t, xs, ys in surfaces],
+                    "x (m)",
+                    "free surface (m)",
+                    f"{self.NAME}: free surface",
+                )
 
         margin = T + dx
-        case = make_case(name=self.NAME, particles=ps, materials=materials, domain=domain,
-                    params=common_params(cfg, c0, G, depth=H), physics=physics_from_config(cfg),
-                    view=((-margin, -margin), (x_end + margin, Wh + margin)), u_max=u_max,
-                    probe_columns=("reservoir_level", "discharge", "outflow_mass"), probe=probe,
-                    metrics=metrics, outflow=tuple(outflow), stills=tuple(geo.still_times),
-                    events=[(t, surface_event) for t in geo.still_times], finalize=finalize,
-                    container=(0.0, 0.0, x_end, float("inf")), persist=(surfaces,))
+        case = make_case(
+            name=self.NAME,
+            particles=ps,
+            materials=materials,
+            domain=domain,
+            params=common_params(cfg, c0, G, depth=H),
+            physics=physics_from_config(cfg),
+            view=((-margin, -margin), (x_end + margin, Wh + margin)),
+            u_max=u_max,
+            probe_columns=("reservoir_level", "discharge", "outflow_mass"),
+            probe=probe,
+            metrics=metrics,
+            outflow=tuple(outflow),
+            stills=tuple(geo.still_times),
+            events=[(t, surface_event) for t in geo.still_times],
+            finalize=finalize,
+            container=(0.0, 0.0, x_end, float("inf")),
+            persist=(surfaces,),
+        )
         return case
 
 

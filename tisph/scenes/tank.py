@@ -6,6 +6,7 @@ the hydrostatic profile row by row, the peak speed against sqrt(g H), the densit
 particle that left the tank and, with sediment, how far the interface moved and whether the
 pressure is continuous across it.
 """
+
 import math
 import sys
 from functools import partial
@@ -54,6 +55,7 @@ def layer_pressure_errors(x, p, dx, rho0, g=G, skip_top=2, expected=None):
 
 class Tank(Scene):
     """Still water in a closed tank, over a sediment layer or not: the hydrostatic check."""
+
     NAME = "tank"
 
     SCHEMA = {
@@ -68,8 +70,14 @@ class Tank(Scene):
         "materials": {
             "water": {"rho0": 1000.0, "viscosity": 1.0e-3},
             # saturated sand as a Bingham fluid (paper 000 section 5: 1950 kg/m3, mu_B = 0.1 Pa s)
-            "sediment": {"rho0": 1950.0, "viscosity": 0.1, "rheology": "bingham", "yield_stress": 200.0,
-                         "regularisation": 100.0, "mu_max": 0.0},
+            "sediment": {
+                "rho0": 1950.0,
+                "viscosity": 0.1,
+                "rheology": "bingham",
+                "yield_stress": 200.0,
+                "regularisation": 100.0,
+                "mu_max": 0.0,
+            },
         },
         "output": {"frame_interval": 0.1, "probe_interval": 0.01, "render": False},
     }
@@ -80,8 +88,11 @@ class Tank(Scene):
             raise ConfigError("geometry.depth", g.depth, f"at most geometry.tank_height = {g.tank_height}")
         resolves(min(g.width, g.depth), 4, "the water", dx)
         if g.sediment_depth > 0 and not (2 * dx <= g.sediment_depth <= g.depth - 2 * dx):
-            raise ConfigError("geometry.sediment_depth", g.sediment_depth,
-                              f"0 (none) or between 2 dx and geometry.depth - 2 dx ({2 * dx:g} to {g.depth - 2 * dx:g} m)")
+            raise ConfigError(
+                "geometry.sediment_depth",
+                g.sediment_depth,
+                f"0 (none) or between 2 dx and geometry.depth - 2 dx ({2 * dx:g} to {g.depth - 2 * dx:g} m)",
+            )
 
     def build(self, cfg):
         geo, num = cfg.geometry, cfg.numerics
@@ -92,12 +103,14 @@ class Tank(Scene):
         ps = ParticleSet()
         used = ["water"] + (["sediment"] if hs > 0 else [])
         water = block(0.0, hs, W, H, dx)
-        ps.add(water, FLUID, 0, density_from_pressure(layered_pressure(water[:, 1], hs, H, rw, rs), rw, c0),
-               rw * dx * dx)
+        ps.add(
+            water, FLUID, 0, density_from_pressure(layered_pressure(water[:, 1], hs, H, rw, rs), rw, c0), rw * dx * dx
+        )
         if hs > 0:
             sed = block(0.0, 0.0, W, hs, dx)
-            ps.add(sed, FLUID, 1, density_from_pressure(layered_pressure(sed[:, 1], hs, H, rw, rs), rs, c0),
-                   rs * dx * dx)
+            ps.add(
+                sed, FLUID, 1, density_from_pressure(layered_pressure(sed[:, 1], hs, H, rw, rs), rs, c0), rs * dx * dx
+            )
         walls = box_walls(0.0, 0.0, W, Ht, dx, num.wall_layers)
         h = num.h_factor * dx
         top = surface_above(walls[:, 0], np.vstack([water] + ([sed] if hs > 0 else [])), dx, 2 * h)
@@ -105,7 +118,7 @@ class Tank(Scene):
         pw = np.where(np.isfinite(top), pw, 0.0)
         ps.add(walls, WALL, 0, density_from_pressure(pw, rw, c0), rw * dx * dx)
         pad = num.wall_layers * dx + 4 * h
-        domain = ((-pad, -pad), (W + pad, 2.0 * Ht + pad))   # open top: room for spray to fall back
+        domain = ((-pad, -pad), (W + pad, 2.0 * Ht + pad))  # open top: room for spray to fall back
         materials = []
         for name in ("water", "sediment"):
             m = dict(mats[name])
@@ -126,10 +139,13 @@ class Tank(Scene):
             rho0 = np.where(mat == 0, rw, rs)
             below_floor = int(np.sum(x[:, 1] < 0.0))
             outside = int(np.sum((x[:, 0] < 0) | (x[:, 0] > W))) + below_floor
-            out = dict(pressure_error=float(np.abs(errs[:, 1]).max()) if len(errs) else float("nan"),
-                       speed_ratio=float(np.sqrt((v * v).sum(1)).max() / vref),
-                       density_error=float(np.abs(st["rho"][fl] / rho0 - 1.0).max()),
-                       crossed_wall=outside, layers_checked=int(len(errs)))
+            out = dict(
+                pressure_error=float(np.abs(errs[:, 1]).max()) if len(errs) else float("nan"),
+                speed_ratio=float(np.sqrt((v * v).sum(1)).max() / vref),
+                density_error=float(np.abs(st["rho"][fl] / rho0 - 1.0).max()),
+                crossed_wall=outside,
+                layers_checked=int(len(errs)),
+            )
             if hs > 0:
                 # interface: the top row of sediment, per column, against its start
                 ids_top = sed0["top_ids"]
@@ -144,7 +160,9 @@ class Tank(Scene):
                     ys, yw = x[s_top, 1].mean(), x[w_bot, 1].mean()
                     jump = p[s_top].mean() - p[w_bot].mean()
                     expect = layered_pressure(ys, hs, H, rw, rs) - layered_pressure(yw, hs, H, rw, rs)
-                    out["interface_pressure_jump_error"] = float(abs(jump - expect) / layered_pressure(hs, hs, H, rw, rs))
+                    out["interface_pressure_jump_error"] = float(
+                        abs(jump - expect) / layered_pressure(hs, hs, H, rw, rs)
+                    )
             return out
 
         if hs > 0:
@@ -157,12 +175,21 @@ class Tank(Scene):
             return dict(peak_speed_ratio_max=float(np.max(cols["speed_ratio"])))
 
         margin = num.wall_layers * dx + dx
-        return make_case(name=self.NAME, particles=ps, materials=materials, domain=domain,
-                    params=common_params(cfg, c0, G, depth=H),
-                    physics=physics_from_config(cfg, materials_used=used),
-                    view=((-margin, -margin), (W + margin, Ht + margin)), u_max=u_max,
-                    probe_columns=("speed_ratio",), probe=probe, metrics=metrics, final_metrics=final_metrics,
-                    container=(0.0, 0.0, W, float("inf"), Ht))
+        return make_case(
+            name=self.NAME,
+            particles=ps,
+            materials=materials,
+            domain=domain,
+            params=common_params(cfg, c0, G, depth=H),
+            physics=physics_from_config(cfg, materials_used=used),
+            view=((-margin, -margin), (W + margin, Ht + margin)),
+            u_max=u_max,
+            probe_columns=("speed_ratio",),
+            probe=probe,
+            metrics=metrics,
+            final_metrics=final_metrics,
+            container=(0.0, 0.0, W, float("inf"), Ht),
+        )
 
 
 SCENE = Tank()

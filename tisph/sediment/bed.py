@@ -15,6 +15,7 @@ One update (Bed.step) with the bed shear at each station:
   5. avalanching: a face steeper than the angle of repose gives sand from its high side to its
      low side until it stands at that angle, volume conserved.
 """
+
 import dataclasses
 import math
 
@@ -29,6 +30,7 @@ class Sand:
     """The bed's grain and transport law, what a Bed needs beside its stations (the [sediment]
     keys, coupling.sand_of): theta_cr None is Soulsby & Whitehouse's for the grain, a
     saturation_length None one station spacing, a deposition_length None the saturation length."""
+
     d50: float
     rho_s: float = 2650.0
     rho_w: float = 1000.0
@@ -64,12 +66,12 @@ class Bed:
         self.K_g = sand.gravity_coefficient
         self.lee_transit = sand.lee_transit
         self.settling_delay = sand.settling_delay
-        self.q_settle = np.zeros_like(self.z)   # settling_delay: the first stage's load
-        self.q_up = np.zeros_like(self.z)    # lee_transit: the load along the current, and against it
+        self.q_settle = np.zeros_like(self.z)  # settling_delay: the first stage's load
+        self.q_up = np.zeros_like(self.z)  # lee_transit: the load along the current, and against it
         self.q_back = np.zeros_like(self.z)
         self.morfac = sand.morfac
         self.periodic = periodic
-        self.q = np.zeros_like(self.z)       # the last flux at the stations (m2/s)
+        self.q = np.zeros_like(self.z)  # the last flux at the stations (m2/s)
         self.theta = np.zeros_like(self.z)
         self.scale = transport_scale(d50, self.s, G)
 
@@ -105,16 +107,16 @@ class Bed:
             return self.saturate_transit(qb, a, ad)
         n = len(qb)
         # Python floats in lists: the same double arithmetic as NumPy's scalars, 4x faster to index
-        q = self.q.tolist()                 # the last flux: the sweeps start from it
+        q = self.q.tolist()  # the last flux: the sweeps start from it
         qbl = np.asarray(qb, float).tolist()
         fwd = [i for i in range(n) if qbl[i] >= 0]
         back = [i for i in range(n - 1, -1, -1) if not qbl[i] >= 0]
         for _ in range(3):
-            for i in fwd:                   # flow to +x: upwind neighbour on the left
+            for i in fwd:  # flow to +x: upwind neighbour on the left
                 up = q[i - 1] if (i > 0 or self.periodic) else 0.0
                 k = a if up <= qbl[i] else ad
                 q[i] = (qbl[i] + k * up) / (1.0 + k)
-            for i in back:                  # flow to -x: upwind neighbour on the right
+            for i in back:  # flow to -x: upwind neighbour on the right
                 up = q[(i + 1) % n] if (i < n - 1 or self.periodic) else 0.0
                 k = a if up >= qbl[i] else ad
                 q[i] = (qbl[i] + k * up) / (1.0 + k)
@@ -135,11 +137,11 @@ class Bed:
         and the most l_d / 2 on, mean l_d (the one stage lands the most at once)."""
         n = len(qb)
         sgn = 1.0 if float(np.sum(qb)) >= 0 else -1.0
-        along = sgn * qb >= 0               # with the current, or still (below the threshold)
+        along = sgn * qb >= 0  # with the current, or still (below the threshold)
         cap_up = np.where(along, qb, 0.0)
         cap_back = np.where(along, 0.0, qb)
         order = range(n) if sgn > 0 else range(n - 1, -1, -1)
-        step = -1 if sgn > 0 else 1          # the upwind neighbour's offset along the current
+        step = -1 if sgn > 0 else 1  # the upwind neighbour's offset along the current
 
         def relax(cap, q, kd, sweep, step, settles=None):
             """One upwind sweep of l dq/dx + q = cap: l = kd dx where the load exceeds the
@@ -153,7 +155,7 @@ class Bed:
         up_q, back_q = self.q_up.copy(), self.q_back.copy()
         first = self.q_settle.copy()
         for _ in range(3):
-            if self.settling_delay:          # two stages of l_d / 2: first down through the water, then out
+            if self.settling_delay:  # two stages of l_d / 2: first down through the water, then out
                 relax(cap_up, first, 0.5 * ad, order, step)
                 relax(first, up_q, 0.5 * ad, order, step)
             else:
@@ -207,7 +209,7 @@ class Bed:
             za = self.z
             dz_all = (np.append(za[1:], za[0]) if self.periodic else za[1:]) - za[:faces]
             steep = np.nonzero(np.abs(dz_all) - t * dx > 1e-12 * dx)[0].tolist()
-            z = za.tolist()                  # the sweep on Python floats (the same arithmetic, faster to index)
+            z = za.tolist()  # the sweep on Python floats (the same arithmetic, faster to index)
             if self.periodic and (not steep or steep[-1] != faces - 1):
                 steep.append(faces - 1)
             moved = relaxed = False

@@ -13,6 +13,7 @@ Each update (every sediment.update_every steps):
   3. Bed.step (tisph/sediment/bed.py) over the elapsed time; the solver's bed particles move
      with the new z_b (solver.set_bed).
 """
+
 import dataclasses
 
 import numpy as np
@@ -27,44 +28,112 @@ from .outer import Window, outer_heights, outer_scale
 from .transport import reference_concentration, settling_velocity, shear_log_law, shear_waves, shields_number
 
 SEDIMENT = {
-    "model": K("particles", "particles: the paper's Bingham/Cross sand | bedload: a bed below particle scale", choices=('particles', 'bedload')),
+    "model": K(
+        "particles",
+        "particles: the paper's Bingham/Cross sand | bedload: a bed below particle scale",
+        choices=('particles', 'bedload'),
+    ),
     "porosity": K(0.4, "n in Exner's (1 - n) dz_b/dt = -dq/dx", range=(0.0, 0.9, True, True)),
-    "repose_angle": K(32.0, 'angle of repose (degrees): avalanching, slope-corrected threshold', range=(5.0, 60.0, True, True)),
-    "shields_critical": K(0.0, 'critical Shields number; 0: Soulsby & Whitehouse (1997) for d50', range=(0.0, 1.0, True, True)),
+    "repose_angle": K(
+        32.0, 'angle of repose (degrees): avalanching, slope-corrected threshold', range=(5.0, 60.0, True, True)
+    ),
+    "shields_critical": K(
+        0.0, 'critical Shields number; 0: Soulsby & Whitehouse (1997) for d50', range=(0.0, 1.0, True, True)
+    ),
     "formula": K("mpm", 'mpm: Meyer-Peter & Mueller | nielsen: Nielsen (1992), for waves', choices=('mpm', 'nielsen')),
     "saturation_length": K(0.0, 'l_s of l_s dq/dx + q = q_b (m); 0: one dx', range=(0.0, None, True, True)),
-    "deposition_length": K(0.0, 'l_s where the load settles out (q > q_b), m; 0: saturation_length', range=(0.0, None, True, True)),
-    "lee_transit": K(False, "a current's load beyond the capacity crosses a reversed near-bed zone (a separation bubble) with the outer flow and settles over the deposition length, instead of stopping where the near-bed flow turns (Bed.saturate_transit); the pipeline's lee"),
-    "settling_delay": K(False, 'with lee_transit: that load first settles down through the water, then out onto the bed: two stages of l_d / 2 each (deposition peaks l_d / 2 downstream of where it starts, not there)'),
-    "gravity_coefficient": K(1.0, "K_g of the downslope term K_g |q_b| (dz/dx) / tan(phi) (Bailard 1981; 1/tan(phi) = CMS's 1.6); 0: the slope acts through the threshold alone (REEF3D's bedload_MPM, CMS's Dey option)", range=(0.0, 10.0, True, True)),
+    "deposition_length": K(
+        0.0, 'l_s where the load settles out (q > q_b), m; 0: saturation_length', range=(0.0, None, True, True)
+    ),
+    "lee_transit": K(
+        False,
+        "a current's load beyond the capacity crosses a reversed near-bed zone (a separation bubble) with the outer flow and settles over the deposition length, instead of stopping where the near-bed flow turns (Bed.saturate_transit); the pipeline's lee",
+    ),
+    "settling_delay": K(
+        False,
+        'with lee_transit: that load first settles down through the water, then out onto the bed: two stages of l_d / 2 each (deposition peaks l_d / 2 downstream of where it starts, not there)',
+    ),
+    "gravity_coefficient": K(
+        1.0,
+        "K_g of the downslope term K_g |q_b| (dz/dx) / tan(phi) (Bailard 1981; 1/tan(phi) = CMS's 1.6); 0: the slope acts through the threshold alone (REEF3D's bedload_MPM, CMS's Dey option)",
+        range=(0.0, 10.0, True, True),
+    ),
     "morfac": K(1.0, 'morphological acceleration: the bed moves morfac times as fast', range=(1.0, 1000.0, True, True)),
-    "shear": K("waves", "waves: Swart's friction factor | log: the log law (currents) | log_far_field: the log law scaled so the far field's median shear is the current's rho u*^2 (scenes that set it) | wall_function: Launder & Spalding's, from the k equation's k as well, scaled the same way", choices=('waves', 'log', 'log_far_field', 'wall_function')),
+    "shear": K(
+        "waves",
+        "waves: Swart's friction factor | log: the log law (currents) | log_far_field: the log law scaled so the far field's median shear is the current's rho u*^2 (scenes that set it) | wall_function: Launder & Spalding's, from the k equation's k as well, scaled the same way",
+        choices=('waves', 'log', 'log_far_field', 'wall_function'),
+    ),
     "reference_height": K(1.5, 'z_r / dx: where the near-bed velocity is read', range=(0.5, 5.0, True, True)),
-    "outer_height": K(6.0, 'shear = "waves": the near-bed velocity scaled so its amplitude, averaged along the bed over d0, is the amplitude outer_height dx up (above the SPH\'s near-wall layer: the tunnel\'s bed read 0.70 U_m at 1.5 dx, 0.65 at dx / 1.5; scaled from 6 dx, 0.95 and 0.93); 0: not scaled', range=(0.0, 10.0, True, True)),
+    "outer_height": K(
+        6.0,
+        'shear = "waves": the near-bed velocity scaled so its amplitude, averaged along the bed over d0, is the amplitude outer_height dx up (above the SPH\'s near-wall layer: the tunnel\'s bed read 0.70 U_m at 1.5 dx, 0.65 at dx / 1.5; scaled from 6 dx, 0.95 and 0.93); 0: not scaled',
+        range=(0.0, 10.0, True, True),
+    ),
     "filter_time": K(0.05, "time constant of the near-bed velocity's filter", 's', range=(0.0, None, True, True)),
     "update_every": K(10, 'steps between bed updates', range=(1, 1000, True, True)),
-    "morph_start": K(0.0, "the bed stays put until then while the flow spins up (Delft3D's MorStt)", 's', range=(0.0, None, True, True)),
-    "lee_vortex": K(0.0, "shear in a separated lee reversed to this fraction of the crest's (0: off; beach, tunnel: 0.5)", range=(0.0, 1.0, True, True)),
-    "separation_length": K(6.0, "the lee zone's length in crest heights (flow reattaches about 6 step heights on)", range=(0.0, 50.0, True, True)),
+    "morph_start": K(
+        0.0,
+        "the bed stays put until then while the flow spins up (Delft3D's MorStt)",
+        's',
+        range=(0.0, None, True, True),
+    ),
+    "lee_vortex": K(
+        0.0,
+        "shear in a separated lee reversed to this fraction of the crest's (0: off; beach, tunnel: 0.5)",
+        range=(0.0, 1.0, True, True),
+    ),
+    "separation_length": K(
+        6.0,
+        "the lee zone's length in crest heights (flow reattaches about 6 step heights on)",
+        range=(0.0, 50.0, True, True),
+    ),
     "separation_slope": K(10.0, 'a lee steeper than this separates', 'degrees', range=(0.0, 60.0, True, True)),
-    "separation_excursion": K(0.0, 'the lee zone at most this many orbital amplitudes A = d0/2 long (0: no cap)', range=(0.0, 10.0, True, True)),
-    "vortex_throw": K(0.0, "the sand a separated lee's vortex throws back over its crest as the flow turns, times the crest's bed load (lee.vortex_throw; 0: off)", range=(0.0, 10.0, True, True)),
-    "throw_distance": K(1.0, 'where that sand lands: orbital amplitudes upstream of the crest', range=(0.0, 10.0, True, True)),
-    "suspended": K(False, "suspended load: the water carries sand the bed gives up (van Rijn's pick-up) and lets it settle back (tisph/physics/suspension.py); the pipeline only"),
+    "separation_excursion": K(
+        0.0,
+        'the lee zone at most this many orbital amplitudes A = d0/2 long (0: no cap)',
+        range=(0.0, 10.0, True, True),
+    ),
+    "vortex_throw": K(
+        0.0,
+        "the sand a separated lee's vortex throws back over its crest as the flow turns, times the crest's bed load (lee.vortex_throw; 0: off)",
+        range=(0.0, 10.0, True, True),
+    ),
+    "throw_distance": K(
+        1.0, 'where that sand lands: orbital amplitudes upstream of the crest', range=(0.0, 10.0, True, True)
+    ),
+    "suspended": K(
+        False,
+        "suspended load: the water carries sand the bed gives up (van Rijn's pick-up) and lets it settle back (tisph/physics/suspension.py); the pipeline only",
+    ),
     "settling_velocity": K(0.0, 'm/s; 0: Soulsby (1997) for d50', range=(0.0, None, True, True)),
-    "seed_rms": K(0.0, 'RMS of a random initial bed perturbation (smoothed over 2 dx)', 'm', range=(0.0, None, True, True)),
+    "seed_rms": K(
+        0.0, 'RMS of a random initial bed perturbation (smoothed over 2 dx)', 'm', range=(0.0, None, True, True)
+    ),
     "seed": K(1, 'the random seed of that initial perturbation', range=(0, None, True, True)),
-    "grain_density": K(2650.0, "the grains' own density (kg/m3; quartz), not the saturated bed's",
-                          range=(1000.0, None, False, True)),
+    "grain_density": K(
+        2650.0, "the grains' own density (kg/m3; quartz), not the saturated bed's", range=(1000.0, None, False, True)
+    ),
 }
 DEFAULTS = values(SEDIMENT)
 RANGES = ranges(SEDIMENT, "sediment")
 CHOICES = choices(SEDIMENT, "sediment")
 # One set of bed parameters for sand under waves, the tunnel's and the beach's (docs/sediment.md: which are
 # empirical, chosen on what); a scene adds only physical inputs (morfac, seed_rms). The pipeline's differ.
-WAVE_RIPPLES = dict(model="bedload", grain_density=2650.0, shear="waves", reference_height=1.5, outer_height=6.0,
-                    lee_vortex=0.5, separation_length=6.0, separation_slope=10.0, separation_excursion=0.6,
-                    gravity_coefficient=1.8, vortex_throw=1.0, throw_distance=1.0)
+WAVE_RIPPLES = dict(
+    model="bedload",
+    grain_density=2650.0,
+    shear="waves",
+    reference_height=1.5,
+    outer_height=6.0,
+    lee_vortex=0.5,
+    separation_length=6.0,
+    separation_slope=10.0,
+    separation_excursion=0.6,
+    gravity_coefficient=1.8,
+    vortex_throw=1.0,
+    throw_distance=1.0,
+)
 # the fastest the bed may move, in units of the sound speed (BedCoupler.check_speed)
 BED_MACH = 0.2
 # the shears scaled to the far field (the pipeline's undisturbed bed and its current's u*)
@@ -78,19 +147,37 @@ def refuse_unused_sediment_keys(cfg, scene_defaults):
     if not sed or sed.get("model") != "particles":
         return
     base = scene_defaults.get("sediment", {})
-    raise_collected([ConfigError(f"sediment.{k}", v, f"its default ({base[k]!r}) with sediment.model = \"particles\"",
-                                 "the sand is SPH particles; the [sediment] keys set the bed-load bed "
-                                 "(sediment.model = \"bedload\")")
-                     for k, v in sed.items() if k != "model" and k in base and v != base[k]])
+    raise_collected(
+        [
+            ConfigError(
+                f"sediment.{k}",
+                v,
+                f"its default ({base[k]!r}) with sediment.model = \"particles\"",
+                "the sand is SPH particles; the [sediment] keys set the bed-load bed (sediment.model = \"bedload\")",
+            )
+            for k, v in sed.items()
+            if k != "model" and k in base and v != base[k]
+        ]
+    )
 
 
 def sand_of(sed, d50, rho_s, rho_w=1000.0, morfac=None):
     """The Sand the [sediment] table sed describes (morfac: its own unless given)."""
-    return Sand(d50, rho_s, rho_w, porosity=sed["porosity"], repose_deg=sed["repose_angle"],
-                theta_cr=sed["shields_critical"] or None, formula=sed["formula"],
-                saturation_length=sed["saturation_length"] or None, deposition_length=sed["deposition_length"] or None,
-                gravity_coefficient=sed["gravity_coefficient"], morfac=sed["morfac"] if morfac is None else morfac,
-                lee_transit=sed["lee_transit"], settling_delay=sed["settling_delay"])
+    return Sand(
+        d50,
+        rho_s,
+        rho_w,
+        porosity=sed["porosity"],
+        repose_deg=sed["repose_angle"],
+        theta_cr=sed["shields_critical"] or None,
+        formula=sed["formula"],
+        saturation_length=sed["saturation_length"] or None,
+        deposition_length=sed["deposition_length"] or None,
+        gravity_coefficient=sed["gravity_coefficient"],
+        morfac=sed["morfac"] if morfac is None else morfac,
+        lee_transit=sed["lee_transit"],
+        settling_delay=sed["settling_delay"],
+    )
 
 
 def make_bed(sed, stations, z, d50, rho_s, rho_w=1000.0, periodic=True, morfac=None):
@@ -102,6 +189,7 @@ def make_bed(sed, stations, z, d50, rho_s, rho_w=1000.0, periodic=True, morfac=N
 class Stations:
     """Where a coupled bed lies: its stations' x and initial heights z, their spacing dx (the
     particles'), the kernel's h, and whether the bed closes round (a periodic domain)."""
+
     x: object
     z: object
     dx: float
@@ -125,6 +213,7 @@ class Drive:
     u_far)^2. surface: the water surface's height (m), for the suspended load's diffusivity; a
     scene without it refuses sediment.suspended. still_level: the still water's level, which
     caps the outer reading's height."""
+
     amplitude: object = 0.0
     omega: float = 0.0
     z0: float = None
@@ -148,24 +237,40 @@ class BedCoupler:
         self.d50, self.omega, self.z0_log, self.far_field = d50, omega, drive.z0, drive.far_field
         self.measured = amplitude is None
         self.amplitude = np.zeros(len(stations)) if self.measured else amplitude
-        self.history = Window(len(stations))   # (t, filtered u, u outer) over the last wave period
+        self.history = Window(len(stations))  # (t, filtered u, u outer) over the last wave period
         if sed["shear"] in FAR_FIELD_SHEARS and drive.far_field is None:
-            raise ConfigError("sediment.shear", sed["shear"], "'waves' or 'log' in this scene: the far-field "
-                              "scaling needs the undisturbed bed and the current's u*, which the pipeline sets")
+            raise ConfigError(
+                "sediment.shear",
+                sed["shear"],
+                "'waves' or 'log' in this scene: the far-field "
+                "scaling needs the undisturbed bed and the current's u*, which the pipeline sets",
+            )
         if sed["suspended"] and surface is None:
-            raise ConfigError("sediment.suspended", True, "false in this scene: suspended load is built for the "
-                              "pipeline over the bed-load bed (its periodic current has one water surface)")
+            raise ConfigError(
+                "sediment.suspended",
+                True,
+                "false in this scene: suspended load is built for the "
+                "pipeline over the bed-load bed (its periodic current has one water surface)",
+            )
         if sed["lee_transit"] and sed["shear"] == "waves":
-            raise ConfigError("sediment.lee_transit", True, "false with sediment.shear = 'waves': the load crosses "
-                              "a separated lee in the direction of a current (the net flux's), which waves turn "
-                              "every half period")
+            raise ConfigError(
+                "sediment.lee_transit",
+                True,
+                "false with sediment.shear = 'waves': the load crosses "
+                "a separated lee in the direction of a current (the net flux's), which waves turn "
+                "every half period",
+            )
         if sed["settling_delay"] and not sed["lee_transit"]:
-            raise ConfigError("sediment.settling_delay", True, "false unless sediment.lee_transit = true: the "
-                              "delay is a stage of the load that crosses the lee with the current")
+            raise ConfigError(
+                "sediment.settling_delay",
+                True,
+                "false unless sediment.lee_transit = true: the "
+                "delay is a stage of the load that crosses the lee with the current",
+            )
         self.water_top = surface
         self.still_level = drive.still_level
         self.w_s = sed["settling_velocity"] or settling_velocity(d50, self.bed.s)
-        self.suspended = 0.0                 # sand volume in the water per unit width (m2)
+        self.suspended = 0.0  # sand volume in the water per unit width (m2)
         self.u = np.zeros(len(stations))
         # the outer scaling (shear = "waves", outer_height > 0): the filtered velocity at the outer
         # height, the (t, u, u_outer) history over the last wave period, and the scale it gives
@@ -174,9 +279,9 @@ class BedCoupler:
         self.u_outer_now = None
         self.outer_factor = np.ones(len(stations))
         self.u_eff = np.zeros(len(stations))
-        self.k = np.zeros(len(stations))     # the filtered k at z_r (shear = "wall_function")
+        self.k = np.zeros(len(stations))  # the filtered k at z_r (shear = "wall_function")
         self.tau = np.zeros(len(stations))
-        self.zones = []                      # the separated lees of the last shear (lee.lee_zones)
+        self.zones = []  # the separated lees of the last shear (lee.lee_zones)
         self.t = 0.0
 
     def near_bed_flow(self, s):
@@ -186,7 +291,7 @@ class BedCoupler:
         z = self.bed.z
         heights = [z + self.sed["reference_height"] * self.dx]
         if self.outer:
-            self.zo = self.outer_heights()      # outer_scale reads the same heights this update
+            self.zo = self.outer_heights()  # outer_scale reads the same heights this update
             heights.append(z + np.nan_to_num(self.zo, nan=self.sed["reference_height"] * self.dx))
         pts = np.vstack([np.column_stack([self.stations, zz]) for zz in heights])
         k = None
@@ -214,8 +319,7 @@ class BedCoupler:
                 tau = np.sign(u) * np.sqrt(np.abs(tau) * tau_k)
         self.zones = []
         if self.sed["lee_vortex"] > 0:
-            self.zones = lee_zones(self.bed.z, self.dx, u, self.sed, self.bed.periodic, self.amplitude,
-                                   self.mobility())
+            self.zones = lee_zones(self.bed.z, self.dx, u, self.sed, self.bed.periodic, self.amplitude, self.mobility())
             tau = lee_vortex_shear(tau, self.bed.z, self.dx, u, self.sed, zones=self.zones)
         return tau
 
@@ -277,7 +381,7 @@ class BedCoupler:
         deposit = self.exchange(s, dt) if self.sed["suspended"] else None
         if not moving:
             return
-        if self.sed["vortex_throw"] > 0 and self.zones:     # from the last update's bed load (self.bed.q)
+        if self.sed["vortex_throw"] > 0 and self.zones:  # from the last update's bed load (self.bed.q)
             thrown = vortex_throw(self.zones, self.bed.q, self.dx, self.sed, self.bed.periodic, self.amplitude) * dt
             deposit = thrown if deposit is None else deposit + thrown
         w = self.bed.step(self.tau, dt, deposit) / dt
@@ -294,14 +398,18 @@ class BedCoupler:
         if abs(w[i]) <= BED_MACH * s.c0:
             return
         k = int(np.argmax(np.abs(self.tau)))
-        raise SimulationError(unstable(
-            s, f"the bed moved faster than {BED_MACH:g} c0",
-            f"station x = {self.stations[i]:.4g} m, dz_b/dt = {w[i]:.4g} m/s (c0 = {s.c0:.4g} m/s); the bed's "
-            f"highest shear {abs(self.tau[k]):.4g} Pa (Shields {self.bed.theta[k]:.3g}) at x = "
-            f"{self.stations[k]:.4g} m",
-            "a local shear far above the far field's, which the transport formula turns into erosion faster "
-            "than the water can follow (a jet through a gap a few dx high): lower sediment.morfac, or open "
-            "the gap wider"))
+        raise SimulationError(
+            unstable(
+                s,
+                f"the bed moved faster than {BED_MACH:g} c0",
+                f"station x = {self.stations[i]:.4g} m, dz_b/dt = {w[i]:.4g} m/s (c0 = {s.c0:.4g} m/s); the bed's "
+                f"highest shear {abs(self.tau[k]):.4g} Pa (Shields {self.bed.theta[k]:.3g}) at x = "
+                f"{self.stations[k]:.4g} m",
+                "a local shear far above the far field's, which the transport formula turns into erosion faster "
+                "than the water can follow (a jet through a gap a few dx high): lower sediment.morfac, or open "
+                "the gap wider",
+            )
+        )
 
     def carrying(self, volume):
         """The water starts with this much sand in it (m2 per unit width): it counts in the
@@ -349,8 +457,12 @@ class BedCoupler:
         """The make_case parts that draw this bed: sand under z_b, the bed-change panel (one scale
         for the whole movie where the predicted ripple's height gives it), morfac."""
         m = self.sed["morfac"]
-        return dict(bed_surface=lambda x: self.surface(x, left), bed_panel=self.change, bed_range=ripple_height,
-                    bed_label=f", morfac {m:g}: the bed moves {m:g}x as fast")
+        return dict(
+            bed_surface=lambda x: self.surface(x, left),
+            bed_panel=self.change,
+            bed_range=ripple_height,
+            bed_label=f", morfac {m:g}: the bed moves {m:g}x as fast",
+        )
 
     def volume_error(self):
         """Relative change of the sand: the bed's volume and, with suspended load, the sand in

@@ -1,5 +1,6 @@
 """The bed-load bed's initial state: the random bed, the water over it and its BED particles
 (the tunnel, the beach, the pipeline and custom cases build theirs from these)."""
+
 import numpy as np
 
 from ..particles import BED, BUILD_BYTES_PER_POINT, check_fits
@@ -32,8 +33,12 @@ def initial_bed(stations, z, sed, dx, periodic, top=None):
             e = k[0] * np.roll(e, 1) + k[1] * e + k[2] * np.roll(e, -1)
         e -= e.mean()
         z += sed["seed_rms"] * e / np.sqrt(np.mean(e * e))
-        bed = Bed(np.asarray(stations, float), z, Sand(3e-4, repose_deg=sed["repose_angle"]),   # the grain:
-                  periodic=periodic)                                                   # unused here
+        bed = Bed(
+            np.asarray(stations, float),
+            z,
+            Sand(3e-4, repose_deg=sed["repose_angle"]),  # the grain:
+            periodic=periodic,
+        )  # unused here
         bed.avalanche()
         z = bed.z
     return z
@@ -53,8 +58,16 @@ def add_bed_particles(ps, stations, zb, dx, layers, rho_w, density):
     for k in range(layers):
         y = zb - (k + 0.5) * dx
         pts = np.column_stack([stations, y])
-        ps.add(pts, BED, 0, density(y), rho_w * dx * dx, station=np.arange(len(stations)), normal=(0.0, 1.0),
-               wall_dist=(k + 0.5) * dx)
+        ps.add(
+            pts,
+            BED,
+            0,
+            density(y),
+            rho_w * dx * dx,
+            station=np.arange(len(stations)),
+            normal=(0.0, 1.0),
+            wall_dist=(k + 0.5) * dx,
+        )
 
 
 def water_columns(x, zb, dx, top):

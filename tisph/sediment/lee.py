@@ -1,5 +1,6 @@
 """The bed shear's correction in a ripple's lee, applied by the coupler (coupling.BedCoupler.shear):
 the ripples' parametrised lee vortex (sediment.lee_vortex), with its sheet-flow factor."""
+
 import numpy as np
 
 
@@ -40,7 +41,7 @@ def lee_zones(z, dx, u, sed, periodic=True, amplitude=0.0, mobility=0.0):
         zl, zr = np.roll(z, 1), np.roll(z, -1)
     else:
         zl, zr = np.append(z[0], z[:-1]), np.append(z[1:], z[-1])
-    up_all = np.where(d_all > 0, zl, zr)          # the upstream neighbour (the end's own height)
+    up_all = np.where(d_all > 0, zl, zr)  # the upstream neighbour (the end's own height)
     down_all = np.where(d_all > 0, zr, zl)
     crests = idx[(d_all != 0) & (z >= up_all) & (z > down_all)].tolist()
     # the walks on Python floats: the same double arithmetic as NumPy's scalars, faster to index
@@ -50,14 +51,14 @@ def lee_zones(z, dx, u, sed, periodic=True, amplitude=0.0, mobility=0.0):
     for c in crests:
         d = dl[c]
         k, trough, steepest = c, zs[c], 0.0
-        while True:                                # down the lee to the trough
+        while True:  # down the lee to the trough
             j = nxt(k, d)
             if j is None or j == c or zs[j] > zs[k]:
                 break
             steepest = max(steepest, (zs[k] - zs[j]) / dx)
             k, trough = j, zs[j]
         if steepest < t_sep or sheetl[c] <= 0:
-            continue                               # a gentle lee: no separation
+            continue  # a gentle lee: no separation
         length = sed["separation_length"] * (zs[c] - trough)
         if cap > 0 and ampl[c] > 0:
             length = min(length, cap * ampl[c])
@@ -79,7 +80,7 @@ def lee_vortex_shear(tau, z, dx, u, sed, periodic=True, amplitude=0.0, mobility=
     if zones is None:
         zones = lee_zones(z, dx, u, sed, periodic, amplitude, mobility)
     taul = np.asarray(tau, float).tolist()
-    res = list(taul)                               # tau, with the lee zones written over it
+    res = list(taul)  # tau, with the lee zones written over it
     for c, d, sheet, st in zones:
         strength = sed["lee_vortex"] * sheet
         for j in st:

@@ -8,6 +8,7 @@ outside what the model was chosen on: it is warned, with the morfac that keeps i
 mobility 145 (d0 = 0.4 m, T = 1.5 s, 2.9 periods a ripple at morfac 10) the ripples coarsened to
 1.0 d0 at morfac 10 and kept 0.58-0.67 d0 at 3 (docs/sediment.md).
 """
+
 import functools
 import math
 import warnings
@@ -34,8 +35,9 @@ def reference_turnover():
     """bed_turnover of the calibration tunnel (6.8 wave periods)."""
     sed = dict(coupling.DEFAULTS, **coupling.WAVE_RIPPLES, morfac=CALIBRATION["morfac"])
     c = CALIBRATION
-    return bed_turnover(c["orbital_diameter"], c["period"], c["grain_diameter"],
-                        sed["grain_density"] / WATER["rho0"], sed)
+    return bed_turnover(
+        c["orbital_diameter"], c["period"], c["grain_diameter"], sed["grain_density"] / WATER["rho0"], sed
+    )
 
 
 def morfac_limit(sed, turnover):
@@ -49,9 +51,11 @@ def warn_fast_bed(sed, turnover, where):
     returns the largest morfac that keeps it as slow."""
     limit = morfac_limit(sed, turnover)
     if sed["morfac"] > limit:
-        warnings.warn(f"sediment.morfac = {sed['morfac']:g} moves the bed faster in each wave period than in the "
-                      f"default tunnel, where the ripple model was chosen ({where} the bed load moves a "
-                      f"ripple's sand in {turnover:.2g} periods at this morfac, against "
-                      f"{reference_turnover():.2g}): ripples may coarsen past their length (docs/sediment.md); "
-                      f"sediment.morfac = {math.floor(limit * 10) / 10:g} keeps it as slow")
+        warnings.warn(
+            f"sediment.morfac = {sed['morfac']:g} moves the bed faster in each wave period than in the "
+            f"default tunnel, where the ripple model was chosen ({where} the bed load moves a "
+            f"ripple's sand in {turnover:.2g} periods at this morfac, against "
+            f"{reference_turnover():.2g}): ripples may coarsen past their length (docs/sediment.md); "
+            f"sediment.morfac = {math.floor(limit * 10) / 10:g} keeps it as slow"
+        )
     return limit

@@ -3,6 +3,7 @@ coupling.BedCoupler): Swart's friction factor relates the bed shear to the orbit
 the wave boundary layer, which the SPH resolves only above its own near-wall layer of a few dx
 (measured in the tunnel: the velocity 1.5 dx up read 0.70 of U_m at dx = 1 cm and 0.65 at dx / 1.5;
 scaled from 6 dx up, 0.95 and 0.93; docs/sediment.md, "What the bed reads of the waves")."""
+
 import numpy as np
 
 
@@ -12,7 +13,7 @@ def running_mean(v, w, periodic):
     v = np.asarray(v, float)
     k = np.ones(w)
     if periodic:
-        pad = np.concatenate([v[-(w // 2):], v, v[:w // 2]])
+        pad = np.concatenate([v[-(w // 2) :], v, v[: w // 2]])
         return np.convolve(pad, k / w, mode="valid")
     return np.convolve(v, k, mode="same") / np.convolve(np.ones_like(v), k, mode="same")
 
@@ -37,21 +38,25 @@ class Window:
         self.t = np.empty(0)
         self.u = np.empty((0, n))
         self.uo = np.empty((0, n))
-        self.a = self.b = 0                  # the live rows: [a, b)
+        self.a = self.b = 0  # the live rows: [a, b)
 
     def append(self, t, u, uo):
-        if self.b == len(self.t):            # full: the live rows to the front of a larger buffer
+        if self.b == len(self.t):  # full: the live rows to the front of a larger buffer
             live = self.b - self.a
             cap = max(64, 2 * live)
             t_, u_, uo_ = np.empty(cap), np.empty((cap, self.n)), np.empty((cap, self.n))
-            t_[:live], u_[:live], uo_[:live] = self.t[self.a:self.b], self.u[self.a:self.b], self.uo[self.a:self.b]
+            t_[:live], u_[:live], uo_[:live] = (
+                self.t[self.a : self.b],
+                self.u[self.a : self.b],
+                self.uo[self.a : self.b],
+            )
             self.t, self.u, self.uo, self.a, self.b = t_, u_, uo_, 0, live
         self.t[self.b], self.u[self.b], self.uo[self.b] = t, u, uo
         self.b += 1
 
     def drop_before(self, t0):
         """Forget the rows older than t0 (the newest row always stays)."""
-        self.a += int(np.searchsorted(self.t[self.a:self.b - 1], t0, side="left"))
+        self.a += int(np.searchsorted(self.t[self.a : self.b - 1], t0, side="left"))
 
     @property
     def first(self):
@@ -59,11 +64,11 @@ class Window:
 
     @property
     def near(self):
-        return self.u[self.a:self.b]
+        return self.u[self.a : self.b]
 
     @property
     def outer(self):
-        return self.uo[self.a:self.b]
+        return self.uo[self.a : self.b]
 
 
 def outer_scale(window, amplitude, dx, periodic, heights):

@@ -3,13 +3,14 @@
 Each function takes and returns NumPy arrays (or floats) in SI units and cites its source;
 tests/sediment/test_bedload.py checks them against the formulae and their published values.
 """
+
 import math
 
 import numpy as np
 
 from ..constants import KAPPA, G
 
-NU_WATER = 1.0e-6   # kinematic viscosity of water at about 20 C (m2/s)
+NU_WATER = 1.0e-6  # kinematic viscosity of water at about 20 C (m2/s)
 
 
 def grain_roughness(d50):
@@ -44,7 +45,7 @@ def shear_waves(u, amplitude, d50, rho=1000.0):
 
 def dimensionless_grain_size(d50, s, nu=NU_WATER, g=G):
     """D* = d50 ((s - 1) g / nu^2)^(1/3)."""
-    return d50 * ((s - 1.0) * g / nu ** 2) ** (1.0 / 3.0)
+    return d50 * ((s - 1.0) * g / nu**2) ** (1.0 / 3.0)
 
 
 def shields_critical(d50, s, nu=NU_WATER, g=G):
@@ -70,7 +71,7 @@ def slope_factor(dzdx, direction, repose_deg):
 
 def transport_scale(d50, s, g=G):
     """sqrt((s - 1) g d50^3): the bed-load flux of Phi = 1 (m2/s)."""
-    return math.sqrt((s - 1.0) * g * d50 ** 3)
+    return math.sqrt((s - 1.0) * g * d50**3)
 
 
 def bedload_mpm(theta, theta_cr):
@@ -91,7 +92,7 @@ def settling_velocity(d50, s, nu=NU_WATER, g=G):
     """Settling velocity of a natural sand grain, Soulsby (1997):
     w_s = nu / d50 (sqrt(10.36^2 + 1.049 D*^3) - 10.36)."""
     D = dimensionless_grain_size(d50, s, nu, g)
-    return nu / d50 * (math.sqrt(10.36 ** 2 + 1.049 * D ** 3) - 10.36)
+    return nu / d50 * (math.sqrt(10.36**2 + 1.049 * D**3) - 10.36)
 
 
 def reference_concentration(theta, theta_cr, d50, s, a, porosity=0.4, nu=NU_WATER, g=G):
@@ -100,7 +101,7 @@ def reference_concentration(theta, theta_cr, d50, s, a, porosity=0.4, nu=NU_WATE
     T = (theta - theta_cr) / theta_cr; capped at the bed's own concentration 1 - n."""
     T = np.maximum(np.asarray(theta, float) - theta_cr, 0.0) / theta_cr
     D = dimensionless_grain_size(d50, s, nu, g)
-    return np.minimum(0.015 * d50 / a * T ** 1.5 / D ** 0.3, 1.0 - porosity)
+    return np.minimum(0.015 * d50 / a * T**1.5 / D**0.3, 1.0 - porosity)
 
 
 def rouse_profile(z, depth, a, c_a, w_s, ustar, kappa=KAPPA):
@@ -123,6 +124,8 @@ def ripple_turnover_periods(d0, T, d50, s, ripple_length, ripple_height, porosit
     factor assumes (Roelvink 2006)."""
     Um = math.pi * d0 / T
     fw = float(swart_friction_factor(0.5 * d0, d50))
-    theta = 0.5 * fw * Um * Um / ((s - 1.0) * G * d50) * np.sin((np.arange(400) + 0.5) * np.pi / 400) ** 2   # the half period's midpoints
+    theta = (
+        0.5 * fw * Um * Um / ((s - 1.0) * G * d50) * np.sin((np.arange(400) + 0.5) * np.pi / 400) ** 2
+    )  # the half period's midpoints
     q = float(np.mean(FORMULAE[formula](theta, shields_critical(d50, s)))) * transport_scale(d50, s)
     return (1.0 - porosity) * 0.5 * ripple_length * ripple_height / (q * T) if q > 0 else float("inf")

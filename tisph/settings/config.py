@@ -5,6 +5,7 @@ that exist there, with a value of the same type, inside the range a rule allows.
 checked in Python before Taichi compiles anything, so a typo is a one-line message, not a
 traceback.
 """
+
 from __future__ import annotations
 
 import copy
@@ -45,7 +46,7 @@ def describe_range(lo, hi, lo_inc, hi_inc):
 
 def _check_range(path, value, rng):
     lo, hi, lo_inc, hi_inc = rng
-    bad = (isinstance(value, float) and not math.isfinite(value))
+    bad = isinstance(value, float) and not math.isfinite(value)
     if lo is not None and (value < lo or (value == lo and not lo_inc)):
         bad = True
     if hi is not None and (value > hi or (value == hi and not hi_inc)):
@@ -55,8 +56,14 @@ def _check_range(path, value, rng):
 
 
 def _type_name(v):
-    return {bool: "true or false", int: "an integer", float: "a number", str: "a string",
-            list: "a list", dict: "a table"}.get(type(v), type(v).__name__)
+    return {
+        bool: "true or false",
+        int: "an integer",
+        float: "a number",
+        str: "a string",
+        list: "a list",
+        dict: "a table",
+    }.get(type(v), type(v).__name__)
 
 
 def _coerce(path, default, value):
@@ -100,8 +107,9 @@ def merge(base: dict, override: dict, prefix: str = "", errors=None) -> dict:
                 hint = f"did you mean '{prefix}{close[0]}'?" if close else ""
                 if prefix == "numerics." and key in TURBULENCE:
                     hint = "a turbulence key: this scene has no SPS turbulence (the pipeline has)"
-                raise ConfigError(path, value, "one of: " + ", ".join(sorted(f"{prefix}{k}" for k in base)),
-                                  hint or "unknown key")
+                raise ConfigError(
+                    path, value, "one of: " + ", ".join(sorted(f"{prefix}{k}" for k in base)), hint or "unknown key"
+                )
             if isinstance(base[key], Mapping):
                 if not isinstance(value, dict):
                     raise ConfigError(path, value, "a table")
@@ -142,13 +150,17 @@ def validate(cfg: dict, extra_ranges: dict | None = None, extra_choices: dict | 
                 check(path, prefix, k, v)
             except ConfigError as e:
                 errors.append(e)
+
     walk(cfg, "")
     out = cfg.get("output", {})
     box = "[x0, x1, y0, y1] in m with x0 < x1 and y0 < y1"
     for key, what in (("view", box), ("zoom", box), ("range", "[lo, hi] with lo < hi")):
         v, n = out.get(key), 2 if key == "range" else 4
-        if v and (len(v) != n or not all(isinstance(a, (int, float)) and not isinstance(a, bool) and math.isfinite(a)
-                                         for a in v) or any(v[k] >= v[k + 1] for k in range(0, n, 2))):
+        if v and (
+            len(v) != n
+            or not all(isinstance(a, (int, float)) and not isinstance(a, bool) and math.isfinite(a) for a in v)
+            or any(v[k] >= v[k + 1] for k in range(0, n, 2))
+        ):
             errors.append(ConfigError(f"output.{key}", v, f"{what}, or [] for the default"))
     raise_collected(errors)
     return cfg
@@ -204,8 +216,14 @@ def get_path(d: dict, path: str):
     return d
 
 
-def build_config(scene_defaults: dict, toml_path=None, overrides: dict | None = None,
-                 extra_ranges=None, extra_choices=None, errors=None) -> dict:
+def build_config(
+    scene_defaults: dict,
+    toml_path=None,
+    overrides: dict | None = None,
+    extra_ranges=None,
+    extra_choices=None,
+    errors=None,
+) -> dict:
     """Defaults <- TOML file (or its tables as a dict) <- CLI overrides (dotted paths), validated.
     errors: a list to collect the bad input in instead of raising it; each bad key then keeps its
     default, so that the scene's own checks can run on the rest and report theirs with it."""
@@ -232,7 +250,7 @@ def build_config(scene_defaults: dict, toml_path=None, overrides: dict | None = 
         try:
             set_path(cfg, e.field, copy.deepcopy(get_path(base, e.field)))
         except (KeyError, TypeError):
-            pass                                   # an unknown key: never merged
+            pass  # an unknown key: never merged
     return cfg
 
 
@@ -259,9 +277,12 @@ def dump_toml(d: dict, notes=None) -> str:
             return repr(v)
         if isinstance(v, str):
             return '"' + v.replace("\\", "\\\\").replace('"', '\\"') + '"'
-        if isinstance(v, (list, Mapping)):   # a table: an entry of a list of tables ([[solid]]), inline
-            return ("{" + ", ".join(f"{k} = {fmt(x)}" for k, x in v.items() if x is not None) + "}" if isinstance(v, Mapping)
-                    else "[" + ", ".join(fmt(x) for x in v) + "]")
+        if isinstance(v, (list, Mapping)):  # a table: an entry of a list of tables ([[solid]]), inline
+            return (
+                "{" + ", ".join(f"{k} = {fmt(x)}" for k, x in v.items() if x is not None) + "}"
+                if isinstance(v, Mapping)
+                else "[" + ", ".join(fmt(x) for x in v) + "]"
+            )
         raise TypeError(type(v))
 
     def table(prefix, t):

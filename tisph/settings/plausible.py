@@ -7,6 +7,7 @@ Lengths in tisph are metres. A laboratory case (the scenes here) has a water dep
 to metres and a dx of millimetres to centimetres; a case written in centimetres has its depth in
 tens and its dx in whole numbers, in millimetres both a thousand times too large.
 """
+
 import math
 import warnings
 
@@ -47,8 +48,10 @@ def height_guess(height, depth):
         return ""
     for unit, f in (("centimetres", 100.0), ("millimetres", 1000.0)):
         if height / f <= 0.8 * depth:
-            return (f" ({height:g} looks like {unit}: tisph reads metres, so {height / f:g} m here; the still "
-                    f"water is {depth:g} m deep)")
+            return (
+                f" ({height:g} looks like {unit}: tisph reads metres, so {height / f:g} m here; the still "
+                f"water is {depth:g} m deep)"
+            )
     return ""
 
 
@@ -72,13 +75,19 @@ def check_regular_waves(cfg, key, H, k, depth):
     limit = MICHE * math.tanh(k * depth)
     guess = unit_guess(cfg)
     if limit < H / L:
-        raise ConfigError(key, cfg.paddle[key.split(".")[1]],
-                          f"a wave no steeper than Miche's breaking limit 0.142 tanh(kh) = {limit:.3g}: this one is "
-                          f"H / L = {H:.3g} / {L:.3g} m = {H / L:.3g} (kh = {k * depth:.3g}){guess}")
+        raise ConfigError(
+            key,
+            cfg.paddle[key.split(".")[1]],
+            f"a wave no steeper than Miche's breaking limit 0.142 tanh(kh) = {limit:.3g}: this one is "
+            f"H / L = {H:.3g} / {L:.3g} m = {H / L:.3g} (kh = {k * depth:.3g}){guess}",
+        )
     if MIN_WAVELENGTH_H * h > L:
-        raise ConfigError("numerics.dx", cfg.numerics.dx,
-                          f"a dx whose smoothing length h = {h:.3g} m is at most a tenth of the wavelength, "
-                          f"{L:.3g} m ({L / h:.3g} h){guess}")
+        raise ConfigError(
+            "numerics.dx",
+            cfg.numerics.dx,
+            f"a dx whose smoothing length h = {h:.3g} m is at most a tenth of the wavelength, "
+            f"{L:.3g} m ({L / h:.3g} h){guess}",
+        )
 
 
 def warn_waves(cfg, H, k, depth, linear_metric=True):
@@ -87,13 +96,17 @@ def warn_waves(cfg, H, k, depth, linear_metric=True):
     dx = cfg.numerics.dx
     L = 2.0 * math.pi / k
     if MIN_HEIGHT_DX * dx > H:
-        warnings.warn(f"the wave height {H:.3g} m is {H / dx:.2g} dx: under {MIN_HEIGHT_DX:g} dx the waves lose "
-                      f"height as they run (measured: 20 % at three wavelengths at 2.4 dx); numerics.dx at most "
-                      f"{H / MIN_HEIGHT_DX:.3g} m resolves it")
-    ur = H * L * L / depth ** 3
+        warnings.warn(
+            f"the wave height {H:.3g} m is {H / dx:.2g} dx: under {MIN_HEIGHT_DX:g} dx the waves lose "
+            f"height as they run (measured: 20 % at three wavelengths at 2.4 dx); numerics.dx at most "
+            f"{H / MIN_HEIGHT_DX:.3g} m resolves it"
+        )
+    ur = H * L * L / depth**3
     if linear_metric and ur > URSELL_LINEAR:
-        warnings.warn(f"the Ursell number H L^2 / h^3 = {ur:.3g} is above {URSELL_LINEAR:g}: the waves are "
-                      "nonlinear (cnoidal), and Biesel's linear height is not what a gauge should read")
+        warnings.warn(
+            f"the Ursell number H L^2 / h^3 = {ur:.3g} is above {URSELL_LINEAR:g}: the waves are "
+            "nonlinear (cnoidal), and Biesel's linear height is not what a gauge should read"
+        )
 
 
 def warn_window(p, xs, cg, end_time, period, arrival, what="the waves"):
@@ -104,9 +117,11 @@ def warn_window(p, xs, cg, end_time, period, arrival, what="the waves"):
     x = max(xs)
     need = arrival(p, x, cg) + 3.0 * period
     if end_time < need:
-        warnings.warn(f"run.end_time = {end_time:g} s leaves {math.floor(10.0 * max(0.0, (end_time - arrival(p, x, cg)) / period)) / 10.0:g} "
-                      f"wave periods at the gauge at x = {x:g} m after {what} reach it: its height needs at "
-                      f"least 3; run.end_time = {math.ceil(need):g} s gives them")
+        warnings.warn(
+            f"run.end_time = {end_time:g} s leaves {math.floor(10.0 * max(0.0, (end_time - arrival(p, x, cg)) / period)) / 10.0:g} "
+            f"wave periods at the gauge at x = {x:g} m after {what} reach it: its height needs at "
+            f"least 3; run.end_time = {math.ceil(need):g} s gives them"
+        )
     return need
 
 
@@ -118,15 +133,22 @@ def warn_gauges(cfg, gauges, depth_at):
     end, dt = cfg.run.end_time, cfg.output.probe_interval
     dry = [q for q in gauges if q["type"] == "surface" and not depth_at(q["x"]) > 0]
     if dry:
-        warnings.warn("surface gauges " + ", ".join(f"{q['label']} (x = {q['x']:g} m)" for q in dry) + " stand on "
-                      "dry land at the start: no water under them, so their wave heights read nothing")
+        warnings.warn(
+            "surface gauges " + ", ".join(f"{q['label']} (x = {q['x']:g} m)" for q in dry) + " stand on "
+            "dry land at the start: no water under them, so their wave heights read nothing"
+        )
     late = [q for q in gauges if q["from_time"] >= end]
     if late:
-        warnings.warn("gauges " + ", ".join(f"{q['label']} (from_time = {q['from_time']:g} s)" for q in late) +
-                      f" start their statistics at or after run.end_time = {end:g} s: they report none")
+        warnings.warn(
+            "gauges "
+            + ", ".join(f"{q['label']} (from_time = {q['from_time']:g} s)" for q in late)
+            + f" start their statistics at or after run.end_time = {end:g} s: they report none"
+        )
     if gauges and all(end - q["from_time"] < 2 * dt for q in gauges):
-        warnings.warn(f"run.end_time = {end:g} s leaves no gauge two readings (one every output.probe_interval = "
-                      f"{dt:g} s after its from_time): summary.json will have no gauge metrics")
+        warnings.warn(
+            f"run.end_time = {end:g} s leaves no gauge two readings (one every output.probe_interval = "
+            f"{dt:g} s after its from_time): summary.json will have no gauge metrics"
+        )
 
 
 def warn_case_waves(cfg, H, k, depth, xs, cg, period, arrival):
@@ -134,4 +156,3 @@ def warn_case_waves(cfg, H, k, depth, xs, cg, period, arrival):
     xs (m in front of the paddle)."""
     warn_waves(cfg, H, k, depth)
     warn_window(cfg.paddle, [x for x in xs if x > 0], cg, cfg.run.end_time, period, arrival)
-

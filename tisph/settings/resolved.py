@@ -10,6 +10,7 @@ checkpoint, --describe) walk it as they walk the case file's tables. A table who
 not keys (materials: {name: material}), is a frozen mapping of its entries, read as
 cfg.materials["water"] or cfg.materials.water.
 """
+
 from __future__ import annotations
 
 import dataclasses
@@ -24,7 +25,7 @@ class Section(Mapping):
         return {f.name: getattr(self, f.name) for f in dataclasses.fields(self)}
 
     def __getitem__(self, key):
-        if key not in self.__dataclass_fields__:     # a field by name, no dict of them all built
+        if key not in self.__dataclass_fields__:  # a field by name, no dict of them all built
             raise KeyError(key)
         return getattr(self, key)
 
@@ -34,7 +35,7 @@ class Section(Mapping):
     def __len__(self):
         return len(self._data())
 
-    def __reduce__(self):          # generated classes are not importable by name: rebuild from the values
+    def __reduce__(self):  # generated classes are not importable by name: rebuild from the values
         return freeze, (thaw(self), self.__class__.__name__)
 
     def __deepcopy__(self, memo):  # frozen: a copy is itself
@@ -59,6 +60,7 @@ class Section(Mapping):
 
 class Table(Section):
     """A frozen mapping whose keys are names the user chose (materials), read either way."""
+
     __slots__ = ("_d",)
 
     def __init__(self, d):
@@ -84,6 +86,7 @@ class Resolved(Section):
     """The whole resolved case; notes: run.log's and --describe's lines on each value a resolving
     step chose (the scheme's, a scene's derived dx, the paddle's stroke); case_file: the case
     file it was read from ("" for a scene's defaults and flags)."""
+
     notes: tuple = ()
     case_file: str = ""
 
@@ -92,8 +95,13 @@ _CLASSES: dict = {}
 
 
 def _is_field(name) -> bool:
-    return (isinstance(name, str) and name.isidentifier() and not keyword.iskeyword(name)
-            and not name.startswith("_") and not hasattr(Section, name))
+    return (
+        isinstance(name, str)
+        and name.isidentifier()
+        and not keyword.iskeyword(name)
+        and not name.startswith("_")
+        and not hasattr(Section, name)
+    )
 
 
 def freeze(d, name="Resolved", notes=(), case_file="") -> Section:
@@ -106,8 +114,13 @@ def freeze(d, name="Resolved", notes=(), case_file="") -> Section:
     cls = _CLASSES.get(sig)
     if cls is None:
         cls = _CLASSES[sig] = dataclasses.make_dataclass(
-            name, [(k, type(v)) for k, v in values.items()], bases=(Resolved if top else Section,),
-            frozen=True, eq=False, repr=False)
+            name,
+            [(k, type(v)) for k, v in values.items()],
+            bases=(Resolved if top else Section,),
+            frozen=True,
+            eq=False,
+            repr=False,
+        )
     out = cls(**values)
     if top:
         object.__setattr__(out, "notes", tuple(notes))

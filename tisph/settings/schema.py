@@ -8,19 +8,21 @@ at once, each naming the key, the value and what is allowed, with a "did you mea
 guess (tisph/settings/config.py); a library's messages would need the same rewriting, and its types would
 be one more dependency for 40 lines.
 """
+
 from __future__ import annotations
 
 import dataclasses
 from collections.abc import Iterable, Iterator
 
-POSITIVE = (0.0, None, False, True)      # > 0
-NON_NEGATIVE = (0.0, None, True, True)   # >= 0
+POSITIVE = (0.0, None, False, True)  # > 0
+NON_NEGATIVE = (0.0, None, True, True)  # >= 0
 
 
 @dataclasses.dataclass(frozen=True)
 class Key:
     """A config key: its one default, unit ("" or "-": none), allowed range (lo, hi,
     lo_inclusive, hi_inclusive; None open) or choices, and what it means."""
+
     default: object
     unit: str = ""
     range: tuple | None = None
@@ -28,8 +30,9 @@ class Key:
     choices: tuple | None = None
 
 
-def K(default: object, doc: str = "", unit: str = "", range: tuple | None = None,
-      choices: Iterable | None = None) -> Key:
+def K(
+    default: object, doc: str = "", unit: str = "", range: tuple | None = None, choices: Iterable | None = None
+) -> Key:
     """A Key, written words first: K(0.5, "the tank's inside width", "m", POSITIVE)."""
     return Key(default, unit, range, doc, tuple(choices) if choices is not None else None)
 
@@ -75,10 +78,12 @@ def with_defaults(tree: dict, **defaults: object) -> dict:
     unknown = set(defaults) - set(tree)
     if unknown:
         raise KeyError(f"not keys of the table: {sorted(unknown)}")
+
     def new(v, d):
-        if isinstance(d, Key):      # a whole new key in its place
+        if isinstance(d, Key):  # a whole new key in its place
             return d
         return dataclasses.replace(v, default=d) if isinstance(v, Key) else d
+
     return {k: new(v, defaults[k]) if k in defaults else v for k, v in tree.items()}
 
 
@@ -87,6 +92,7 @@ class Param(Key):
     """A runtime parameter: a config Key (the one default, its unit and allowed range) the solver holds in a Taichi struct. A default may be 'dx' (the particle spacing) or a
     function (S, values) -> value. `key`: the config key that sets it; config.py takes that
     key's default, range and words from here, so they are written once."""
+
     unit: str = "-"
     range: tuple = (None, None, True, True)
     vector: bool = False

@@ -14,22 +14,41 @@ case file: the keys they leave unset then take that scheme's values (docs/engine
 # divergence under 1.0, the top row's 1.15), which ring without it; the water's viscosity and the
 # density diffusion evaluated every third acoustic step at most and held between (dual time
 # stepping, physics/dual.py; docs/performance.md)
-_DEFAULT = {"kernel": "wendland", "h_factor": 2.5, "wall": "adami", "wall_layers": 5, "laminar_viscosity": True,
-            "density_diffusion": "antuono", "delta": 0.1, "artificial_viscosity": 0.0,
-            "artificial_viscosity_surface": 0.1, "surface_divergence": 1.0, "xsph": 0.0, "shifting": 0.0,
-            "time_stepping": "dual"}
+_DEFAULT = {
+    "kernel": "wendland",
+    "h_factor": 2.5,
+    "wall": "adami",
+    "wall_layers": 5,
+    "laminar_viscosity": True,
+    "density_diffusion": "antuono",
+    "delta": 0.1,
+    "artificial_viscosity": 0.0,
+    "artificial_viscosity_surface": 0.1,
+    "surface_divergence": 1.0,
+    "xsph": 0.0,
+    "shifting": 0.0,
+    "time_stepping": "dual",
+}
 # what the presets share: dynamic walls, Fourtakas' diffusion, no drift correction, no surface alpha,
 # every term every step (as their cases were calibrated and validated)
-_DYNAMIC = dict(_DEFAULT, wall="dynamic", wall_layers=3, density_diffusion="fourtakas",
-                artificial_viscosity_surface=0.0, surface_divergence=1.5, time_stepping="single")
+_DYNAMIC = dict(
+    _DEFAULT,
+    wall="dynamic",
+    wall_layers=3,
+    density_diffusion="fourtakas",
+    artificial_viscosity_surface=0.0,
+    surface_divergence=1.5,
+    time_stepping="single",
+)
 # paper 002: Wendland (eq. 6) at h = 1.3 dx, laminar viscosity (eq. 10)
 _PAPER002 = dict(_DYNAMIC, h_factor=1.3)
 SCHEMES = {
     "default": _DEFAULT,
     # paper 000's Table 2 (h = 1.5 L0, XSPH 0.1) with alpha 0.02 and density diffusion: its dam
     # breaks on dry and wet beds and its hatch
-    "paper000": dict(_DYNAMIC, kernel="cubic", h_factor=1.5, laminar_viscosity=False, artificial_viscosity=0.02,
-                     xsph=0.1),
+    "paper000": dict(
+        _DYNAMIC, kernel="cubic", h_factor=1.5, laminar_viscosity=False, artificial_viscosity=0.02, xsph=0.1
+    ),
     "paper002": _PAPER002,
     # the numerics the sand bed's constants were calibrated with (docs/sediment.md): the tunnel's
     # and the beach's; a bed calibrated on one scheme is not carried to another untested. No

@@ -13,6 +13,7 @@ history: it lives in a per-particle list of contact partners (by particle id) th
 particle through every re-sort.
 Time step (eq. 27): dt <= dt_c / 20, dt_c = 2 pi sqrt(m_s / (2 k_n)).
 """
+
 import math
 
 import taichi as ti
@@ -27,14 +28,14 @@ def contact_force(kn, ks, eta_n, eta_s, mu, dc, r, v_ij, es_old, dt):
     es = 0.0
     on = False
     if 0.0 < rn < dc:
-        n = r / rn                                   # from j to i
+        n = r / rn  # from j to i
         t = ti.Vector([-n[1], n[0]])
         overlap = dc - rn
-        vn = v_ij.dot(n)                              # > 0: separating
+        vn = v_ij.dot(n)  # > 0: separating
         vt = v_ij.dot(t)
         en = kn * overlap
-        fn = en - eta_n * vn                          # repulsive when positive
-        es = es_old - ks * vt * dt                    # the spring resists the slip
+        fn = en - eta_n * vn  # repulsive when positive
+        es = es_old - ks * vt * dt  # the spring resists the slip
         if en < 0.0:
             fn = 0.0
             es = 0.0
@@ -43,7 +44,7 @@ def contact_force(kn, ks, eta_n, eta_s, mu, dc, r, v_ij, es_old, dt):
         if ti.abs(es) > lim:
             es = lim if es >= 0.0 else -lim
         fs = es - eta_s * vt
-        if ti.abs(fs) > lim:                          # the slider caps the dashpot too
+        if ti.abs(fs) > lim:  # the slider caps the dashpot too
             fs = lim if fs >= 0.0 else -lim
         f = ti.max(fn, 0.0) * n + fs * t
         on = True

@@ -11,6 +11,7 @@ and between a sediment particle i and a water particle j the force is
 so each side adds its own F / m and the pair's momentum is unchanged. Only particles within a
 kernel support of the other phase feel it: the interface, and grains lifted into the water.
 """
+
 import taichi as ti
 
 

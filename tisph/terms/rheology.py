@@ -5,6 +5,7 @@ Shear rate from the SPH velocity gradient, gamma_dot = sqrt(2 D:D) with D the st
 Paper 000 eq. 14 prints the last term as (du/dx + dv/dy)^2 and paper 002 eq. 31 adds a factor 2;
 both are typos for the second invariant above, which this uses.
 """
+
 import numpy as np
 import taichi as ti
 

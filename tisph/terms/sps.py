@@ -11,6 +11,7 @@ are the deviatoric part 2 nu_t (S - tr(S)/3 delta). Its divergence is taken in t
 SPH form sum_j m_j (tau_i/rho_i^2 + tau_j/rho_j^2) . grad W_ij, which conserves momentum.
 The stress is evaluated from the velocity gradient of the previous force pass (one dt behind).
 """
+
 import taichi as ti
 
 CS, CI = 0.12, 0.0066

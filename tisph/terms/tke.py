@@ -33,15 +33,16 @@ never in an equilibrium wall layer (there nu_t = l^2 |S| = C_lim times the cap).
 k-epsilon and Wilcox's k-omega 2006, which Mathieu et al. (2019, Water 11:1727) compare on Mao's
 pipeline; here omega with the limiter is what let Mao's pipe shed over a fixed bed (docs/sediment.md).
 """
+
 import taichi as ti
 
 from ..constants import SQRT_CMU
 from .sps import eddy_stress, strain2  # noqa: F401  (strain2: |S|^2, shared with the SPS)
 
-CMU14 = 0.5477226    # C_mu^(1/4)
-CMU34 = 0.1643168    # C_mu^(3/4)
+CMU14 = 0.5477226  # C_mu^(1/4)
+CMU34 = 0.1643168  # C_mu^(3/4)
 SIGMA_K = 1.0
-K_FLOOR = 1e-10      # m2/s2: k = 0 is a fixed point of the equation (no nu_t, no production)
+K_FLOOR = 1e-10  # m2/s2: k = 0 is a fixed point of the equation (no nu_t, no production)
 
 
 @ti.func

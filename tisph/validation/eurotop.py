@@ -9,6 +9,7 @@ attack. The formulas are fitted to irregular waves; fed a regular wave's H and T
 order of the discharge, not a prediction to a few per cent (their own scatter is a factor of about
 two either way at one standard deviation, EurOtop 2018 section 5.3).
 """
+
 import math
 
 
@@ -17,8 +18,8 @@ def mean_discharge(hm0, period, cot_slope, freeboard, g=9.81, roughness=1.0):
     tan_a = 1.0 / cot_slope
     L = g * period * period / (2 * math.pi)
     xi = tan_a / math.sqrt(hm0 / L)
-    scale = math.sqrt(g * hm0 ** 3)
+    scale = math.sqrt(g * hm0**3)
     rc = max(freeboard, 0.0)
-    breaking = 0.023 / math.sqrt(tan_a) * xi * math.exp(-(2.7 * rc / (xi * hm0 * roughness)) ** 1.3)
-    top = 0.09 * math.exp(-(1.5 * rc / (hm0 * roughness)) ** 1.3)
+    breaking = 0.023 / math.sqrt(tan_a) * xi * math.exp(-((2.7 * rc / (xi * hm0 * roughness)) ** 1.3))
+    top = 0.09 * math.exp(-((1.5 * rc / (hm0 * roughness)) ** 1.3))
     return (breaking * scale, "breaking") if breaking <= top else (top * scale, "non-breaking")

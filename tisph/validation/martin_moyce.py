@@ -5,6 +5,7 @@ rigid horizontal plane", Phil. Trans. R. Soc. Lond. A 244 (1952) 312-324, Table 
 (n^2 = 2, column height 2a, width a). T = t sqrt(2 g / a), Z = x / a with x the front position
 measured from the back wall.
 """
+
 import numpy as np
 
 T = np.array([0.41, 0.84, 1.19, 1.43, 1.63, 1.83, 1.98, 2.20, 2.32, 2.51, 2.65, 2.83, 2.98, 3.11, 3.33])

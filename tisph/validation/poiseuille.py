@@ -6,6 +6,7 @@ Steady state (Bird, Stewart & Lightfoot; Chhabra & Richardson for the Bingham pl
 tau_y < G b a plug of half-width y0 = tau_y / G moves at u_p = G (b - y0)^2 / (2 mu_p); outside it
 u(y) = G (b^2 - y^2) / (2 mu_p) - tau_y (b - |y|) / mu_p. tau_y = 0 is the Newtonian parabola.
 """
+
 import copy
 import os
 import sys
@@ -37,30 +38,44 @@ def fit_plug(y, u, G, b, mu_p):
     return float(cands[int(np.argmin(err))])
 
 
-
-
 class Poiseuille(Scene):
     """Plane Poiseuille flow, Newtonian or Bingham: an exact check of the viscous and rheology terms."""
+
     NAME = "poiseuille"
 
     # where the scene departs from its scheme (tisph/settings/schemes.py), and why
-    DEPARTS = {"density_diffusion": "Molteni's term: a periodic channel without gravity has no hydrostatic part to "
-                                    "remove"}
+    DEPARTS = {
+        "density_diffusion": "Molteni's term: a periodic channel without gravity has no hydrostatic part to remove"
+    }
 
     SCHEMA = {
-        "run": {"end_time": K(5.0, "five times the slowest viscous decay time 4 b^2 / (pi^2 nu) = 1 s: steady to "
-                                "0.7 %", "s")},
+        "run": {
+            "end_time": K(
+                5.0, "five times the slowest viscous decay time 4 b^2 / (pi^2 nu) = 1 s: steady to 0.7 %", "s"
+            )
+        },
         "numerics": numerics("paper002", dx=0.005, density_diffusion="molteni"),
         "geometry": {
             "half_width": K(0.05, "b, the channel's half width", "m", POSITIVE),
             "length": K(0.04, "periodic length", "m", POSITIVE),
             "pressure_gradient": K(1000.0, "G, the driving pressure gradient", "Pa/m", POSITIVE),
         },
-        "materials": {"fluid": {
-            "rho0": 1000.0, "viscosity": 1.0, "rheology": "bingham", "yield_stress": 10.0, "regularisation": 100.0,
-            # in the plug the stress is below tau_y, so the shear rate there is <= tau_y / mu_max
-            "mu_max": K(25.0, "bounds the plug's viscosity (25 x mu_p) so the viscous time step stays at the CFL "
-                          "step (Pa s; > 0 here)", range=POSITIVE)}},
+        "materials": {
+            "fluid": {
+                "rho0": 1000.0,
+                "viscosity": 1.0,
+                "rheology": "bingham",
+                "yield_stress": 10.0,
+                "regularisation": 100.0,
+                # in the plug the stress is below tau_y, so the shear rate there is <= tau_y / mu_max
+                "mu_max": K(
+                    25.0,
+                    "bounds the plug's viscosity (25 x mu_p) so the viscous time step stays at the CFL "
+                    "step (Pa s; > 0 here)",
+                    range=POSITIVE,
+                ),
+            }
+        },
         "output": {"frame_interval": 0.25, "probe_interval": 0.05, "render": False, "snapshot_every": 0.0},
     }
 
@@ -69,11 +84,16 @@ class Poiseuille(Scene):
         f = cfg.materials.fluid
         resolves(2 * g.half_width, 8, "the channel", dx)
         if f.yield_stress >= g.pressure_gradient * g.half_width:
-            raise ConfigError("materials.fluid.yield_stress", f.yield_stress,
-                              f"below G b = {g.pressure_gradient * g.half_width:g} Pa (else nothing flows)")
+            raise ConfigError(
+                "materials.fluid.yield_stress",
+                f.yield_stress,
+                f"below G b = {g.pressure_gradient * g.half_width:g} Pa (else nothing flows)",
+            )
         h = cfg.numerics.h_factor * dx
         if g.length < 5 * h:
-            raise ConfigError("geometry.length", g.length, f"at least 5 h = {5 * h:g} m (five cells of the periodic grid)")
+            raise ConfigError(
+                "geometry.length", g.length, f"at least 5 h = {5 * h:g} m (five cells of the periodic grid)"
+            )
 
     def build(self, cfg):
         geo, num = cfg.geometry, cfg.numerics
@@ -99,8 +119,16 @@ class Poiseuille(Scene):
         ps.add(high, WALL, 0, rho0, rho0 * dx * dx, normal=(0.0, -1.0), wall_dist=high[:, 1] - 2 * b)
         params = common_params(cfg, c0, 0.0, depth=2 * b)
         params["g"] = (G / rho0, 0.0)
-        mat = dict(name="fluid", rho0=rho0, viscosity=mu, B=tait_B(rho0, c0), rheology=f["rheology"],
-                   yield_stress=f["yield_stress"], regularisation=f["regularisation"], mu_max=f["mu_max"])
+        mat = dict(
+            name="fluid",
+            rho0=rho0,
+            viscosity=mu,
+            B=tait_B(rho0, c0),
+            rheology=f["rheology"],
+            yield_stress=f["yield_stress"],
+            regularisation=f["regularisation"],
+            mu_max=f["mu_max"],
+        )
         for k in ("mu0", "K"):
             if k in f:
                 mat[k] = f[k]
@@ -112,7 +140,9 @@ class Poiseuille(Scene):
             y = st["x"][fl, 1] - b
             edges = np.linspace(-b, b, int(round(2 * b / dx)) + 1)
             idx = np.clip(np.digitize(y, edges) - 1, 0, len(edges) - 2)
-            u = np.array([st["v"][fl, 0][idx == k].mean() if np.any(idx == k) else np.nan for k in range(len(edges) - 1)])
+            u = np.array(
+                [st["v"][fl, 0][idx == k].mean() if np.any(idx == k) else np.nan for k in range(len(edges) - 1)]
+            )
             return 0.5 * (edges[1:] + edges[:-1]), u
 
         result = {}
@@ -125,23 +155,46 @@ class Poiseuille(Scene):
         def metrics(cols):
             y, u = result["y"], result["u"]
             ue = exact(y, G, b, mu, tau)
-            l2 = float(np.sqrt(np.nansum((u - ue) ** 2) / np.sum(ue ** 2)))
+            l2 = float(np.sqrt(np.nansum((u - ue) ** 2) / np.sum(ue**2)))
             y0 = fit_plug(y, np.nan_to_num(u), G, b, mu)
-            return dict(velocity_l2_error=l2, plug_half_width=y0, plug_half_width_exact=y0_exact,
-                        plug_width_error=abs(y0 - y0_exact) / b, u_max=float(np.nanmax(u)),
-                        u_max_exact=float(exact(0.0, G, b, mu, tau)))
+            return dict(
+                velocity_l2_error=l2,
+                plug_half_width=y0,
+                plug_half_width_exact=y0_exact,
+                plug_width_error=abs(y0 - y0_exact) / b,
+                u_max=float(np.nanmax(u)),
+                u_max_exact=float(exact(0.0, G, b, mu, tau)),
+            )
 
         def finalize(out, metrics):
             y, u = result["y"], result["u"]
-            write_profile(os.path.join(out, "profile.csv"), y, u, exact(y, G, b, mu, tau), names=("y", "u_sph", "u_exact"))
+            write_profile(
+                os.path.join(out, "profile.csv"), y, u, exact(y, G, b, mu, tau), names=("y", "u_sph", "u_exact")
+            )
             yf = np.linspace(-b, b, 400)
             label = f"tau_y = {tau:g} Pa, dx = {dx:g} m: L2 error {metrics['velocity_l2_error']:.3%}"
-            plot_profiles(os.path.join(out, "profile.png"), [(label, y, u, yf, exact(yf, G, b, mu, tau))],
-                          "y (m)", "u (m/s)", "plane Poiseuille flow: tisph against the exact solution")
+            plot_profiles(
+                os.path.join(out, "profile.png"),
+                [(label, y, u, yf, exact(yf, G, b, mu, tau))],
+                "y (m)",
+                "u (m/s)",
+                "plane Poiseuille flow: tisph against the exact solution",
+            )
 
-        return make_case(name=self.NAME, particles=ps, materials=[mat], domain=domain, params=params,
-                    physics=physics_from_config(cfg, periodic_x=True, noslip=True), view=((0, -T), (L, 2 * b + T)),
-                    u_max=u_max, probe_columns=("u_max",), probe=probe, metrics=metrics, finalize=finalize)
+        return make_case(
+            name=self.NAME,
+            particles=ps,
+            materials=[mat],
+            domain=domain,
+            params=params,
+            physics=physics_from_config(cfg, periodic_x=True, noslip=True),
+            view=((0, -T), (L, 2 * b + T)),
+            u_max=u_max,
+            probe_columns=("u_max",),
+            probe=probe,
+            metrics=metrics,
+            finalize=finalize,
+        )
 
 
 SCENE = Poiseuille()
@@ -158,7 +211,7 @@ def main(argv=None):
                 print(f"python -m tisph.validation.poiseuille: error: {flag} needs a value", file=sys.stderr)
                 return 2
             extra.append((key, argv[i + 1]))
-            del argv[i:i + 2]
+            del argv[i : i + 2]
     scene = SCENE
     if extra:
         d = copy.deepcopy(SCENE.DEFAULTS)
@@ -166,11 +219,10 @@ def main(argv=None):
             try:
                 d["materials"]["fluid"][key] = float(val) if key == "yield_stress" else val
             except ValueError:
-                print(f"python -m tisph.validation.poiseuille: error: {key} = {val!r} is not a number",
-                      file=sys.stderr)
+                print(f"python -m tisph.validation.poiseuille: error: {key} = {val!r} is not a number", file=sys.stderr)
                 return 2
         scene = copy.copy(SCENE)
-        scene.DEFAULTS = d          # this run's defaults: the flags' material
+        scene.DEFAULTS = d  # this run's defaults: the flags' material
     return run_scene(scene, argv)
 
 

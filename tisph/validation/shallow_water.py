@@ -8,6 +8,7 @@ and momentum (the hydraulic-jump relation for a bore into still water) closes th
     h_m / hd = (sqrt(1 + 8 s^2 / (g hd)) - 1) / 2.
 x is measured from the dam, positive downstream.
 """
+
 import math
 
 import numpy as np
@@ -65,7 +66,7 @@ def depth(x, t, h0, hd, g=G):
         h[fan] = (2 * c0 - x[fan] / t) ** 2 / (9 * g)
         return h
     cm = math.sqrt(g * hm)
-    xa = (um - cm) * t          # tail of the rarefaction
+    xa = (um - cm) * t  # tail of the rarefaction
     fan = (x > -c0 * t) & (x <= xa)
     h[fan] = (2 * c0 - x[fan] / t) ** 2 / (9 * g)
     h[(x > xa) & (x < s * t)] = hm

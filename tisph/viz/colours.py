@@ -1,12 +1,22 @@
 """The frames' colours: viridis and a diverging map, the particle kinds' plain colours, and the
 vorticity a panel is coloured by."""
+
 import numpy as np
 
 # Viridis, sampled at 9 points (matplotlib's data), interpolated linearly.
-_VIRIDIS = np.array([
-    [0.267, 0.005, 0.329], [0.283, 0.141, 0.458], [0.254, 0.265, 0.530], [0.207, 0.372, 0.553],
-    [0.164, 0.471, 0.558], [0.128, 0.567, 0.551], [0.135, 0.659, 0.518], [0.478, 0.821, 0.318],
-    [0.993, 0.906, 0.144]])
+_VIRIDIS = np.array(
+    [
+        [0.267, 0.005, 0.329],
+        [0.283, 0.141, 0.458],
+        [0.254, 0.265, 0.530],
+        [0.207, 0.372, 0.553],
+        [0.164, 0.471, 0.558],
+        [0.128, 0.567, 0.551],
+        [0.135, 0.659, 0.518],
+        [0.478, 0.821, 0.318],
+        [0.993, 0.906, 0.144],
+    ]
+)
 BACKGROUND = (1.0, 1.0, 1.0)
 BOUNDARY = (0.55, 0.55, 0.55)
 WATER = (0.36, 0.62, 0.90)
@@ -22,8 +32,9 @@ def colormap(values):
     return _VIRIDIS[i] * (1 - f) + _VIRIDIS[i + 1] * f
 
 
-_DIVERGING = np.array([[0.23, 0.30, 0.75], [0.55, 0.69, 0.99], [0.87, 0.87, 0.87], [0.96, 0.60, 0.48],
-                       [0.71, 0.02, 0.15]])   # blue - grey - red, for signed fields
+_DIVERGING = np.array(
+    [[0.23, 0.30, 0.75], [0.55, 0.69, 0.99], [0.87, 0.87, 0.87], [0.96, 0.60, 0.48], [0.71, 0.02, 0.15]]
+)  # blue - grey - red, for signed fields
 
 
 def diverging(values):

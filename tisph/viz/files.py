@@ -1,5 +1,6 @@
 """The frames' files: PNG written under a temporary name and renamed, the MP4 through
 imageio-ffmpeg likewise."""
+
 import os
 import warnings
 
@@ -8,6 +9,7 @@ from ..io import OutputError, atomic_path
 
 def write_png(path, img):
     import imageio.v2 as imageio
+
     try:
         with atomic_path(path) as tmp:
             # zlib level 3: a frame in half the time of the default 6, a fifth larger
@@ -21,13 +23,21 @@ class MovieWriter:
 
     def __init__(self, path, fps):
         import imageio.v2 as imageio
+
         self.path = path
         self.tmp = self.tmp_path(path)
         self.writer = None
         try:
-            self.writer = imageio.get_writer(self.tmp, format="FFMPEG", fps=fps, codec="libx264",
-                                             pixelformat="yuv420p", macro_block_size=16,
-                                             ffmpeg_log_level="error", quality=7)
+            self.writer = imageio.get_writer(
+                self.tmp,
+                format="FFMPEG",
+                fps=fps,
+                codec="libx264",
+                pixelformat="yuv420p",
+                macro_block_size=16,
+                ffmpeg_log_level="error",
+                quality=7,
+            )
         except Exception as e:  # no ffmpeg binary: frames are still written
             warnings.warn(f"MP4 disabled: {e}")
 

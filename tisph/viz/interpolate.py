@@ -1,11 +1,12 @@
 """A particle field interpolated onto a panel's pixels with the SPH kernel, for frames drawn as
 continuous fields (tisph/viz/render.py) rather than discs."""
+
 import numpy as np
 
 from ..kernels import CubicSpline2D as K
 
-SHEPARD_CUT = 0.35   # the water ends where the kernel sum falls under this: 0.5 a free surface's
-                     # half spacing out, a lone droplet 0.45 at its centre (it stays drawn)
+SHEPARD_CUT = 0.35  # the water ends where the kernel sum falls under this: 0.5 a free surface's
+# half spacing out, a lone droplet 0.45 at its centre (it stays drawn)
 
 
 def kernel_image(x, f, origin, scale, dx, W, H, ey=1.0):
@@ -15,7 +16,7 @@ def kernel_image(x, f, origin, scale, dx, W, H, ey=1.0):
     top to bottom, inside where the sum reaches SHEPARD_CUT. Summed on a grid of about a third of
     the support a cell, every cell offset at once, then bilinear onto the pixels (a zoom's kernel
     spans many)."""
-    g = max(1, int(round(K.support * dx * scale / 3)))           # px a grid cell
+    g = max(1, int(round(K.support * dx * scale / 3)))  # px a grid cell
     cell = g / scale
     gw, gh = -(-W // g), -(-H // g)
     px, py = (x[:, 0] - origin[0]) / cell - 0.5, ey * (x[:, 1] - origin[1]) / cell - 0.5
@@ -23,12 +24,12 @@ def kernel_image(x, f, origin, scale, dx, W, H, ey=1.0):
     ry = int(np.ceil(ey * K.support * dx / cell))
     near = (px > -rc - 1) & (px < gw + rc) & (py > -ry - 1) & (py < gh + ry)
     px, py, f = px[near], py[near], f[near]
-    oy, ox = (o.ravel() for o in np.mgrid[-ry:ry + 2, -rc:rc + 2])
+    oy, ox = (o.ravel() for o in np.mgrid[-ry : ry + 2, -rc : rc + 2])
     ix = np.floor(px).astype(int)[:, None] + ox[None, :]
     iy = np.floor(py).astype(int)[:, None] + oy[None, :]
     q = np.hypot(ix - px[:, None], (iy - py[:, None]) / ey) * (cell / dx)
     ok = (q < K.support) & (ix >= 0) & (ix < gw) & (iy >= 0) & (iy < gh)
-    w, idx = K.sigma * K.shape_np(q[ok]), (iy * gw + ix)[ok]     # sigma / h^2 times V = dx^2
+    w, idx = K.sigma * K.shape_np(q[ok]), (iy * gw + ix)[ok]  # sigma / h^2 times V = dx^2
     den = np.bincount(idx, weights=w, minlength=gw * gh).reshape(gh, gw)
     num = np.bincount(idx, weights=w * np.broadcast_to(f[:, None], ok.shape)[ok], minlength=gw * gh).reshape(gh, gw)
     if g > 1:

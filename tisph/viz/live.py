@@ -1,5 +1,6 @@
 """--live: a window that shows each frame as it is rendered (Taichi's ti.GUI), for every scene and
 for `python -m tisph.view --all`. Off by default; without a display it is refused up front."""
+
 import ctypes
 import ctypes.util
 import os
@@ -7,8 +8,7 @@ import sys
 
 import numpy as np
 
-RUN_FILES = ("look at OUT/frames/ and OUT/<scene>.mp4, or render the snapshots again with python -m "
-             "tisph.view OUT --all")
+RUN_FILES = "look at OUT/frames/ and OUT/<scene>.mp4, or render the snapshots again with python -m tisph.view OUT --all"
 
 
 def display_problem(instead=RUN_FILES):
@@ -18,13 +18,14 @@ def display_problem(instead=RUN_FILES):
     if sys.platform in ("darwin", "win32"):
         return None
     name = os.environ.get("DISPLAY", "")
-    hint = ("--live needs a display to open a window; this machine has {} The frames are written all "
-            "the same: " + instead).format
+    hint = (
+        "--live needs a display to open a window; this machine has {} The frames are written all the same: " + instead
+    ).format
     if not name:
         return hint("none (no DISPLAY).")
     lib = ctypes.util.find_library("X11")
     if lib is None:
-        return None     # cannot check here; Taichi's GUI reports it if the display fails
+        return None  # cannot check here; Taichi's GUI reports it if the display fails
     x11 = ctypes.CDLL(lib)
     x11.XOpenDisplay.restype = ctypes.c_void_p
     x11.XOpenDisplay.argtypes = [ctypes.c_char_p]
@@ -47,6 +48,7 @@ class LiveWindow:
         if self.closed:
             return
         import taichi as ti
+
         h, w = img.shape[:2]
         if self.gui is None:
             self.gui = ti.GUI(self.title, res=(w, h), show_gui=True, fast_gui=False)

@@ -2,6 +2,7 @@
 interpolated by the kernel (tisph/viz/interpolate.py), the rest as discs (no window, no GPU; the
 live run and tisph.view share it); PIL adds the labels and colour bars; tisph/viz/files.py writes
 the PNG frames and the MP4."""
+
 import dataclasses
 
 import numpy as np
@@ -13,12 +14,17 @@ from .interpolate import kernel_image
 from .style import Style, style_of
 from .ticks import draw_axes, nice_ticks  # noqa: F401 (re-exported)
 
-FIELDS = ("speed", "pressure", "density", "material", "vorticity", "concentration")   # output.field
-UNITS = {"speed": "|u| (m/s)", "pressure": "p (kPa)", "density": "rho (kg/m3)", "vorticity": "curl u (1/s)",
-         "concentration": "sand (%, log)"}
-DECADES = 3   # a concentration panel spans three decades below its top: suspended sand falls off
-              # exponentially with height (Rouse), so a linear scale shows only the bed's layer
-STATE = ("x", "v", "p", "rho", "kind", "mat")   # what a frame reads (and io.OPTIONAL where a case has it)
+FIELDS = ("speed", "pressure", "density", "material", "vorticity", "concentration")  # output.field
+UNITS = {
+    "speed": "|u| (m/s)",
+    "pressure": "p (kPa)",
+    "density": "rho (kg/m3)",
+    "vorticity": "curl u (1/s)",
+    "concentration": "sand (%, log)",
+}
+DECADES = 3  # a concentration panel spans three decades below its top: suspended sand falls off
+# exponentially with height (Rouse), so a linear scale shows only the bed's layer
+STATE = ("x", "v", "p", "rho", "kind", "mat")  # what a frame reads (and io.OPTIONAL where a case has it)
 
 
 class Renderer:
@@ -39,10 +45,10 @@ class Renderer:
         dx, modes = s.dx, s.modes
         (x0, y0), (x1, y1) = view
         self.exaggeration = E = float(s.exaggeration)
-        aspect = (x1 - x0) / (E * (y1 - y0))            # as drawn, before any air is added
+        aspect = (x1 - x0) / (E * (y1 - y0))  # as drawn, before any air is added
         W = max(16, int(s.width) // 16 * 16)
         self.scale = W / (x1 - x0)
-        self.yscale = E * self.scale                    # px a metre of height
+        self.yscale = E * self.scale  # px a metre of height
         H = max(16, int(round((y1 - y0) * self.yscale / 16)) * 16)
         if s.min_height > H:
             H = int(np.ceil(s.min_height / 16)) * 16
@@ -58,25 +64,26 @@ class Renderer:
                 raise ValueError(f"render mode {m!r}: expected one of {sorted(MODES)}")
         self.modes = tuple(modes)
         self.vrange = tuple(s.vrange) if s.vrange else None
-        self.pressure_scale = float(s.pressure_scale)   # 0: from the water in view in the first frame
+        self.pressure_scale = float(s.pressure_scale)  # 0: from the water in view in the first frame
         self.mat_colors = list(s.mat_colors or [])
         self.bed_panel, self.bed_label, self.bed_surface = s.bed_panel, s.bed_label, s.bed_surface
-        self._live = (None, None)       # this frame's bed surface and bed change (live_inputs)
+        self._live = (None, None)  # this frame's bed surface and bed change (live_inputs)
         # the solids filled as drawn, not their wall particles (a slope's are stairs a spacing high)
         self.solid_region, self._solid_px, self._walls = s.solid_region, None, None
         # m: the bed panel's half-height: the step that holds bed_range, fixed for the movie; or, with
         # none given, the step that holds the bed so far, only ever growing
         self.bed_fixed = s.bed_range > 0
-        self.bed_range = (next((r for r in self.BED_RANGE if s.bed_range <= r), self.BED_RANGE[-1])
-                          if self.bed_fixed else 0.0)
+        self.bed_range = (
+            next((r for r in self.BED_RANGE if s.bed_range <= r), self.BED_RANGE[-1]) if self.bed_fixed else 0.0
+        )
         self.font_px = max(11, W // 85)
-        self.BAR = int(np.ceil(7 * self.font_px / 16)) * 16     # strips in multiples of 16 px (the MP4's blocks)
+        self.BAR = int(np.ceil(7 * self.font_px / 16)) * 16  # strips in multiples of 16 px (the MP4's blocks)
         self.strip = int(np.ceil(1.8 * self.font_px / 16)) * 16
         r, ry = int(np.ceil(self.radius)), int(np.ceil(self.radius * E))
-        oy, ox = np.mgrid[-ry:ry + 1, -r:r + 1]
-        keep = ox ** 2 + (oy / E) ** 2 <= self.radius ** 2     # a disc drawn E times as tall
+        oy, ox = np.mgrid[-ry : ry + 1, -r : r + 1]
+        keep = ox**2 + (oy / E) ** 2 <= self.radius**2  # a disc drawn E times as tall
         self.offsets = np.column_stack([ox[keep], oy[keep]])
-        self.bars = []                  # (title, lo, hi, cmap) of each panel's colour bar, None: none
+        self.bars = []  # (title, lo, hi, cmap) of each panel's colour bar, None: none
         self._speed_hi = max(self.speed_scale, 1e-6)
         # metre axes: a strip left of the panels for z, one under each particle panel for x
         self.LEFT = int(np.ceil(4.2 * self.font_px / 16)) * 16 if s.axes else 0
@@ -84,9 +91,19 @@ class Renderer:
         # a window at true scale under the rest (the beach's ripples), its own colour field
         self.zoom = None
         if s.zoom is not None:
-            self.zoom = Renderer(s.zoom, Style(width=W, dx=dx, speed_scale=s.speed_scale, modes=(s.zoom_field,),
-                                               axes=False, bed_surface=s.bed_surface, solid_region=s.solid_region))
-        self.panels = []                # (top row, height, view, bar) of each panel of the last frame
+            self.zoom = Renderer(
+                s.zoom,
+                Style(
+                    width=W,
+                    dx=dx,
+                    speed_scale=s.speed_scale,
+                    modes=(s.zoom_field,),
+                    axes=False,
+                    bed_surface=s.bed_surface,
+                    solid_region=s.solid_region,
+                ),
+            )
+        self.panels = []  # (top row, height, view, bar) of each panel of the last frame
         self.marks, self.zones = tuple(s.marks), tuple(s.zones)
         # a long view (a flume) in rows, each a stretch of it at a readable scale, where it is the
         # frame's one panel (no second field, bed panel or zoom window along the whole length)
@@ -110,27 +127,27 @@ class Renderer:
         return self.strip
 
     def _colour_range(self, field, values):
-        if self.vrange:   # in the unit the colour bar shows: kPa for pressure
+        if self.vrange:  # in the unit the colour bar shows: kPa for pressure
             lo, hi = self.vrange
-            if field == "concentration" and lo <= 0:   # a log scale: DECADES below the top
-                return hi * 10.0 ** -DECADES, hi
+            if field == "concentration" and lo <= 0:  # a log scale: DECADES below the top
+                return hi * 10.0**-DECADES, hi
             return (1000.0 * lo, 1000.0 * hi) if field == "pressure" else self.vrange
         if field == "speed":
             hi = self.speed_scale if self.speed_scale > 0 else float(np.percentile(values, 99)) if len(values) else 1.0
             return 0.0, max(hi, 1e-6)
-        if field == "pressure":   # the water's, not the walls' (whose pressure can be several times it)
-            if not self.pressure_scale and len(values):   # the first frame's (at rest: rho g depth), then held
+        if field == "pressure":  # the water's, not the walls' (whose pressure can be several times it)
+            if not self.pressure_scale and len(values):  # the first frame's (at rest: rho g depth), then held
                 self.pressure_scale = max(float(np.percentile(values, 99.5)), 1e-6)
             return 0.0, max(self.pressure_scale or 1.0, 1e-6)
         if field == "vorticity":
-            if self.speed_scale > 0:       # one range for the movie: the colour bar's top speed over 10 dx
+            if self.speed_scale > 0:  # one range for the movie: the colour bar's top speed over 10 dx
                 return -self.speed_scale / (10.0 * self.dx), self.speed_scale / (10.0 * self.dx)
             w = float(np.percentile(np.abs(values), 98)) if len(values) else 1.0
             return -max(w, 1e-6), max(w, 1e-6)
         if field == "concentration":
             hi = max(float(np.percentile(values, 99.5)) if len(values) else 0.0, 1e-6)
-            return hi * 10.0 ** -DECADES, hi
-        lo, hi = (np.percentile(values, [1, 99]) if len(values) else (0.0, 1.0))
+            return hi * 10.0**-DECADES, hi
+        lo, hi = np.percentile(values, [1, 99]) if len(values) else (0.0, 1.0)
         return float(lo), float(max(hi, lo + 1e-6))
 
     def _colours(self, mode, st):
@@ -144,13 +161,17 @@ class Renderer:
         field = {"phase": "speed", "flat": None, "material": None}.get(mode, mode)
         speed = np.hypot(st["v"][:, 0], st["v"][:, 1])
         if field is not None:
-            vals = {"speed": speed, "pressure": st["p"], "density": st["rho"],
-                    "concentration": 100.0 * st["c"] if "c" in st else np.zeros(len(kind))}.get(field)
+            vals = {
+                "speed": speed,
+                "pressure": st["p"],
+                "density": st["rho"],
+                "concentration": 100.0 * st["c"] if "c" in st else np.zeros(len(kind)),
+            }.get(field)
             if field == "vorticity":
                 vals = np.zeros(len(kind))
                 if fl.any():
                     vals[fl] = vorticity(st["x"][fl], st["v"][fl], self.dx)
-            (x0, y0), (x1, y1) = self.view          # the range from what the panel shows
+            (x0, y0), (x1, y1) = self.view  # the range from what the panel shows
             seen = fl & (st["x"][:, 0] >= x0) & (st["x"][:, 0] <= x1) & (st["x"][:, 1] >= y0) & (st["x"][:, 1] <= y1)
             lo, hi = self._colour_range(field, vals[seen if seen.any() else fl])
             if field == "concentration":
@@ -180,20 +201,20 @@ class Renderer:
             c = self.mat_colors[k] if k < len(self.mat_colors) else None
             sel = fl & (mat == k)
             if mode == "phase" and c is None:
-                continue                                   # water keeps its speed colour
+                continue  # water keeps its speed colour
             base = np.array(c if c is not None else (WATER if k == 0 else SAND))
             shade = 1.0 - 0.45 * np.minimum(speed[sel] / self._speed_hi, 1.0) if mode == "phase" else 1.0
             col[sel] = base * (shade[:, None] if mode == "phase" else 1.0)
         return col, field_image
 
-    ROW_ASPECT, MAX_ROWS = 6.0, 3   # a view longer than ROW_ASPECT heights is drawn in rows (at most MAX_ROWS)
+    ROW_ASPECT, MAX_ROWS = 6.0, 3  # a view longer than ROW_ASPECT heights is drawn in rows (at most MAX_ROWS)
 
     def _splat(self, st, col, field_image=None):
         """The panel: sand under a bed surface, the field's fluid interpolated by the kernel onto
         the pixels (Shepard-normalised, cut where the water ends), every other particle a disc."""
         img = np.full((self.H, self.W, 3), (np.array(BACKGROUND) * 255).astype(np.uint8), np.uint8)
         (x0, y0), _ = self.view
-        if self.bed_surface is not None:      # a bed below particle scale: sand under its surface
+        if self.bed_surface is not None:  # a bed below particle scale: sand under its surface
             zb = self._live[0]
             top = np.clip(np.floor((zb - y0) * self.yscale).astype(int), 0, self.H)
             rows = np.arange(self.H)[:, None]
@@ -201,21 +222,25 @@ class Renderer:
         smooth = np.zeros(len(st["kind"]), bool)
         if field_image is not None and field_image[0].any():
             smooth, s01, cmap = field_image
-            val, inside = kernel_image(st["x"][smooth], s01[smooth], (x0, y0), self.scale, self.dx, self.W, self.H,
-                                       self.exaggeration)
+            val, inside = kernel_image(
+                st["x"][smooth], s01[smooth], (x0, y0), self.scale, self.dx, self.W, self.H, self.exaggeration
+            )
             lut = (np.clip(cmap(np.linspace(0.0, 1.0, 256)), 0, 1) * 255).astype(np.uint8)
             img[inside] = lut[(np.clip(val[inside], 0.0, 1.0) * 255 + 0.5).astype(np.uint8)]
         hidden = np.zeros(len(st["kind"]), bool)
-        if self.solid_region is not None:     # over the water's field, which the kernel spreads into it
+        if self.solid_region is not None:  # over the water's field, which the kernel spreads into it
             img[self._solid_pixels()] = (np.array(BOUNDARY) * 255).astype(np.uint8)
             hidden = self._hidden_walls(st)
         cx = np.floor((st["x"][:, 0] - x0) * self.scale).astype(int)
         cy = np.floor((st["x"][:, 1] - y0) * self.yscale).astype(int)
-        order = np.argsort(st["kind"] == FLUID, kind="stable")     # boundaries first, fluid on top
+        order = np.argsort(st["kind"] == FLUID, kind="stable")  # boundaries first, fluid on top
         order = order[~(smooth | hidden)[order]]
-        inview = (cx[order] > -self.radius - 2) & (cx[order] < self.W + self.radius + 2) & \
-                 (cy[order] > -self.radius * self.exaggeration - 2) & \
-                 (cy[order] < self.H + self.radius * self.exaggeration + 2)
+        inview = (
+            (cx[order] > -self.radius - 2)
+            & (cx[order] < self.W + self.radius + 2)
+            & (cy[order] > -self.radius * self.exaggeration - 2)
+            & (cy[order] < self.H + self.radius * self.exaggeration + 2)
+        )
         order = order[inview]
         c8 = (np.clip(col[order], 0, 1) * 255).astype(np.uint8)
         for ox, oy in self.offsets:
@@ -238,7 +263,9 @@ class Renderer:
         """The pixels (rows top to bottom) inside the solids, worked out once: they do not move."""
         if self._solid_px is None:
             (x0, y0), _ = self.view
-            X, Y = np.meshgrid(x0 + (np.arange(self.W) + 0.5) / self.scale, y0 + (np.arange(self.H) + 0.5) / self.yscale)
+            X, Y = np.meshgrid(
+                x0 + (np.arange(self.W) + 0.5) / self.scale, y0 + (np.arange(self.H) + 0.5) / self.yscale
+            )
             inside = self.solid_region(np.column_stack([X.ravel(), Y.ravel()]))
             self._solid_px = inside.reshape(self.H, self.W)[::-1]
         return self._solid_px
@@ -275,11 +302,11 @@ class Renderer:
         blocks, self.panels, row = [strip(self.strip)], [], self.strip
         for m in self.modes:
             col, field_image = self._colours(m, st)
-            for k, r in enumerate(self.rows or [self]):     # the colours from the whole view, one bar
+            for k, r in enumerate(self.rows or [self]):  # the colours from the whole view, one bar
                 img = r._splat(st, col, field_image)
                 if self.zoom is not None:
                     self._outline(img, self.zoom.view)
-                for x, _ in self.marks:               # gauges: a dotted line across the panel
+                for x, _ in self.marks:  # gauges: a dotted line across the panel
                     i = int(round((x - r.view[0][0]) * r.scale))
                     if 0 <= i < W:
                         img[::4, i] = 30
@@ -312,28 +339,28 @@ class Renderer:
         (a, b), (c, d) = view
         i0, i1 = (int(np.clip((v - x0) * self.scale, 0, self.W - 1)) for v in (a, c))
         j0, j1 = (int(np.clip(self.H - 1 - (v - y0) * self.yscale, 0, self.H - 1)) for v in (d, b))
-        img[j0:j1 + 1, [i0, i1]] = 40
-        img[[j0, j1], i0:i1 + 1] = 40
+        img[j0 : j1 + 1, [i0, i1]] = 40
+        img[[j0, j1], i0 : i1 + 1] = 40
 
-    BED_RANGE = (0.005, 0.01, 0.02, 0.04, 0.08, 0.16)   # m: the bed panel's half-height steps
+    BED_RANGE = (0.005, 0.01, 0.02, 0.04, 0.08, 0.16)  # m: the bed panel's half-height steps
 
     def _bed_image(self):
         """The bed change along the view as a sand profile about a zero line, vertically
         exaggerated: the range grows in steps so the scale holds still while the bed changes."""
-        dz = np.asarray(self._live[1][1], float)     # bed_panel(x0, x1, W): (x, change)
+        dz = np.asarray(self._live[1][1], float)  # bed_panel(x0, x1, W): (x, change)
         peak = float(np.nanmax(np.abs(dz))) if np.isfinite(dz).any() else 0.0
         if not self.bed_fixed:
             rng = next((r for r in self.BED_RANGE if peak <= 0.9 * r), self.BED_RANGE[-1])
             self.bed_range = max(self.bed_range, rng)
         Hp = max(48, self.W // 8) // 16 * 16
         img = np.full((Hp, self.W, 3), 255, np.uint8)
-        rows = np.arange(Hp)[:, None]                          # 0 at the top
+        rows = np.arange(Hp)[:, None]  # 0 at the top
         level = 0.5 * Hp * (1.0 - np.nan_to_num(dz) / self.bed_range)
-        level = np.clip(level, 0, Hp - 1)                      # a fixed scale clips what exceeds it
+        level = np.clip(level, 0, Hp - 1)  # a fixed scale clips what exceeds it
         sand = (rows >= level[None, :]) & np.isfinite(dz)[None, :]
         img[sand] = (np.array(SAND) * 255).astype(np.uint8)
         img[Hp // 2, :] = (110, 110, 110)
-        self.bed_exaggeration = (0.5 * Hp / self.bed_range) / self.scale   # against the lengths' scale
+        self.bed_exaggeration = (0.5 * Hp / self.bed_range) / self.scale  # against the lengths' scale
         self._bed_h = Hp
         return img
 
@@ -346,6 +373,7 @@ class Renderer:
 
     def _annotate(self, img, t):
         from PIL import Image, ImageDraw, ImageFont
+
         im = Image.fromarray(img)
         d = ImageDraw.Draw(im)
         fp = self.font_px
@@ -356,7 +384,7 @@ class Renderer:
         L = self.LEFT
         label = self.title_line(t)
         d.text((L + 6, int(0.35 * fp)), label, fill=(0, 0, 0), font=font)
-        for top, H, view, bar in self.panels:    # one colour bar per coloured panel, beside it
+        for top, H, view, bar in self.panels:  # one colour bar per coloured panel, beside it
             if self.LEFT:
                 draw_axes(self, d, font, top, H, view)
             if bar is None:
@@ -372,15 +400,23 @@ class Renderer:
             d.text((xb + int(1.6 * fp), y0 - int(0.2 * fp)), f"{hi:.3g}", fill=(0, 0, 0), font=font)
             d.text((xb + int(1.6 * fp), y1 - fp), f"{lo:.3g}", fill=(0, 0, 0), font=font)
         if self.bed_panel is not None:
-            d.text((L + 6, self.bed_row + self._bed_h + int(0.2 * fp)),
-                   f"bed change above, vertical x{self.bed_exaggeration:.0f} (+-{100 * self.bed_range:g} cm)"
-                   f"{self.bed_label}", fill=(0, 0, 0), font=font)
+            d.text(
+                (L + 6, self.bed_row + self._bed_h + int(0.2 * fp)),
+                f"bed change above, vertical x{self.bed_exaggeration:.0f} (+-{100 * self.bed_range:g} cm)"
+                f"{self.bed_label}",
+                fill=(0, 0, 0),
+                font=font,
+            )
         if self.zoom is not None:
             (a, b), (c, e) = self.zoom.view
-            d.text((L + 6, self.zoom_row + int(0.35 * fp)),
-                   f"x = {a:g} to {c:g} m at true scale (the box above), coloured by {self.zoom.modes[0]}",
-                   fill=(0, 0, 0), font=font)
+            d.text(
+                (L + 6, self.zoom_row + int(0.35 * fp)),
+                f"x = {a:g} to {c:g} m at true scale (the box above), coloured by {self.zoom.modes[0]}",
+                fill=(0, 0, 0),
+                font=font,
+            )
         return np.asarray(im)
+
 
 def make_renderer(pic, outc, dx, title, speed_scale):
     """The Renderer for a scene's Picture and the [output] table (view, field, range, width)."""

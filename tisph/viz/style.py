@@ -1,5 +1,6 @@
 """How a frame is drawn: everything a Renderer needs beside the view it shows, in one value a
 scene's Picture and the [output] table make (render.make_renderer)."""
+
 import dataclasses
 from typing import Callable
 
@@ -17,6 +18,7 @@ class Style:
     marks: (x, label) of gauges; zones: (x0, x1, label) bars; rows: a long view drawn in rows;
     solid_region(points): the solids filled as drawn, their wall particles left out; exaggeration:
     heights drawn this many times the lengths' scale (stated in the title; the zoom stays true)."""
+
     width: int = 640
     dx: float = 0.01
     speed_scale: float = 0.0
@@ -51,9 +53,23 @@ def style_of(pic, outc, dx, title, speed_scale):
     if outc.get("zoom"):
         x0, x1, y0, y1 = outc["zoom"]
         zoom = ((x0, y0), (x1, y1))
-    return view, Style(width=outc["width"], dx=dx, speed_scale=speed_scale, title=title, modes=modes,
-                       mat_colors=pic.mat_colors, pressure_scale=pic.pressure_scale, bed_panel=pic.bed_panel,
-                       bed_label=pic.bed_label, vrange=outc.get("range") or None,
-                       min_height=outc.get("min_height", 0), bed_surface=pic.bed_surface, zoom=zoom,
-                       marks=pic.marks, zones=pic.zones, bed_range=pic.bed_range,
-                       solid_region=pic.solid_region, exaggeration=outc.get("exaggeration", 1.0))
+    return view, Style(
+        width=outc["width"],
+        dx=dx,
+        speed_scale=speed_scale,
+        title=title,
+        modes=modes,
+        mat_colors=pic.mat_colors,
+        pressure_scale=pic.pressure_scale,
+        bed_panel=pic.bed_panel,
+        bed_label=pic.bed_label,
+        vrange=outc.get("range") or None,
+        min_height=outc.get("min_height", 0),
+        bed_surface=pic.bed_surface,
+        zoom=zoom,
+        marks=pic.marks,
+        zones=pic.zones,
+        bed_range=pic.bed_range,
+        solid_region=pic.solid_region,
+        exaggeration=outc.get("exaggeration", 1.0),
+    )

@@ -1,4 +1,5 @@
 """The frames' metre axes: round tick values, and the ticks and labels drawn."""
+
 import numpy as np
 
 
@@ -21,12 +22,12 @@ def draw_axes(r, d, font, top, H, view):
     (x0, y0), (x1, y1) = view
     fp = r.font_px
     L = r.LEFT
-    q = next(p for p in r.panel_renderers() if p.view == view)   # the panel's own: its scales
+    q = next(p for p in r.panel_renderers() if p.view == view)  # the panel's own: its scales
     scale, yscale = q.scale, q.yscale
     if q is not r.zoom:
         for x, label in r.marks:
             px = int(round((x - x0) * scale))
-            if 0 <= px < r.W - 2 * fp:     # its dotted line drawn, and room for the label
+            if 0 <= px < r.W - 2 * fp:  # its dotted line drawn, and room for the label
                 d.text((L + px + 2, top + 2), label, fill=(0, 0, 0), font=font)
         for a, b, label in r.zones:
             pa, pb = (L + int(round((min(max(v, x0), x1) - x0) * scale)) for v in (a, b))
@@ -36,7 +37,7 @@ def draw_axes(r, d, font, top, H, view):
     for v in nice_ticks(x0, x1, max(2, r.W // (6 * fp))):
         px = L + int(round((v - x0) * scale))
         if px > L + r.W - int(3.0 * fp):
-            continue                                   # room for the axis's unit
+            continue  # room for the axis's unit
         d.line([(px, top + H), (px, top + H + int(0.3 * fp))], fill=(0, 0, 0))
         d.text((px - int(0.6 * fp), top + H + int(0.3 * fp)), f"{v:g}", fill=(0, 0, 0), font=font)
     for v in nice_ticks(y0, y1, max(2, H // (3 * fp))):

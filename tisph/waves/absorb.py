@@ -24,6 +24,7 @@ With a spectrum (paddle.spectrum) the target is the components' linear waves sum
 number for the band, as DualSPHysics' long-wave gain is (for the flume's 0.9 s sea over 0.25 m,
 omega / F is 5.3 1/s at the peak, 6.0 at half its frequency and 7.0 at twice it).
 """
+
 import dataclasses
 import math
 
@@ -34,7 +35,7 @@ from ..settings.config import ConfigError
 from .irregular import irregular_elevation
 from .theory import linear_wave
 
-DRIFT_PERIODS = 5.0     # the correction's displacement relaxes to zero over this many wave periods
+DRIFT_PERIODS = 5.0  # the correction's displacement relaxes to zero over this many wave periods
 
 
 @dataclasses.dataclass(frozen=True)
@@ -42,6 +43,7 @@ class Aim:
     """The wave the paddle makes, as the absorption compares with it: Biesel's height, the
     wavenumber and depth, the gain omega / F(kh); series: (t, eta) at the gauge for irregular
     waves (the height is then unused)."""
+
     height: float
     k: float
     depth: float
@@ -53,6 +55,7 @@ class Aim:
 class Sensor:
     """The gauge that moves with the paddle: its distance in front of the paddle's mean position
     x_paddle, the still-water level it reads from, the spacing and the smoothing length."""
+
     x: float
     x_paddle: float
     level: float
@@ -63,21 +66,22 @@ class Sensor:
 class AbsorbingMotion:
     """A paddle's Motion plus the absorbing correction; callable as the Motion is (t -> X, V for a
     piston, angle and its rate for a flap)."""
-    smooth = False   # each call integrates the correction: the solver calls it once a step
+
+    smooth = False  # each call integrates the correction: the solver calls it once a step
 
     def __init__(self, motion, aim, sensor):
         self.target_series = aim.series
         self.motion, self.H, self.k, self.depth, self.gain = motion, float(aim.height), aim.k, aim.depth, aim.gain
         self.x_gauge, self.x_abs, self.level = sensor.x, sensor.x_paddle + sensor.x, sensor.level
         self.dx, self.h = sensor.dx, sensor.h
-        self.xc = self.uc = 0.0     # the correction's displacement and velocity
-        self.mean = 0.0             # the running mean of eta - eta_T over a period: a mean level is not a wave
+        self.xc = self.uc = 0.0  # the correction's displacement and velocity
+        self.mean = 0.0  # the running mean of eta - eta_T over a period: a mean level is not a wave
         self.t_last = 0.0
-        self.zero = None            # the gauge's reading at rest (the SPH surface sits about dx/2 low)
-        self.history = []           # (t, eta measured, eta target, correction velocity)
-        self.recent = []            # (t, eta_R less its mean) over the last x_g / c and a little more
+        self.zero = None  # the gauge's reading at rest (the SPH surface sits about dx/2 low)
+        self.history = []  # (t, eta measured, eta target, correction velocity)
+        self.recent = []  # (t, eta_R less its mean) over the last x_g / c and a little more
 
-    def __getattr__(self, name):   # the wrapped Motion's period, stroke, ramp
+    def __getattr__(self, name):  # the wrapped Motion's period, stroke, ramp
         if name == "motion":
             raise AttributeError(name)
         return getattr(self.motion, name)
@@ -103,7 +107,10 @@ class AbsorbingMotion:
     def control(self, solver):
         """Read the gauge and set the correction velocity (every control interval)."""
         st = solver.state(("x", "kind", "rho", "m", "mat"))
-        eta = surface_at(st, self.x_abs + self.face(solver.time), self.dx, self.h, floor=self.level - self.depth, mat=0) - self.level
+        eta = (
+            surface_at(st, self.x_abs + self.face(solver.time), self.dx, self.h, floor=self.level - self.depth, mat=0)
+            - self.level
+        )
         if self.zero is None:
             self.zero = eta
         eta -= self.zero
@@ -132,11 +139,13 @@ def absorbing(motion, cfg, depth, still_level, x_paddle=0.0):
     in front of its face (the paddle's mean position is x_paddle)."""
     p, dx = cfg.paddle, cfg.numerics.dx
     h = cfg.numerics.h_factor * dx
-    omega, k, _, _, F = linear_wave(cfg, depth)   # the paddle's transfer; the peak's
+    omega, k, _, _, F = linear_wave(cfg, depth)  # the paddle's transfer; the peak's
     target = None
     if p.get("spectrum"):
         target = irregular_elevation(p, depth, cfg.run.end_time, h)
-    return AbsorbingMotion(motion, Aim(F * p.stroke, k, depth, omega / F, target), Sensor(h, x_paddle, still_level, dx, h))
+    return AbsorbingMotion(
+        motion, Aim(F * p.stroke, k, depth, omega / F, target), Sensor(h, x_paddle, still_level, dx, h)
+    )
 
 
 def check_absorb(p):
@@ -144,12 +153,14 @@ def check_absorb(p):
     is their linear wave)."""
     if not p.get("absorb"):
         return
-    for key, bad, what in (("series", p["series"], "no series"),
-                           ("order", p["order"] != 1, "order 1")):
+    for key, bad, what in (("series", p["series"], "no series"), ("order", p["order"] != 1, "order 1")):
         if bad:
-            raise ConfigError("paddle.absorb", True, f"false with paddle.{key} = {p[key]!r}",
-                              f"active absorption here is for {what}: its target is the linear wave of a "
-                              "paddle's first-order stroke")
+            raise ConfigError(
+                "paddle.absorb",
+                True,
+                f"false with paddle.{key} = {p[key]!r}",
+                f"active absorption here is for {what}: its target is the linear wave of a paddle's first-order stroke",
+            )
 
 
 def with_control(motion, control=None):
@@ -161,4 +172,5 @@ def with_control(motion, control=None):
     def both(solver):
         mine(solver)
         control(solver)
+
     return both

@@ -1,5 +1,6 @@
 """Irregular waves from a spectrum (paddle.spectrum = "jonswap" | "pm"): the paddle's signal and
 its checks, the flume's only (the beach's ripples read one period)."""
+
 import functools
 import math
 
@@ -11,7 +12,9 @@ from ..settings.schema import K, choices, ranges, values
 from .theory import biesel_flap, biesel_piston, wavenumber
 
 IRREGULAR = {
-    "spectrum": K("", '"": regular waves (stroke, period) | jonswap | pm (Pierson-Moskowitz)', choices=('', 'jonswap', 'pm')),
+    "spectrum": K(
+        "", '"": regular waves (stroke, period) | jonswap | pm (Pierson-Moskowitz)', choices=('', 'jonswap', 'pm')
+    ),
     "hs": K(0.0, "the spectrum's target significant height Hm0 = 4 sqrt(m0)", 'm', range=(0.0, None, True, True)),
     "tp": K(0.0, "the spectrum's peak period", 's', range=(0.0, None, True, True)),
     "gamma": K(3.3, 'JONSWAP peak enhancement (pm: 1)', range=(1.0, 20.0, True, True)),
@@ -29,7 +32,7 @@ def spectrum(f, hs, tp, gamma):
     f = np.asarray(f, float)
     fp = 1.0 / tp
     sig = np.where(f <= fp, 0.07, 0.09)
-    S = f ** -5.0 * np.exp(-1.25 * (fp / f) ** 4) * gamma ** np.exp(-((f - fp) ** 2) / (2 * sig * sig * fp * fp))
+    S = f**-5.0 * np.exp(-1.25 * (fp / f) ** 4) * gamma ** np.exp(-((f - fp) ** 2) / (2 * sig * sig * fp * fp))
     m0 = float(((S[1:] + S[:-1]) * np.diff(f)).sum() / 2) if len(f) > 1 else float(S.sum())
     return S * (hs / 4.0) ** 2 / m0
 
@@ -52,8 +55,19 @@ def irregular_elevation(p, depth, t_end, x, g=G):
 
 
 def _key(p, depth, t_end, g):
-    return (p["type"], p["spectrum"], float(p["hs"]), float(p["tp"]), float(p["gamma"]), int(p["seed"]),
-            tuple(float(b) for b in p["band"]), float(p["ramp_periods"]), float(depth), float(t_end), g)
+    return (
+        p["type"],
+        p["spectrum"],
+        float(p["hs"]),
+        float(p["tp"]),
+        float(p["gamma"]),
+        int(p["seed"]),
+        tuple(float(b) for b in p["band"]),
+        float(p["ramp_periods"]),
+        float(depth),
+        float(t_end),
+        g,
+    )
 
 
 @functools.lru_cache(maxsize=4)
@@ -70,12 +84,12 @@ def _irregular_series(kind, name, hs, tp, gamma, seed, band, ramp_periods, depth
     phase = np.random.default_rng(seed).uniform(0, 2 * math.pi, n)
     t = np.arange(0.0, t_end + 2 * tp, tp / 50.0)
     x = np.zeros_like(t)
-    for i in range(0, n, 64):      # in blocks: n x len(t) at once can be large
-        w = 2 * math.pi * f[i:i + 64, None] * t[None, :] + phase[i:i + 64, None]
+    for i in range(0, n, 64):  # in blocks: n x len(t) at once can be large
+        w = 2 * math.pi * f[i : i + 64, None] * t[None, :] + phase[i : i + 64, None]
         if x_at is None:
-            x += (X[i:i + 64, None] * np.sin(w)).sum(0)
+            x += (X[i : i + 64, None] * np.sin(w)).sum(0)
         else:
-            x += (a[i:i + 64, None] * np.cos(w - kh[i:i + 64, None] / depth * x_at)).sum(0)
+            x += (a[i : i + 64, None] * np.cos(w - kh[i : i + 64, None] / depth * x_at)).sum(0)
     t_ramp = ramp_periods * tp
     if t_ramp > 0:
         x *= np.where(t < t_ramp, 0.5 * (1 - np.cos(math.pi * np.minimum(t, t_ramp) / t_ramp)), 1.0)
@@ -93,22 +107,38 @@ def check_irregular(cfg, depth):
         if p[key] <= 0:
             raise ConfigError(f"paddle.{key}", p[key], f"> 0 with paddle.spectrum = {p.spectrum!r}")
     b = p.band
-    if (not isinstance(b, list) or len(b) != 2 or any(isinstance(v, bool) or not isinstance(v, (int, float)) for v in b)
-            or not 0 < b[0] < 1 < b[1]):
+    if (
+        not isinstance(b, list)
+        or len(b) != 2
+        or any(isinstance(v, bool) or not isinstance(v, (int, float)) for v in b)
+        or not 0 < b[0] < 1 < b[1]
+    ):
         raise ConfigError("paddle.band", b, "[lo, hi] multiples of the peak frequency, 0 < lo < 1 < hi")
     if p.series or p.order == 2:
         key = "paddle.series" if p.series else "paddle.order"
-        raise ConfigError(key, p.series or 2, f"{'' if p.series else '1'} with a spectrum (a spectrum makes its own "
-                          "first-order paddle signal)".lstrip())
+        raise ConfigError(
+            key,
+            p.series or 2,
+            f"{'' if p.series else '1'} with a spectrum (a spectrum makes its own first-order paddle signal)".lstrip(),
+        )
     if p.hs < 2 * dx:
-        raise ConfigError("paddle.hs", p.hs, f"at least 2 dx = {2 * dx:g} m (a wave under two particle spacings "
-                          "high is not resolved)")
+        raise ConfigError(
+            "paddle.hs", p.hs, f"at least 2 dx = {2 * dx:g} m (a wave under two particle spacings high is not resolved)"
+        )
     shortest = 2 * math.pi / wavenumber(2 * math.pi * b[1] / p.tp, depth, G)
     if shortest < 8 * h:
-        raise ConfigError("paddle.band", b, f"a highest frequency whose wavelength is at least 8 h = {8 * h:.3g} m, "
-                          f"which the kernel does not smooth away (at {b[1]:g} fp = {b[1] / p.tp:.3g} Hz the wave is "
-                          f"{shortest:.3g} m long; lower the band's top or dx)")
+        raise ConfigError(
+            "paddle.band",
+            b,
+            f"a highest frequency whose wavelength is at least 8 h = {8 * h:.3g} m, "
+            f"which the kernel does not smooth away (at {b[1]:g} fp = {b[1] / p.tp:.3g} Hz the wave is "
+            f"{shortest:.3g} m long; lower the band's top or dx)",
+        )
     t, x = irregular_series(p, depth, cfg.run.end_time)
     if np.abs(x).max() > 0.5 * depth:
-        raise ConfigError("paddle.hs", p.hs, f"a spectrum the paddle can make: it would travel {np.abs(x).max():.3g} m "
-                          f"from its mean position, more than half the depth ({0.5 * depth:g} m)")
+        raise ConfigError(
+            "paddle.hs",
+            p.hs,
+            f"a spectrum the paddle can make: it would travel {np.abs(x).max():.3g} m "
+            f"from its mean position, more than half the depth ({0.5 * depth:g} m)",
+        )

@@ -5,6 +5,7 @@ A motion is a callable m(t) -> (displacement, rate): metres and m/s for a piston
 rad/s for a flap (the solver rotates the paddle about its hinge). For a flap the stroke S is the
 horizontal excursion at the still-water level, as in Biesel's transfer function.
 """
+
 import math
 
 import numpy as np
@@ -13,8 +14,7 @@ from ..settings.config import ConfigError, check_file
 
 
 class Motion:
-    def __init__(self, kind, stroke=0.0, period=1.0, ramp_periods=2.0, lever=1.0, series=None, second=(),
-                 duration=0.0):
+    def __init__(self, kind, stroke=0.0, period=1.0, ramp_periods=2.0, lever=1.0, series=None, second=(), duration=0.0):
         """kind: piston | flap; stroke S (m, peak to peak); period T (s); ramp over
         ramp_periods periods (0: none); lever: hinge to still-water level (flap); series:
         (t, X) arrays of surface displacement in metres instead of the sinusoid; second: the
@@ -56,8 +56,10 @@ class Motion:
     def ramp(self, t):
         """(r, r'): the half-cosine ramp up over t_ramp: amplitude and its rate start at zero."""
         if t < self.t_ramp:
-            return (0.5 * (1 - math.cos(math.pi * t / self.t_ramp)),
-                    0.5 * math.pi / self.t_ramp * math.sin(math.pi * t / self.t_ramp))
+            return (
+                0.5 * (1 - math.cos(math.pi * t / self.t_ramp)),
+                0.5 * math.pi / self.t_ramp * math.sin(math.pi * t / self.t_ramp),
+            )
         return 1.0, 0.0
 
     def made(self, t):
@@ -69,7 +71,7 @@ class Motion:
         r, dr = self.ramp(t)
         X = r * a * math.sin(w * t)
         V = dr * a * math.sin(w * t) + r * a * w * math.cos(w * t)
-        if self.second:   # second order in the amplitude, so its ramp is r^2
+        if self.second:  # second order in the amplitude, so its ramp is r^2
             bs, bc = self.second
             x2 = bs * math.sin(2 * w * t) + bc * math.cos(2 * w * t)
             X += r * r * x2

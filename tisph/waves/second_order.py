@@ -18,6 +18,7 @@ Res. 76:8672) kept only the progressive first-order mode and projected on a cons
 form for a piston, H^2 / (32 h) (3 cosh kh / sinh^3 kh - 2 / m1), is this with no evanescent
 modes and cosh k2 (z + h) taken as flat, which holds in shallow water only.
 """
+
 import math
 
 import numpy as np
@@ -42,9 +43,11 @@ def _roots(omega, depth, n, k):
 
 def _int_cosh2(p, q, h):
     """The integral of cosh(p s) cosh(q s) over s in [0, h], for complex p (array) and real q."""
+
     def sinhc(x):
         small = np.abs(x) < 1e-8
         return np.where(small, h, np.sinh(x * h) / np.where(small, 1, x))
+
     return 0.5 * (sinhc(p + q) + sinhc(p - q))
 
 
@@ -79,11 +82,14 @@ def second_order_stroke(kind, stroke, omega, depth, lever=None, modes=100):
     p, px, pz = A * ch, 1j * K * A * ch, K * A * sh
     pzz = K * K * p
     # 2 omega amplitude of the second-order free-surface forcing, phi2_tt + g phi2_z = R
-    R = (0.5j * w * (2 * np.outer(px, px) + np.outer(pz, pz)) + 1j * w ** 3 / G * np.outer(p, pz)
-         - 0.5j * w * np.outer(p, pzz))
+    R = (
+        0.5j * w * (2 * np.outer(px, px) + np.outer(pz, pz))
+        + 1j * w**3 / G * np.outer(p, pz)
+        - 0.5j * w * np.outer(p, pzz)
+    )
     Q = K[:, None] + K[None, :]
     C = R / (-4 * w * w * np.cosh(Q * h) + G * Q * np.sinh(Q * h))
-    forced = (1j * Q * C * _int_cosh2(Q, k2, h)).sum()        # u of the forced potential, projected
+    forced = (1j * Q * C * _int_cosh2(Q, k2, h)).sum()  # u of the forced potential, projected
     # the wave-maker terms -X1 u1_x + w1 X1_z at 2 omega, projected by quadrature
     q, wq = np.polynomial.legendre.leggauss(max(64, 8 * modes))
     s, wq = 0.5 * h * (q + 1), 0.5 * h * wq

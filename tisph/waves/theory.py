@@ -2,6 +2,7 @@
 a piston and a flap, the group velocity, and the linear wave a configured paddle makes. The
 bottom of the wave-making package: it imports only the constants and, for a paddle table's
 period, the record analysis below it."""
+
 import math
 
 from ..constants import G
@@ -40,10 +41,8 @@ def biesel_flap(kh):
 
 def group_velocity(omega, k, depth):
     c = omega / k
-    kh = min(k * depth, 20.0)    # deep water past it (and no overflow)
+    kh = min(k * depth, 20.0)  # deep water past it (and no overflow)
     return 0.5 * c * (1 + 2 * kh / math.sinh(2 * kh))
-
-
 
 
 def linear_wave(cfg, depth):
@@ -63,6 +62,6 @@ def hunt_run_up(H, omega, k, depth, slope):
     about 2.3 the waves surge rather than break and R levels off near 2.3 H0 (EurOtop 2018)."""
     cg0 = 0.5 * G / omega
     H0 = H / math.sqrt(cg0 / group_velocity(omega, k, depth))
-    L0 = 2.0 * math.pi * G / omega ** 2
+    L0 = 2.0 * math.pi * G / omega**2
     xi = (1.0 / slope) / math.sqrt(H0 / L0)
     return min(xi, 2.3) * H0

@@ -13,6 +13,7 @@ The front is read the way pysph_runs.py reads PySPH's: the rightmost fluid parti
 spacings of the floor, plus half a spacing, from the back wall's face (the first fluid column
 less half a spacing), from PartVTK's CSV of the fluid at each output time.
 """
+
 import csv
 import glob
 import os
@@ -23,14 +24,16 @@ import time
 
 import numpy as np
 
-V50 = "1dfd0cd8ff5b8cd1bf45a3cf2c50d17d22a4a967"   # v5.0, 2021-02-01
+V50 = "1dfd0cd8ff5b8cd1bf45a3cf2c50d17d22a4a967"  # v5.0, 2021-02-01
 EXAMPLE = os.path.join("examples", "main", "01_DamBreak", "CaseDambreakVal2D_Def.xml")
 BIN = os.path.join("bin", "linux")
 SOLVER = "DualSPHysics5.0CPU_linux64"
 # what the example sets, and what it is set to: the bench states these beside the timings
-SETTINGS = ("Wendland kernel, h = sqrt(2) dp (coefh 1), Verlet with CFL 0.2, c0 = 20 sqrt(g H) (coefsound 20), "
-            "artificial viscosity 0.02, Fourtakas density diffusion 0.1, dynamic boundary particles (DBC), "
-            "2 OpenMP threads; its gauges off")
+SETTINGS = (
+    "Wendland kernel, h = sqrt(2) dp (coefh 1), Verlet with CFL 0.2, c0 = 20 sqrt(g H) (coefsound 20), "
+    "artificial viscosity 0.02, Fourtakas density diffusion 0.1, dynamic boundary particles (DBC), "
+    "2 OpenMP threads; its gauges off"
+)
 
 
 class NotAvailable(Exception):
@@ -57,7 +60,7 @@ def _extract(gitdir, dest, log):
         os.makedirs(os.path.dirname(target), exist_ok=True)
         with open(target, "wb") as f:
             f.write(blob.stdout)
-        if mode == "100755" or path.startswith("bin/linux/"):   # the repository stores its tools 644
+        if mode == "100755" or path.startswith("bin/linux/"):  # the repository stores its tools 644
             os.chmod(target, 0o755)
     if skipped:
         log(f"DualSPHysics: {skipped} files absent from {gitdir} (not needed for the CPU build)")
@@ -78,8 +81,10 @@ def ensure(cache, source, log):
     if os.path.exists(os.path.join(bindir, SOLVER)):
         return root
     if not source:
-        raise NotAvailable("not built yet and no source given: clone https://github.com/DualSPHysics/DualSPHysics "
-                           "and pass its folder with --dualsphysics (its v5.0 commit is used)")
+        raise NotAvailable(
+            "not built yet and no source given: clone https://github.com/DualSPHysics/DualSPHysics "
+            "and pass its folder with --dualsphysics (its v5.0 commit is used)"
+        )
     if not os.path.isdir(source):
         raise NotAvailable(f"--dualsphysics {source}: no such folder")
     tmp = root + ".partial"
@@ -94,9 +99,12 @@ def ensure(cache, source, log):
         raise NotAvailable(f"--dualsphysics {source}: neither a git clone of DualSPHysics nor its source tree")
     log("DualSPHysics: building the CPU solver (make -f Makefile_cpu, about a minute on two cores)")
     t0 = time.perf_counter()
-    r = subprocess.run(["make", "-f", "Makefile_cpu", "-j2", "USE_GCC5=YES", "COMPILE_CHRONO=NO",
-                        "COMPILE_CHRONO_OMP=NO"], cwd=os.path.join(tmp, "src", "source"),
-                       capture_output=True, text=True)
+    r = subprocess.run(
+        ["make", "-f", "Makefile_cpu", "-j2", "USE_GCC5=YES", "COMPILE_CHRONO=NO", "COMPILE_CHRONO_OMP=NO"],
+        cwd=os.path.join(tmp, "src", "source"),
+        capture_output=True,
+        text=True,
+    )
     if r.returncode != 0 or not os.path.exists(os.path.join(tmp, BIN, SOLVER)):
         raise NotAvailable(f"building DualSPHysics failed: {r.stderr[-1500:]}")
     log(f"DualSPHysics: built in {time.perf_counter() - t0:.0f} s")
@@ -107,11 +115,13 @@ def ensure(cache, source, log):
 
 def case_xml(text, dp, tmax, tout, coefsound=None):
     """The example's case definition at dp, run to tmax with output every tout, gauges off."""
+
     def param(key, value, s):
         s2, n = re.subn(rf'(<parameter key="{key}" value=")[^"]*"', rf'\g<1>{value}"', s)
         if n != 1:
             raise NotAvailable(f"the example's parameter {key} was not found")
         return s2
+
     s = re.sub(r'dp="[^"]*"', f'dp="{dp:g}"', text, count=1)
     s = param("TimeMax", f"{tmax:g}", s)
     s = param("TimeOut", f"{tout:g}", s)
@@ -142,8 +152,9 @@ def _fronts(csv_dir, dp):
         # particles' header (Pos.x [m];...) and rows, ';'-separated
         head_i = next(k for k, ln in enumerate(lines) if ln.startswith("Pos.x"))
         head = [h.strip() for h in lines[head_i].split(";")]
-        data = np.array([[float(v) for v in ln.split(";")[:len(head)] if v != ""]
-                         for ln in lines[head_i + 1:] if ln.strip()])
+        data = np.array(
+            [[float(v) for v in ln.split(";")[: len(head)] if v != ""] for ln in lines[head_i + 1 :] if ln.strip()]
+        )
         x = data[:, head.index("Pos.x [m]") if "Pos.x [m]" in head else head.index("Pos.x")]
         z = data[:, head.index("Pos.z [m]") if "Pos.z [m]" in head else head.index("Pos.z")]
         if x0 is None:
@@ -165,13 +176,29 @@ def run_xml(root, d, name, xml, threads=2):
     with open(os.path.join(d, f"{name}_Def.xml"), "w") as f:
         f.write(xml)
     out = os.path.join(d, "out")
-    r = subprocess.run([os.path.join(bindir, "GenCase_linux64"), os.path.join(d, f"{name}_Def"),
-                        os.path.join(out, name), "-save:all"], capture_output=True, text=True, env=env)
+    r = subprocess.run(
+        [os.path.join(bindir, "GenCase_linux64"), os.path.join(d, f"{name}_Def"), os.path.join(out, name), "-save:all"],
+        capture_output=True,
+        text=True,
+        env=env,
+    )
     if r.returncode != 0:
         raise NotAvailable(f"GenCase failed: {(r.stdout + r.stderr)[-1500:]}")
     t0 = time.perf_counter()
-    r = subprocess.run([os.path.join(bindir, SOLVER), os.path.join(out, name), out, "-dirdataout", "data",
-                        "-svres", f"-ompthreads:{threads}"], capture_output=True, text=True, env=env)
+    r = subprocess.run(
+        [
+            os.path.join(bindir, SOLVER),
+            os.path.join(out, name),
+            out,
+            "-dirdataout",
+            "data",
+            "-svres",
+            f"-ompthreads:{threads}",
+        ],
+        capture_output=True,
+        text=True,
+        env=env,
+    )
     wall = time.perf_counter() - t0
     if r.returncode != 0:
         raise NotAvailable(f"DualSPHysics failed: {(r.stdout + r.stderr)[-1500:]}")
@@ -185,9 +212,20 @@ def run(root, work, dp, tmax, coefsound=None, threads=2):
         text = f.read()
     res = run_xml(root, d, "Dambreak", case_xml(text, dp, tmax, 0.01, coefsound), threads)
     out, env = res.pop("out"), res.pop("env")
-    r = subprocess.run([os.path.join(root, BIN, "PartVTK_linux64"), "-dirin", os.path.join(out, "data"),
-                        "-savecsv", os.path.join(d, "csv", "PartFluid"), "-onlytype:-all,+fluid", "-vars:-all"],
-                       capture_output=True, text=True, env=env)
+    r = subprocess.run(
+        [
+            os.path.join(root, BIN, "PartVTK_linux64"),
+            "-dirin",
+            os.path.join(out, "data"),
+            "-savecsv",
+            os.path.join(d, "csv", "PartFluid"),
+            "-onlytype:-all,+fluid",
+            "-vars:-all",
+        ],
+        capture_output=True,
+        text=True,
+        env=env,
+    )
     if r.returncode != 0:
         raise NotAvailable(f"PartVTK failed: {(r.stdout + r.stderr)[-1500:]}")
     t, front = _fronts(os.path.join(d, "csv"), dp)

@@ -12,6 +12,7 @@ ours where a setting can match (h = 2.5 dp, laminar viscosity, c0 = 10 sqrt(g h)
 its own first-order piston (JWavePaddles) given Biesel's height; its gauges are its own SWL
 gauges (JGaugeSystem) at our gauges' x; both records go through one analysis (tisph.measure.records).
 """
+
 import csv
 import dataclasses
 import math
@@ -41,8 +42,9 @@ QUICK = (0.025,)
 END_TIME = FLUME.overrides["run.end_time"]
 
 OWN = dict(label="DualSPHysics, its settings", coefh=1.2, visco_treatment=1, visco=0.01, c0_factor=20.0)
-MATCHED = dict(label="DualSPHysics, our settings", coefh=2.5 / math.sqrt(2.0), visco_treatment=2, visco=1e-6,
-               c0_factor=10.0)
+MATCHED = dict(
+    label="DualSPHysics, our settings", coefh=2.5 / math.sqrt(2.0), visco_treatment=2, visco=1e-6, c0_factor=10.0
+)
 
 
 def flume_setup(dx):
@@ -51,10 +53,20 @@ def flume_setup(dx):
     geo, p = cfg.geometry, cfg.paddle
     d = geo.depth
     omega, k, wavelength, cg, ratio = linear_wave(cfg, d)
-    return dict(depth=d, length=geo.length, wall_height=geo.wall_height, damping=geo.damping_length,
-                period=p.period, ramp=p.ramp_periods, height=ratio * p.stroke,
-                gauges=flume.gauge_positions(geo, wavelength), wavelength=wavelength, cg=cg, paddle=p,
-                numerics=cfg.numerics)
+    return dict(
+        depth=d,
+        length=geo.length,
+        wall_height=geo.wall_height,
+        damping=geo.damping_length,
+        period=p.period,
+        ramp=p.ramp_periods,
+        height=ratio * p.stroke,
+        gauges=flume.gauge_positions(geo, wavelength),
+        wavelength=wavelength,
+        cg=cg,
+        paddle=p,
+        numerics=cfg.numerics,
+    )
 
 
 def flume_xml(dp, tmax, f, s):
@@ -67,17 +79,22 @@ def flume_xml(dp, tmax, f, s):
     depth = rows * dp
     c0 = s["c0_factor"] * math.sqrt(G * depth)
     n = lambda v: f"{v:.6g}"
-    x_end = dp * math.floor(f["length"] / dp + 1e-9) + dp     # the end wall's first column
-    lo = -dp * math.ceil(0.2 / dp)                              # the floor runs on behind the piston
+    x_end = dp * math.floor(f["length"] / dp + 1e-9) + dp  # the end wall's first column
+    lo = -dp * math.ceil(0.2 / dp)  # the floor runs on behind the piston
     gauges = "\n".join(
         f'<swl name="g{i}"><pointdp coefdp="0.1" /><point0 x="{n(x + 0.5 * dp)}" y="0" z="0" />'
-        f'<point2 x="{n(x + 0.5 * dp)}" y="0" z="{n(f["wall_height"])}" /></swl>' for i, x in enumerate(f["gauges"]))
+        f'<point2 x="{n(x + 0.5 * dp)}" y="0" z="{n(f["wall_height"])}" /></swl>'
+        for i, x in enumerate(f["gauges"])
+    )
     damping = ""
     if f["damping"] > 0:
-        damping = (f'<damping><dampingzone><limitmin x="{n(x_end - f["damping"])}" y="0" z="0" />'
-                   f'<limitmax x="{n(x_end)}" y="0" z="0" /><overlimit value="1" /><redumax value="10" />'
-                   f'</dampingzone></damping>')
-    return f"""<?xml version="1.0" encoding="UTF-8" ?>
+        damping = (
+            f'<damping><dampingzone><limitmin x="{n(x_end - f["damping"])}" y="0" z="0" />'
+            f'<limitmax x="{n(x_end)}" y="0" z="0" /><overlimit value="1" /><redumax value="10" />'
+            f'</dampingzone></damping>'
+        )
+    return (
+        f"""<?xml version="1.0" encoding="UTF-8" ?>
 <case>
   <casedef>
     <constantsdef>
@@ -120,7 +137,9 @@ def flume_xml(dp, tmax, f, s):
     </motion>
   </casedef>
 {_execution(f, s, tmax, depth, gauges, damping)}</case>
-""", dict(depth=depth, c0=c0, h=s["coefh"] * math.sqrt(2.0) * dp)
+""",
+        dict(depth=depth, c0=c0, h=s["coefh"] * math.sqrt(2.0) * dp),
+    )
 
 
 def _execution(f, s, tmax, depth, gauges, damping):
@@ -197,27 +216,49 @@ def run_dualsphysics(root, work, dp, tmax, s, threads=2):
     tag = "own" if s is OWN else "ours"
     r = dualsphysics.run_xml(root, os.path.join(work, f"dualsphysics_flume_{tag}_dp{dp:g}"), "Flume", xml, threads)
     H, err = heights(f, _swl(r["out"], [f"g{i}" for i in range(len(f["gauges"]))]))
-    settings = (f"Wendland, h = {info['h'] / dp:.2f} dp (coefh {s['coefh']:.3g}), symplectic with CFL 0.2, "
-                f"c0 {info['c0']:.1f} m/s, "
-                + (f"artificial viscosity {s['visco']:g}" if s["visco_treatment"] == 1 else
-                   f"laminar viscosity {s['visco']:g} m2/s with its SPS term") +
-                ", Fourtakas diffusion 0.1, dynamic boundary particles (3 layers), its first-order piston "
-                "(JWavePaddles) and damping zone (redumax 10), SWL gauges")
-    return dict(code=s["label"], dx=dp, particles=r["particles"], steps=r["steps"], wall_s=r["wall_s"],
-                loop_s=r["loop_s"], H=H, errors=err, settings=settings)
+    settings = (
+        f"Wendland, h = {info['h'] / dp:.2f} dp (coefh {s['coefh']:.3g}), symplectic with CFL 0.2, "
+        f"c0 {info['c0']:.1f} m/s, "
+        + (
+            f"artificial viscosity {s['visco']:g}"
+            if s["visco_treatment"] == 1
+            else f"laminar viscosity {s['visco']:g} m2/s with its SPS term"
+        )
+        + ", Fourtakas diffusion 0.1, dynamic boundary particles (3 layers), its first-order piston "
+        "(JWavePaddles) and damping zone (redumax 10), SWL gauges"
+    )
+    return dict(
+        code=s["label"],
+        dx=dp,
+        particles=r["particles"],
+        steps=r["steps"],
+        wall_s=r["wall_s"],
+        loop_s=r["loop_s"],
+        H=H,
+        errors=err,
+        settings=settings,
+    )
 
 
 def run_tisph(work, dx, tmax):
     case = dataclasses.replace(FLUME, overrides=dict(FLUME.overrides, **{"run.end_time": tmax}))
     s, wall = run_case(case, dx, False, os.path.join(work, f"tisph_flume_dx{dx:g}"))
     m, num = s["metrics"], flume_setup(dx)["numerics"]
-    return dict(code="tisph", dx=dx, particles=s["particles"], steps=s["steps"], wall_s=wall,
-                loop_s=s["step_time_s"], H=m["wave_height_at_gauges"], errors=m["wave_height_errors"],
-                settings=f"{num.kernel}, h = {s['h'] / dx:.2f} dx, velocity Verlet with CFL {num.cfl:g}, "
-                         f"c0 {s['c0']:.1f} m/s, artificial viscosity {num.artificial_viscosity:g}, "
-                         f"{num.density_diffusion} diffusion {num.delta:g}, {num.wall} walls "
-                         f"({num.wall_layers} layers), its piston and absorbing zone, surface gauges; modules: "
-                         + ", ".join(s["modules"]))
+    return dict(
+        code="tisph",
+        dx=dx,
+        particles=s["particles"],
+        steps=s["steps"],
+        wall_s=wall,
+        loop_s=s["step_time_s"],
+        H=m["wave_height_at_gauges"],
+        errors=m["wave_height_errors"],
+        settings=f"{num.kernel}, h = {s['h'] / dx:.2f} dx, velocity Verlet with CFL {num.cfl:g}, "
+        f"c0 {s['c0']:.1f} m/s, artificial viscosity {num.artificial_viscosity:g}, "
+        f"{num.density_diffusion} diffusion {num.delta:g}, {num.wall} walls "
+        f"({num.wall_layers} layers), its piston and absorbing zone, surface gauges; modules: "
+        + ", ".join(s["modules"]),
+    )
 
 
 def plot(rows, f, path):
@@ -225,13 +266,19 @@ def plot(rows, f, path):
     one colour per code."""
     plt = pyplot()
     from matplotlib.ticker import FixedLocator, NullFormatter, ScalarFormatter
+
     fig, axes = plt.subplots(1, 2, figsize=(10, 5.2))
     for n, code in enumerate(dict.fromkeys(r["code"] for r in rows)):
         rr = sorted((r for r in rows if r["code"] == code), key=lambda r: -r["dx"])
         c = f"C{n}"
         for i, ls, lab in ((0, "-", "1 wavelength"), (2, "--", "3 wavelengths")):
-            axes[0].loglog([f["height"] / r["dx"] for r in rr], [max(r["errors"][i], 1e-3) for r in rr], "o" + ls,
-                           color=c, label=f"{code}, {lab}")
+            axes[0].loglog(
+                [f["height"] / r["dx"] for r in rr],
+                [max(r["errors"][i], 1e-3) for r in rr],
+                "o" + ls,
+                color=c,
+                label=f"{code}, {lab}",
+            )
         axes[1].loglog([r["wall_s"] for r in rr], [max(r["errors"][2], 1e-3) for r in rr], "o--", color=c, label=code)
     axes[0].set_xlabel("particles per wave height, H / dx")
     axes[0].set_ylabel("wave height error against Biesel")
@@ -246,21 +293,25 @@ def plot(rows, f, path):
             axis.set_major_formatter(ScalarFormatter())
             axis.set_minor_formatter(NullFormatter())
         ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.16), ncol=2)
-    fig.suptitle(f"Piston flume, T = {f['period']:g} s over {f['depth']:g} m, Biesel H = {f['height']:.4f} m: "
-                 "error against resolution and cost", fontsize=10)
+    fig.suptitle(
+        f"Piston flume, T = {f['period']:g} s over {f['depth']:g} m, Biesel H = {f['height']:.4f} m: "
+        "error against resolution and cost",
+        fontsize=10,
+    )
     save(fig, path)
 
 
 def main(a):
     log = lambda m: print(m, flush=True)
     from ... import runtime
+
     runtime.init("cpu", "f32")
     dxs = (a.dx,) if a.dx else QUICK if a.quick else LADDER
-    tmax = a.end_time or (8.0 if a.quick else END_TIME)    # 8 s: two periods past the arrival at 3 L
+    tmax = a.end_time or (8.0 if a.quick else END_TIME)  # 8 s: two periods past the arrival at 3 L
     try:
         for dx in dxs:
             flume_setup(dx)
-    except ConfigError as e:   # a --dx the flume refuses: its message, no traceback
+    except ConfigError as e:  # a --dx the flume refuses: its message, no traceback
         print(f"--dx: {e}", file=sys.stderr)
         return 2
     out = ensure_dir(os.path.join(a.out, "waves"))
@@ -281,26 +332,47 @@ def main(a):
         for fn in runs:
             try:
                 r = fn()
-            except Exception as e:   # one failed run is a row of the report, not the end of the bench
+            except Exception as e:  # one failed run is a row of the report, not the end of the bench
                 notes.append(f"a run at dp {dx:g} failed: {str(e).splitlines()[0][:300]}")
                 log(notes[-1])
                 continue
-            log(f"dp {dx:g}, {r['code']}: {r['particles']} particles, {r['steps']} steps, {r['wall_s']:.1f} s, "
-                "errors " + ", ".join(f"{e * 100:.1f} %" for e in r["errors"]))
+            log(
+                f"dp {dx:g}, {r['code']}: {r['particles']} particles, {r['steps']} steps, {r['wall_s']:.1f} s, "
+                "errors " + ", ".join(f"{e * 100:.1f} %" for e in r["errors"])
+            )
             rows.append(r)
     f = flume_setup(dxs[0])
     cols = ("code", "dx", "H_over_dx", "particles", "steps", "wall_s", "loop_s", "error_1L", "error_2L", "error_3L")
-    recs = [(r["code"], r["dx"], round(f["height"] / r["dx"], 2), r["particles"], r["steps"], round(r["wall_s"], 1),
-             round(r["loop_s"], 1), *[round(e, 4) for e in r["errors"]]) for r in rows]
+    recs = [
+        (
+            r["code"],
+            r["dx"],
+            round(f["height"] / r["dx"], 2),
+            r["particles"],
+            r["steps"],
+            round(r["wall_s"], 1),
+            round(r["loop_s"], 1),
+            *[round(e, 4) for e in r["errors"]],
+        )
+        for r in rows
+    ]
     write_csv(os.path.join(out, "waves.csv"), cols, recs)
-    md = ["# Waves in two codes: the default flume against Biesel", "",
-          f"Run {time.strftime('%Y-%m-%d %H:%M')} to t = {tmax:g} s, 2 threads each, back to back "
-          f"({(time.time() - started) / 60:.0f} min in all). Biesel H = {f['height']:.4f} m, wavelength "
-          f"{f['wavelength']:.3f} m; error = |H - H_Biesel| / H_Biesel, H the mean trough-to-crest height from "
-          "the fully ramped waves' arrival to the end.", "",
-          table(("code", "dx", "H/dx", "particles", "steps", "wall s", "error 1 L", "error 2 L", "error 3 L"),
-                [(r[0], f"{r[1]:g}", r[2], r[3], r[4], r[5], *[f"{e * 100:.1f} %" for e in r[7:]]) for r in recs]),
-          "", "![error against H/dx and wall time](waves.png)", ""]
+    md = [
+        "# Waves in two codes: the default flume against Biesel",
+        "",
+        f"Run {time.strftime('%Y-%m-%d %H:%M')} to t = {tmax:g} s, 2 threads each, back to back "
+        f"({(time.time() - started) / 60:.0f} min in all). Biesel H = {f['height']:.4f} m, wavelength "
+        f"{f['wavelength']:.3f} m; error = |H - H_Biesel| / H_Biesel, H the mean trough-to-crest height from "
+        "the fully ramped waves' arrival to the end.",
+        "",
+        table(
+            ("code", "dx", "H/dx", "particles", "steps", "wall s", "error 1 L", "error 2 L", "error 3 L"),
+            [(r[0], f"{r[1]:g}", r[2], r[3], r[4], r[5], *[f"{e * 100:.1f} %" for e in r[7:]]) for r in recs],
+        ),
+        "",
+        "![error against H/dx and wall time](waves.png)",
+        "",
+    ]
     md += [f"- {code}: {s}." for code, s in {r["code"]: r["settings"] for r in rows}.items()] + [""]
     md += [f"- {n}" for n in notes]
     if rows:

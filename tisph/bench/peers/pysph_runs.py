@@ -12,6 +12,7 @@ The stock example's --dx changes the lattice and the scheme's h0 but gives every
 module's h and m, which are for dx = 0.03 (its create_particles uses them): at another dx a
 subclass (FINE) sets each particle's h = hdx dx and m = rho0 dx^2.
 """
+
 import json
 import os
 import subprocess
@@ -26,7 +27,7 @@ from ..common import cache_dir, this_tree_env
 
 TF = 0.7
 DX = 0.03
-DXS = ((0.03, TF), (0.015, 0.55))   # (dx, end time): the stock example, and twice as fine
+DXS = ((0.03, TF), (0.015, 0.55))  # (dx, end time): the stock example, and twice as fine
 
 EXTRACT = r"""
 import glob, json, sys
@@ -101,8 +102,12 @@ def run_pysph(py, out, dx=DX, tf=TF):
         write_text(script, FINE)
         cmd = [py, script, "--dx", str(dx)]
     t0 = time.perf_counter()
-    r = subprocess.run(cmd + ["--openmp", "--tf", str(tf), "-d", d, "--pfreq", str(int(20 * DX / dx))],
-                       capture_output=True, text=True, env=env)
+    r = subprocess.run(
+        cmd + ["--openmp", "--tf", str(tf), "-d", d, "--pfreq", str(int(20 * DX / dx))],
+        capture_output=True,
+        text=True,
+        env=env,
+    )
     wall = time.perf_counter() - t0
     if r.returncode != 0:
         raise RuntimeError(f"PySPH run failed (return code {r.returncode}): {r.stderr[-2000:]}")
@@ -110,7 +115,7 @@ def run_pysph(py, out, dx=DX, tf=TF):
     if e.returncode != 0:
         raise RuntimeError(f"reading PySPH output failed: {e.stderr[-2000:]}")
     rows = json.loads(e.stdout)
-    try:   # PySPH's own timing of its time loop (after set-up and its cached compilation)
+    try:  # PySPH's own timing of its time loop (after set-up and its cached compilation)
         with open(os.path.join(d, "dam_break_2d.info")) as f:
             run_s = float(json.load(f)["cpu_time"])
     except (OSError, ValueError, KeyError):
@@ -119,8 +124,16 @@ def run_pysph(py, out, dx=DX, tf=TF):
     front = np.array([r[1] for r in rows])
     steps = max(r[2] for r in rows)
     n = rows[0][3]
-    return dict(wall_time_s=wall, run_s=run_s, steps=steps, fluid_particles=n, particles=rows[0][4], t=t,
-                front=front, log=r.stdout[-3000:])
+    return dict(
+        wall_time_s=wall,
+        run_s=run_s,
+        steps=steps,
+        fluid_particles=n,
+        particles=rows[0][4],
+        t=t,
+        front=front,
+        log=r.stdout[-3000:],
+    )
 
 
 def compare(out, log, venv=None, dxs=DXS):
@@ -130,9 +143,12 @@ def compare(out, log, venv=None, dxs=DXS):
     except Exception as e:
         log(f"PySPH comparison skipped: {e}")
         return ["## PySPH comparison", "", f"Not run: {e}", ""]
-    md = ["## PySPH comparison (dam break)", "",
-          "| dx | to t (s) | code | fluid particles | steps | wall s (with start-up) | time loop s | front RMS vs Martin & Moyce |",
-          "|---|---|---|---|---|---|---|---|"]
+    md = [
+        "## PySPH comparison (dam break)",
+        "",
+        "| dx | to t (s) | code | fluid particles | steps | wall s (with start-up) | time loop s | front RMS vs Martin & Moyce |",
+        "|---|---|---|---|---|---|---|---|",
+    ]
     notes = []
     for dx, tf in dxs:
         try:
@@ -144,11 +160,19 @@ def compare(out, log, venv=None, dxs=DXS):
         rows, note = _side_by_side(out, log, dx, tf, p)
         md += rows
         notes.append(note)
-    md += [""] + notes + ["", "PySPH: stock dam_break_2d (WCSPH, Wendland quintic, PEC integrator, 2 OpenMP threads); "
-                          "at dx other than 0.03 with h and m set for that dx (a subclass, see tisph/bench/peers/pysph_runs.py). tisph: "
-                          "the dam_break scene (Taichi CPU, 2 threads, f32). Both run from the command line in a fresh "
-                          "process. tisph's start-up is Taichi's kernel compilation (from its offline cache when "
-                          "warm); PySPH's compiled extension is cached from an earlier run.", ""]
+    md += (
+        [""]
+        + notes
+        + [
+            "",
+            "PySPH: stock dam_break_2d (WCSPH, Wendland quintic, PEC integrator, 2 OpenMP threads); "
+            "at dx other than 0.03 with h and m set for that dx (a subclass, see tisph/bench/peers/pysph_runs.py). tisph: "
+            "the dam_break scene (Taichi CPU, 2 threads, f32). Both run from the command line in a fresh "
+            "process. tisph's start-up is Taichi's kernel compilation (from its offline cache when "
+            "warm); PySPH's compiled extension is cached from an earlier run.",
+            "",
+        ]
+    )
     return md
 
 
@@ -159,9 +183,26 @@ def run_tisph_dam_break(out, dx, tf):
     (summary, wall seconds)."""
     d = os.path.join(out, f"tisph_dam_break_dx{dx:g}_t{tf:g}")
     t0 = time.perf_counter()
-    r = subprocess.run([sys.executable, "-m", "tisph.scenes.dam_break", "--dx", str(dx), "--end-time", str(tf),
-                        "--no-render", "--quiet", "--snapshot-every", "0", "--out", d],
-                       capture_output=True, text=True, env=this_tree_env())
+    r = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "tisph.scenes.dam_break",
+            "--dx",
+            str(dx),
+            "--end-time",
+            str(tf),
+            "--no-render",
+            "--quiet",
+            "--snapshot-every",
+            "0",
+            "--out",
+            d,
+        ],
+        capture_output=True,
+        text=True,
+        env=this_tree_env(),
+    )
     wall = time.perf_counter() - t0
     if r.returncode != 0:
         raise RuntimeError(f"tisph's dam break failed (return code {r.returncode}): {r.stderr[-2000:]}")
@@ -176,13 +217,19 @@ def _side_by_side(out, log, dx, tf, p):
     rms_t = s["metrics"]["front_rms_error"]
     ratio = p["wall_time_s"] / wall
     ratio_run = p["run_s"] / s["wall_time_s"]
-    log(f"dx {dx:g}: PySPH {p['wall_time_s']:.1f} s ({p['run_s']:.1f} s loop), front RMS {rms_p:.3f}; tisph "
-        f"{wall:.1f} s ({s['wall_time_s']:.1f} s loop), front RMS {rms_t:.3f}; ratio {ratio:.2f}x ({ratio_run:.2f}x loop)")
-    rows = [f"| {dx:g} | {tf:g} | PySPH 1.0b2 | {p['fluid_particles']} | {p['steps']} | {p['wall_time_s']:.1f} | "
-            f"{p['run_s']:.1f} | {rms_p:.3f} |",
-            f"| {dx:g} | {tf:g} | tisph | {s['fluid_particles']} | {s['steps']} | {wall:.1f} | {s['wall_time_s']:.1f} | "
-            f"{rms_t:.3f} |"]
-    note = (f"dx {dx:g}: tisph {ratio:.2f}x faster in wall time with start-up, {ratio_run:.2f}x in the time loop "
-            f"(goal: 4x at equal or lower front error; compile {s['compile_time_s']:.1f} s); front error over "
-            f"{npts} Martin & Moyce points to t = {tf:g} s.")
+    log(
+        f"dx {dx:g}: PySPH {p['wall_time_s']:.1f} s ({p['run_s']:.1f} s loop), front RMS {rms_p:.3f}; tisph "
+        f"{wall:.1f} s ({s['wall_time_s']:.1f} s loop), front RMS {rms_t:.3f}; ratio {ratio:.2f}x ({ratio_run:.2f}x loop)"
+    )
+    rows = [
+        f"| {dx:g} | {tf:g} | PySPH 1.0b2 | {p['fluid_particles']} | {p['steps']} | {p['wall_time_s']:.1f} | "
+        f"{p['run_s']:.1f} | {rms_p:.3f} |",
+        f"| {dx:g} | {tf:g} | tisph | {s['fluid_particles']} | {s['steps']} | {wall:.1f} | {s['wall_time_s']:.1f} | "
+        f"{rms_t:.3f} |",
+    ]
+    note = (
+        f"dx {dx:g}: tisph {ratio:.2f}x faster in wall time with start-up, {ratio_run:.2f}x in the time loop "
+        f"(goal: 4x at equal or lower front error; compile {s['compile_time_s']:.1f} s); front error over "
+        f"{npts} Martin & Moyce points to t = {tf:g} s."
+    )
     return rows, note

@@ -30,6 +30,7 @@ ripple statistics, bed_profile.png, ripple_prediction.csv (the Wiberg & Harris r
 near-bed orbital motion measured along the beach) and stills at t = 0, 0.7, 2, 4, 8, 12, 16 s (the
 Bingham beach adds streamline panels, stills/streamlines_t*.png).
 """
+
 import math
 import os
 from functools import partial
@@ -106,11 +107,10 @@ def _particles(cfg, c0):
     slope_sand = far_from(slope_rows([(k + 0.5) * dx for k in range(nlay)]), flat_sand, 0.7 * dx)
     xs = np.vstack([flat_sand, slope_sand])
     ramp_wall = slope_rows([-(k + 0.5) * dx for k in range(L)])
-    ramp_wall = ramp_wall[ramp_wall[:, 1] > 0.25 * dx]     # the floor lies below y = 0
+    ramp_wall = ramp_wall[ramp_wall[:, 1] > 0.25 * dx]  # the floor lies below y = 0
     lattice = block(0.0, 0.0, Lf, Hw, dx)
     # water: the lattice above the sand, at least half a spacing clear of its surface
-    dist = np.where(lattice[:, 0] < toe, lattice[:, 1] - ts,
-                    ((lattice[:, 1] - ts) - (lattice[:, 0] - toe) / sl) * ca)
+    dist = np.where(lattice[:, 0] < toe, lattice[:, 1] - ts, ((lattice[:, 1] - ts) - (lattice[:, 0] - toe) / sl) * ca)
     xw = lattice[(dist >= 0.5 * dx) & (lattice[:, 1] < yw)]
     xw = far_from(xw, xs, 0.7 * dx)
 
@@ -158,15 +158,24 @@ class BedRecord:
         self.rows.append((st["t"],) + tuple(b))
         self.u_near.append(near_bed_velocity(st, stations, b, dx))
         z = b - self.bed0
-        lam, hr, rms = ripple_stats(stations[active], z[active], window=RIPPLE_WINDOW * self.wavelength,
-                                    min_length=MIN_LENGTH_DX * dx, min_height=MIN_HEIGHT_DX * dx)
+        lam, hr, rms = ripple_stats(
+            stations[active],
+            z[active],
+            window=RIPPLE_WINDOW * self.wavelength,
+            min_length=MIN_LENGTH_DX * dx,
+            min_height=MIN_HEIGHT_DX * dx,
+        )
         eta = surface_at(st, self.toe, dx, h, mat=0) - self.yw
         return (lam, hr, rms, eta) + self.gauges.read(st)
 
     def metrics(self, c):
         p, stations, active, d, k = self.p, self.stations, self.active, self.d, self.k
-        out = dict(kh_paddle=k * d, wavelength=self.wavelength, biesel_wave_height=self.H_biesel,
-                   active_zone=[float(stations[active][0]), float(stations[active][-1])])
+        out = dict(
+            kh_paddle=k * d,
+            wavelength=self.wavelength,
+            biesel_wave_height=self.H_biesel,
+            active_zone=[float(stations[active][0]), float(stations[active][-1])],
+        )
         out.update(last_finite(c, ("ripple_length", "ripple_height", "bed_change_rms")))
         # wave height at the toe after the ramp (incident plus what the beach reflects)
         t0 = arrival_time(p, self.toe, self.cg)
@@ -202,7 +211,7 @@ class BedRecord:
         if n_per < 1 or len(self.u_near) != len(t):
             return None
         U = np.array(self.u_near)
-        win = (t >= t[-1] - n_per * period)
+        win = t >= t[-1] - n_per * period
         rows = []
         for kx in np.nonzero(self.active)[0]:
             u = U[win, kx]
@@ -221,9 +230,19 @@ class BedRecord:
             return
         write_station_rows(os.path.join(out, "bed_profile.csv"), self.stations, self.rows)
         if self.pred_rows:
-            write_csv(os.path.join(out, "ripple_prediction.csv"),
-                      ("x", "bed_initial", "near_bed_velocity_amplitude", "orbital_diameter_d0",
-                       "wiberg_harris_length", "wiberg_harris_height", "regime"), self.pred_rows)
+            write_csv(
+                os.path.join(out, "ripple_prediction.csv"),
+                (
+                    "x",
+                    "bed_initial",
+                    "near_bed_velocity_amplitude",
+                    "orbital_diameter_d0",
+                    "wiberg_harris_length",
+                    "wiberg_harris_height",
+                    "regime",
+                ),
+                self.pred_rows,
+            )
         self.plot(os.path.join(out, "bed_profile.png"))
 
     def plot(self, path):
@@ -254,8 +273,10 @@ class BedRecord:
             a3.set_ylabel("cm")
             a3.legend(fontsize=7, ncol=4, loc="upper left")
         axes[-1].set_xlabel("x (m)")
-        fig.suptitle(f"beach, tau_B = {self.cfg.materials.sand.yield_stress:g} Pa: bed profile over "
-                     f"time (grey: active zone)", fontsize=10)
+        fig.suptitle(
+            f"beach, tau_B = {self.cfg.materials.sand.yield_stress:g} Pa: bed profile over time (grey: active zone)",
+            fontsize=10,
+        )
         save(fig, path)
 
 
@@ -279,21 +300,34 @@ def near_bed_velocity(st, stations, bed, dx):
 def _streamlines_event(yw, Lf, dx):
     """A callback drawing streamlines of the water velocity over the sand (offscreen) into
     OUT/stills/streamlines_t*.png."""
+
     def cb(st, t):
         d = os.path.join(st["out"], "stills")
         os.makedirs(d, exist_ok=True)
-        streamlines_png(os.path.join(d, f"streamlines_t{t:.3f}.png"), st, (0.0, Lf), (0.0, yw + 0.3), dx,
-                        f"water velocity streamlines, t = {t:.1f} s", (12, 2.4), density=(4, 1))
+        streamlines_png(
+            os.path.join(d, f"streamlines_t{t:.3f}.png"),
+            st,
+            (0.0, Lf),
+            (0.0, yw + 0.3),
+            dx,
+            f"water velocity streamlines, t = {t:.1f} s",
+            (12, 2.4),
+            density=(4, 1),
+        )
+
     return cb
 
 
 class Beach(Scene):
     """Sand beach in front of a wave maker: waves shoal and break on it and reshape the bed."""
+
     NAME = "beach"
     # where the scene departs from its scheme (tisph/settings/schemes.py), and why: breaking waves (below)
-    DEPARTS = {"artificial_viscosity": "breaking waves compress the water without it (below)",
-               "artificial_viscosity_surface": "droplets and the swash's film ring without it (below)",
-               "laminar_viscosity": "alpha's viscosity is 500 times the water's; the bed was calibrated so"}
+    DEPARTS = {
+        "artificial_viscosity": "breaking waves compress the water without it (below)",
+        "artificial_viscosity_surface": "droplets and the swash's film ring without it (below)",
+        "laminar_viscosity": "alpha's viscosity is 500 times the water's; the bed was calibrated so",
+    }
 
     SCHEMA = {
         "run": {"end_time": 16.0},
@@ -306,18 +340,43 @@ class Beach(Scene):
         # docs/waves.md). The Bingham beaches set their own alpha.
         # A breaker may throw a droplet out of the density band: removed and counted as spray (at most
         # 0.2 % of the water), not a stop. dx: the derived value at these defaults (derive, below).
-        "numerics": numerics("bed", dx=0.0093, artificial_viscosity=0.01, artificial_viscosity_surface=0.1,
-                             laminar_viscosity=False, spray_limit=0.002),
+        "numerics": numerics(
+            "bed",
+            dx=0.0093,
+            artificial_viscosity=0.01,
+            artificial_viscosity_surface=0.1,
+            laminar_viscosity=False,
+            spray_limit=0.002,
+        ),
         "geometry": {
-            "length": K(5.3, "paddle (x = 0) to the end wall: the crest 0.13 m above still water, over Hunt's run-up of the default wave (0.105 m)", "m", range=POSITIVE),
+            "length": K(
+                5.3,
+                "paddle (x = 0) to the end wall: the crest 0.13 m above still water, over Hunt's run-up of the default wave (0.105 m)",
+                "m",
+                range=POSITIVE,
+            ),
             "depth": K(0.3, "still water over the flat sand", "m", range=POSITIVE),
-            "sand_thickness": K(0.1, "the sand's level above the floor (m): the flat bed, and under the ramp", range=POSITIVE),
+            "sand_thickness": K(
+                0.1, "the sand's level above the floor (m): the flat bed, and under the ramp", range=POSITIVE
+            ),
             "toe_x": K(1.0, "where the beach starts to rise", "m", range=POSITIVE),
             "slope": K(10.0, "1 : slope (horizontal run per unit rise)", range=(1.0, None, True, True)),
             "wall_height": K(0.6, "the side walls' height above the floor", "m", range=POSITIVE),
-            "grain_diameter": K(0.0003, "d50: the bed load's grain, and the Wiberg & Harris ripple prediction; a medium sand", "m", range=POSITIVE),
-            "gauges_x": K([0.8, 2.0, 3.0, 3.6], "wave gauges (m from the paddle's mean position): probes.csv eta_x..., and the wave height at each in summary.json (wave_height_at_gauges)"),
-            "roughness": K(0.01, "the bed-load bed's random RMS over the linear-wave d0 at the toe where sediment.seed_rms = 0 (2.7 mm at the default), as the tunnel's (docs/sediment.md)", range=(0.0, 0.1, True, True)),
+            "grain_diameter": K(
+                0.0003,
+                "d50: the bed load's grain, and the Wiberg & Harris ripple prediction; a medium sand",
+                "m",
+                range=POSITIVE,
+            ),
+            "gauges_x": K(
+                [0.8, 2.0, 3.0, 3.6],
+                "wave gauges (m from the paddle's mean position): probes.csv eta_x..., and the wave height at each in summary.json (wave_height_at_gauges)",
+            ),
+            "roughness": K(
+                0.01,
+                "the bed-load bed's random RMS over the linear-wave d0 at the toe where sediment.seed_rms = 0 (2.7 mm at the default), as the tunnel's (docs/sediment.md)",
+                range=(0.0, 0.1, True, True),
+            ),
         },
         "paddle": with_defaults(PADDLE, stroke=0.28, period=2.5, ramp_periods=1.0),
         "materials": {"water": dict(WATER), "sand": dict(BINGHAM_SAND)},
@@ -346,13 +405,19 @@ class Beach(Scene):
         resolves(g.depth, 6, "the water depth", dx)
         top = g.sand_thickness + g.depth
         if top + 0.1 >= g.wall_height:
-            raise ConfigError("geometry.wall_height", g.wall_height, f"above the water surface + 0.1 m ({top + 0.1:g} m)")
+            raise ConfigError(
+                "geometry.wall_height", g.wall_height, f"above the water surface + 0.1 m ({top + 0.1:g} m)"
+            )
         shore = g.toe_x + g.depth * g.slope
         if shore >= g.length - 0.2:
-            raise ConfigError("geometry.length", g.length,
-                              f"longer than the shoreline position + 0.2 m ({shore + 0.2:.3g} m) for this toe_x and slope")
-        if not isinstance(g.gauges_x, list) or any(isinstance(x, bool) or not isinstance(x, (int, float))
-                                                       or not 0 < x < g.length for x in g.gauges_x):
+            raise ConfigError(
+                "geometry.length",
+                g.length,
+                f"longer than the shoreline position + 0.2 m ({shore + 0.2:.3g} m) for this toe_x and slope",
+            )
+        if not isinstance(g.gauges_x, list) or any(
+            isinstance(x, bool) or not isinstance(x, (int, float)) or not 0 < x < g.length for x in g.gauges_x
+        ):
             raise ConfigError("geometry.gauges_x", g.gauges_x, f"a list of positions in m, each in (0, {g.length:g})")
         if g.toe_x < 1.0:
             raise ConfigError("geometry.toe_x", g.toe_x, "at least 1 m (room for the waves to form)")
@@ -363,15 +428,16 @@ class Beach(Scene):
             return build_bedload(cfg, self.NAME, STILLS)
         geo, num, p = cfg.geometry, cfg.numerics, cfg.paddle
         dx, Lf, d, ts, Hw = num.dx, geo.length, geo.depth, geo.sand_thickness, geo.wall_height
-        yw = ts + d                                   # still-water level
+        yw = ts + d  # still-water level
         omega, k, wavelength, cg, hs_ratio = linear_wave(cfg, d)
         H_biesel = hs_ratio * p.stroke
-        c0, u_max = sound_speed(cfg, math.sqrt(G * (d + H_biesel)))   # bore speed of the broken wave
+        c0, u_max = sound_speed(cfg, math.sqrt(G * (d + H_biesel)))  # bore speed of the broken wave
         T = num.wall_layers * dx
         h = num.h_factor * dx
         ps, extra, reach, x_left = _particles(cfg, c0)
-        materials = [dict(dict(cfg.materials[n]), name=n, B=tait_B(cfg.materials[n]["rho0"], c0))
-                     for n in ("water", "sand")]
+        materials = [
+            dict(dict(cfg.materials[n]), name=n, B=tait_B(cfg.materials[n]["rho0"], c0)) for n in ("water", "sand")
+        ]
         pad = 3 * T + 4 * h
         domain = ((x_left - pad, -pad), (Lf + pad, 2 * Hw + pad))
         params = common_params(cfg, c0, G, depth=yw)
@@ -381,16 +447,28 @@ class Beach(Scene):
         if cfg.output.render:
             events = [(t, _streamlines_event(yw, Lf, dx)) for t in STILLS]
         margin = T + dx
-        return make_case(name=self.NAME, particles=ps, materials=materials, domain=domain, params=params,
-                         physics=physics_from_config(cfg, paddle=p.type),
-                         view=((x_left - margin, -margin), (Lf + margin, min(Hw, yw + 0.35) + margin)), u_max=u_max,
-                         probe_columns=("ripple_length", "ripple_height", "bed_change_rms", "eta_toe") + bed.gauges.columns,
-                         probe=bed.probe, metrics=bed.metrics, finalize=bed.finalize, events=events, stills=STILLS,
-                         container=(-reach - dx, 0.0, Lf, float("inf"), Hw),
-                         render_modes=("phase",), mat_colors=(None, SAND), control=with_control(extra["motion"]),
-                         persist=(bed,) + ((extra["motion"],) if p.absorb else ()))
+        return make_case(
+            name=self.NAME,
+            particles=ps,
+            materials=materials,
+            domain=domain,
+            params=params,
+            physics=physics_from_config(cfg, paddle=p.type),
+            view=((x_left - margin, -margin), (Lf + margin, min(Hw, yw + 0.35) + margin)),
+            u_max=u_max,
+            probe_columns=("ripple_length", "ripple_height", "bed_change_rms", "eta_toe") + bed.gauges.columns,
+            probe=bed.probe,
+            metrics=bed.metrics,
+            finalize=bed.finalize,
+            events=events,
+            stills=STILLS,
+            container=(-reach - dx, 0.0, Lf, float("inf"), Hw),
+            render_modes=("phase",),
+            mat_colors=(None, SAND),
+            control=with_control(extra["motion"]),
+            persist=(bed,) + ((extra["motion"],) if p.absorb else ()),
+        )
 
 
 SCENE = Beach()
 main = partial(run_scene, SCENE)
-

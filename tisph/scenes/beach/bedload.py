@@ -8,6 +8,7 @@ its sand volume is conserved. The near-bed orbital amplitude A that Swart's fric
 the lee vortex need is measured at every station from the near-bed velocity (it grows as the
 waves shoal), and so is the Wiberg & Harris (1994) ripple the measured d0 = 2 A predicts.
 """
+
 import math
 import os
 
@@ -42,8 +43,8 @@ from ...waves.paddle import paddle
 from ...waves.theory import linear_wave
 from .shoaling import Shoaling, crest_height, run_up, warn_run_up
 
-RIGID = 0.5           # m of rigid floor in front of the paddle
-RIPPLE_WINDOW = 0.6   # m: bedforms longer than this (the profile's bar and shoreline) are not ripples
+RIGID = 0.5  # m of rigid floor in front of the paddle
+RIPPLE_WINDOW = 0.6  # m: bedforms longer than this (the profile's bar and shoreline) are not ripples
 
 
 def bed_profile(geo, x):
@@ -73,14 +74,15 @@ def derive_bedload(cfg, given):
     Returns the values and run.log's lines."""
     geo, sed = cfg.geometry, cfg.sediment
     if cfg.paddle.series:
-        return {}, []                      # a measured signal: no wave to derive them from
+        return {}, []  # a measured signal: no wave to derive them from
     omega, _, H, d0 = toe_wave(cfg)
     if not (H > 0 and d0 > 0):
         return {}, []
     rw = cfg.materials.water.rho0
     turn = bed_turnover(d0, 2.0 * math.pi / omega, geo.grain_diameter, sed.grain_density / rw, sed)
-    return derive_resolution(cfg, given, wiberg_harris(d0, geo.grain_diameter)[0], d0, " at the toe",
-                             limit=morfac_limit(sed, turn))
+    return derive_resolution(
+        cfg, given, wiberg_harris(d0, geo.grain_diameter)[0], d0, " at the toe", limit=morfac_limit(sed, turn)
+    )
 
 
 def build_bedload(cfg, name, stills):
@@ -94,8 +96,11 @@ def build_bedload(cfg, name, stills):
     lam_toe, ripple_h_toe, _ = wiberg_harris(d0_toe, geo.grain_diameter)
     warn_unresolved(lam_toe, dx, "at the toe (Wiberg & Harris for the linear-wave d0)")
     T_wave = 2.0 * math.pi / omega
-    warn_fast_bed(sed, bed_turnover(d0_toe, T_wave, geo.grain_diameter, sed["grain_density"] / rw, sed),
-                  f"at the toe's linear-wave d0 of {d0_toe:.3g} m")
+    warn_fast_bed(
+        sed,
+        bed_turnover(d0_toe, T_wave, geo.grain_diameter, sed["grain_density"] / rw, sed),
+        f"at the toe's linear-wave d0 of {d0_toe:.3g} m",
+    )
     warn_waves(cfg, H_biesel, k, d, linear_metric=False)
     c0, u_max = sound_speed(cfg, math.sqrt(G * (d + H_biesel)))
     L, h = num.wall_layers, num.h_factor * dx
@@ -113,20 +118,33 @@ def build_bedload(cfg, name, stills):
     ps.add(xw, FLUID, 0, density(xw[:, 1]), rw * dx * dx)
     pad_pts, motion, extra, reach = paddle(cfg, d, Hw, floor_y=ts)
     x_left = -reach - 2 * T
-    floor = float(z.min()) - 0.1                      # the bed may erode 0.1 m below its lowest point
+    floor = float(z.min()) - 0.1  # the bed may erode 0.1 m below its lowest point
     # Where the rigid floor meets the bed, the bed's first column and the floor's last two reach
     # down to the bed's floor: sand piled against the rigid floor (or scoured beside it) leaves
     # a face higher than the column's own layers, and water found its way under the bed there
     # (at dx 0.0062, a 2.6 cm pile).
-    walls = np.vstack([block(x_left, ts - T, RIGID, ts, dx), block(RIGID - 2 * dx, floor - T, RIGID, ts - T, dx),
-                       block(Lf, floor - T, Lf + T, Hw, dx)])
+    walls = np.vstack(
+        [
+            block(x_left, ts - T, RIGID, ts, dx),
+            block(RIGID - 2 * dx, floor - T, RIGID, ts - T, dx),
+            block(Lf, floor - T, Lf + T, Hw, dx),
+        ]
+    )
     ps.add(walls, WALL, 0, density(walls[:, 1]), rw * dx * dx)
     ps.add(pad_pts, MOVING, 0, density(pad_pts[:, 1]), rw * dx * dx)
     initial.add_bed_particles(ps, stations, z, dx, L, rw, density)
-    depth = (np.arange(L, int(np.ceil((z[0] - floor) / dx)) + L) + 0.5) * dx     # below the first column's L
+    depth = (np.arange(L, int(np.ceil((z[0] - floor) / dx)) + L) + 0.5) * dx  # below the first column's L
     y = z[0] - depth
-    ps.add(np.column_stack([np.full(len(y), stations[0]), y]), BED, 0, density(y), rw * dx * dx,
-           station=np.zeros(len(y), int), normal=(0.0, 1.0), wall_dist=depth)
+    ps.add(
+        np.column_stack([np.full(len(y), stations[0]), y]),
+        BED,
+        0,
+        density(y),
+        rw * dx * dx,
+        station=np.zeros(len(y), int),
+        normal=(0.0, 1.0),
+        wall_dist=depth,
+    )
 
     params = common_params(cfg, c0, G, depth=yw)
     params.update(extra)
@@ -134,9 +152,12 @@ def build_bedload(cfg, name, stills):
     pad = 3 * T + 4 * h
     domain = ((x_left - pad, floor - T - pad), (Lf + T + pad, 2 * Hw + pad))
     physics = physics_from_config(cfg, paddle=p.type, materials_used=["water"], moving_bed=True)
-    bed = coupling.BedCoupler(sed, coupling.sand_of(sed, geo.grain_diameter, sed["grain_density"], rw),
-                              coupling.Stations(stations, z, dx, h, periodic=False),
-                              coupling.Drive(amplitude=None, omega=omega, still_level=yw))
+    bed = coupling.BedCoupler(
+        sed,
+        coupling.sand_of(sed, geo.grain_diameter, sed["grain_density"], rw),
+        coupling.Stations(stations, z, dx, h, periodic=False),
+        coupling.Drive(amplitude=None, omega=omega, still_level=yw),
+    )
     rec = BeachBed(cfg, bed, stations, omega, k, wavelength, cg, H_biesel)
     # the frame: the whole beach from the paddle, where the bed changes, to the swash; under it a
     # metre of the ripple zone (from half a metre past the toe) at true scale (output.zoom)
@@ -147,24 +168,46 @@ def build_bedload(cfg, name, stills):
     # colour top: three times the near-bed orbital speed at the paddle (linear waves), not the
     # bore speed that bounds the sound speed: the shoaling waves are what the frame shows
     u_col = 3.0 * 0.5 * H_biesel * omega / math.sinh(k * d)
-    return make_case(name=name, particles=ps, materials=[dict(cfg.materials.water, name="water",
-                                                               B=tait_B(rw, c0))],
-                     domain=domain, params=params, physics=physics, view=view, zoom=zoom, u_max=u_max,
-                     marks=[(x, f"g{i + 1}") for i, x in enumerate(geo.gauges_x)],
-                     speed_scale=u_col,
-                     probe_columns=BeachBed.COLUMNS + rec.gauges.columns, probe=rec.probe, metrics=rec.metrics,
-                     finalize=rec.finalize, stills=stills, container=(-reach - dx, floor - T, Lf, float("inf"), Hw),
-                     control=with_control(motion, bed.update), control_every=sed["update_every"],
-                     persist=(bed, rec) + ((motion,) if p.absorb else ()),
-                     **bed.picture(left=ts, ripple_height=ripple_h_toe))
+    return make_case(
+        name=name,
+        particles=ps,
+        materials=[dict(cfg.materials.water, name="water", B=tait_B(rw, c0))],
+        domain=domain,
+        params=params,
+        physics=physics,
+        view=view,
+        zoom=zoom,
+        u_max=u_max,
+        marks=[(x, f"g{i + 1}") for i, x in enumerate(geo.gauges_x)],
+        speed_scale=u_col,
+        probe_columns=BeachBed.COLUMNS + rec.gauges.columns,
+        probe=rec.probe,
+        metrics=rec.metrics,
+        finalize=rec.finalize,
+        stills=stills,
+        container=(-reach - dx, floor - T, Lf, float("inf"), Hw),
+        control=with_control(motion, bed.update),
+        control_every=sed["update_every"],
+        persist=(bed, rec) + ((motion,) if p.absorb else ()),
+        **bed.picture(left=ts, ripple_height=ripple_h_toe),
+    )
 
 
 class BeachBed:
     """Probes, metrics and plots of the bed-load beach: ripples on the bed change (high-passed
     over RIPPLE_WINDOW) over the zone where the measured near-bed motion predicts ripples of at
     least MIN_LENGTH_DX spacings, against Wiberg & Harris there."""
-    COLUMNS = ("ripple_length", "ripple_height", "ripple_count", "bed_change_rms", "eta_toe",
-               "predicted_ripple_length", "max_bed_shear", "run_up")
+
+    COLUMNS = (
+        "ripple_length",
+        "ripple_height",
+        "ripple_count",
+        "bed_change_rms",
+        "eta_toe",
+        "predicted_ripple_length",
+        "max_bed_shear",
+        "run_up",
+    )
 
     def __init__(self, cfg, bed, stations, omega, k, wavelength, cg, H_biesel):
         self.cfg, self.bed, self.stations = cfg, bed, stations
@@ -174,13 +217,15 @@ class BeachBed:
         self.yw = geo.sand_thickness + geo.depth
         self.toe, self.grain = geo.toe_x, geo.grain_diameter
         self.rows, self.zone = [], None
-        self.lengths = (float("nan"), float("nan"))   # the last probe's measured and predicted means
-        self.gauges = WaveGauges(geo.gauges_x, self.dx, cfg.numerics.h_factor * self.dx, self.yw,
-                             dry_from=geo.toe_x + geo.depth * geo.slope)
+        self.lengths = (float("nan"), float("nan"))  # the last probe's measured and predicted means
+        self.gauges = WaveGauges(
+            geo.gauges_x, self.dx, cfg.numerics.h_factor * self.dx, self.yw, dry_from=geo.toe_x + geo.depth * geo.slope
+        )
         self.shore = geo.toe_x + geo.depth * geo.slope
-        self.hunt = warn_run_up(geo, H_biesel, omega, k)     # warns where the crest is under it
-        self.shoal = Shoaling(geo, lambda x: self.yw - float(bed_profile(geo, x)), self.yw, self.dx,
-                              cfg.numerics.h_factor * self.dx)
+        self.hunt = warn_run_up(geo, H_biesel, omega, k)  # warns where the crest is under it
+        self.shoal = Shoaling(
+            geo, lambda x: self.yw - float(bed_profile(geo, x)), self.yw, self.dx, cfg.numerics.h_factor * self.dx
+        )
 
     def predicted(self):
         """Wiberg & Harris length at every station for the measured d0 = 2 A (0 where dry)."""
@@ -206,8 +251,9 @@ class BeachBed:
         if zone.sum() > 8:
             x = self.stations[zone]
             dz = (zb - self.bed.z0)[zone]
-            lam, hr, _ = ripple_stats(x, dz, window=RIPPLE_WINDOW, min_length=MIN_LENGTH_DX * self.dx,
-                                      min_height=0.1 * self.dx)
+            lam, hr, _ = ripple_stats(
+                x, dz, window=RIPPLE_WINDOW, min_length=MIN_LENGTH_DX * self.dx, min_height=0.1 * self.dx
+            )
             count = int(round((x[-1] - x[0]) / lam)) if np.isfinite(lam) and lam > 0 else 0
             self.zone = zone
         rms = float(np.sqrt(np.mean((zb - self.bed.z0) ** 2)))
@@ -220,9 +266,15 @@ class BeachBed:
 
     def metrics(self, c):
         p, sed = self.cfg.paddle, self.cfg.sediment
-        out = dict(kh_paddle=self.k * self.cfg.geometry.depth, wavelength=self.wavelength,
-                   biesel_wave_height=self.H_biesel, sediment_model="bedload", morfac=sed["morfac"],
-                   theta_cr=self.bed.bed.theta_cr, sand_volume_error=self.bed.volume_error())
+        out = dict(
+            kh_paddle=self.k * self.cfg.geometry.depth,
+            wavelength=self.wavelength,
+            biesel_wave_height=self.H_biesel,
+            sediment_model="bedload",
+            morfac=sed["morfac"],
+            theta_cr=self.bed.bed.theta_cr,
+            sand_volume_error=self.bed.volume_error(),
+        )
         out.update(last_finite(c, ("ripple_length", "ripple_height", "bed_change_rms", "predicted_ripple_length")))
         out["ripple_count"] = int(c["ripple_count"][-1]) if len(c["ripple_count"]) else 0
         lam, lp = out["ripple_length"], out["predicted_ripple_length"]
@@ -240,8 +292,9 @@ class BeachBed:
         out["wave_height_at_toe"] = H
         out["periods_measured_at_toe"] = n
         out.update(self.gauges.metrics(c, p, self.cg))
-        out.update(self.shoal.measure(p, self.cg, self.omega,
-                                      lambda x: float(np.interp(x, self.stations, self.bed.amplitude))))
+        out.update(
+            self.shoal.measure(p, self.cg, self.omega, lambda x: float(np.interp(x, self.stations, self.bed.amplitude)))
+        )
         return unresolved(out, lp, self.dx)
 
     def finalize(self, out, metrics):
@@ -249,10 +302,14 @@ class BeachBed:
             return
         write_station_rows(os.path.join(out, "bed_profile.csv"), self.stations, self.rows)
         lam = self.predicted()
-        write_csv(os.path.join(out, "ripple_prediction.csv"),
-                  ("x", "bed_initial", "orbital_amplitude", "orbital_diameter_d0", "wiberg_harris_length"),
-                  [(float(x), float(z0), float(a), float(2 * a), float(lp))
-                   for x, z0, a, lp in zip(self.stations, self.bed.z0, self.bed.amplitude, lam)])
+        write_csv(
+            os.path.join(out, "ripple_prediction.csv"),
+            ("x", "bed_initial", "orbital_amplitude", "orbital_diameter_d0", "wiberg_harris_length"),
+            [
+                (float(x), float(z0), float(a), float(2 * a), float(lp))
+                for x, z0, a, lp in zip(self.stations, self.bed.z0, self.bed.amplitude, lam)
+            ],
+        )
         self.plot(os.path.join(out, "bed_profile.png"), lam)
         self.shoal.plot(os.path.join(out, "shoaling.png"), pyplot, save)
 
@@ -272,10 +329,23 @@ class BeachBed:
         lengths = self.lengths
         if self.zone is not None and np.isfinite(lengths[0]):
             x0, x1 = x[self.zone][0], x[self.zone][-1]
-            a2.hlines(100 * lengths[1], x0, x1, color="C0", lw=2.0, ls="--",
-                      label=f"its mean over the ripple zone, {100 * lengths[1]:.1f} cm")
-            a2.hlines(100 * lengths[0], x0, x1, color="C3", lw=2.0,
-                      label=f"the ripples' mean length there, {100 * lengths[0]:.1f} cm")
+            a2.hlines(
+                100 * lengths[1],
+                x0,
+                x1,
+                color="C0",
+                lw=2.0,
+                ls="--",
+                label=f"its mean over the ripple zone, {100 * lengths[1]:.1f} cm",
+            )
+            a2.hlines(
+                100 * lengths[0],
+                x0,
+                x1,
+                color="C3",
+                lw=2.0,
+                label=f"the ripples' mean length there, {100 * lengths[0]:.1f} cm",
+            )
         a2.axhline(100 * RESOLVED_DX * self.dx, color="k", lw=0.8, ls=":", label=f"{RESOLVED_DX:g} dx (resolved)")
         a2.set_ylabel("ripple length (cm)")
         a2.set_xlabel("x (m)")

@@ -8,6 +8,7 @@ The breaking point is where the measured height is largest; its H_b / h_b is set
 (1972) breaker index for a plane slope m: gamma_b = b - a H_b / (g T^2), a = 43.8 (1 - e^(-19 m)),
 b = 1.56 / (1 + e^(-19.5 m)) (Shore Protection Manual 1984, eq. 2-92).
 """
+
 import math
 
 import numpy as np
@@ -18,7 +19,7 @@ from ...measure.records import arrival_time, wave_height
 from ...particles import FLUID
 from ...waves.theory import group_velocity, hunt_run_up, wavenumber
 
-STEP = 0.25         # m between the gauges of the line
+STEP = 0.25  # m between the gauges of the line
 
 
 def crest_height(geo):
@@ -31,13 +32,16 @@ def warn_run_up(geo, H, omega, k):
     reaches above the crest: the swash would run against the end wall and reflect from it. Returns
     Hunt's run-up (m above still water)."""
     import warnings
+
     R = hunt_run_up(H, omega, k, geo.depth, geo.slope)
     top = crest_height(geo)
     if top < R:
-        warnings.warn(f"geometry.length = {geo.length:g} m leaves the beach's crest {top:.3g} m above still water, "
-                      f"under Hunt's run-up of this wave ({R:.3g} m): the swash will run against the end wall "
-                      f"and reflect from it; geometry.length at least {geo.toe_x + (geo.depth + R) * geo.slope:.3g} m "
-                      "puts the crest above it")
+        warnings.warn(
+            f"geometry.length = {geo.length:g} m leaves the beach's crest {top:.3g} m above still water, "
+            f"under Hunt's run-up of this wave ({R:.3g} m): the swash will run against the end wall "
+            f"and reflect from it; geometry.length at least {geo.toe_x + (geo.depth + R) * geo.slope:.3g} m "
+            "puts the crest above it"
+        )
     return R
 
 
@@ -81,7 +85,7 @@ def shuto_shoaling(H0, h0, h, omega, g=G):
     runs shallower from h0 (along a slope); heights at each h."""
     T2 = (2 * math.pi / omega) ** 2
     ursell = lambda H, d: g * H * T2 / (d * d)
-    third = lambda H, d: H * d ** 2.5 * (math.sqrt(ursell(H, d)) - 2 * math.sqrt(3.0))
+    third = lambda H, d: H * d**2.5 * (math.sqrt(ursell(H, d)) - 2 * math.sqrt(3.0))
     out, H_prev, d_prev, regime, const = [], H0, h0, 0, None
     for d in h:
         d = float(d)
@@ -95,7 +99,7 @@ def shuto_shoaling(H0, h0, h, omega, g=G):
             if ursell(H, d) >= 50:
                 regime, const = 2, third(H_prev, d_prev)
         if regime == 2:
-            lo, hi = 1e-9, 10.0 * d          # third() grows with H past U = 12: bisect
+            lo, hi = 1e-9, 10.0 * d  # third() grows with H past U = 12: bisect
             lo = max(lo, 12.0 * d * d / (g * T2))
             for _ in range(100):
                 mid = 0.5 * (lo + hi)
@@ -129,8 +133,12 @@ class Shoaling:
             return {}
         arr = np.array(self.rows)
         t = arr[:, 0]
-        H = np.array([wave_height(t, arr[:, i + 1], arrival_time(p, x, cg), t[-1], p["period"])[0]
-                      for i, x in enumerate(self.xs)])
+        H = np.array(
+            [
+                wave_height(t, arr[:, i + 1], arrival_time(p, x, cg), t[-1], p["period"])[0]
+                for i, x in enumerate(self.xs)
+            ]
+        )
         flat = np.array(self.flat) & np.isfinite(H)
         if not flat.any():
             return {}
@@ -140,20 +148,26 @@ class Shoaling:
         Hnl = shuto_shoaling(float(H[flat].mean()), self.depth[0], self.depth, omega)
         ok = np.isfinite(H)
         ib = int(np.nanargmax(np.where(ok, H, np.nan)))
-        err = np.abs(H[:ib + 1] / Hth[:ib + 1] - 1)
-        nerr = np.abs(H[:ib + 1] / Hnl[:ib + 1] - 1)
+        err = np.abs(H[: ib + 1] / Hth[: ib + 1] - 1)
+        nerr = np.abs(H[: ib + 1] / Hnl[: ib + 1] - 1)
         A = np.array([amplitude_at(x) for x in self.xs])
-        aerr = np.abs(A[:ib + 1] / Ath[:ib + 1] - 1)
+        aerr = np.abs(A[: ib + 1] / Ath[: ib + 1] - 1)
         Hb, hb = float(H[ib]), float(self.depth[ib])
         self.result = dict(x=self.xs, H=H, Hth=Hth, Hnl=Hnl, A=A, Ath=Ath, ib=ib)
-        return dict(shoaling_x=[float(x) for x in self.xs], shoaling_height=[float(v) for v in H],
-                    shoaling_theory=[float(v) for v in Hth],
-                    shoaling_error=float(np.nanmax(err)) if ib > 0 else float("nan"),
-                    shoaling_nonlinear=[float(v) for v in Hnl],
-                    shoaling_error_nonlinear=float(np.nanmax(nerr)) if ib > 0 else float("nan"),
-                    orbital_amplitude_error=float(np.nanmax(aerr)) if ib > 0 else float("nan"),
-                    breaking_x=float(self.xs[ib]), breaking_height=Hb, breaking_depth=hb,
-                    breaker_index=Hb / hb, weggel_breaker_index=weggel_index(self.slope_m, Hb, p["period"]))
+        return dict(
+            shoaling_x=[float(x) for x in self.xs],
+            shoaling_height=[float(v) for v in H],
+            shoaling_theory=[float(v) for v in Hth],
+            shoaling_error=float(np.nanmax(err)) if ib > 0 else float("nan"),
+            shoaling_nonlinear=[float(v) for v in Hnl],
+            shoaling_error_nonlinear=float(np.nanmax(nerr)) if ib > 0 else float("nan"),
+            orbital_amplitude_error=float(np.nanmax(aerr)) if ib > 0 else float("nan"),
+            breaking_x=float(self.xs[ib]),
+            breaking_height=Hb,
+            breaking_depth=hb,
+            breaker_index=Hb / hb,
+            weggel_breaker_index=weggel_index(self.slope_m, Hb, p["period"]),
+        )
 
     def plot(self, path, pyplot, save):
         r = getattr(self, "result", None)
@@ -166,7 +180,7 @@ class Shoaling:
         a1.plot(r["x"], 100 * r["Hnl"], "k-.", lw=0.9, label="nonlinear shoaling (Shuto 1974) from the same")
         a1.axvline(r["x"][r["ib"]], color="0.5", lw=0.8, ls=":", label="breaking (largest H)")
         a1.set_ylabel("wave height (cm)")
-        top = lambda v: 130 * np.nanmax(v) if np.isfinite(v).any() else None   # the theories run on past the break
+        top = lambda v: 130 * np.nanmax(v) if np.isfinite(v).any() else None  # the theories run on past the break
         a1.set_ylim(0, top(r["H"]))
         a1.legend(fontsize=7)
         a2.plot(r["x"], 100 * r["A"], "o-", ms=3, lw=0.9, label="measured near-bed orbital amplitude")

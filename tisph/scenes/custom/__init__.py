@@ -10,6 +10,7 @@ domain.outflow open boxes the water leaves through; [[gauge]] entries read the f
 velocity, pressure, the force on a wall face and the discharge through a section (overtopping,
 with EurOtop's mean discharge beside it). Every particle sits on one lattice (tisph/geometry.py).
 """
+
 import math
 import os
 from functools import partial
@@ -72,8 +73,14 @@ def _parts(cfg):  # noqa: C901 (one branch a kind of part a case file may hold)
     for name in {g["array"] for g in gauges if g["array"]}:
         mine = [g for g in gauges if g["array"] == name]
         if len(mine) < 2 or cfg.paddle.type == "none":
-            errors.append(ConfigError(f"{mine[0]['name']}.array", name, "a name two or more surface gauges share, "
-                                      "in a case with a paddle (the waves are separated at its frequency)"))
+            errors.append(
+                ConfigError(
+                    f"{mine[0]['name']}.array",
+                    name,
+                    "a name two or more surface gauges share, "
+                    "in a case with a paddle (the waves are separated at its frequency)",
+                )
+            )
     raise_collected(errors)
     num = cfg.numerics
     lay = Layout(box, solids, waters, num.dx, num.wall_layers, errors)
@@ -86,14 +93,18 @@ def _parts(cfg):  # noqa: C901 (one branch a kind of part a case file may hold)
     if bad is not None:
         (x, z), d = bad
         side = {(1, 0): "right", (-1, 0): "left", (0, 1): "top", (0, -1): "bottom"}[d]
-        raise ConfigError(who(waters[int(lay.region[np.argmin(np.hypot(*(lay.pts - [x, z]).T))])]),
-                          f"water at ({x:.4g}, {z:.4g}) m", "water held by a solid or an outflow",
-                          f"nothing holds it at the domain's {side} edge: draw a wall there, an outflow box, "
-                          "or lower the level")
+        raise ConfigError(
+            who(waters[int(lay.region[np.argmin(np.hypot(*(lay.pts - [x, z]).T))])]),
+            f"water at ({x:.4g}, {z:.4g}) m",
+            "water held by a solid or an outflow",
+            f"nothing holds it at the domain's {side} edge: draw a wall there, an outflow box, or lower the level",
+        )
     sand_site = check_sand(cfg, solids, box, errors)
     raise_collected(errors)
     if sand_site and cfg.sand.x[0] <= cfg.paddle.x:
-        raise ConfigError("sand.x", cfg.sand.x, f"a stretch in front of the paddle (x0 > paddle.x = {cfg.paddle.x:g} m)")
+        raise ConfigError(
+            "sand.x", cfg.sand.x, f"a stretch in front of the paddle (x0 > paddle.x = {cfg.paddle.x:g} m)"
+        )
     return box, outflow, solids, waters, gauges, lay, sand_site
 
 
@@ -108,32 +119,44 @@ def paddle_site(cfg, lay, box):
     depth = level - floor
     length = float(lay.pts[lay.water, 0].max()) - p.x
     wp.check_paddle(cfg, depth, length, default_stroke=0.04)
-    parts = wp.paddle(cfg, depth, p.top or box[3], floor)   # built once: the travel here, the particles in build
+    parts = wp.paddle(cfg, depth, p.top or box[3], floor)  # built once: the travel here, the particles in build
     reach = parts[3]
     back = p.x - lay.T - reach
     top = p.top or box[3]
     if top <= level:
         raise ConfigError("paddle.top", top, f"above the water at the paddle ({level:.4g} m)")
     if back - lay.T < box[0]:
-        raise ConfigError("paddle.x", p.x, f"at least {box[0] + 2 * lay.T + reach:.4g} m, or domain.box starting "
-                          f"at x = {back - lay.T:.4g} m or further left",
-                          f"behind the paddle's face at x = {p.x:g} m its travel ({reach:.3g} m) and plate "
-                          f"({lay.T:.3g} m: numerics.wall_layers = {cfg.numerics.wall_layers} spacings) reach "
-                          f"x = {back:.4g} m, and the wall layers that close the water behind it another "
-                          f"{lay.T:.3g} m, to x = {back - lay.T:.4g} m; domain.box starts at x = {box[0]:g} m")
+        raise ConfigError(
+            "paddle.x",
+            p.x,
+            f"at least {box[0] + 2 * lay.T + reach:.4g} m, or domain.box starting "
+            f"at x = {back - lay.T:.4g} m or further left",
+            f"behind the paddle's face at x = {p.x:g} m its travel ({reach:.3g} m) and plate "
+            f"({lay.T:.3g} m: numerics.wall_layers = {cfg.numerics.wall_layers} spacings) reach "
+            f"x = {back:.4g} m, and the wall layers that close the water behind it another "
+            f"{lay.T:.3g} m, to x = {back - lay.T:.4g} m; domain.box starts at x = {box[0]:g} m",
+        )
     pts = lay.pts
     travel = (pts[:, 0] > back) & (pts[:, 0] < p.x + reach)
     blocked = travel & lay.wall & (pts[:, 1] > floor) & (pts[:, 1] < top)
     if blocked.any():
         q = pts[blocked][0]
-        raise ConfigError("paddle.x", p.x, "a position where no solid stands in the paddle's travel",
-                          f"a wall particle at ({q[0]:.4g}, {q[1]:.4g}) m")
+        raise ConfigError(
+            "paddle.x",
+            p.x,
+            "a position where no solid stands in the paddle's travel",
+            f"a wall particle at ({q[0]:.4g}, {q[1]:.4g}) m",
+        )
     under = travel & lay.wall & (pts[:, 1] < floor) & (pts[:, 1] > floor - dx)
     cols = np.unique(np.round(pts[under, 0] / dx - 0.5))
     need = int(round((p.x + reach - back) / dx)) - 1
     if len(cols) < need:
-        raise ConfigError("paddle.x", p.x, f"a position with a floor under the paddle's travel ({back:.4g} to "
-                          f"{p.x + reach:.4g} m at z = {floor:.4g} m): extend the solid under it")
+        raise ConfigError(
+            "paddle.x",
+            p.x,
+            f"a position with a floor under the paddle's travel ({back:.4g} to "
+            f"{p.x + reach:.4g} m at z = {floor:.4g} m): extend the solid under it",
+        )
     return floor, level, parts
 
 
@@ -150,13 +173,14 @@ def release_speed(lay, water, u0, g, height):
     dam break's collapse and a tank's slosh each get their own scale, not the free fall that
     bounds the sound speed."""
     free = lay.pts[lay.in_box & ~lay.solid & ~lay.wall]
-    settled = np.sort(free[:, 1])[:len(water)]
+    settled = np.sort(free[:, 1])[: len(water)]
     fall = max(0.0, float(water[:, 1].mean() - settled.mean())) if len(settled) == len(water) else 0.0
     return max(u0 + 2.0 * math.sqrt(2.0 * g * fall), 0.05 * math.sqrt(g * height))
 
 
 class Custom(Scene):
     """Your own case: a 2D domain described in a case file, in metres (docs/cases.md)."""
+
     NAME = "custom"
     ELEMENTS = ELEMENTS
 
@@ -169,16 +193,21 @@ class Custom(Scene):
             "outflow": K([], "[[x0, x1, z0, z1], ...] m: open boxes; water entering one leaves the run"),
             "base_dir": K("", "where a solid's CSV is looked for; \"\": the case file's folder"),
         },
-        "paddle": dict(PADDLE, **IRREGULAR,
-                       type=K("none", "none | piston | flap: the wave maker", choices=("none", "piston", "flap")),
-                       x=K(0.0, "the paddle's water-side face at rest; the water behind it is removed", "m"),
-                       top=K(0.0, "the top of the paddle plate; 0: the top of domain.box", "m")),
+        "paddle": dict(
+            PADDLE,
+            **IRREGULAR,
+            type=K("none", "none | piston | flap: the wave maker", choices=("none", "piston", "flap")),
+            x=K(0.0, "the paddle's water-side face at rest; the water behind it is removed", "m"),
+            top=K(0.0, "the top of the paddle plate; 0: the top of domain.box", "m"),
+        ),
         "absorber": {
             "start": K(0.0, "where the damping zone begins (its strength ramps up from here)", "m"),
             "end": K(0.0, "where it is strongest (beyond, too); start = end: no absorber", "m"),
             "rate": K(10.0, "the strongest velocity relaxation rate", "1/s", POSITIVE),
         },
-        "solid": [], "water": [], "gauge": [],
+        "solid": [],
+        "water": [],
+        "gauge": [],
         "sand": SAND,
         "sediment": with_defaults(SEDIMENT, model=K("bedload", SEDIMENT["model"].doc, choices=("bedload",))),
         "materials": {"water": {"rho0": 1000.0, "viscosity": 1.0e-3}},
@@ -192,7 +221,7 @@ class Custom(Scene):
         if p.type == "none" or p.get("wave_height", 0.0) <= 0:
             return {}, []
         col = _parts(cfg)[5].column(p.x)
-        return wp.stroke_step(cfg, col[1] - col[0], 0.04) if col is not None else ({}, [])   # none: check says why
+        return wp.stroke_step(cfg, col[1] - col[0], 0.04) if col is not None else ({}, [])  # none: check says why
 
     def check(self, cfg):
         box, outflow, solids, waters, gauges, lay, _ = _parts(cfg)
@@ -225,7 +254,7 @@ class Custom(Scene):
         if p.type != "none":
             floor, level, paddle_parts = paddle_site(cfg, lay, box)
             if p.absorb:
-                paddle_parts[1].x_abs += p.x      # the absorbing gauge stands in front of this paddle
+                paddle_parts[1].x_abs += p.x  # the absorbing gauge stands in front of this paddle
             physics_kw["paddle"] = p.type
             period = wave_period(p)
             if sand_site:
@@ -252,35 +281,54 @@ class Custom(Scene):
         _warn(cfg, lay, waters, gauges, depth_at, level - floor if paddle_parts else None, period)
         band = tuple(b / p.tp for b in p.band) if paddle_parts and p.spectrum else None
         cg = CaseGauges(gauges, dx, h, g, wall_side, depth_at, band, load_cutoff(c0, height))
-        parts = dict(probe_columns=cg.columns, probe=cg.read, persist=(cg,),
-                     metrics=lambda c: cg.metrics(c, period, still),
-                     finalize=lambda out, m: cg.plot(os.path.join(out, "gauges.png"), run_title(cfg, out)))
+        parts = dict(
+            probe_columns=cg.columns,
+            probe=cg.read,
+            persist=(cg,),
+            metrics=lambda c: cg.metrics(c, period, still),
+            finalize=lambda out, m: cg.plot(os.path.join(out, "gauges.png"), run_title(cfg, out)),
+        )
         if sand:
+
             def finalize(out, m):
                 cg.plot(os.path.join(out, "gauges.png"), run_title(cfg, out))
                 sand.finalize(out)
 
-            parts = dict(probe_columns=cg.columns + ("bed_change_rms",), probe=lambda st: cg.read(st) + sand.probe(st),
-                         metrics=lambda c: dict(cg.metrics(c, period, still), **sand.metrics(c)),
-                         finalize=finalize, control=sand.coupler.update,
-                         control_every=cfg.sediment.update_every, persist=(cg, sand.coupler, sand), **sand.picture())
-        if paddle_parts and p.absorb:   # the absorbing paddle reads its gauge at the same interval
+            parts = dict(
+                probe_columns=cg.columns + ("bed_change_rms",),
+                probe=lambda st: cg.read(st) + sand.probe(st),
+                metrics=lambda c: dict(cg.metrics(c, period, still), **sand.metrics(c)),
+                finalize=finalize,
+                control=sand.coupler.update,
+                control_every=cfg.sediment.update_every,
+                persist=(cg, sand.coupler, sand),
+                **sand.picture(),
+            )
+        if paddle_parts and p.absorb:  # the absorbing paddle reads its gauge at the same interval
             parts["control"] = with_control(paddle_parts[1], parts.get("control"))
             parts["persist"] += (paddle_parts[1],)
         if not paddle_parts:
             parts["speed_scale"] = release_speed(lay, water, u0, g, height)
-        elif not p.series:   # colour top: twice the linear surface orbital speed at the paddle, as the flume's
+        elif not p.series:  # colour top: twice the linear surface orbital speed at the paddle, as the flume's
             omega, k, _, _, F = linear_wave(cfg, level - floor)
             parts["speed_scale"] = (p.hs if p.spectrum else F * p.stroke) * omega / math.tanh(k * (level - floor))
         margin = lay.T + dx
         zones = [(min(a.start, a.end), max(a.start, a.end), "absorber")] if "damping" in physics_kw else []
-        return make_case(name=self.NAME, particles=ps, materials=[dict(name="water", rho0=rho0,
-                         viscosity=cfg.materials.water.viscosity, B=tait_B(rho0, c0))],
-                         domain=domain, params=params, outflow=tuple((b[0], b[2], b[1], b[3]) for b in outflow),
-                         physics=physics_from_config(cfg, **physics_kw), u_max=u_max,
-                         view=((box[0] - margin, box[2] - margin), (box[1] + margin, box[3] + margin)),
-                         marks=[(q["x"], q["label"]) for q in gauges if q["type"] == "surface"], zones=zones,
-                         solid_region=lay.solid_region, **parts)
+        return make_case(
+            name=self.NAME,
+            particles=ps,
+            materials=[dict(name="water", rho0=rho0, viscosity=cfg.materials.water.viscosity, B=tait_B(rho0, c0))],
+            domain=domain,
+            params=params,
+            outflow=tuple((b[0], b[2], b[1], b[3]) for b in outflow),
+            physics=physics_from_config(cfg, **physics_kw),
+            u_max=u_max,
+            view=((box[0] - margin, box[2] - margin), (box[1] + margin, box[3] + margin)),
+            marks=[(q["x"], q["label"]) for q in gauges if q["type"] == "surface"],
+            zones=zones,
+            solid_region=lay.solid_region,
+            **parts,
+        )
 
 
 def _warn(cfg, lay, waters, gauges, depth_at, depth, period):
@@ -290,14 +338,23 @@ def _warn(cfg, lay, waters, gauges, depth_at, depth, period):
     warn_gauges(cfg, gauges, depth_at)
     note = ""
     if depth is not None and p.wave_height and not p.series and not p.spectrum:
-        note = (f" (paddle.stroke = {p.stroke:.4g} m: Biesel's for paddle.wave_height = {p.wave_height:g} m "
-                f"in {depth:.4g} m of water)")
+        note = (
+            f" (paddle.stroke = {p.stroke:.4g} m: Biesel's for paddle.wave_height = {p.wave_height:g} m "
+            f"in {depth:.4g} m of water)"
+        )
     lay.warn_levels(waters, note)
     if depth is not None and not p.series and not p.spectrum:
         omega, k, _, cgroup, F = linear_wave(cfg, depth)
-        warn_case_waves(cfg, F * p.stroke, k, depth,
-                        [q["x"] - p.x for q in gauges if q["type"] == "surface" and depth_at(q["x"]) > 0],
-                        cgroup, period, arrival_time)
+        warn_case_waves(
+            cfg,
+            F * p.stroke,
+            k,
+            depth,
+            [q["x"] - p.x for q in gauges if q["type"] == "surface" and depth_at(q["x"]) > 0],
+            cgroup,
+            period,
+            arrival_time,
+        )
 
 
 def _particles(lay, dx, h, rho0, c0, g):
@@ -310,8 +367,9 @@ def _particles(lay, dx, h, rho0, c0, g):
     np.maximum.at(tops, col, water[:, 1] + 0.5 * dx)
     top = tops[col]
     ps = ParticleSet()
-    ps.add(water, FLUID, 0, hydrostatic_density(top - water[:, 1], rho0, c0, g), rho0 * dx * dx,
-           v=lay.velocity[lay.water])
+    ps.add(
+        water, FLUID, 0, hydrostatic_density(top - water[:, 1], rho0, c0, g), rho0 * dx * dx, v=lay.velocity[lay.water]
+    )
     walls = lay.pts[lay.wall]
     ps.add(walls, WALL, 0, wall_density(walls, water, dx, h, rho0, c0, g), rho0 * dx * dx)
     return ps, top
@@ -334,4 +392,3 @@ def _depth_at(lay, x):
 
 SCENE = Custom()
 main = partial(run_scene, SCENE)
-

@@ -1,6 +1,7 @@
 """The case file's lists of tables ([[solid]], [[water]], [[gauge]]): each entry's keys with their
 defaults, checked as the scalar tables are (unknown keys with a "did you mean", types, choices),
 every error at once, named as solid[2].polygon."""
+
 import difflib
 import math
 import os
@@ -16,11 +17,16 @@ NUM = "a number"
 ELEMENTS = {
     "solid": {
         "label": K("", 'its name in messages and in the picture'),
-        "line": K([], '[[x, z], ...] m: an open polyline; the solid is on its right walking along it (the water on its left)'),
+        "line": K(
+            [], '[[x, z], ...] m: an open polyline; the solid is on its right walking along it (the water on its left)'
+        ),
         "polygon": K([], '[[x, z], ...] m: a closed polygon; the solid is inside (a breakwater, a seawall)'),
         "box": K([], '[x0, x1, z0, z1] m: a rectangle; the solid is inside'),
         "circle": K([], '[xc, zc, r] m: a circle; the solid is inside (a pipe)'),
-        "csv": K("", 'a CSV of x, z rows (a surveyed profile, relative to the case file): a line from left to right, solid below it'),
+        "csv": K(
+            "",
+            'a CSV of x, z rows (a surveyed profile, relative to the case file): a line from left to right, solid below it',
+        ),
     },
     "water": {
         "label": K("", 'its name in messages'),
@@ -31,15 +37,31 @@ ELEMENTS = {
     },
     "gauge": {
         "label": K("", 'its name in probes.csv and summary.json; "": type and number (surface1)'),
-        "type": K("surface", 'surface (free-surface height at x) | velocity (at x, z) | pressure (at x, z) | force (along line) | discharge (through the vertical section at x) | front (the leading water along the floor at z)'),
+        "type": K(
+            "surface",
+            'surface (free-surface height at x) | velocity (at x, z) | pressure (at x, z) | force (along line) | discharge (through the vertical section at x) | front (the leading water along the floor at z)',
+        ),
         "x": K(None, "a surface, velocity, pressure or discharge gauge's position", "m"),
-        "z": K(None, 'the point of a velocity or pressure gauge (put it half a smoothing length into the water from a wall)', 'm'),
-        "line": K([], "[[x0, z0], [x1, z1]] m: a force gauge's wall face; the pressure is integrated along it (force per metre)"),
+        "z": K(
+            None,
+            'the point of a velocity or pressure gauge (put it half a smoothing length into the water from a wall)',
+            'm',
+        ),
+        "line": K(
+            [],
+            "[[x0, z0], [x1, z1]] m: a force gauge's wall face; the pressure is integrated along it (force per metre)",
+        ),
         "from_time": K(0.0, "the gauge's statistics start here (wave height, mean discharge)", 's'),
         "crest": K(None, "a discharge gauge's crest level: EurOtop's mean overtopping beside the measured one", 'm'),
         "cot_slope": K(0.0, "the structure's seaward slope (cot alpha) for EurOtop; 0: no EurOtop"),
-        "array": K("", "surface gauges given one name form an array: the incident and reflected waves at the paddle's frequency from two or more of them (Mansard & Funke 1980, as the flume's), a tenth of a wavelength or so apart"),
-        "toe_gauges": K([], 'the surface gauges in front of the structure whose incident wave height EurOtop reads: one (its wave height, incident and reflected together) or three or more on a flat stretch, a tenth of a wavelength or so apart (the incident first harmonic, separated from the reflected one)'),
+        "array": K(
+            "",
+            "surface gauges given one name form an array: the incident and reflected waves at the paddle's frequency from two or more of them (Mansard & Funke 1980, as the flume's), a tenth of a wavelength or so apart",
+        ),
+        "toe_gauges": K(
+            [],
+            'the surface gauges in front of the structure whose incident wave height EurOtop reads: one (its wave height, incident and reflected together) or three or more on a flat stretch, a tenth of a wavelength or so apart (the incident first harmonic, separated from the reflected one)',
+        ),
     },
 }
 SHAPES = ("line", "polygon", "box", "circle", "csv")
@@ -52,8 +74,11 @@ def _num(v):
 def points(key, v, closed):
     """[[x, z], ...] as floats, at least 2 (3 closed) distinct points."""
     need = 3 if closed else 2
-    ok = (isinstance(v, list) and len(v) >= need and
-          all(isinstance(p, list) and len(p) == 2 and all(_num(c) for c in p) for p in v))
+    ok = (
+        isinstance(v, list)
+        and len(v) >= need
+        and all(isinstance(p, list) and len(p) == 2 and all(_num(c) for c in p) for p in v)
+    )
     if not ok:
         raise ConfigError(key, v, f"a list of at least {need} [x, z] points in m")
     return [[float(a), float(b)] for a, b in v]
@@ -83,8 +108,14 @@ def entries(cfg, table, base_dir, errors):
             key = f"{name}.{k}"
             if k not in spec:
                 close = difflib.get_close_matches(k, list(spec), n=1, cutoff=0.5)
-                errors.append(ConfigError(key, v, "one of: " + ", ".join(sorted(spec)),
-                                          f"did you mean '{close[0]}'?" if close else "unknown key"))
+                errors.append(
+                    ConfigError(
+                        key,
+                        v,
+                        "one of: " + ", ".join(sorted(spec)),
+                        f"did you mean '{close[0]}'?" if close else "unknown key",
+                    )
+                )
                 continue
             d = spec[k]
             try:
@@ -149,7 +180,7 @@ def _gauge(g, base_dir):
     if g["type"] not in GAUGE_TYPES:
         raise ConfigError(f"{n}.type", g["type"], "one of " + ", ".join(repr(t) for t in GAUGE_TYPES))
     t = g["type"]
-    for key, what in GAUGE_TYPES[t].needs.items():   # what each type must be given (tisph/measure/gauges.py)
+    for key, what in GAUGE_TYPES[t].needs.items():  # what each type must be given (tisph/measure/gauges.py)
         if key == "line":
             g["line"] = points(f"{n}.line", g["line"], False)
             if len(g["line"]) != 2:
@@ -159,13 +190,20 @@ def _gauge(g, base_dir):
     if g["cot_slope"] < 0:
         raise ConfigError(f"{n}.cot_slope", g["cot_slope"], "a number >= 0")
     if g["cot_slope"] > 0 and (t != "discharge" or g["crest"] is None or not g["toe_gauges"]):
-        raise ConfigError(f"{n}.cot_slope", g["cot_slope"], "0 unless the gauge is a discharge gauge with crest and "
-                          "toe_gauges given (EurOtop needs the freeboard and the wave height at the toe)")
+        raise ConfigError(
+            f"{n}.cot_slope",
+            g["cot_slope"],
+            "0 unless the gauge is a discharge gauge with crest and "
+            "toe_gauges given (EurOtop needs the freeboard and the wave height at the toe)",
+        )
     if g["array"] and t != "surface":
         raise ConfigError(f"{n}.array", g["array"], '"" for a ' + t + " gauge (an array is of surface gauges)")
     if g["toe_gauges"] and len(g["toe_gauges"]) == 2:
-        raise ConfigError(f"{n}.toe_gauges", g["toe_gauges"], "one surface gauge's label, or three or more (two "
-                          "waves, incident and reflected, are fitted)")
+        raise ConfigError(
+            f"{n}.toe_gauges",
+            g["toe_gauges"],
+            "one surface gauge's label, or three or more (two waves, incident and reflected, are fitted)",
+        )
     g["label"] = g["label"] or f"{t}{g['index'] + 1}"
 
 

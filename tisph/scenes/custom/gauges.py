@@ -1,5 +1,6 @@
 """The gauges of a case file (tisph/measure/gauges.py: one class a type), and EurOtop's mean
 overtopping beside a discharge gauge's, from the incident wave at the structure's toe."""
+
 import math
 
 import numpy as np
@@ -27,7 +28,7 @@ class CaseGauges(GaugeSet):
         cutoff: the load gauges' low-pass (load_cutoff)."""
         super().__init__(case_gauges(specs, dx, h, wall_side), dx, h, cutoff)
         for gauge in self.gauges:
-            gauge.irregular = band is not None      # a surface gauge's Hm0 and Tp come from spectra
+            gauge.irregular = band is not None  # a surface gauge's Hm0 and Tp come from spectra
         self.specs, self.g, self.band = specs, g, band
         self.depth = {q["label"]: depth_at(q["x"]) for q in specs if q["type"] == "surface"}
 
@@ -42,8 +43,13 @@ class CaseGauges(GaugeSet):
             split = self.split([q["label"] for q in self.specs if q["array"] == name], period)
             if split is not None:
                 ai, ar, kr = split
-                out.update({f"{name}_incident_height": 2 * ai, f"{name}_reflected_height": 2 * ar,
-                            f"{name}_reflection_coefficient": kr})
+                out.update(
+                    {
+                        f"{name}_incident_height": 2 * ai,
+                        f"{name}_reflected_height": 2 * ar,
+                        f"{name}_reflection_coefficient": kr,
+                    }
+                )
         for q in self.specs:
             if q["type"] == "discharge" and q["cot_slope"] > 0 and period:
                 lab = q["label"]
@@ -113,10 +119,15 @@ def check_sites(gauges, lay, errors):
             for s, shape in lay.shapes:
                 if s["shape"] != "line" and shape.inside(pt)[0]:
                     depth = float(shape.distance(pt)[0])
-                    errors.append(ConfigError(f"{q['name']}.x", q["x"],
-                                              f"with z = {q['z']:g} m, a point in the water, outside every solid",
-                                              f"it lies {depth:.3g} m inside {who(s)}: move it out of that "
-                                              f"solid, into the water beside its face"))
+                    errors.append(
+                        ConfigError(
+                            f"{q['name']}.x",
+                            q["x"],
+                            f"with z = {q['z']:g} m, a point in the water, outside every solid",
+                            f"it lies {depth:.3g} m inside {who(s)}: move it out of that "
+                            f"solid, into the water beside its face",
+                        )
+                    )
                     break
         elif q["type"] == "force" and lay.shapes:
             (x0, z0), (x1, z1) = q["line"]
@@ -125,7 +136,12 @@ def check_sites(gauges, lay, errors):
             far = [(float(shape.distance(pts).max()), s) for s, shape in lay.shapes]
             d, s = min(far, key=lambda e: e[0])
             if d > dx:
-                errors.append(ConfigError(f"{q['name']}.line", q["line"], "a line along a solid's face (every point "
-                                          f"within dx = {dx:g} m of it)",
-                                          f"it runs up to {d:.3g} m off the nearest solid's face, {who(s)}: "
-                                          "draw it on that face, corner to corner"))
+                errors.append(
+                    ConfigError(
+                        f"{q['name']}.line",
+                        q["line"],
+                        f"a line along a solid's face (every point within dx = {dx:g} m of it)",
+                        f"it runs up to {d:.3g} m off the nearest solid's face, {who(s)}: "
+                        "draw it on that face, corner to corner",
+                    )
+                )

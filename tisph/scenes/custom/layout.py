@@ -1,6 +1,7 @@
 """A case file's particles: the solids' wall layers, the water regions and the paddle on one
 lattice, with the geometry checks (a shape drawn over itself, a feature thinner than two spacings,
 water not held, a paddle without water or floor) raised as ConfigErrors naming the entry."""
+
 import math
 import warnings
 
@@ -50,21 +51,36 @@ class Layout:
                 bad = crossings(pts, s["shape"] == "polygon")
                 if bad:
                     i, j = bad[0]
-                    errors.append(ConfigError(f"{s['name']}.{s['shape']}", f"segments {i} and {j} cross",
-                                              "a shape that does not cross itself"))
+                    errors.append(
+                        ConfigError(
+                            f"{s['name']}.{s['shape']}",
+                            f"segments {i} and {j} cross",
+                            "a shape that does not cross itself",
+                        )
+                    )
                     continue
             lo, hi = shape.bounds()
             if hi[0] < x0 or lo[0] > x1 or hi[1] < z0 or lo[1] > z1:
-                errors.append(ConfigError(s["name"], f"bounds x {lo[0]:g}..{hi[0]:g}, z {lo[1]:g}..{hi[1]:g} m",
-                                          f"a solid inside domain.box = {list(box)}"))
+                errors.append(
+                    ConfigError(
+                        s["name"],
+                        f"bounds x {lo[0]:g}..{hi[0]:g}, z {lo[1]:g}..{hi[1]:g} m",
+                        f"a solid inside domain.box = {list(box)}",
+                    )
+                )
                 continue
             inside = shape.inside(p)
             if s["shape"] != "line":
                 thick = 2.0 * float(shape.distance(p[inside]).max()) if inside.any() else 0.0
                 if thick < 2 * dx:
-                    errors.append(ConfigError(s["name"], f"{thick:.3g} m thick" if thick else "no lattice point inside",
-                                              f"a solid at least two particle spacings thick (2 dx = {2 * dx:g} m)",
-                                              "draw it thicker or lower numerics.dx"))
+                    errors.append(
+                        ConfigError(
+                            s["name"],
+                            f"{thick:.3g} m thick" if thick else "no lattice point inside",
+                            f"a solid at least two particle spacings thick (2 dx = {2 * dx:g} m)",
+                            "draw it thicker or lower numerics.dx",
+                        )
+                    )
                     continue
             self.solid |= inside
             self.wall |= shape.band(p, self.T)
@@ -89,44 +105,74 @@ class Layout:
         if w["polygon"]:
             poly = np.asarray(w["polygon"])
             if crossings(w["polygon"], True):
-                errors.append(ConfigError(f"{w['name']}.polygon", "crosses itself", "a polygon that does not cross itself"))
+                errors.append(
+                    ConfigError(f"{w['name']}.polygon", "crosses itself", "a polygon that does not cross itself")
+                )
                 return
             x0, x1, z0, z1 = self.box
             out = poly[((poly < [x0 - 0.5 * dx, z0 - 0.5 * dx]) | (poly > [x1 + 0.5 * dx, z1 + 0.5 * dx])).any(1)]
-            if len(out):      # said first: past the box, it is also in the walls that close the box
-                errors.append(ConfigError(f"{w['name']}.polygon", w["polygon"], f"corners inside domain.box = "
-                                          f"[{x0:g}, {x1:g}, {z0:g}, {z1:g}]", f"({out[0][0]:g}, {out[0][1]:g}) m lies outside it"))
+            if len(out):  # said first: past the box, it is also in the walls that close the box
+                errors.append(
+                    ConfigError(
+                        f"{w['name']}.polygon",
+                        w["polygon"],
+                        f"corners inside domain.box = [{x0:g}, {x1:g}, {z0:g}, {z1:g}]",
+                        f"({out[0][0]:g}, {out[0][1]:g}) m lies outside it",
+                    )
+                )
                 return
             sel = in_polygon(p, poly)
             over = sel & self.solid
             if over.any():
                 q = p[over][0]
-                errors.append(ConfigError(f"{w['name']}.polygon", w["polygon"], "a region clear of the solids",
-                                          f"{int(over.sum())} of its particles would overlap a solid, the first at "
-                                          f"({q[0]:.4g}, {q[1]:.4g}) m; a level fill stops at the solids by itself"))
+                errors.append(
+                    ConfigError(
+                        f"{w['name']}.polygon",
+                        w["polygon"],
+                        "a region clear of the solids",
+                        f"{int(over.sum())} of its particles would overlap a solid, the first at "
+                        f"({q[0]:.4g}, {q[1]:.4g}) m; a level fill stops at the solids by itself",
+                    )
+                )
                 return
         else:
-            sel = (p[:, 1] < w["level"]) & ~self.solid & self.in_box   # a level fills the domain, no further
+            sel = (p[:, 1] < w["level"]) & ~self.solid & self.in_box  # a level fills the domain, no further
             if w["x"]:
                 sel &= (p[:, 0] > w["x"][0]) & (p[:, 0] < w["x"][1])
         sel &= ~self.wall
         outside = sel & ~self.in_box
         if outside.any():
             q = p[outside][0]
-            errors.append(ConfigError(who(w), f"water at ({q[0]:.4g}, {q[1]:.4g}) m", f"water inside domain.box = "
-                                      f"{list(self.box)}", "the region reaches past the domain"))
+            errors.append(
+                ConfigError(
+                    who(w),
+                    f"water at ({q[0]:.4g}, {q[1]:.4g}) m",
+                    f"water inside domain.box = {list(self.box)}",
+                    "the region reaches past the domain",
+                )
+            )
             return
         if not sel.any():
-            errors.append(ConfigError(who(w), "no particle", "a region with water in it (at least one lattice point "
-                                      f"at dx = {dx:g} m clear of the solids)"))
+            errors.append(
+                ConfigError(
+                    who(w),
+                    "no particle",
+                    f"a region with water in it (at least one lattice point at dx = {dx:g} m clear of the solids)",
+                )
+            )
             return
         # thinner than two spacings: no column or no row of the region holds two particles
         ij = np.round(p[sel] / dx - 0.5).astype(int)
         cols = np.unique(ij[:, 0], return_counts=True)[1].max()
         rows = np.unique(ij[:, 1], return_counts=True)[1].max()
         if min(cols, rows) < 2:
-            errors.append(ConfigError(who(w), f"{min(cols, rows)} particle {'row' if cols < 2 else 'column'}",
-                                      f"a region at least two particle spacings thick (2 dx = {2 * dx:g} m)"))
+            errors.append(
+                ConfigError(
+                    who(w),
+                    f"{min(cols, rows)} particle {'row' if cols < 2 else 'column'}",
+                    f"a region at least two particle spacings thick (2 dx = {2 * dx:g} m)",
+                )
+            )
             return
         self.water |= sel
         self.velocity[sel] = w["velocity"]
@@ -156,7 +202,7 @@ class Layout:
         """(floor, level) of the water in the lattice column just right of x: its lowest and highest
         particle, half a spacing out; None if there is no water there."""
         dx = self.dx
-        xc = (math.floor(x / dx - 0.5 + 1e-9) + 1.5) * dx      # the first column centre past x
+        xc = (math.floor(x / dx - 0.5 + 1e-9) + 1.5) * dx  # the first column centre past x
         sel = self.water & (np.abs(self.pts[:, 0] - xc) < 0.25 * dx)
         if not sel.any():
             return None
@@ -177,7 +223,9 @@ class Layout:
             if abs(top - w["level"]) <= 1e-6 * max(1.0, abs(w["level"])):
                 continue
             rows = math.ceil((w["level"] - z0) / dx - 1e-9)
-            warnings.warn(f"{who(w)}.level = {w['level']:g} m fills whole rows of particles up to {top:.4g} m at "
-                          f"numerics.dx = {dx:g} m: the run's still water stands at {top:.4g} m{stroke_note}; "
-                          f"numerics.dx = {(w['level'] - z0) / rows:.4g} m ({rows} rows above domain.box's floor) "
-                          "keeps the level as written")
+            warnings.warn(
+                f"{who(w)}.level = {w['level']:g} m fills whole rows of particles up to {top:.4g} m at "
+                f"numerics.dx = {dx:g} m: the run's still water stands at {top:.4g} m{stroke_note}; "
+                f"numerics.dx = {(w['level'] - z0) / rows:.4g} m ({rows} rows above domain.box's floor) "
+                "keeps the level as written"
+            )

@@ -6,6 +6,7 @@ a spacing; the bed's ends are closed (its sand is conserved). The shear is the w
 friction factor on the near-bed orbital motion measured at each station, as on the beach), so a
 sand bed needs the paddle. The bed may erode down to the bottom of domain.box.
 """
+
 import dataclasses
 import os
 
@@ -31,9 +32,16 @@ def check(cfg, solids, box, errors):
     s, dx = cfg.sand, cfg.numerics.dx
     if not s.x:
         base = SEDIMENT_DEFAULTS
-        errors += [ConfigError(f"sediment.{k}", v, f"its default ({base[k]!r}) without a sand bed",
-                               "the [sediment] keys set the bed-load bed; give sand.x and sand.solid")
-                   for k, v in cfg.sediment.items() if v != base[k]]
+        errors += [
+            ConfigError(
+                f"sediment.{k}",
+                v,
+                f"its default ({base[k]!r}) without a sand bed",
+                "the [sediment] keys set the bed-load bed; give sand.x and sand.solid",
+            )
+            for k, v in cfg.sediment.items()
+            if v != base[k]
+        ]
         return None
     x = s.x
     if not (isinstance(x, list) and len(x) == 2 and all(isinstance(v, (int, float)) for v in x) and x[0] < x[1]):
@@ -47,12 +55,25 @@ def check(cfg, solids, box, errors):
         return None
     line = next((e for e in solids if e["label"] == s.solid and e.get("shape") == "line"), None)
     if line is None:
-        errors.append(ConfigError("sand.solid", s.solid, "the label of a [[solid]] line or csv: "
-                                  + ", ".join(repr(e["label"]) for e in solids if e.get("shape") == "line")))
+        errors.append(
+            ConfigError(
+                "sand.solid",
+                s.solid,
+                "the label of a [[solid]] line or csv: "
+                + ", ".join(repr(e["label"]) for e in solids if e.get("shape") == "line"),
+            )
+        )
         return None
     if cfg.paddle.type == "none":
-        errors.append(ConfigError("sand.x", x, "[] without a paddle", "the bed's shear is the waves' (Swart's "
-                                  "friction factor on the near-bed orbital motion): a sand bed needs [paddle] type"))
+        errors.append(
+            ConfigError(
+                "sand.x",
+                x,
+                "[] without a paddle",
+                "the bed's shear is the waves' (Swart's "
+                "friction factor on the near-bed orbital motion): a sand bed needs [paddle] type",
+            )
+        )
         return None
     if s.grain_diameter <= 0:
         errors.append(ConfigError("sand.grain_diameter", s.grain_diameter, "a number > 0 (m)"))
@@ -66,8 +87,13 @@ def check(cfg, solids, box, errors):
     stations = x[0] + (np.arange(n) + 0.5) * dx
     z = np.interp(stations, pts[:, 0], pts[:, 1])
     if z.min() - box[2] < 4 * dx:
-        errors.append(ConfigError("domain.box", box, f"a bottom at least 4 dx below the sand's lowest point "
-                                  f"({z.min():.4g} m): the bed may erode down to it"))
+        errors.append(
+            ConfigError(
+                "domain.box",
+                box,
+                f"a bottom at least 4 dx below the sand's lowest point ({z.min():.4g} m): the bed may erode down to it",
+            )
+        )
         return None
     return stations, z, line
 
@@ -76,6 +102,7 @@ def check(cfg, solids, box, errors):
 class Still:
     """The still water over the bed: its level, density, sound speed and gravity (the bed
     particles' hydrostatic density)."""
+
     level: float
     rho_w: float
     c0: float
@@ -96,16 +123,19 @@ class SandBed:
         x0, x1 = cfg.sand.x
         shape = next(sh for e, sh in lay.shapes if e is line)
         stretch = (lay.pts[:, 0] > x0) & (lay.pts[:, 0] < x1)
-        lay.wall &= ~(stretch & shape.band(lay.pts, lay.T))   # the bed particles stand in for them
+        lay.wall &= ~(stretch & shape.band(lay.pts, lay.T))  # the bed particles stand in for them
         zl = np.interp(lay.pts[:, 0], stations, z0)
         lay.water &= ~(stretch & (lay.pts[:, 1] < zl + 0.5 * self.dx))
-        over = stretch & lay.water        # its columns down onto the bed (initial.water_columns)
+        over = stretch & lay.water  # its columns down onto the bed (initial.water_columns)
         lay.pts[over, 1] -= initial.drop_onto_bed(lay.pts[over, 1], zl[over], self.dx)
         self.level, self.rho_w, self.c0, self.g = level, rho_w, still.c0, still.g
         sand = coupling.sand_of(sed, cfg.sand.grain_diameter, sed.grain_density, rho_w)
-        self.coupler = coupling.BedCoupler(sed, sand,
-                                           coupling.Stations(stations, z0, self.dx, h, periodic=False),
-                                           coupling.Drive(amplitude=None, omega=omega, still_level=level))
+        self.coupler = coupling.BedCoupler(
+            sed,
+            sand,
+            coupling.Stations(stations, z0, self.dx, h, periodic=False),
+            coupling.Drive(amplitude=None, omega=omega, still_level=level),
+        )
         self.rows = []
 
     def density(self, y):
@@ -116,8 +146,11 @@ class SandBed:
 
     def picture(self):
         b = self.coupler
-        return dict(bed_surface=lambda x: np.interp(x, self.stations, b.bed.z, left=-np.inf, right=-np.inf),
-                    bed_panel=b.change, bed_label=b.picture()["bed_label"])
+        return dict(
+            bed_surface=lambda x: np.interp(x, self.stations, b.bed.z, left=-np.inf, right=-np.inf),
+            bed_panel=b.change,
+            bed_label=b.picture()["bed_label"],
+        )
 
     def probe(self, st):
         zb = self.coupler.bed.z
@@ -127,9 +160,13 @@ class SandBed:
     def metrics(self, c):
         b = self.coupler
         dz = b.bed.z - b.z0
-        out = dict(sand_volume_error=b.volume_error(), bed_change_rms=float(np.sqrt(np.mean(dz * dz))),
-                   bed_erosion_max=float(-dz.min()), bed_deposition_max=float(dz.max()),
-                   morfac=self.cfg.sediment.morfac)
+        out = dict(
+            sand_volume_error=b.volume_error(),
+            bed_change_rms=float(np.sqrt(np.mean(dz * dz))),
+            bed_erosion_max=float(-dz.min()),
+            bed_deposition_max=float(dz.max()),
+            morfac=self.cfg.sediment.morfac,
+        )
         return out
 
     def finalize(self, out):

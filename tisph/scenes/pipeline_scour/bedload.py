@@ -23,6 +23,7 @@ as the initial dip, and the bed's time runs morfac times the flow's. With
 geometry.initial_profile the bed starts as Mao's measured bed instead, and his clock at its time.
 The bed shear at every probe goes to bed_shear.csv.
 """
+
 import os
 
 import numpy as np
@@ -40,7 +41,7 @@ from ...validation import mao
 from .common import NAME, add_pipe, geometry, initial_bed, log_law, profile_time
 from .record import ScourRecord, streamlines_event, water_velocity
 
-APPROACH = 2.0   # the far field: the approach flow from the inflow zone's end to this many D before the pipe
+APPROACH = 2.0  # the far field: the approach flow from the inflow zone's end to this many D before the pipe
 
 
 def bed_stations(g):
@@ -55,9 +56,12 @@ def far_field(g, stations, inflow_length):
     with the wake's and the scaled shear under the pipe ran to 150 Pa)."""
     m = (stations > inflow_length + g.dx) & (stations < g.xc - APPROACH * g.D)
     if m.sum() < 3:
-        raise ConfigError("geometry.inflow_length", inflow_length,
-                          f"at most {g.xc - APPROACH * g.D - 4 * g.dx:.4g} m with the bed-load bed: the far-field shear "
-                          f"is read on the approach flow between the inflow zone and {APPROACH:g} D before the pipe")
+        raise ConfigError(
+            "geometry.inflow_length",
+            inflow_length,
+            f"at most {g.xc - APPROACH * g.D - 4 * g.dx:.4g} m with the bed-load bed: the far-field shear "
+            f"is read on the approach flow between the inflow zone and {APPROACH:g} D before the pipe",
+        )
     return m
 
 
@@ -65,25 +69,44 @@ def build_bedload(cfg):
     geo, sed = cfg.geometry, cfg.sediment
     g = geometry(cfg)
     dx, L, h, rw = g.dx, g.L, g.h, g.rw
-    c0, u_max = sound_speed(cfg, 2.5 * g.U)      # the gap jet runs at up to about twice U
+    c0, u_max = sound_speed(cfg, 2.5 * g.U)  # the gap jet runs at up to about twice U
     stations = bed_stations(g)
     z = initial.initial_bed(stations, initial_bed(g, stations), sed, dx, periodic=True, top=g.ytop)
     ps = _particles(g, stations, z, c0)
     params = common_params(cfg, c0, G, depth=g.ytop)
     params["bed_stations"] = len(stations)
     pad = 4 * h
-    floor = -(L + 2) * dx - 0.5 * g.hs           # room for the bed's columns as the hole deepens
+    floor = -(L + 2) * dx - 0.5 * g.hs  # room for the bed's columns as the hole deepens
     domain = ((0.0, floor - pad), (g.Lx, 2.0 * g.ytop + pad))
-    inflow = (0.0, geo.inflow_length, geo.inflow_rate, 0, g.hs, g.ustar, g.z0) \
-        if geo.inflow_length > 0 and geo.inflow_rate > 0 else ()
-    physics = physics_from_config(cfg, periodic_x=True, noslip=True, materials_used=["water"], sps=geo.sps,
-                                  moving_bed=True, inflow=inflow, suspension=sed.suspended)
+    inflow = (
+        (0.0, geo.inflow_length, geo.inflow_rate, 0, g.hs, g.ustar, g.z0)
+        if geo.inflow_length > 0 and geo.inflow_rate > 0
+        else ()
+    )
+    physics = physics_from_config(
+        cfg,
+        periodic_x=True,
+        noslip=True,
+        materials_used=["water"],
+        sps=geo.sps,
+        moving_bed=True,
+        inflow=inflow,
+        suspension=sed.suspended,
+    )
     if sed.shear == "wall_function" and physics.turbulence != "k_equation":
-        raise ConfigError("sediment.shear", sed.shear, "'log_far_field' unless numerics.turbulence = "
-                          f"'k_equation' (the wall function reads its k; here '{physics.turbulence}')")
+        raise ConfigError(
+            "sediment.shear",
+            sed.shear,
+            "'log_far_field' unless numerics.turbulence = "
+            f"'k_equation' (the wall function reads its k; here '{physics.turbulence}')",
+        )
     far = far_field(g, stations, geo.inflow_length)
-    bed = coupling.BedCoupler(sed, coupling.sand_of(sed, g.d50, g.rs, rw), coupling.Stations(stations, z, dx, h),
-                              coupling.Drive(z0=g.z0, far_field=(far, rw * g.ustar ** 2), surface=g.ytop))
+    bed = coupling.BedCoupler(
+        sed,
+        coupling.sand_of(sed, g.d50, g.rs, rw),
+        coupling.Stations(stations, z, dx, h),
+        coupling.Drive(z0=g.z0, far_field=(far, rw * g.ustar**2), surface=g.ytop),
+    )
     params["w_s"] = bed.w_s
     if sed.suspended:
         ps.concentration = equilibrium_suspension(g, bed, ps)
@@ -98,17 +121,28 @@ def build_bedload(cfg):
         events += [(t, streamlines_event(g)) for t in stills_at]
     # frames: the pipe and its hole, 4 D upstream to 8 D downstream, to the surface
     x0, x1 = max(0.0, g.xc - 4 * g.D), min(g.Lx, g.xc + 8 * g.D)
-    return make_case(name=NAME, particles=ps, materials=[dict(cfg.materials.water, name="water",
-                                                               B=tait_B(rw, c0))],
-                     domain=domain, params=params, physics=physics,
-                     view=((x0, g.hs - 1.2 * g.D), (x1, g.ytop + 2 * dx)), u_max=u_max,
-                     probe_columns=("scour_depth_over_D", "transport_rate_phi", "max_bed_shear", "u_mean",
-                                    "body_force"),
-                     probe=rec.probe, metrics=rec.metrics, finalize=rec.finalize,
-                     events=sorted(events, key=lambda e: e[0]), stills=stills_at,
-                     container=(-1e9, floor, 1e9, float("inf")), control=rec.control,
-                     render_modes=("speed", "concentration") if sed.suspended else ("speed",),
-                     control_every=sed.update_every, persist=(rec, bed), **bed.picture())
+    return make_case(
+        name=NAME,
+        particles=ps,
+        materials=[dict(cfg.materials.water, name="water", B=tait_B(rw, c0))],
+        domain=domain,
+        params=params,
+        physics=physics,
+        view=((x0, g.hs - 1.2 * g.D), (x1, g.ytop + 2 * dx)),
+        u_max=u_max,
+        probe_columns=("scour_depth_over_D", "transport_rate_phi", "max_bed_shear", "u_mean", "body_force"),
+        probe=rec.probe,
+        metrics=rec.metrics,
+        finalize=rec.finalize,
+        events=sorted(events, key=lambda e: e[0]),
+        stills=stills_at,
+        container=(-1e9, floor, 1e9, float("inf")),
+        control=rec.control,
+        render_modes=("speed", "concentration") if sed.suspended else ("speed",),
+        control_every=sed.update_every,
+        persist=(rec, bed),
+        **bed.picture(),
+    )
 
 
 def _particles(g, stations, z, c0):
@@ -136,7 +170,7 @@ def equilibrium_suspension(g, bed, ps):
     far field's u* over the bed at each water particle, with van Rijn's c_a at one dx (where the
     bed exchange reads it); 0 elsewhere. Without it the clear water of the start takes sand from
     the whole bed at first (measured: 0.016 D of bed in the first 0.9 s of Mao's case)."""
-    ca = float(bed.pickup_concentration(g.rw * g.ustar ** 2))
+    ca = float(bed.pickup_concentration(g.rw * g.ustar**2))
     z = bed.bed.z
     fl = ps.kind == FLUID
     _, col = initial.above_bed(ps.x, bed.stations, z, g.dx)
@@ -162,7 +196,7 @@ def equilibrium_turbulence(g, bed, ps):
     1993 measure 4.78 u*^2 exp(-2 z/H); the two agree to 30 % over the depth's lower half)."""
     z = bed.surface(ps.x[:, 0])
     H = np.maximum(g.ytop - z, g.dx)
-    k = g.ustar ** 2 / SQRT_CMU * np.clip(1.0 - (ps.x[:, 1] - z) / H, 0.0, 1.0)
+    k = g.ustar**2 / SQRT_CMU * np.clip(1.0 - (ps.x[:, 1] - z) / H, 0.0, 1.0)
     return np.where(ps.kind == FLUID, k, 0.0), turbulence_length(g, ps.x, z)
 
 
@@ -194,7 +228,7 @@ class BedScourRecord(ScourRecord):
     def __init__(self, cfg, g, bed):
         super().__init__(cfg, g)
         self.bed = bed
-        self.under = np.abs(self.stations - g.xc) < g.D    # Mao's deepest point lies just downstream
+        self.under = np.abs(self.stations - g.xc) < g.D  # Mao's deepest point lies just downstream
         self.k_pipe = int(np.argmin(np.abs(self.stations - g.xc)))
         self.scale = transport_scale(g.d50, g.rs / g.rw, G)
         self.morfac = cfg.sediment.morfac
@@ -202,7 +236,7 @@ class BedScourRecord(ScourRecord):
         # Mao's profiles are from his pipe's centre, D/2 above the undisturbed bed; a gap raises
         # ours, so the comparison is made from where his centre was
         self.y_ref = g.hs + g.R
-        self.shear_rows = []      # (t, the bed shear at each station), at the probes' times
+        self.shear_rows = []  # (t, the bed shear at each station), at the probes' times
         # the experiment's clock starts where Mao's hole was as deep as the initial dip, or at the
         # time of his bed the run starts from
         start = profile_time(cfg.geometry)
@@ -224,7 +258,7 @@ class BedScourRecord(ScourRecord):
     def control(self, s):
         super().control(s)
         self.bed.update(s)
-        if "lt" in s.members:     # the k-equation's length follows the bed
+        if "lt" in s.members:  # the k-equation's length follows the bed
             x = s.p.x.to_numpy()
             s.p.lt.from_numpy(turbulence_length(self.g, x, self.bed.surface(x[:, 0])).astype(s.np_real))
 
@@ -239,21 +273,24 @@ class BedScourRecord(ScourRecord):
         out = super().metrics(c)
         b = self.bed
         far = self.bed.far_field[0]
-        tau_far = float(np.median(np.abs(b.tau[far])))     # far_field() holds 3 stations or more
-        out.update(sediment_model="bedload", morfac=self.morfac, theta_cr=b.bed.theta_cr,
-                   sand_volume_error=b.volume_error(),
-                   suspended_sand=b.suspended,      # m2 of grains per unit width in the water at the end
-                   shields_far_field=float(np.median(b.bed.theta[far])),
-                   # the gap flow's shear against the undisturbed bed's, at the end
-                   gap_shear_over_far_field=float(np.abs(b.tau[self.under]).max()) / tau_far
-                   if tau_far > 0 else float("nan"))
+        tau_far = float(np.median(np.abs(b.tau[far])))  # far_field() holds 3 stations or more
+        out.update(
+            sediment_model="bedload",
+            morfac=self.morfac,
+            theta_cr=b.bed.theta_cr,
+            sand_volume_error=b.volume_error(),
+            suspended_sand=b.suspended,  # m2 of grains per unit width in the water at the end
+            shields_far_field=float(np.median(b.bed.theta[far])),
+            # the gap flow's shear against the undisturbed bed's, at the end
+            gap_shear_over_far_field=float(np.abs(b.tau[self.under]).max()) / tau_far if tau_far > 0 else float("nan"),
+        )
         s_eq, T = equilibrium_fit(self.bed_time(c["t"]), c["scour_depth_over_D"])
         s0 = float(c["scour_depth_over_D"][0])
         out["equilibrium_depth_fit_over_D"], out["scour_time_scale_fit"] = s_eq, T
         # the bed's time to half the fitted equilibrium depth (0: the initial dip was deeper)
         if not np.isfinite(s_eq):
             half = float("nan")
-        elif 0.5 * s_eq > s0:          # then also s_eq > s0
+        elif 0.5 * s_eq > s0:  # then also s_eq > s0
             half = float(-T * np.log(1.0 - (0.5 * s_eq - s0) / (s_eq - s0)))
         else:
             half = 0.0
@@ -262,7 +299,8 @@ class BedScourRecord(ScourRecord):
             te = self.experiment_time(c["t"])
             out["mao_time_offset"] = float(te[0])
             out["mao_depth_max_error_15s"], out["mao_depth_rms_error_15s"] = mao.depth_error(
-                te, c["scour_depth_over_D"], 15.0)
+                te, c["scour_depth_over_D"], 15.0
+            )
             for tp in mao.PROFILES:
                 out[f"scour_profile_error_{tp:g}s"] = self.profile_error(tp)
         return out
@@ -294,8 +332,11 @@ class BedScourRecord(ScourRecord):
         arr = np.array(self.rows)
         te = self.experiment_time(arr[:, 0])
         s = self.depth(arr[:, 1:])
-        write_csv(os.path.join(out, "scour_depth_mao.csv"), ("t_experiment", "S_over_D", "S_over_D_mao"),
-                  list(zip(te, s, mao.depth_at(te))))
+        write_csv(
+            os.path.join(out, "scour_depth_mao.csv"),
+            ("t_experiment", "S_over_D", "S_over_D_mao"),
+            list(zip(te, s, mao.depth_at(te))),
+        )
         fig, (a1, a2) = plt.subplots(1, 2, figsize=(11, 3.6), gridspec_kw=dict(width_ratios=(1, 1.6)))
         a1.plot(mao.DEPTH[:, 0], mao.DEPTH[:, 1], "o", ms=3, color="k", label="Mao (1986)")
         a1.plot(te, s, "-", color="C0", label=f"tisph, morfac {self.morfac:g}")
@@ -308,11 +349,18 @@ class BedScourRecord(ScourRecord):
             a2.plot(ref[:, 0] / g.D, ref[:, 1] / g.D, "o", ms=2.5, color=f"C{k}", label=f"Mao {tp:g} s")
             r = self.row_at(arr, te, tp)
             if r is not None:
-                a2.plot((self.stations - g.xc) / g.D, (r[1:] - self.y_ref) / g.D, "-", color=f"C{k}", lw=1,
-                        label=f"tisph {tp:g} s")
-        lift = (g.yc - self.y_ref) / g.D    # the run's pipe stands the initial gap above Mao's
-        a2.add_patch(plt.Circle((0, lift), 0.5, color="0.6",
-                                label=f"pipe, {lift:.2g} D above Mao's" if lift > 1e-6 else "pipe"))
+                a2.plot(
+                    (self.stations - g.xc) / g.D,
+                    (r[1:] - self.y_ref) / g.D,
+                    "-",
+                    color=f"C{k}",
+                    lw=1,
+                    label=f"tisph {tp:g} s",
+                )
+        lift = (g.yc - self.y_ref) / g.D  # the run's pipe stands the initial gap above Mao's
+        a2.add_patch(
+            plt.Circle((0, lift), 0.5, color="0.6", label=f"pipe, {lift:.2g} D above Mao's" if lift > 1e-6 else "pipe")
+        )
         a2.set_xlim(-3, 7)
         a2.set_aspect("equal")
         a2.set_xlabel("x / D from the pipe's centre (flow to the right)")

@@ -1,5 +1,6 @@
 """The pipeline scene's geometry, shared by its two sand models: the pipe, the log-law current
 and the initial bed (paper 002 section 4.2; Mao 1986)."""
+
 import math
 import types
 
@@ -15,7 +16,7 @@ NAME = "pipeline_scour"
 def profile_time(geo):
     """Mao's time (s) of the measured bed the run starts from (geometry.initial_profile), or None."""
     p = geo["initial_profile"]
-    return None if p == "none" else float(p[len("mao_"):-1])
+    return None if p == "none" else float(p[len("mao_") : -1])
 
 
 def has_bedload(cfg):
@@ -43,12 +44,21 @@ def ring(cx, cy, radius, dx):
 def geometry(cfg):
     """The case's derived quantities: pipe centre, water top, friction velocity and roughness."""
     geo, num = cfg.geometry, cfg.numerics
-    g = types.SimpleNamespace(dx=num.dx, D=geo.pipe_diameter, hw=geo.water_depth, hs=geo.sand_depth,
-                              Lx=geo.length, U=geo.mean_velocity, d50=geo.grain_diameter,
-                              L=num.wall_layers, h=num.h_factor * num.dx, geo=geo)
+    g = types.SimpleNamespace(
+        dx=num.dx,
+        D=geo.pipe_diameter,
+        hw=geo.water_depth,
+        hs=geo.sand_depth,
+        Lx=geo.length,
+        U=geo.mean_velocity,
+        d50=geo.grain_diameter,
+        L=num.wall_layers,
+        h=num.h_factor * num.dx,
+        geo=geo,
+    )
     mats = cfg.materials
     g.rw, g.rs = mats.water["rho0"], mats.sand["rho0"]
-    if has_bedload(cfg):   # the bed's grains, not the two-phase model's bulk sand
+    if has_bedload(cfg):  # the bed's grains, not the two-phase model's bulk sand
         g.rs = cfg.sediment.grain_density
     g.R = 0.5 * g.D
     g.xc = 0.5 * g.Lx
@@ -58,7 +68,7 @@ def geometry(cfg):
         g.ustar = math.sqrt(geo.shields * (g.rs / g.rw - 1) * G * g.d50)
         g.z0 = g.hw * math.exp(-(KAPPA * g.U / g.ustar + 1.0))
     else:
-        g.z0 = 2.5 * g.d50 / 30.0                 # Nikuradse roughness 2.5 d50
+        g.z0 = 2.5 * g.d50 / 30.0  # Nikuradse roughness 2.5 d50
         g.ustar = friction_velocity(g.U, g.hw, g.z0)
     return g
 

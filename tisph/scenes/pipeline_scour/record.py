@@ -1,6 +1,7 @@
 """What the pipeline scene measures and writes, for both sand models: the drive's control, the
 scour depth under the pipe, the transport through the section under it, the bed shear, the bed
 profiles (scour_profile.csv/png), the velocity profiles and the streamline stills."""
+
 import os
 
 import numpy as np
@@ -28,7 +29,7 @@ class ScourRecord:
     def __init__(self, cfg, g):
         self.cfg, self.g = cfg, g
         # driving: a body force g_x = u*^2 / h (uniform channel flow) plus feedback on the mean velocity
-        self.g0 = g.ustar ** 2 / g.hw
+        self.g0 = g.ustar**2 / g.hw
         self.ctl = PIDrive(0.5, start=self.g0)
         self.stations = np.arange(0.5 * g.dx, g.Lx, g.dx)
         self.under = np.abs(self.stations - g.xc) < 0.5 * g.D
@@ -80,9 +81,13 @@ class ScourRecord:
 
     def metrics(self, c):
         g = self.g
-        out = dict(friction_velocity=g.ustar, shields_parameter=g.ustar ** 2 / ((g.rs / g.rw - 1) * G * g.d50),
-                   mean_velocity_end=float(c["u_mean"][-1]), body_force_end=float(c["body_force"][-1]),
-                   pipe_reynolds=g.U * g.D / 1e-6)
+        out = dict(
+            friction_velocity=g.ustar,
+            shields_parameter=g.ustar**2 / ((g.rs / g.rw - 1) * G * g.d50),
+            mean_velocity_end=float(c["u_mean"][-1]),
+            body_force_end=float(c["body_force"][-1]),
+            pipe_reynolds=g.U * g.D / 1e-6,
+        )
         if g.hs > 0:
             d = c["scour_depth_over_D"]
             out["scour_depth_over_D"] = float(d[-1])
@@ -90,7 +95,7 @@ class ScourRecord:
             # row is 0.1 D and the bed gauge flickers by about half of that)
             t = c["t"]
             w = max(1, int(round(0.5 / max(t[1] - t[0], 1e-9)))) if len(t) > 1 else 1
-            if len(d) < w:   # a run shorter than the window: no smoothing
+            if len(d) < w:  # a run shorter than the window: no smoothing
                 w = 1
             ds = np.convolve(d, np.ones(w) / w, mode="valid")
             out["initial_scour_depth_over_D"] = float(d[0])
@@ -153,7 +158,15 @@ def streamlines_event(g):
     def cb(st, t):
         d = os.path.join(st["out"], "stills")
         os.makedirs(d, exist_ok=True)
-        streamlines_png(os.path.join(d, f"streamlines_t{t:.3f}.png"), st, (0.0, Lx), (0.0, ytop), dx,
-                        f"streamlines of the water velocity, t = {t:.2f} s", (8, 8 * ytop / Lx + 0.6),
-                        circle=(xc, yc, R))
+        streamlines_png(
+            os.path.join(d, f"streamlines_t{t:.3f}.png"),
+            st,
+            (0.0, Lx),
+            (0.0, ytop),
+            dx,
+            f"streamlines of the water velocity, t = {t:.2f} s",
+            (8, 8 * ytop / Lx + 0.6),
+            circle=(xc, yc, R),
+        )
+
     return cb

@@ -18,6 +18,7 @@ particles; 40 s (20 periods, 200 periods of bed change at morfac 10), about 2 mi
 cores. geometry.seed_ripple_height > 0 starts the bed rippled (at the predicted length, or
 geometry.seed_ripple_length), to ask whether the bed keeps them, merges or splits them.
 """
+
 import os
 from functools import partial
 
@@ -64,7 +65,7 @@ def _particles(cfg, c0, a_seed, n_seed):
 
     lattice = block(0.0, 0.0, Lx, ytop + a_seed, dx)
     sand = lattice[:, 1] < bed_level(lattice[:, 0])
-    lattice = lattice[sand | (lattice[:, 1] < ytop)]      # water keeps its level over a seeded bed
+    lattice = lattice[sand | (lattice[:, 1] < ytop)]  # water keeps its level over a seeded bed
     sand = lattice[:, 1] < bed_level(lattice[:, 0])
 
     def pressure(y, yb=hs):
@@ -81,6 +82,7 @@ def _particles(cfg, c0, a_seed, n_seed):
 
 class Tunnel(Scene):
     """Oscillating water tunnel over a sand bed: the laboratory set-up for wave ripples."""
+
     NAME = "tunnel"
 
     SCHEMA = {
@@ -92,12 +94,24 @@ class Tunnel(Scene):
             "sand_depth": K(0.08, "sand layer on the rigid floor", "m", range=POSITIVE),
             "orbital_diameter": K(CALIBRATION["orbital_diameter"], "d0 = 2 U_m / omega", "m", range=POSITIVE),
             "period": K(CALIBRATION["period"], "T", "s", range=POSITIVE),
-            "grain_diameter": K(CALIBRATION["grain_diameter"], "for the Wiberg & Harris prediction", "m", range=POSITIVE),
-            "seed_ripple_height": K(0.0, "> 0: the bed starts rippled, crest to trough this high (m), at the predicted length rounded to fit the periodic length: does the bed keep, grow or lose them?", range=NON_NEGATIVE),
-            "seed_ripple_length": K(0.0, "m; 0: the predicted length (rounded to fit the periodic length)", range=NON_NEGATIVE),
-            "roughness": K(0.01, "the random bed's RMS roughness over d0 where sediment.seed_rms = 0 (3 mm at the default d0): where the ripples end depends on it (docs/sediment.md), so it follows d0; 0 and seed_rms = 0: a flat bed", range=(0.0, 0.1, True, True)),
+            "grain_diameter": K(
+                CALIBRATION["grain_diameter"], "for the Wiberg & Harris prediction", "m", range=POSITIVE
+            ),
+            "seed_ripple_height": K(
+                0.0,
+                "> 0: the bed starts rippled, crest to trough this high (m), at the predicted length rounded to fit the periodic length: does the bed keep, grow or lose them?",
+                range=NON_NEGATIVE,
+            ),
+            "seed_ripple_length": K(
+                0.0, "m; 0: the predicted length (rounded to fit the periodic length)", range=NON_NEGATIVE
+            ),
+            "roughness": K(
+                0.01,
+                "the random bed's RMS roughness over d0 where sediment.seed_rms = 0 (3 mm at the default d0): where the ripples end depends on it (docs/sediment.md), so it follows d0; 0 and seed_rms = 0: a flat bed",
+                range=(0.0, 0.1, True, True),
+            ),
         },
-        "materials": {"water": dict(WATER), "sand": dict(BINGHAM_SAND)},     # the beach's water and sand
+        "materials": {"water": dict(WATER), "sand": dict(BINGHAM_SAND)},  # the beach's water and sand
         # the bed below particle scale (tisph/sediment), the wave-ripple set; seed_rms: geometry.roughness
         "sediment": with_defaults(coupling.SEDIMENT, **coupling.WAVE_RIPPLES, morfac=CALIBRATION["morfac"]),
         "output": {"frame_interval": 0.05, "probe_interval": 0.05, "width": 960},
@@ -110,8 +124,14 @@ class Tunnel(Scene):
         10. The calibration tunnel itself keeps dx 0.01 and morfac 10. Returns run.log's lines."""
         g = cfg.geometry
         limit = morfac_limit(cfg) if cfg.sediment.model == "bedload" else None
-        return derive_resolution(cfg, given, wiberg_harris(g.orbital_diameter, g.grain_diameter)[0],
-                                 g.orbital_diameter, limit=limit, cap=CALIBRATION["morfac"])
+        return derive_resolution(
+            cfg,
+            given,
+            wiberg_harris(g.orbital_diameter, g.grain_diameter)[0],
+            g.orbital_diameter,
+            limit=limit,
+            cap=CALIBRATION["morfac"],
+        )
 
     def check(self, cfg):
         g, dx = cfg.geometry, cfg.numerics.dx
@@ -119,8 +139,11 @@ class Tunnel(Scene):
         resolves(g.water_depth, 6, "the water", dx, "geometry.water_depth", g.water_depth)
         resolves(g.length, 20, "the tunnel", dx, "geometry.length", g.length)
         if g.seed_ripple_height > g.sand_depth - 2 * dx:
-            raise ConfigError("geometry.seed_ripple_height", g.seed_ripple_height,
-                              f"at most sand_depth - 2 dx ({g.sand_depth - 2 * dx:.3g} m)")
+            raise ConfigError(
+                "geometry.seed_ripple_height",
+                g.seed_ripple_height,
+                f"at most sand_depth - 2 dx ({g.sand_depth - 2 * dx:.3g} m)",
+            )
 
     def build(self, cfg):
         if cfg.sediment.model == "bedload":
@@ -156,19 +179,25 @@ class Tunnel(Scene):
             bed_rows.append((st["t"],) + tuple(b))
             # ripples on the bed change; on a seeded bed, on the bed itself (its seeded ripples included)
             z = b - (hs if a_seed > 0 else bed0["b"])
-            lam, hr, _ = ripple_stats(stations, z, window=0.5 * Lx, min_length=MIN_LENGTH_DX * dx,
-                                      min_height=MIN_HEIGHT_DX * dx)
+            lam, hr, _ = ripple_stats(
+                stations, z, window=0.5 * Lx, min_length=MIN_LENGTH_DX * dx, min_height=MIN_HEIGHT_DX * dx
+            )
             rms = float(np.sqrt(np.mean((b - bed0["b"]) ** 2)))
             return lam, hr, rms, drive.u_free(st), drive.target(st["t"])
 
         def metrics(c):
-            out = dict(velocity_amplitude=Um, predicted_ripple_length=lam_wh, predicted_ripple_height=eta_wh,
-                       predicted_regime=regime, predicted_ripple_length_in_dx=lam_wh / dx)
+            out = dict(
+                velocity_amplitude=Um,
+                predicted_ripple_length=lam_wh,
+                predicted_ripple_height=eta_wh,
+                predicted_regime=regime,
+                predicted_ripple_length_in_dx=lam_wh / dx,
+            )
             t = c["t"]
-            after = t >= Tp                                  # the ramp is over
+            after = t >= Tp  # the ramp is over
             if after.sum() > 4:
                 err = c["u_free"][after] - c["u_target"][after]
-                out["free_stream_error"] = float(np.sqrt(np.mean(err ** 2)) / Um)   # rms, relative to U_m
+                out["free_stream_error"] = float(np.sqrt(np.mean(err**2)) / Um)  # rms, relative to U_m
             out.update(last_finite(c, ("ripple_length", "ripple_height", "bed_change_rms")))
             out["ripple_length_over_prediction"] = out["ripple_length"] / lam_wh if lam_wh > 0 else float("nan")
             out["bed_change_rms_over_dx"] = out["bed_change_rms"] / dx
@@ -180,15 +209,27 @@ class Tunnel(Scene):
             write_station_rows(os.path.join(out, "bed_profile.csv"), stations, bed_rows)
             plot_bed(os.path.join(out, "bed_profile.png"), np.array(bed_rows), stations, geo, dx, lam_wh, eta_wh)
 
-        return make_case(name=self.NAME, particles=ps, materials=materials, domain=domain, params=params, physics=physics,
-                    view=((0.0, -L * dx), (Lx, ytop + 2 * dx)), u_max=u_max,
-                    probe_columns=("ripple_length", "ripple_height", "bed_change_rms", "u_free", "u_target"),
-                    probe=probe, metrics=metrics, finalize=finalize,
-                    container=(-1e9, -0.5 * dx, 1e9, float("inf")),
-                    render_modes=("phase",), mat_colors=(None, SAND), control=drive.update, control_every=10,
-                    persist=(drive.ctl, bed_rows, bed0))
+        return make_case(
+            name=self.NAME,
+            particles=ps,
+            materials=materials,
+            domain=domain,
+            params=params,
+            physics=physics,
+            view=((0.0, -L * dx), (Lx, ytop + 2 * dx)),
+            u_max=u_max,
+            probe_columns=("ripple_length", "ripple_height", "bed_change_rms", "u_free", "u_target"),
+            probe=probe,
+            metrics=metrics,
+            finalize=finalize,
+            container=(-1e9, -0.5 * dx, 1e9, float("inf")),
+            render_modes=("phase",),
+            mat_colors=(None, SAND),
+            control=drive.update,
+            control_every=10,
+            persist=(drive.ctl, bed_rows, bed0),
+        )
 
 
 SCENE = Tunnel()
 main = partial(run_scene, SCENE)
-

@@ -1,5 +1,6 @@
 """The tunnel over the bed-load bed (sediment.model = "bedload"): water only, over BED particles that
 follow the bed level z_b, which the bed load moves (tisph/sediment)."""
+
 import os
 import warnings
 
@@ -21,11 +22,13 @@ from .drive import BED_PERIODS, CREST_SPEED, TunnelDrive, seed_count, seed_rms, 
 
 def _warn_short(end_time, period, morfac):
     bed_periods = end_time / period * morfac
-    if bed_periods < 0.99 * BED_PERIODS:            # a rounded end time is not short
-        warnings.warn(f"run.end_time = {end_time:g} s is {bed_periods:.0f} periods of bed change "
-                      f"(wave periods x morfac {morfac:g}): ripples take about 100 to reach their length and "
-                      f"a run should show 100 more that it holds; run.end_time = "
-                      f"{BED_PERIODS * period / morfac:g} s gives {BED_PERIODS}")
+    if bed_periods < 0.99 * BED_PERIODS:  # a rounded end time is not short
+        warnings.warn(
+            f"run.end_time = {end_time:g} s is {bed_periods:.0f} periods of bed change "
+            f"(wave periods x morfac {morfac:g}): ripples take about 100 to reach their length and "
+            f"a run should show 100 more that it holds; run.end_time = "
+            f"{BED_PERIODS * period / morfac:g} s gives {BED_PERIODS}"
+        )
 
 
 def _ripples_round(zb, Lx, dx):
@@ -60,9 +63,12 @@ def build_bedload(cfg, name):
     params["bed_stations"] = len(stations)
     domain = ((0.0, float(z.min()) - (L + 2) * dx - 4 * h), (Lx, 2.0 * ytop + 4 * h))
     physics = physics_from_config(cfg, periodic_x=True, materials_used=["water"], moving_bed=True)
-    bed = coupling.BedCoupler(sed, coupling.sand_of(sed, geo.grain_diameter, sed["grain_density"], rw),
-                              coupling.Stations(stations, z, dx, h, periodic=True),
-                              coupling.Drive(amplitude=0.5 * d0, omega=drive.omega, still_level=ytop))
+    bed = coupling.BedCoupler(
+        sed,
+        coupling.sand_of(sed, geo.grain_diameter, sed["grain_density"], rw),
+        coupling.Stations(stations, z, dx, h, periodic=True),
+        coupling.Drive(amplitude=0.5 * d0, omega=drive.omega, still_level=ytop),
+    )
     rows = []
 
     def control(s):
@@ -74,46 +80,80 @@ def build_bedload(cfg, name):
         rows.append((st["t"],) + tuple(zb))
         lam, hr = _ripples_round(zb, Lx, dx)
         rms = float(np.sqrt(np.mean((zb - bed.z0) ** 2)))
-        return (lam, hr, rms, drive.u_free(st), drive.target(st["t"]), float(np.abs(bed.tau).max()),
-                float(np.mean(bed.u)), float(np.mean(bed.u_eff)))
+        return (
+            lam,
+            hr,
+            rms,
+            drive.u_free(st),
+            drive.target(st["t"]),
+            float(np.abs(bed.tau).max()),
+            float(np.mean(bed.u)),
+            float(np.mean(bed.u_eff)),
+        )
 
-    seen = {}                             # the probe columns, for the growth plot
+    seen = {}  # the probe columns, for the growth plot
 
     def metrics(c):
         seen.update(c)
-        out = dict(velocity_amplitude=Um, predicted_ripple_length=lam_wh, predicted_ripple_height=eta_wh,
-                   predicted_regime=regime, morfac=sed["morfac"], sediment_model="bedload",
-                   theta_cr=bed.bed.theta_cr, sand_volume_error=bed.volume_error(),
-                   mobility_number=Um ** 2 / ((sed["grain_density"] / rw - 1) * G * geo.grain_diameter),
-                   bed_turnover_periods=turnover, morfac_limit=limit)
+        out = dict(
+            velocity_amplitude=Um,
+            predicted_ripple_length=lam_wh,
+            predicted_ripple_height=eta_wh,
+            predicted_regime=regime,
+            morfac=sed["morfac"],
+            sediment_model="bedload",
+            theta_cr=bed.bed.theta_cr,
+            sand_volume_error=bed.volume_error(),
+            mobility_number=Um**2 / ((sed["grain_density"] / rw - 1) * G * geo.grain_diameter),
+            bed_turnover_periods=turnover,
+            morfac_limit=limit,
+        )
         out.update(last_finite(c, ("ripple_length", "ripple_height", "bed_change_rms")))
         lam = out["ripple_length"]
-        out["ripple_count"] = int(round(Lx / lam)) if np.isfinite(lam) and lam > 0 else 0   # exact: lam = Lx / count
+        out["ripple_count"] = int(round(Lx / lam)) if np.isfinite(lam) and lam > 0 else 0  # exact: lam = Lx / count
         out["ripple_length_over_d0"] = lam / d0
         out["ripple_steepness"] = out["ripple_height"] / lam if lam > 0 else float("nan")
         out["ripple_length_over_prediction"] = lam / lam_wh if lam_wh > 0 else float("nan")
         out["near_bed_velocity_ratio"] = near_bed_ratio(c["t"], c["u_near_bed"], Um, drive.period)
         out["effective_velocity_ratio"] = near_bed_ratio(c["t"], c["u_bed_effective"], Um, drive.period)
-        return unresolved(out, lam_wh, dx, ("ripple_length_over_d0", "ripple_length_over_prediction",
-                                            "ripple_steepness"))
+        return unresolved(
+            out, lam_wh, dx, ("ripple_length_over_d0", "ripple_length_over_prediction", "ripple_steepness")
+        )
 
     def finalize(out, metrics):
         if rows:
             write_station_rows(os.path.join(out, "bed_profile.csv"), stations, rows)
-            plot_bed(os.path.join(out, "bed_profile.png"), np.array(rows), stations, geo, dx, lam_wh, eta_wh,
-                      level=hs)
+            plot_bed(os.path.join(out, "bed_profile.png"), np.array(rows), stations, geo, dx, lam_wh, eta_wh, level=hs)
             plot_growth(os.path.join(out, "ripple_growth.png"), seen, geo, sed["morfac"])
 
-    return make_case(name=name, particles=ps, materials=[dict(cfg.materials.water, name="water",
-                                                               B=tait_B(rw, c0))],
-                     domain=domain, params=params, physics=physics, view=((0.0, hs - 0.1), (Lx, ytop + 2 * dx)),
-                     u_max=u_max, probe_columns=("ripple_length", "ripple_height", "bed_change_rms", "u_free",
-                                                 "u_target", "max_bed_shear", "u_near_bed",
-                                                 "u_bed_effective"),
-                     probe=probe, metrics=metrics, finalize=finalize, container=(-1e9, float(z.min()) - L * dx, 1e9,
-                                                                                float("inf")),
-                     control=control, control_every=sed["update_every"], persist=(drive.ctl, bed, rows),
-                     **bed.picture(ripple_height=eta_wh))
+    return make_case(
+        name=name,
+        particles=ps,
+        materials=[dict(cfg.materials.water, name="water", B=tait_B(rw, c0))],
+        domain=domain,
+        params=params,
+        physics=physics,
+        view=((0.0, hs - 0.1), (Lx, ytop + 2 * dx)),
+        u_max=u_max,
+        probe_columns=(
+            "ripple_length",
+            "ripple_height",
+            "bed_change_rms",
+            "u_free",
+            "u_target",
+            "max_bed_shear",
+            "u_near_bed",
+            "u_bed_effective",
+        ),
+        probe=probe,
+        metrics=metrics,
+        finalize=finalize,
+        container=(-1e9, float(z.min()) - L * dx, 1e9, float("inf")),
+        control=control,
+        control_every=sed["update_every"],
+        persist=(drive.ctl, bed, rows),
+        **bed.picture(ripple_height=eta_wh),
+    )
 
 
 def near_bed_ratio(t, u, Um, period):

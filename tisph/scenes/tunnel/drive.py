@@ -1,5 +1,6 @@
 """What the tunnel's two beds share: the drive that holds the free stream, and the bed's sizes and
 rate (the random bed's roughness, the seeded ripples, the turnover against the calibration tunnel)."""
+
 import math
 
 from ...measure.control import PIDrive
@@ -8,7 +9,7 @@ from ...sediment import initial, morfac
 from ...sediment.morfac import bed_turnover
 
 BED_PERIODS = 200
-CREST_SPEED = 2.0   # the fastest water over grown ripples / U_m, for c0 (1.95 measured at mobility 145)
+CREST_SPEED = 2.0  # the fastest water over grown ripples / U_m, for c0 (1.95 measured at mobility 145)
 
 
 class TunnelDrive:
@@ -40,8 +41,9 @@ class TunnelDrive:
 def turnover_periods(cfg):
     """bed_turnover for the tunnel's d0, T and sand."""
     g, sed = cfg.geometry, cfg.sediment
-    return bed_turnover(g.orbital_diameter, g.period, g.grain_diameter,
-                        sed.grain_density / cfg.materials.water.rho0, sed)
+    return bed_turnover(
+        g.orbital_diameter, g.period, g.grain_diameter, sed.grain_density / cfg.materials.water.rho0, sed
+    )
 
 
 def morfac_limit(cfg):
