@@ -376,7 +376,8 @@ def test_a_load_record_is_low_passed_beside_its_raw_peaks():
     """A force or pressure gauge reports the extremes of its record low-passed at the case's
     cutoff (half the water's lowest acoustic mode) beside the raw ones: acoustic ringing at 20 Hz
     on a 1 Hz load lifts the raw peak 12 %, the filtered one reads the load's own; a step (an
-    impact's rise) overshoots by at most 4 %; a point dry in the window gives nulls, not NaN."""
+    impact's rise) overshoots by at most 4 %; a point dry part of the time (a surge reaches it)
+    is filtered with its dry samples at 0 Pa, and one dry throughout gives nulls, not NaN."""
     from tisph.measure.gauges import GaugeSet, PressureGauge
     from tisph.measure.records import low_pass
     from tisph.scenes.custom.gauges import load_cutoff
@@ -393,8 +394,14 @@ def test_a_load_record_is_low_passed_beside_its_raw_peaks():
     assert abs(m["wall_filtered_time_of_max"] % 1.0 - 0.25) < 0.02
     step = low_pass(t, np.where(t > 5, 1.0, 0.0), cutoff)
     assert 1.0 < step.max() < 1.04 and step[t > 6].mean() == pytest.approx(1.0, abs=1e-3)
-    dry = gs.metrics({"t": t, "p_wall": np.where(t > 4, np.nan, load)}, 1.0)
-    assert dry["wall_filtered_max"] is None and "wall_filter_hz" in dry
+    wet_late = np.where(t < 4, np.nan, load)
+    late = gs.metrics({"t": t, "p_wall": wet_late + ring}, 1.0)
+    assert late["wall_filtered_max"] == pytest.approx(5000, rel=2e-3) and late["wall_filtered_time_of_max"] > 4
+    assert late["wall_filtered_min"] < 100 and late["wall_max"] > 5100
+    (y,) = [gs.gauges[0].filtered({"t": t, "p_wall": wet_late})]
+    assert np.isfinite(y).all() and abs(y[t < 3.5]).max() < 1.0
+    dry = gs.metrics({"t": t, "p_wall": np.full(len(t), np.nan)}, 1.0)
+    assert dry["wall_filtered_max"] is None and dry["wall_max"] is None and "wall_filter_hz" in dry
 
 
 def test_surface_gauges_named_as_an_array_split_the_incident_and_reflected_waves(tmp_path, capsys):

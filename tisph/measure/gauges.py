@@ -227,7 +227,7 @@ def _load_metrics(g, col, t, w, period):
     if period:
         out.update(harmonic_amplitudes(label, t, col, period, g.from_time))
     if g.cutoff:
-        tw, y = t[w], low_pass(t[w], np.asarray(col)[w], g.cutoff)
+        tw, y = t[w], low_pass(t[w], g.as_load(np.asarray(col)[w]), g.cutoff)
         inner = (tw - tw[0] > 1.0 / g.cutoff) & (tw[-1] - tw > 1.0 / g.cutoff) & (y is not None)
         k = int(np.argmax(np.where(inner, y, -np.inf))) if inner.any() else None
         out.update(
@@ -245,7 +245,15 @@ class _LoadGauge(Gauge):
     """A pressure or a force: its record low-passed for gauges.png and the filtered extremes."""
 
     def filtered(self, c):
-        return low_pass(c["t"], c[self.columns[0]], self.cutoff) if self.cutoff else None
+        return low_pass(c["t"], self.as_load(np.asarray(c[self.columns[0]])), self.cutoff) if self.cutoff else None
+
+    @staticmethod
+    def as_load(col):
+        """The record the filter takes: a point dry at times (no water in its kernel: NaN) reads the
+        atmosphere's gauge pressure, 0 Pa, there, as a gauge above the water does; a record dry
+        throughout stays NaN and gives nulls."""
+        col = np.asarray(col, float)
+        return np.where(np.isfinite(col), col, 0.0) if np.isfinite(col).any() else col
 
     def metrics(self, c, t, w, period):
         return _load_metrics(self, c[self.columns[0]], t, w, period)

@@ -33,17 +33,28 @@ def gauge_panels(shown, c, metrics, path, title=""):
     fig, axes = plt.subplots(len(shown), 1, figsize=(7.5, 1.15 * len(shown) + 0.8), sharex=True, squeeze=False)
     t = np.asarray(c["t"])
     rec = [g.panel[1] * np.asarray(c[g.columns[0]], float) for g in shown]  # in the panel's unit
+    low = [None if (y := g.filtered(c)) is None else g.panel[1] * y for g in shown]
     span = {}
-    for g, v in zip(shown, rec):  # one range a type
-        v = v[np.isfinite(v)]
+    for g, v, y in zip(shown, rec, low):  # one range a type, the low-passed record's inside it
+        v = np.concatenate([v[np.isfinite(v)], [] if y is None else y])
         if v.size:
             lo, hi = span.get(type(g), (np.inf, -np.inf))
             span[type(g)] = (min(lo, v.min()), max(hi, v.max()))
-    for ax, g, v in zip(axes[:, 0], shown, rec):
+    for ax, g, v, y in zip(axes[:, 0], shown, rec, low):
         ax.plot(t, v, lw=0.8, color="C0")
-        y = g.filtered(c)
+        if not np.isfinite(v).any():
+            ax.text(
+                0.5,
+                0.5,
+                "dry throughout: no water within its kernel",
+                transform=ax.transAxes,
+                fontsize=7,
+                ha="center",
+                va="center",
+                color="0.4",
+            )
         if y is not None:
-            ax.plot(t, g.panel[1] * y, lw=0.9, color="C3", label=f"low-passed at {g.cutoff:.3g} Hz")
+            ax.plot(t, y, lw=0.9, color="C3", label=f"low-passed at {g.cutoff:.3g} Hz")
             ax.legend(loc="upper right", fontsize=6, frameon=False)
         lo, hi = span.get(type(g), (-1.0, 1.0))
         pad = 0.08 * max(hi - lo, 1e-12)

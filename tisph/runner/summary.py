@@ -61,13 +61,14 @@ def summarize(run, status, message, wall, step_s, nsteps, compile_s, segment=Non
     def no_value(v):
         if isinstance(v, (list, tuple)):
             return any(no_value(x) for x in v)
-        return isinstance(v, float) and not math.isfinite(v)
+        return v is None or (isinstance(v, float) and not math.isfinite(v))
 
     undefined = [k for k, v in metrics.items() if no_value(v)]
     if undefined:  # a metric with no value is said, not left as a silent null
         w = (
-            f"{len(undefined)} metric(s) have no value: {', '.join(undefined)} (the run may be too short "
-            f"for their analysis window, t = {s.time:.4g} s, or the quantity never occurred)"
+            f"{len(undefined)} metric(s) have no value: {', '.join(undefined)} (a point gauge with no water "
+            f"within its kernel all its window, a run too short for their analysis window, t = {s.time:.4g} s, or a "
+            "quantity that never occurred)"
         )
         case.warnings.append(w)
         run.log(f"warning: {w}", always=True)
