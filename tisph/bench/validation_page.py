@@ -1,0 +1,262 @@
+"""The validation page: DOCS/validation.md with a figure per case and the run time against error
+figure, and the README's table between its markers, from the rows `tisph bench --validate` ran
+(bench/validate.py)."""
+
+import os
+import platform
+import shutil
+
+import numpy as np
+
+from ..io import read_csv, write_text
+from ..measure.plots import pyplot, save
+from .common import table
+from .uncertainty import interval
+from .validation_cases import CASES, CASES_BY_NAME
+
+README_START, README_END = "<!-- validation:start -->", "<!-- validation:end -->"
+
+
+def slug(name):
+    words = "".join(c if c.isalnum() else " " for c in name.lower()).split()
+    return "_".join(words)[:40].strip("_")
+
+
+def figure(case, row, dest, width=480):
+    """The case's figure, scaled to `width` px, as DEST/validation/<slug>.png (or None)."""
+    from PIL import Image
+
+    path = os.path.join(dest, "validation", slug(case.name) + ".png")
+    src = os.path.join(row["dir"], case.figure) if case.figure else None
+    tmp = path + ".part.png"
+    if src and os.path.exists(src):
+        shutil.copyfile(src, tmp)
+    elif case.probes and os.path.exists(os.path.join(row["dir"], "probes.csv")):
+        _, cols = read_csv(os.path.join(row["dir"], "probes.csv"))
+        plt = pyplot()
+        fig, ax = plt.subplots(figsize=(5, 3))
+        for c in case.probes:
+            ax.plot(cols["t"], cols[c], label=c)
+        ax.set_xlabel("t (s)")
+        ax.legend(fontsize=8)
+        ax.set_title(f"{case.name}, dx {row['dx']:g} m", fontsize=9)
+        ax.grid(alpha=0.3)
+        save(fig, tmp)
+    else:
+        return None
+    im = Image.open(tmp)
+    if im.width > 2.5 * im.height:  # a wide figure keeps its text legible at 800 px
+        width = max(width, 800)
+    if im.width > width:
+        im = im.resize((width, round(im.height * width / im.width)), Image.LANCZOS)
+    im.convert("RGB").save(tmp, format="PNG", optimize=True)
+    os.replace(tmp, path)
+    return os.path.relpath(path, dest)
+
+
+def intervals(rows):
+    """{case: (half-width on the error or None, what it is)} of the rows' cases (bench/uncertainty.py)."""
+    return {
+        c.name: interval(c, [r for r in rows if r["case"] == c.name])
+        for c in CASES
+        if any(r["case"] == c.name for r in rows)
+    }
+
+
+def cost_figure(rows, path, unc):
+    """Run time against |error|, each case at its resolutions (log-log); the reported run's
+    uncertainty (unc: intervals) as an error bar where it has one."""
+    plt = pyplot()
+    fig, ax = plt.subplots(figsize=(9.5, 4.5))
+    colours, markers = plt.get_cmap("tab20").colors, "osD^vP*Xh<>p"
+    for k, name in enumerate(dict.fromkeys(r["case"] for r in rows)):
+        rr = [r for r in rows if r["case"] == name and np.isfinite(r["error"]) and r["error"] != 0]
+        if rr:
+            colour = colours[(2 * k) % 20 + (k // 10) % 2]
+            ax.loglog(
+                [r["wall"] for r in rr],
+                [abs(r["error"]) for r in rr],
+                "-",
+                marker=markers[k % len(markers)],
+                color=colour,
+                label=name,
+            )
+            half, e = unc.get(name, (None, ""))[0], abs(rr[-1]["error"])
+            if half and rr[-1]["last"]:
+                lo = min(half, 0.9 * e)  # a log axis: the bar stops above zero
+                ax.errorbar([rr[-1]["wall"]], [e], yerr=[[lo], [half]], color=colour, capsize=3, lw=1)
+    ax.set_xlabel(f"wall time (s): {how_run(rows)}", fontsize=8)
+    ax.set_ylabel("|error| against the reference")
+    ax.grid(alpha=0.3, which="both")
+    ax.legend(fontsize=7, loc="center left", bbox_to_anchor=(1.01, 0.5))  # beside: over the curves it hid points
+    ax.set_title("Run time against error: each point one resolution; bars: the reported run's uncertainty", fontsize=9)
+    save(fig, path)
+
+
+def fmt(v, digits=3):
+    if v is None or (isinstance(v, float) and not np.isfinite(v)):
+        return "-"
+    if isinstance(v, float):
+        return f"{v:.{digits}g}"
+    if isinstance(v, (list, tuple)):
+        return "[" + ", ".join(fmt(x, digits) for x in v) + "]"
+    return str(v)
+
+
+def machine():
+    load = os.getloadavg() if hasattr(os, "getloadavg") else (float("nan"),) * 3
+    return (
+        f"{platform.system()} {platform.machine()}, {os.cpu_count()} CPU threads, Python "
+        f"{platform.python_version()}; load average at the start {load[0]:.2f}"
+    )
+
+
+def how_run(rows):
+    """How the rows' runs shared the machine, in words."""
+    ways = sorted({(r.get("jobs", 1), r.get("threads")) for r in rows})
+    said = [
+        f"{j} runs side by side on {t} CPU thread{'s' if t > 1 else ''} each"
+        if j > 1
+        else f"one run at a time on {t or 'all the'} CPU threads"
+        for j, t in ways
+    ]
+    return " or ".join(said)
+
+
+def page(rows, quick, started, ran, mach, figs):
+    best = [r for r in rows if r["last"]]
+    unc = intervals(rows)
+    md = [
+        "# Validation",
+        "",
+        "Generated by `python -m tisph.bench --validate" + (" --quick" if quick else "") + "` on "
+        f"{started} ({mach}): {ran['runs']} runs in {ran['minutes']:.1f} minutes, "
+        + ", then ".join(
+            (
+                f"{n} one at a time on {t} CPU threads"
+                if j == 1
+                else f"{n} side by side, {j} at a time on {t} CPU thread{'s' if t > 1 else ''} each"
+            )
+            for n, j, t in ran["ways"]
+        )
+        + " (`--jobs`)"
+        + (f"; {ran['resumed']} of them taken from an earlier run (`--resume`)" if ran.get("resumed") else "")
+        + ". Each case's section gives "
+        "the date it ran (`--only` re-runs some cases and keeps the others). Do not edit: run the command again.",
+        "",
+    ]
+    if quick:
+        md += [
+            "**A quick run**: coarse and short versions of every case, to exercise the page; its errors "
+            "say nothing about the solver.",
+            "",
+        ]
+    md += [
+        "Each case's error at its reported resolution (the default case file's). Wall time is the whole "
+        f"run (set-up, compile, stepping, outputs) on the CPU backend, {how_run(rows)}; particle-steps/s is the "
+        "stepping rate. The errors are signed where the sign says something (a ripple longer than predicted "
+        "is positive).",
+        "",
+        table(
+            (
+                "case",
+                "reference",
+                "error",
+                "uncertainty",
+                "value",
+                "dx (m)",
+                "particles",
+                "steps",
+                "wall s",
+                "largest density error",
+                "more",
+            ),
+            [
+                (
+                    r["case"],
+                    CASES_BY_NAME[r["case"]].reference,
+                    f"{fmt(r['error'])} ({CASES_BY_NAME[r['case']].error})",
+                    unc[r["case"]][1],
+                    fmt(r["value"], 4),
+                    f"{r['dx']:g}",
+                    r["particles"],
+                    r["steps"],
+                    f"{r['wall']:.0f}",
+                    fmt(r["density"]),
+                    "; ".join(f"{k} {fmt(v)}" for k, v in r["also"].items()),
+                )
+                for r in best
+            ],
+        ),
+        "",
+        "The uncertainty is the numerical one: the grid convergence index of the reported run where "
+        "the case ran three spacings (Celik et al. 2008, safety factor 1.25), the standard error of the "
+        "mean where a chaotic metric is the mean over seeds of the random bed, or why there is none; "
+        "`tisph run CASE --convergence` and `--seeds N` give them for any case.",
+        "",
+        "## Run time against error",
+        "",
+        "![run time against error](validation/cost.png)",
+        "",
+        table(
+            ("case", "dx (m)", "particles", "steps", "wall s", "particle-steps/s", "error"),
+            [
+                (
+                    r["case"],
+                    f"{r['dx']:g}",
+                    r["particles"],
+                    r["steps"],
+                    f"{r['wall']:.1f}",
+                    f"{r['pps']:.3g}",
+                    fmt(r["error"]),
+                )
+                for r in rows
+            ],
+        ),
+        "",
+        "## The cases",
+        "",
+    ]
+    for r in best:
+        c = CASES_BY_NAME[r["case"]]
+        md += [
+            f"### {c.name}",
+            "",
+            f"`python -m tisph.{c.scene}"
+            + (f" --config scenes/{c.config}" if c.config else "")
+            + (f" --dx {r['dx']:g}" if not quick else "")
+            + "`"
+            + (f"; overrides {c.overrides}" if c.overrides else ""),
+            "",
+            f"Reference: {c.reference}. Error: {c.error} = {fmt(r['error'])} at dx {r['dx']:g} m "
+            f"({r['particles']} particles, {r['steps']} steps, {r['wall']:.0f} s; run {r.get('date', '')})."
+            + (f" {c.note}" if c.note else ""),
+            "",
+        ]
+        if figs.get(c.name):
+            md += [f"![{c.name}]({figs[c.name]})", ""]
+    return "\n".join(md) + "\n"
+
+
+def readme_table(rows):
+    best = [r for r in rows if r["last"]]
+    return table(
+        ("case", "error", "dx (m)", "particles", "wall s"),
+        [
+            (
+                r["case"],
+                f"{fmt(r['error'])} ({CASES_BY_NAME[r['case']].error})",
+                f"{r['dx']:g}",
+                r["particles"],
+                f"{r['wall']:.0f}",
+            )
+            for r in best
+        ],
+    )
+
+
+def fill_readme(path, text):
+    with open(path, encoding="utf-8") as f:
+        src = f.read()
+    i, j = src.index(README_START) + len(README_START), src.index(README_END)
+    write_text(path, src[:i] + "\n" + text + "\n" + src[j:])
