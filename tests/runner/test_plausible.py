@@ -6,7 +6,7 @@ import math
 
 import pytest
 
-from tisph.measure.gauges import WaveGauges
+from tisph.measure.gauge_sets import WaveGauges
 from tisph.runner import resolve
 from tisph.runner.setup import build_case
 from tisph.scenes import beach, flume, tunnel

@@ -319,7 +319,8 @@ def test_harmonic_amplitudes_of_a_record_and_a_panel_a_gauge(tmp_path):
     gauges figure draws one panel a gauge."""
     import math
 
-    from tisph.measure.gauges import GaugeSet, SurfaceGauge, harmonic_amplitudes
+    from tisph.measure.gauge_sets import GaugeSet
+    from tisph.measure.gauges import SurfaceGauge, harmonic_amplitudes
 
     T = 2.0
     t = np.arange(0.0, 20.0, 0.01)
@@ -378,7 +379,8 @@ def test_a_load_record_is_low_passed_beside_its_raw_peaks():
     on a 1 Hz load lifts the raw peak 12 %, the filtered one reads the load's own; a step (an
     impact's rise) overshoots by at most 4 %; a point dry part of the time (a surge reaches it)
     is filtered with its dry samples at 0 Pa, and one dry throughout gives nulls, not NaN."""
-    from tisph.measure.gauges import GaugeSet, PressureGauge
+    from tisph.measure.gauge_sets import GaugeSet
+    from tisph.measure.gauges import PressureGauge
     from tisph.measure.records import low_pass
     from tisph.scenes.custom.gauges import load_cutoff
 

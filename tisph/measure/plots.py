@@ -25,7 +25,7 @@ def save(fig, path, dpi=110, tight=True):
 
 
 def gauge_panels(shown, c, metrics, path, title=""):
-    """gauges.png: a panel each gauge of `shown` (tisph.measure.gauges.GaugeSet.plot), the gauges
+    """gauges.png: a panel each gauge of `shown` (tisph.measure.gauge_sets.GaugeSet.plot), the gauges
     of a type on one vertical scale; a load gauge's low-passed record over its raw one."""
     import numpy as np
 

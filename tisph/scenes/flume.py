@@ -32,7 +32,7 @@ from ..case import Scene, make_case, resolves
 from ..constants import G
 from ..io import write_csv
 from ..measure import harmonics, records
-from ..measure.gauges import WaveGauges
+from ..measure.gauge_sets import WaveGauges
 from ..measure.plots import pyplot, save
 from ..particles import FLUID, MOVING, WALL, ParticleSet, block, hydrostatic_density, tait_B, wall_density
 from ..runner import common_params, run_scene, sound_speed

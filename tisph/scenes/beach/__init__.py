@@ -41,7 +41,7 @@ from ...case import Scene, make_case, resolves
 from ...constants import G
 from ...io import write_csv, write_station_rows
 from ...measure.field import surface_at, surface_heights
-from ...measure.gauges import WaveGauges
+from ...measure.gauge_sets import WaveGauges
 from ...measure.plots import pyplot, save
 from ...measure.records import arrival_time, height_at
 from ...particles import FLUID, MOVING, WALL, ParticleSet, block, density_from_pressure, layered_pressure, tait_B

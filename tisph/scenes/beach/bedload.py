@@ -18,7 +18,7 @@ from ...case import make_case
 from ...constants import G
 from ...io import write_csv, write_station_rows
 from ...measure.field import surface_at
-from ...measure.gauges import WaveGauges
+from ...measure.gauge_sets import WaveGauges
 from ...measure.plots import pyplot, save
 from ...measure.records import height_at
 from ...particles import BED, FLUID, MOVING, WALL, ParticleSet, block, density_from_pressure, tait_B

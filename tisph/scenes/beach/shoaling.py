@@ -14,7 +14,7 @@ import math
 import numpy as np
 
 from ...constants import G
-from ...measure.gauges import WaveGauges
+from ...measure.gauge_sets import WaveGauges
 from ...measure.records import arrival_time, wave_height
 from ...particles import FLUID
 from ...waves.theory import group_velocity, hunt_run_up, wavenumber

@@ -6,7 +6,7 @@ import math
 import numpy as np
 
 from ...measure import harmonics
-from ...measure.gauges import GaugeSet, case_gauges
+from ...measure.gauge_sets import GaugeSet, case_gauges
 from ...settings.config import ConfigError
 from ...validation import eurotop
 from ...waves.theory import wavenumber
@@ -31,6 +31,17 @@ class CaseGauges(GaugeSet):
             gauge.irregular = band is not None  # a surface gauge's Hm0 and Tp come from spectra
         self.specs, self.g, self.band = specs, g, band
         self.depth = {q["label"]: depth_at(q["x"]) for q in specs if q["type"] == "surface"}
+
+    def plot(self, path, title=""):
+        """gauges.png, each array's incident and reflected waves under the title."""
+        m = self.last_metrics
+        said = [
+            f"array {n}: incident H {m[f'{n}_incident_height']:.3g} m, reflected H {m[f'{n}_reflected_height']:.3g} m, "
+            f"reflection coefficient {m[f'{n}_reflection_coefficient']:.2f}"
+            for n in sorted({q["array"] for q in self.specs if q["array"]})
+            if m.get(f"{n}_reflection_coefficient") is not None
+        ]
+        super().plot(path, "\n".join([title, *said]))
 
     def metrics(self, c, period, still_level):
         """Per gauge, over t >= its from_time: wave height and harmonics, or an irregular sea's
