@@ -285,14 +285,17 @@ def plot(path, rows, cols, keys, metric_names):
 
 
 def seed_set(scene, config, sets, n):
-    """--seeds N as one more swept key: sediment.seed from the case's own seed on."""
-    from .runner.ensemble import check_seeds, seeds_of
+    """--seeds N as one more swept key: the bed's seed (sediment.seed) or, where the case has no
+    random bed, the start's perturbation (run.seed, every run with run.perturbation set:
+    runner/ensemble.py), from the case's own seed on. Returns the swept (key, values) pairs."""
+    from .runner.ensemble import check_seeds, seed_key, seeds_of
 
-    if any(k == "sediment.seed" for k, _ in sets):
-        raise ConfigError("--set", "sediment.seed", "--seeds N or sediment.seed in --set, not both")
     cfg = resolve(scene, config, {})
     check_seeds(cfg, n)
-    return "sediment.seed", seeds_of(cfg, n)
+    key, also = seed_key(cfg)
+    if any(k == key for k, _ in sets):
+        raise ConfigError("--set", key, f"--seeds N or {key} in --set, not both")
+    return [(key, seeds_of(cfg, n)), *((k, [v]) for k, v in also.items() if all(k != s for s, _ in sets))]
 
 
 def write_ensemble(out, cases, results):
@@ -302,7 +305,7 @@ def write_ensemble(out, cases, results):
 
     groups = {}
     for cid, values, _ in cases:
-        rest = tuple((k, v) for k, v in values.items() if k != "sediment.seed")
+        rest = tuple((k, v) for k, v in values.items() if k not in ("sediment.seed", "run.seed"))
         status, _, summary = results.get(cid, ("not run", "", None))
         groups.setdefault(rest, []).append(summary.get("metrics") if status == "ok" and summary else None)
     keys = [k for k, _ in next(iter(groups))] if groups else []
@@ -350,7 +353,8 @@ def make_parser():
         type=int,
         default=0,
         metavar="N",
-        help="each combination with N seeds of its random bed (sediment.seed and the next N - 1): "
+        help="each combination with N seeds of its random bed (sediment.seed and the next N - 1), or of a "
+        "perturbation of its start where it has none (run.seed, run.perturbation): "
         "OUT/ensemble.md and .csv give each metric's mean, standard deviation and standard error",
     )
     p.add_argument("--zip", action="store_true", help="take the --set lists side by side, not their product")
@@ -376,7 +380,7 @@ def main(argv=None):
         scene = scene_named(args.scene)
         sets = parse_sets(args.set)
         if args.seeds:
-            sets.append(seed_set(scene, args.config, sets, args.seeds))
+            sets.extend(seed_set(scene, args.config, sets, args.seeds))
         if not sets:
             raise ConfigError("--set", None, "at least one KEY=V1,V2,... (or --seeds N)")
         base = {} if args.render else {"output.render": False}

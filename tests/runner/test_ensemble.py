@@ -1,5 +1,6 @@
-"""Ensembles (`--seeds N`): a case run with N seeds of its random bed, each metric's mean,
-standard deviation and standard error; a case with nothing random refused before it runs."""
+"""Ensembles (`--seeds N`): a case run with N seeds of its random bed, or of a perturbation of its
+start where it has none, each metric's mean, standard deviation and standard error; bad counts
+refused before anything runs."""
 
 import json
 import math
@@ -25,7 +26,7 @@ def test_spread_of_four_values_and_a_missing_one():
 @pytest.mark.parametrize(
     "scene, argv, words",
     [
-        (dam_break, ["--seeds", "3"], ["--seeds", "nothing random"]),
+        (dam_break, ["--seeds", "101"], ["--seeds", "from 2 to 100"]),
         (tunnel, ["--seeds", "1"], ["--seeds", "from 2 to 100"]),
         (tunnel, ["--seeds", "2", "--convergence"], ["--seeds", "not both"]),
     ],
@@ -54,6 +55,39 @@ def test_seeds_on_the_tunnel(tmp_path):
     for f in ("ensemble.md", "ensemble.csv", "ensemble.png"):
         assert os.path.getsize(out / "seeds" / f) > 0
     assert json.loads((out / "seeds" / "seed2" / "summary.json").read_text())["status"] == "ok"
+
+
+def test_a_case_with_no_random_bed_takes_seeds_of_a_perturbed_start(tmp_path):
+    """The dam break has nothing random: its further runs start with each water particle moved by
+    up to 1e-3 dx (run.seed, run.perturbation), the walls where they were, and the front's chaos
+    carries that into the metrics; the same seed gives the same draw."""
+    import numpy as np
+
+    from tisph.particles import FLUID, ParticleSet
+    from tisph.runner.setup import perturb
+
+    ps = ParticleSet()
+    ps.add(np.random.default_rng(0).uniform(0, 1, (50, 2)), FLUID, 0, 1000.0, 1.0)
+    ps.add(np.zeros((5, 2)), 1, 0, 1000.0, 1.0)
+    x0 = ps.x.copy()
+    perturb(ps, 0.001 * 0.02, 7)
+    moved = np.abs(ps.x - x0)
+    assert moved[:50].max() <= 2e-5 and moved[:50].min() < moved[:50].max() and moved[:50].mean() > 4e-6
+    assert not moved[50:].any()
+    again = ParticleSet()
+    again.x, again.kind = x0.copy(), ps.kind
+    perturb(again, 0.001 * 0.02, 7)
+    assert np.array_equal(again.x, ps.x)
+
+    out = tmp_path / "d"
+    argv = ["--dx", "0.08", "--end-time", "0.3", "--seeds", "2", "--out", str(out), "--quiet", "--no-render"]
+    assert entry.run_scene(dam_break, argv) == 0
+    e = json.loads((out / "summary.json").read_text())["ensemble"]
+    assert e["key"] == "run.seed" and e["perturbation"] == 0.001 and e["seeds"] == [1, 2] == e["seeds_ok"]
+    assert any(m["std"] > 0 for m in e["metrics"].values())
+    second = (out / "seeds" / "seed2" / "run.log").read_text()
+    assert "perturbation = 0.001" in second and "seed = 2" in second
+    assert "run.perturbation = 0.001" in (out / "seeds" / "ensemble.md").read_text()
 
 
 def test_a_sweep_with_seeds_writes_each_combination_s_spread(tmp_path):

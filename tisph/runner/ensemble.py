@@ -1,7 +1,9 @@
-"""`tisph run CASE --seeds N`: the case with N random seeds of its initial bed (sediment.seed, then
-the next N - 1 integers), and each metric of summary.json as its mean, standard deviation and
-standard error over the runs (measure/spread.py). A case with nothing random is refused before
-it runs: its N runs would be the same run.
+"""`tisph run CASE --seeds N`: the case with N random seeds, and each metric of summary.json as its
+mean, standard deviation and standard error over the runs (measure/spread.py). A case with a
+random initial bed takes its bed's seeds (sediment.seed, then the next N - 1 integers); any other
+case takes the perturbation's (run.seed, then the next N - 1): the further runs start with each
+water particle moved by up to run.perturbation dx (PERTURBATION where the case sets none), the
+size of noise round-off makes, so the spread is how far the case's own chaos carries it.
 
 Writes seeds/ensemble.md, ensemble.csv and ensemble.png in the run's folder (each further seed's
 own run under seeds/seed<N>/), and `ensemble` in summary.json."""
@@ -20,18 +22,13 @@ from .start import simulate
 MAX_SEEDS = 100
 
 
+PERTURBATION = 1e-3  # of dx: 2.5e-6 m at Mao's spacing, some 40 f32 units of a position
+
+
 def check_seeds(cfg, n):
-    """--seeds N: at least 2, and a case whose initial bed is random (sediment.seed)."""
+    """--seeds N: a whole number from 2 to MAX_SEEDS."""
     if not isinstance(n, int) or isinstance(n, bool) or not 2 <= n <= MAX_SEEDS:
         raise ConfigError("--seeds", n, f"a whole number of runs from 2 to {MAX_SEEDS}")
-    if not random_bed(cfg):
-        raise ConfigError(
-            "--seeds",
-            n,
-            "a case with a random initial bed (the bed-load bed with sediment.seed_rms "
-            "or geometry.roughness above 0: the tunnel, the beach); this case has "
-            "nothing random, so its runs would all be the same run",
-        )
 
 
 def random_bed(cfg):
@@ -44,8 +41,17 @@ def random_bed(cfg):
     )
 
 
+def seed_key(cfg):
+    """(the key an ensemble varies, {what the further runs also set}): the bed's seed, or the
+    start's perturbation."""
+    if random_bed(cfg):
+        return "sediment.seed", {}
+    return "run.seed", {"run.perturbation": cfg.run.perturbation or PERTURBATION}
+
+
 def seeds_of(cfg, n):
-    s0 = int(cfg.sediment.seed)
+    key = seed_key(cfg)[0]
+    s0 = int(cfg.sediment.seed if key == "sediment.seed" else cfg.run.seed)
     return [s0 + k for k in range(n)]
 
 
@@ -59,11 +65,12 @@ def study(scene, config, overrides, cfg, summary, out, n, log=print, jobs=0):
     one at a time on every core for a run of pool.WIDE particles or more; runner/pool.py), write the table, the figure and summary.json's `ensemble`; returns that
     entry. A seed that ends unstable is listed with its status and left out of the statistics."""
     seeds = seeds_of(cfg, n)
+    key, also = seed_key(cfg)
     done = {seeds[0]: summary}
     tasks = []
     for s in seeds[1:]:
         sub = os.path.join(out, "seeds", f"seed{s}")
-        ov = dict(overrides or {}, **QUIET, **{"sediment.seed": s, "output.dir": sub})
+        ov = dict(overrides or {}, **QUIET, **also, **{key: s, "output.dir": sub})
         tasks.append((s, seed_run, (scene.module, config, ov, sub)))
     # the first run's size says whether the others go side by side or one at a time on every core
     ((tasks, jobs, threads),) = stages(tasks, [summary["particles"]] * len(tasks), jobs)
@@ -75,7 +82,7 @@ def study(scene, config, overrides, cfg, summary, out, n, log=print, jobs=0):
     def finished(s, r, e):
         if e is not None:
             raise e
-        log(f"seeds: sediment.seed = {s}: {r['status']}")
+        log(f"seeds: {key} = {s}: {r['status']}")
         done[s] = r
 
     t0 = time.perf_counter()
@@ -83,6 +90,8 @@ def study(scene, config, overrides, cfg, summary, out, n, log=print, jobs=0):
     runs = [(s, done[s]) for s in seeds]
     ok = [r for r in runs if r[1]["status"] == "ok"]
     entry = {
+        "key": key,
+        "perturbation": also.get("run.perturbation"),
         "seeds": seeds,
         "status": {str(s): r["status"] for s, r in runs},
         "metrics": ensemble_metrics([r[1].get("metrics") for r in ok]),
@@ -109,7 +118,14 @@ def report(entry):
     lines = [
         "# Ensemble",
         "",
-        f"The case with sediment.seed = {', '.join(str(s) for s in seeds)}: each metric's mean, standard "
+        f"The case with {entry.get('key', 'sediment.seed')} = {', '.join(str(s) for s in seeds)}"
+        + (
+            f" (the further runs with run.perturbation = {entry['perturbation']:g}: each water particle moved at "
+            "the start by up to that fraction of dx)"
+            if entry.get("perturbation")
+            else ""
+        )
+        + ": each metric's mean, standard "
         f"deviation (n - 1) and standard error of the mean over the {len(ok)} runs that finished. The further "
         f"runs, {entry.get('jobs', 1)} at a time, took {entry['cost_over_run']:.2f} of the first run's wall time."
         + (f" Left out: {', '.join(bad)}." if bad else ""),

@@ -9,7 +9,7 @@ import numpy as np
 
 from ..errors import SimulationError, unstable  # noqa: F401  (the runner's: re-exported)
 from ..io import OutputError, write_text
-from ..particles import KIND_NAMES, RUN_BYTES_PER_PARTICLE, check_fits
+from ..particles import FLUID, KIND_NAMES, RUN_BYTES_PER_PARTICLE, check_fits
 from ..settings.resolved import thaw
 
 
@@ -92,6 +92,15 @@ def pair_once_wanted(cfg, n, h, c0):
     return n * steps >= PAIR_ONCE_MIN
 
 
+def perturb(particles, amplitude, seed):
+    """run.perturbation: each water particle moved by up to `amplitude` (m) in x and z, drawn from
+    `seed`; one draw of the noise a run would carry, for an ensemble of a case with no random bed."""
+    if amplitude > 0.0:
+        water = particles.kind == FLUID
+        rng = np.random.default_rng(int(seed))
+        particles.x[water] += amplitude * rng.uniform(-1.0, 1.0, (int(water.sum()), 2))
+
+
 def build_case(scene, cfg, log):
     """scene.build(cfg), with its warnings and the sound-speed check logged."""
     from ..case import as_scene
@@ -99,6 +108,7 @@ def build_case(scene, cfg, log):
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         case = as_scene(scene).build(cfg)
+        perturb(case.particles, cfg.run.perturbation * cfg.numerics.dx, cfg.run.seed)
         c0 = case.params["c0"]
         case.params["pair_once"] = pair_once_wanted(cfg, len(case.particles), case.params["h"], c0)
         if c0 < 10.0 * case.u_max * (1 - 1e-9):

@@ -23,6 +23,13 @@ SHARED = {
             "each pair once on the CPU: auto (where the run is long enough to repay its compile) | on | off",
             choices=("auto", "on", "off"),
         ),
+        "perturbation": K(
+            0.0,
+            "each water particle displaced at the start by up to this fraction of dx, at random (run.seed); "
+            "0: none. --seeds N sets 0.001 on a case with no random bed: how far round-off-sized noise moves it",
+            range=(0.0, 0.1, True, True),
+        ),
+        "seed": K(1, "the random seed of run.perturbation", range=(0, None, True, True)),
     },
     "numerics": {
         "dx": K(0.03, "initial particle spacing", "m", POSITIVE),
