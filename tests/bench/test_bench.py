@@ -197,10 +197,10 @@ def test_mao_held_rate_is_exner_of_the_bed_model():
     periodic flat bed, erosion where the shear rises along the current and deposition where it
     falls, and the sand it moves is conserved."""
     from tisph.bench.mao_held import exner_rate
-    from tisph.sediment import coupling
+    from tisph.sediment import keys
 
     sed = dict(
-        coupling.DEFAULTS,
+        keys.DEFAULTS,
         shear="wall_function",
         lee_transit=True,
         settling_delay=True,

@@ -229,7 +229,8 @@ def test_lee_vortex_reverses_the_shear_behind_a_steep_crest_only():
     """The experimental lee vortex: behind a crest with a lee steeper than separation_slope, over
     separation_length crest heights downstream, the shear points back to the crest; a gentle
     bump and the flow's upstream side are untouched; the same mirrored for flow to -x."""
-    from tisph.sediment.coupling import DEFAULTS, lee_vortex_shear
+    from tisph.sediment.coupling import lee_vortex_shear
+    from tisph.sediment.keys import DEFAULTS
 
     sed = dict(DEFAULTS, lee_vortex=0.5, separation_length=6.0, separation_slope=10.0)
     x = np.arange(60) * 0.01
@@ -253,7 +254,7 @@ def test_vortex_throw_lays_the_lee_sand_an_orbital_amplitude_upstream():
     from its lee zone, to a Gaussian centred throw_distance orbital amplitudes upstream (the way the
     turning flow carries the vortex); volume conserved; nothing from a gentle lee or in sheet flow;
     mirrored for flow to -x; a closed bed keeps the part that lands inside."""
-    from tisph.sediment.coupling import DEFAULTS
+    from tisph.sediment.keys import DEFAULTS
     from tisph.sediment.lee import lee_zones, vortex_throw
 
     sed = dict(
@@ -314,9 +315,9 @@ def _drive_bed(sed, d0=0.3, T=2.0, dx=0.01, length=1.21, periods=20, seed_length
 def test_ripples_seeded_too_long_split_by_the_vortex_throw():
     """Three ripples seeded at 1.5 d0 in the ripple sweep's 1.21 m at d0 = 0.3 m, with no random
     bed, under the bed model alone (_drive_bed) for 200 bed periods: with the wave parameter set
-    (coupling.WAVE_RIPPLES) they split into the band, 0.5-0.75 d0 (six to eight ripples; measured
+    (keys.WAVE_RIPPLES) they split into the band, 0.5-0.75 d0 (six to eight ripples; measured
     six); without the vortex's throw nothing grows in their troughs and the three stay."""
-    from tisph.sediment.coupling import DEFAULTS, WAVE_RIPPLES
+    from tisph.sediment.keys import DEFAULTS, WAVE_RIPPLES
 
     sed = dict(DEFAULTS, **WAVE_RIPPLES, morfac=10.0, seed_rms=0.0)
     assert sed["vortex_throw"] > 0
@@ -496,7 +497,8 @@ def test_wall_function_shear_is_the_log_law_where_k_is_in_equilibrium_and_grows_
     that it is 2 times the log law, signed with the flow (refused without the k equation:
     tests/runner/test_bad_input.py)."""
     from tisph.constants import KAPPA, SQRT_CMU
-    from tisph.sediment.coupling import DEFAULTS, BedCoupler, Drive, Stations, sand_of
+    from tisph.sediment.coupling import BedCoupler, Drive, Stations, sand_of
+    from tisph.sediment.keys import DEFAULTS
 
     dx, z0 = 0.0025, 0.003
     x = (np.arange(40) + 0.5) * dx
@@ -574,7 +576,8 @@ def test_wall_function_follows_the_mean_flow_in_a_sheltered_lee():
     reversed, k twice the far field's): the shear follows the mean flow's sign and stays below the
     far field's, so a reversed lee pushes back; jets either way exceed it."""
     from tisph.constants import KAPPA, SQRT_CMU
-    from tisph.sediment.coupling import DEFAULTS, BedCoupler, Drive, Stations, sand_of
+    from tisph.sediment.coupling import BedCoupler, Drive, Stations, sand_of
+    from tisph.sediment.keys import DEFAULTS
 
     dx, z0 = 0.0025, 0.003
     x = (np.arange(40) + 0.5) * dx
@@ -605,7 +608,8 @@ def test_bed_faster_than_the_water_allows_stops_the_run_with_a_message():
     message about its sound speed); with a sound speed that allows it the same bed moves its
     particles."""
     from tisph.runner.setup import SimulationError
-    from tisph.sediment.coupling import BED_MACH, DEFAULTS, BedCoupler, Drive, Stations, sand_of
+    from tisph.sediment.coupling import BED_MACH, BedCoupler, Drive, Stations, sand_of
+    from tisph.sediment.keys import DEFAULTS
 
     dx = 0.0025
     x = (np.arange(80) + 0.5) * dx
@@ -788,8 +792,8 @@ def test_a_random_initial_bed_rests_at_the_angle_of_repose():
     """The random bed (3 mm RMS smoothed over 2 dx at dx = 6.7 mm has 20 of 363 faces steeper than
     32 degrees) is relaxed to the angle of repose before the water is laid on it, keeping its mean
     level and all but a few percent of its RMS; without a random bed the profile is left as given."""
-    from tisph.sediment.coupling import DEFAULTS
     from tisph.sediment.initial import initial_bed
+    from tisph.sediment.keys import DEFAULTS
 
     dx = 0.006667
     x = (np.arange(363) + 0.5) * dx

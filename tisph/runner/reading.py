@@ -5,7 +5,7 @@ import os
 import warnings
 
 from ..case import as_scene
-from ..sediment.coupling import refuse_unused_sediment_keys
+from ..sediment.keys import refuse_unused_sediment_keys
 from ..settings.config import (
     ConfigError,
     ConfigErrors,

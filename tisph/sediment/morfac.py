@@ -15,11 +15,11 @@ import warnings
 
 from ..ripples import wiberg_harris
 from ..settings.materials import WATER
-from . import coupling
+from . import keys
 from .transport import ripple_turnover_periods
 
 # the calibration tunnel: orbital diameter d0 (m), period T (s), grain diameter d50 (m) and morfac,
-# over the wave-ripple bed (coupling.WAVE_RIPPLES); tisph.scenes.tunnel's defaults are these
+# over the wave-ripple bed (keys.WAVE_RIPPLES); tisph.scenes.tunnel's defaults are these
 CALIBRATION = {"orbital_diameter": 0.3, "period": 2.0, "grain_diameter": 0.0003, "morfac": 10.0}
 
 
@@ -33,7 +33,7 @@ def bed_turnover(d0, T, d50, s, sed):
 @functools.lru_cache(maxsize=1)
 def reference_turnover():
     """bed_turnover of the calibration tunnel (6.8 wave periods)."""
-    sed = dict(coupling.DEFAULTS, **coupling.WAVE_RIPPLES, morfac=CALIBRATION["morfac"])
+    sed = dict(keys.DEFAULTS, **keys.WAVE_RIPPLES, morfac=CALIBRATION["morfac"])
     c = CALIBRATION
     return bed_turnover(
         c["orbital_diameter"], c["period"], c["grain_diameter"], sed["grain_density"] / WATER["rho0"], sed

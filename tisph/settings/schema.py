@@ -74,7 +74,7 @@ def docs(tree: dict, prefix: str = "") -> dict[str, str]:
 
 def with_defaults(tree: dict, **defaults: object) -> dict:
     """A copy of a table whose named keys take new defaults, keeping their words and rules (a
-    scene's own values for a shared table: dict(coupling.SEDIMENT) with its morfac)."""
+    scene's own values for a shared table: dict(sediment/keys.py's SEDIMENT) with its morfac)."""
     unknown = set(defaults) - set(tree)
     if unknown:
         raise KeyError(f"not keys of the table: {sorted(unknown)}")

@@ -16,6 +16,7 @@ from ...io import write_station_rows
 from ...measure.plots import pyplot, save
 from ...particles import density_from_pressure
 from ...sediment import coupling, initial
+from ...sediment import keys as sediment_keys
 from ...settings.config import ConfigError
 from ...settings.schema import K, values, with_defaults
 
@@ -191,6 +192,6 @@ class SandBed:
         save(fig, os.path.join(out, "bed_profile.png"))
 
 
-# the bed-load bed's keys: the beach's set (coupling.WAVE_RIPPLES read unscaled, docs/sediment.md)
-SEDIMENT = with_defaults(coupling.SEDIMENT, **dict(coupling.WAVE_RIPPLES, outer_height=0.0))
+# the bed-load bed's keys: the beach's set (keys.WAVE_RIPPLES read unscaled, docs/sediment.md)
+SEDIMENT = with_defaults(sediment_keys.SEDIMENT, **dict(sediment_keys.WAVE_RIPPLES, outer_height=0.0))
 SEDIMENT_DEFAULTS = values(SEDIMENT)

@@ -35,7 +35,7 @@ from ...case import Scene, make_case, resolves
 from ...constants import G
 from ...particles import FLUID, WALL, ParticleSet, block, density_from_pressure, layered_pressure, tait_B
 from ...runner import common_params, run_scene, sound_speed
-from ...sediment import coupling
+from ...sediment import keys as sediment_keys
 from ...settings.config import ConfigError, physics_from_config
 from ...settings.schema import NON_NEGATIVE, POSITIVE, K, with_defaults
 from ...settings.schemes import numerics
@@ -156,7 +156,7 @@ class PipelineScour(Scene):
         # the slope enters once, through the threshold (gravity_coefficient 0: in Mao's case the
         # downslope term on top held the hole at 0.33 D, measured; scenes/pipeline_scour_mao.toml)
         "sediment": with_defaults(
-            coupling.SEDIMENT,
+            sediment_keys.SEDIMENT,
             model="bedload",
             grain_density=2650.0,
             shear="log_far_field",

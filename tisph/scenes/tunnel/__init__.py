@@ -32,7 +32,7 @@ from ...measure.ripple_plots import plot_bed
 from ...particles import FLUID, WALL, ParticleSet, block, density_from_pressure, layered_pressure, tait_B
 from ...ripples import MIN_HEIGHT_DX, MIN_LENGTH_DX, derive_resolution, last_finite, ripple_stats, wiberg_harris
 from ...runner import common_params, run_scene, sound_speed
-from ...sediment import coupling
+from ...sediment import keys as sediment_keys
 from ...sediment.morfac import CALIBRATION
 from ...settings.config import ConfigError, physics_from_config
 from ...settings.materials import BINGHAM_SAND, WATER
@@ -113,7 +113,7 @@ class Tunnel(Scene):
         },
         "materials": {"water": dict(WATER), "sand": dict(BINGHAM_SAND)},  # the beach's water and sand
         # the bed below particle scale (tisph/sediment), the wave-ripple set; seed_rms: geometry.roughness
-        "sediment": with_defaults(coupling.SEDIMENT, **coupling.WAVE_RIPPLES, morfac=CALIBRATION["morfac"]),
+        "sediment": with_defaults(sediment_keys.SEDIMENT, **sediment_keys.WAVE_RIPPLES, morfac=CALIBRATION["morfac"]),
         "output": {"frame_interval": 0.05, "probe_interval": 0.05, "width": 960},
     }
 
