@@ -58,10 +58,13 @@ def summarize(run, status, message, wall, step_s, nsteps, compile_s, segment=Non
     if obs.final_metrics:
         metrics.update(obs.final_metrics(final))
 
-    def no_value(v):
+    def nan(v):
+        return isinstance(v, float) and not math.isfinite(v)
+
+    def no_value(v):  # a list's None is a gauge said at the start to stand dry (WaveGauges)
         if isinstance(v, (list, tuple)):
-            return any(no_value(x) for x in v)
-        return v is None or (isinstance(v, float) and not math.isfinite(v))
+            return any(nan(x) for x in v)
+        return v is None or nan(v)
 
     undefined = [k for k, v in metrics.items() if no_value(v)]
     if undefined:  # a metric with no value is said, not left as a silent null
