@@ -71,4 +71,9 @@ def test_the_validation_page_s_interval_from_three_spacings_seeds_or_none():
     tunnel = CASES_BY_NAME["Oscillating tunnel ripples (Wiberg & Harris)"]
     ens = dict(n=3, stderr=0.05, values=[0.8, 0.9, 1.0])
     half, words = interval(tunnel, [dict(dx=0.015, value=0.9), dict(dx=0.01, value=0.9, ensemble=ens)])
-    assert half == pytest.approx(0.05) and "3 seeds" in words and "0.8, 0.9, 1" in words
+    assert half == pytest.approx(0.05) and "3 seeds of the bed" in words and "0.8, 0.9, 1" in words
+    mao = CASES_BY_NAME["Pipeline scour (Mao 1986)"]
+    half, words = interval(mao, [dict(dx=0.0025, value=0.035, ensemble=dict(ens, key="run.seed"))])
+    assert "3 seeds of a perturbed start" in words
+    half, words = interval(mao, [dict(dx=0.0025, value=0.035)])
+    assert half is None and words.startswith("one spacing: no GCI; one run: its spread in docs/sediment.md")

@@ -23,7 +23,8 @@ def interval(case, rows):
     if ens and ens.get("stderr") is not None:
         half = abs(ens["stderr"] * scale)
         vals = ", ".join(f"{v:.3g}" for v in ens["values"] if v is not None)
-        return half, f"+- {half:.2g}: the standard error over {ens['n']} seeds of the bed ({case.metric}: {vals})"
+        what = "of the bed" if ens.get("key", "sediment.seed") == "sediment.seed" else "of a perturbed start"
+        return half, f"+- {half:.2g}: the standard error over {ens['n']} seeds {what} ({case.metric}: {vals})"
     rungs = [r for r in rows if _finite(r.get("value"))]
     if len(rungs) >= 3:
         f1, f2, f3 = (r["value"] for r in rungs[:-4:-1])
@@ -35,4 +36,4 @@ def interval(case, rows):
         return None, f"no GCI over three spacings: {m['reason'].split(':')[0]}"
     if len(rungs) == 2:
         return None, "two spacings: no order to observe (a GCI needs three)"
-    return None, "one spacing: no GCI"
+    return None, "one spacing: no GCI" + (f"; one run: its spread in {case.spread}" if case.spread else "")

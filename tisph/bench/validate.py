@@ -67,19 +67,22 @@ def run_one(case, dx, out, quick, resume=False):
     )
 
 
-def seeds_for(case):
-    """The seeds of the case's bed for its ensemble, its own (the reported run's) first."""
+def _resolved(case):
     from ..runner import resolve
-    from ..runner.ensemble import seeds_of
 
-    if case.seeds <= 1:
-        return []
-    cfg = resolve(
+    return resolve(
         importlib.import_module(f"tisph.{case.scene}"),
         os.path.join(ROOT, "scenes", case.config) if case.config else None,
         dict(case.overrides),
     )
-    return seeds_of(cfg, case.seeds)
+
+
+def seeds_for(case):
+    """The seeds of the case's ensemble (its bed's, or its start's where the bed is not random:
+    runner/ensemble.py), its own (the reported run's) first."""
+    from ..runner.ensemble import seeds_of
+
+    return seeds_of(_resolved(case), case.seeds) if case.seeds > 1 else []
 
 
 def finished(d):
@@ -94,12 +97,15 @@ def finished(d):
 
 def run_task(name, dx, seed, out, quick, resume=False):
     """One run of the table (in a worker process where --jobs runs several): the case NAME at dx,
-    with sediment.seed = seed unless None."""
+    with the ensemble's seed (runner/ensemble.py's seed_key) unless None."""
+    from ..runner.ensemble import seed_key
+
     case = CASES_BY_NAME[name]
     if seed is None:
         return run_one(case, dx, out, quick, resume)
+    key, also = seed_key(_resolved(case))
     return run_one(
-        dataclasses.replace(case, overrides=dict(case.overrides, **{"sediment.seed": seed})),
+        dataclasses.replace(case, overrides=dict(case.overrides, **also, **{key: seed})),
         dx,
         os.path.join(out, f"seed{seed}"),
         quick,
@@ -129,9 +135,10 @@ def ensemble(case, row, seeds, seed_rows):
     """The reported row with its seeds' runs: its value and error become the ensemble's mean, its
     `ensemble` each seed's value and the spread."""
     from ..measure.spread import spread
+    from ..runner.ensemble import seed_key
 
     values = [row["value"]] + [seed_rows[s]["value"] if seed_rows[s]["status"] == "ok" else None for s in seeds[1:]]
-    ens = dict(spread(values), seeds=list(seeds))
+    ens = dict(spread(values), seeds=list(seeds), key=seed_key(_resolved(case))[0])
     row["ensemble"] = ens
     if ens["mean"] is not None:
         row["value"] = ens["mean"]

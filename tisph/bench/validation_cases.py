@@ -26,7 +26,8 @@ class Case:
     also: tuple = ()  # more metrics shown beside the error
     has_reference: bool = True  # False: the metric is shown, no error is computed
     note: str = ""
-    seeds: int = 0  # > 1: the reported run with this many bed seeds, the metric their mean
+    seeds: int = 0  # > 1: the reported run with this many seeds (the bed's, or the start's), the metric their mean
+    spread: str = ""  # where one run's spread is measured, for a chaotic metric run once here
 
 
 # a table, one case a row: kept as written
@@ -107,7 +108,8 @@ CASES = [
          (0.0025,), 0.00625, config="pipeline_scour_mao.toml",
          quick_overrides={"run.end_time": 0.6, "geometry.length": 0.5, "geometry.inflow_length": 0.1},
          figure="scour_mao.png", probes=("scour_depth_over_D",),
-         also=("scour_profile_error_11s", "scour_profile_error_18s", "scour_profile_error_25s")),
+         also=("scour_profile_error_11s", "scour_profile_error_18s", "scour_profile_error_25s"),
+         spread="docs/sediment.md, over three perturbed starts (`--seeds 3`: each a 19-minute run, so once here)"),
     Case("Erodible bed (paper 000 section 4.3)", "scenes.erodible_bed", "eroded_area", "no reference value",
          "the paper's figures only (no measured values)", (0.02, 0.01), 0.02, quick_overrides={"run.end_time": 0.2},
          probes=("front_x", "eroded_area"), also=("bed_drop_at_gate",), has_reference=False,
