@@ -2,7 +2,7 @@
 mean, standard deviation and standard error over the runs (measure/spread.py). A case with a
 random initial bed takes its bed's seeds (sediment.seed, then the next N - 1 integers); any other
 case takes the perturbation's (run.seed, then the next N - 1): the further runs start with each
-water particle moved by up to run.perturbation dx (PERTURBATION where the case sets none), the
+fluid particle (water, or a sand phase) moved by up to run.perturbation dx (PERTURBATION where the case sets none), the
 size of noise round-off makes, so the spread is how far the case's own chaos carries it.
 
 Writes seeds/ensemble.md, ensemble.csv and ensemble.png in the run's folder (each further seed's
@@ -120,7 +120,7 @@ def report(entry):
         "",
         f"The case with {entry.get('key', 'sediment.seed')} = {', '.join(str(s) for s in seeds)}"
         + (
-            f" (the further runs with run.perturbation = {entry['perturbation']:g}: each water particle moved at "
+            f" (the further runs with run.perturbation = {entry['perturbation']:g}: each fluid particle moved at "
             "the start by up to that fraction of dx)"
             if entry.get("perturbation")
             else ""

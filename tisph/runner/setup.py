@@ -93,7 +93,7 @@ def pair_once_wanted(cfg, n, h, c0):
 
 
 def perturb(particles, amplitude, seed):
-    """run.perturbation: each water particle moved by up to `amplitude` (m) in x and z, drawn from
+    """run.perturbation: each fluid particle (water, or a sand phase) moved by up to `amplitude` (m) in x and z, drawn from
     `seed`; one draw of the noise a run would carry, for an ensemble of a case with no random bed."""
     if amplitude > 0.0:
         water = particles.kind == FLUID

@@ -25,7 +25,7 @@ SHARED = {
         ),
         "perturbation": K(
             0.0,
-            "each water particle displaced at the start by up to this fraction of dx, at random (run.seed); "
+            "each fluid particle displaced at the start by up to this fraction of dx, at random (run.seed); "
             "0: none. --seeds N sets 0.001 on a case with no random bed: how far round-off-sized noise moves it",
             range=(0.0, 0.1, True, True),
         ),
