@@ -111,7 +111,8 @@ def test_resume_runs_only_the_missing_cases(tmp_path):
         (["tank", "--set", "numerics.dx"], ["--set", "KEY=V1,V2"]),
         (["tank", "--zip", "--set", "numerics.dx=0.04,0.05", "--set", "geometry.depth=0.3"], ["--zip", "equal length"]),
         (["tunel", "--set", "numerics.dx=0.04"], ["SCENE", "tunel", "tunnel"]),
-        (["tank", "--seeds", "3"], ["--seeds", "nothing random"]),
+        (["tank", "--seeds", "1"], ["--seeds", "from 2 to 100"]),
+        (["tank", "--seeds", "2", "--set", "run.seed=4,5"], ["run.seed", "not both"]),
         (["tunnel", "--seeds", "2", "--set", "sediment.seed=4,5"], ["sediment.seed", "not both"]),
     ],
 )

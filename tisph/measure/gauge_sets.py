@@ -9,7 +9,7 @@ from collections.abc import Iterable
 
 import numpy as np
 
-from .gauges import GAUGE_TYPES, Gauge, Site, SurfaceGauge, _LoadGauge
+from .gauges import GAUGE_TYPES, Gauge, LoadGauge, Site, SurfaceGauge
 from .plots import gauge_panels
 from .records import arrival_time, crossing_period_and_level, height_at
 
@@ -21,7 +21,7 @@ class GaugeSet:
     def __init__(self, gauges: Iterable[Gauge], dx: float, h: float, cutoff: float | None = None) -> None:
         self.gauges, self.site = list(gauges), Site(dx, h)
         for g in self.gauges:
-            if isinstance(g, _LoadGauge):
+            if isinstance(g, LoadGauge):
                 g.cutoff = cutoff
         self.columns = tuple(c for g in self.gauges for c in g.columns)
         self.seen = None

@@ -239,7 +239,7 @@ def _load_metrics(g, col, t, w, period):
     return out
 
 
-class _LoadGauge(Gauge):
+class LoadGauge(Gauge):
     """A pressure or a force: its record low-passed for gauges.png and the filtered extremes."""
 
     def filtered(self, c):
@@ -257,7 +257,7 @@ class _LoadGauge(Gauge):
         return _load_metrics(self, c[self.columns[0]], t, w, period)
 
 
-class PressureGauge(_PointGauge, _LoadGauge):
+class PressureGauge(_PointGauge, LoadGauge):
     type = "pressure"
     needs = {"x": "a number (m): a pressure gauge's position", "z": "a number (m): a pressure gauge's height"}
     prefixes = ("p",)
@@ -269,7 +269,7 @@ class PressureGauge(_PointGauge, _LoadGauge):
         return [float(p)]
 
 
-class ForceGauge(_LoadGauge):
+class ForceGauge(LoadGauge):
     """The pressure integrated along a wall face: points a spacing apart, read half a smoothing
     length into the water (towards `side`, unit vectors), where the kernel is not cut by the wall."""
 
