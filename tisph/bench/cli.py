@@ -55,6 +55,21 @@ def make_parser():
         prog="python -m tisph.bench", description=LADDER_DOC, formatter_class=argparse.RawDescriptionHelpFormatter
     )
     p.add_argument("--quick", action="store_true", help="coarse ladders and short runs (about 5 minutes)")
+    _peer_options(p)
+    _run_options(p)
+    _speed_options(p)
+    _case_bench_options(p)
+    table_options(p)
+    p.add_argument(
+        "--dry-run",
+        action="store_true",
+        help="exercise every code path in seconds: one tiny case, tiny scaling, no profile (for tests)",
+    )
+    return p
+
+
+def _peer_options(p):
+    """The peers' codes beside ours (bench/peers/)."""
     p.add_argument(
         "--peer",
         type=_peers,
@@ -71,6 +86,10 @@ def make_parser():
         help="a git clone of DualSPHysics to build its v5.0 CPU solver from, once, into "
         "~/.cache/tisph/peers (needed until it is built)",
     )
+
+
+def _run_options(p):
+    """Where the runs go, on what, and which cases."""
     p.add_argument(
         "--arch",
         choices=["cpu", "gpu"],
@@ -92,6 +111,10 @@ def make_parser():
     )
     p.add_argument("--only", nargs="*", help="run only the cases whose name contains one of these words")
     p.add_argument("--no-scaling", action="store_true", help="skip the scaling, specialisation and profile parts")
+
+
+def _speed_options(p):
+    """--speed and --traffic, and their options."""
     p.add_argument(
         "--speed",
         action="store_true",
@@ -119,6 +142,10 @@ def make_parser():
         help="with --speed: Taichi's CPU threads in every run (default all cores; "
         "1 measured 4 %% run-to-run spread here against 10 %% on two)",
     )
+
+
+def _case_bench_options(p):
+    """The case benches (--shedding, --mao-held, --ripples, --waves, --standing, --convergence) and their options."""
     p.add_argument(
         "--shedding",
         action="store_true",
@@ -190,13 +217,6 @@ def make_parser():
         help="with --waves: the finest dp DualSPHysics runs at (default 0.0125, H/dx = 5; at 0.0075 its two "
         "runs take about two hours)",
     )
-    table_options(p)
-    p.add_argument(
-        "--dry-run",
-        action="store_true",
-        help="exercise every code path in seconds: one tiny case, tiny scaling, no profile (for tests)",
-    )
-    return p
 
 
 def main(argv=None):  # noqa: C901 (one branch a bench the command line names)

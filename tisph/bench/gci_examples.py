@@ -37,6 +37,43 @@ CASES = (
 )
 
 
+def report(name, metrics, dxs, vals, runs):
+    """The case's section: its runs' table, and each metric's observed order and GCI (or why none)."""
+    r21, r32 = dxs[1] / dxs[2], dxs[0] / dxs[1]
+    md = [
+        f"## {name}",
+        "",
+        table(
+            ("dx (m)", "particles", "steps", "wall s")
+            + tuple(metrics)
+            + ("largest density error", "99.9th percentile"),
+            [
+                (f"{x[0]:g}", x[1], x[2], x[3])
+                + tuple(f"{vals[m][k]:.4g}" for m in metrics)
+                + (f"{x[4]:.1%}", f"{x[5]:.1%}")
+                for k, x in enumerate(runs)
+            ],
+        ),
+        "",
+    ]
+    for m, what in metrics.items():
+        f3, f2, f1 = vals[m]
+        p, ext, g21, g32 = gci(f1, f2, f3, r21, r32)
+        md += [
+            f"{what}: refinement ratios {r21:.2f} and {r32:.2f}; the two finest differ by "
+            f"{abs(f1 / f2 - 1):.1%}; "
+            + (
+                f"observed order {p:.2f}, Richardson's estimate {ext:.4g}, GCI {g21:.1%} on the finest grid "
+                f"and {g32:.1%} on the middle one (GCI32 / (r21^p GCI21) = {g32 / (g21 * r21**p):.2f}, 1 in "
+                "the asymptotic range)."
+                if math.isfinite(p)
+                else "the differences change sign (or vanish): no observed order, no GCI (Celik et al.)."
+            ),
+            "",
+        ]
+    return md
+
+
 def main(a):
     import tisph
 
@@ -78,38 +115,7 @@ def main(a):
                 + ", ".join(f"{m} = {vals[m][-1]:.4g}" for m in metrics),
                 flush=True,
             )
-        r21, r32 = dxs[1] / dxs[2], dxs[0] / dxs[1]
-        md += [
-            f"## {name}",
-            "",
-            table(
-                ("dx (m)", "particles", "steps", "wall s")
-                + tuple(metrics)
-                + ("largest density error", "99.9th percentile"),
-                [
-                    (f"{x[0]:g}", x[1], x[2], x[3])
-                    + tuple(f"{vals[m][k]:.4g}" for m in metrics)
-                    + (f"{x[4]:.1%}", f"{x[5]:.1%}")
-                    for k, x in enumerate(runs)
-                ],
-            ),
-            "",
-        ]
-        for m, what in metrics.items():
-            f3, f2, f1 = vals[m]
-            p, ext, g21, g32 = gci(f1, f2, f3, r21, r32)
-            md += [
-                f"{what}: refinement ratios {r21:.2f} and {r32:.2f}; the two finest differ by "
-                f"{abs(f1 / f2 - 1):.1%}; "
-                + (
-                    f"observed order {p:.2f}, Richardson's estimate {ext:.4g}, GCI {g21:.1%} on the finest grid "
-                    f"and {g32:.1%} on the middle one (GCI32 / (r21^p GCI21) = {g32 / (g21 * r21**p):.2f}, 1 in "
-                    "the asymptotic range)."
-                    if math.isfinite(p)
-                    else "the differences change sign (or vanish): no observed order, no GCI (Celik et al.)."
-                ),
-                "",
-            ]
+        md += report(name, metrics, dxs, vals, runs)
     write_csv(
         os.path.join(out, "convergence.csv"),
         (

@@ -327,29 +327,8 @@ def _engine_sections(a, log):
     return md
 
 
-def run(a):
-    """The ladder, scaling and profile parts of `python -m tisph.bench` (options parsed by cli.py)."""
-    from .. import runtime
-
-    runtime.init("cpu", "f32")
-    ensure_dir(a.out)
-    log = lambda m: print(m, file=sys.stderr, flush=True)
-    rows = []
-    cases = [c for c in CASES if not a.only or any(w.lower() in c.name.lower() for w in a.only)]
-    if a.dry_run:
-        cases = [dataclasses.replace(CASES[0], quick=CASES[0].quick[:2], quick_overrides={"run.end_time": 0.2})]
-        a.quick = True
-    jobs = [(c, dx) for c in cases for dx in (c.quick if a.quick else c.ladder)]
-    if a.scheduler:
-        rows = _on_cluster(jobs, a, log)
-    else:
-        rows = [run_one(c, dx, a.out, a.quick) for c, dx in jobs]
-    for (c, dx), r in zip(jobs, rows):
-        log(
-            f"{c.name}, dx {dx:g}: {r['particles']} particles, {r['steps']} steps, {r['wall_time_s']:.1f} s "
-            f"(compile {r['compile_time_s']:.1f} s), {r['particle_steps_per_s']:.3g} p-steps/s, "
-            f"{c.metric} = {r['error']:.4g}"
-        )
+def ladder_report(a, cases, rows):
+    """bench.csv, and bench.md's first sections: the runs' table and each case's observed order."""
     cols = (
         "case",
         "dx",
@@ -400,7 +379,33 @@ def run(a):
         orders.append(
             (c.name, c.reference, f"{convergence_order([r['dx'] for r in rr], [r['error'] for r in rr]):.2f}")
         )
-    md += [table(("case", "reference", "order"), orders), ""]
+    return md + [table(("case", "reference", "order"), orders), ""]
+
+
+def run(a):
+    """The ladder, scaling and profile parts of `python -m tisph.bench` (options parsed by cli.py)."""
+    from .. import runtime
+
+    runtime.init("cpu", "f32")
+    ensure_dir(a.out)
+    log = lambda m: print(m, file=sys.stderr, flush=True)
+    rows = []
+    cases = [c for c in CASES if not a.only or any(w.lower() in c.name.lower() for w in a.only)]
+    if a.dry_run:
+        cases = [dataclasses.replace(CASES[0], quick=CASES[0].quick[:2], quick_overrides={"run.end_time": 0.2})]
+        a.quick = True
+    jobs = [(c, dx) for c in cases for dx in (c.quick if a.quick else c.ladder)]
+    if a.scheduler:
+        rows = _on_cluster(jobs, a, log)
+    else:
+        rows = [run_one(c, dx, a.out, a.quick) for c, dx in jobs]
+    for (c, dx), r in zip(jobs, rows):
+        log(
+            f"{c.name}, dx {dx:g}: {r['particles']} particles, {r['steps']} steps, {r['wall_time_s']:.1f} s "
+            f"(compile {r['compile_time_s']:.1f} s), {r['particle_steps_per_s']:.3g} p-steps/s, "
+            f"{c.metric} = {r['error']:.4g}"
+        )
+    md = ladder_report(a, cases, rows)
     try:
         plot(rows, os.path.join(a.out, "bench.png"))
         md += ["![run time against error](bench.png)", ""]

@@ -174,6 +174,20 @@ def estimate(stored, name, dx, key="wall", unknown=float("inf")):
     return rows[0][key] if rows else unknown
 
 
+def plan_tasks(cases, ladders, seeds, out, quick, resume, stored):
+    """Every run of the table: each case at each spacing of its ladder, then its further seeds; the
+    longest first by the stored results."""
+    tasks = [
+        ((c.name, dx, None), run_task, (c.name, dx, None, out, quick, resume)) for c in cases for dx in ladders[c.name]
+    ]
+    tasks += [
+        ((c.name, ladders[c.name][-1], s), run_task, (c.name, ladders[c.name][-1], s, out, quick, resume))
+        for c in cases
+        for s in seeds[c.name][1:]
+    ]
+    return sorted(tasks, key=lambda t: -estimate(stored, t[0][0], t[0][1]))
+
+
 def main(a):
     from ..runner.pool import run_all, stages
 
@@ -196,17 +210,7 @@ def main(a):
     ladders = {c.name: (c.quick,) if a.quick else c.ladder for c in cases}
     seeds = {c.name: seeds_for(c) if not a.quick else [] for c in cases}
     resume = getattr(a, "resume", False)
-    tasks = [
-        ((c.name, dx, None), run_task, (c.name, dx, None, out, a.quick, resume))
-        for c in cases
-        for dx in ladders[c.name]
-    ]
-    tasks += [
-        ((c.name, ladders[c.name][-1], s), run_task, (c.name, ladders[c.name][-1], s, out, a.quick, resume))
-        for c in cases
-        for s in seeds[c.name][1:]
-    ]
-    tasks.sort(key=lambda t: -estimate(stored, t[0][0], t[0][1]))
+    tasks = plan_tasks(cases, ladders, seeds, out, a.quick, resume, stored)
     sizes = [estimate(stored, t[0][0], t[0][1], "particles", 0) for t in tasks]
     plan = stages(tasks, sizes, getattr(a, "jobs", 0))
     started, mach, t0 = time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()), machine(), time.perf_counter()

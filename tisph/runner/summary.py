@@ -46,6 +46,52 @@ def crossed_wall(solver, final):
     return int(np.sum((x[:, 1] < y0) | (x[:, 1] > y1) | ((x[:, 1] < top) & ((x[:, 0] < x0) | (x[:, 0] > x1)))))
 
 
+def _warn_no_value(run, metrics):
+    """A metric with no value is said, not left as a silent null."""
+
+    def nan(v):
+        return isinstance(v, float) and not math.isfinite(v)
+
+    def no_value(v):  # a list's None is a gauge said at the start to stand dry (WaveGauges)
+        if isinstance(v, (list, tuple)):
+            return any(nan(x) for x in v)
+        return v is None or nan(v)
+
+    undefined = [k for k, v in metrics.items() if no_value(v)]
+    if undefined:
+        w = (
+            f"{len(undefined)} metric(s) have no value: {', '.join(undefined)} (a point gauge with no water "
+            f"within its kernel all its window, a run too short for their analysis window, t = {run.solver.time:.4g} "
+            "s, or a quantity that never occurred)"
+        )
+        run.case.warnings.append(w)
+        run.log(f"warning: {w}", always=True)
+
+
+def _density_notes(run):
+    """The density error past DENSITY_ERROR_LIMIT: a warning where the bulk of the water passed
+    it, a note where only a splash did."""
+    s, notes = run.solver, []
+    if max(s.rhodev_p999, s.max_density_error) > DENSITY_ERROR_LIMIT:
+        w = (
+            f"largest density error {s.max_density_error:.1%}, 99.9th percentile {s.rhodev_p999:.1%}, mean "
+            f"{s.mean_density_error:.2%}: "
+        )
+        if s.rhodev_p999 > DENSITY_ERROR_LIMIT:  # the bulk of the water, not a splash
+            w += (
+                f"the water was compressed more than weak compressibility allows ({DENSITY_ERROR_LIMIT:.0%}); "
+                f"raise numerics.c0 (it is {s.c0:.3g} m/s)"
+            )
+            run.case.warnings.append(w)
+            run.log(f"warning: {w}", always=True)
+        else:
+            notes.append(
+                w + "only a few particles (an impact, a splash) passed "
+                f"{DENSITY_ERROR_LIMIT:.0%}; the bulk stayed within it"
+            )
+    return notes
+
+
 def summarize(run, status, message, wall, step_s, nsteps, compile_s, segment=None):
     """wall and step_s: the whole run's (a restarted run's segments summed); segment: this
     segment's (wall, stepping) seconds, over which particle-steps/s is measured."""
@@ -58,41 +104,8 @@ def summarize(run, status, message, wall, step_s, nsteps, compile_s, segment=Non
     if obs.final_metrics:
         metrics.update(obs.final_metrics(final))
 
-    def nan(v):
-        return isinstance(v, float) and not math.isfinite(v)
-
-    def no_value(v):  # a list's None is a gauge said at the start to stand dry (WaveGauges)
-        if isinstance(v, (list, tuple)):
-            return any(nan(x) for x in v)
-        return v is None or nan(v)
-
-    undefined = [k for k, v in metrics.items() if no_value(v)]
-    if undefined:  # a metric with no value is said, not left as a silent null
-        w = (
-            f"{len(undefined)} metric(s) have no value: {', '.join(undefined)} (a point gauge with no water "
-            f"within its kernel all its window, a run too short for their analysis window, t = {s.time:.4g} s, or a "
-            "quantity that never occurred)"
-        )
-        case.warnings.append(w)
-        run.log(f"warning: {w}", always=True)
-    density_notes = []
-    if max(s.rhodev_p999, s.max_density_error) > DENSITY_ERROR_LIMIT:
-        w = (
-            f"largest density error {s.max_density_error:.1%}, 99.9th percentile {s.rhodev_p999:.1%}, mean "
-            f"{s.mean_density_error:.2%}: "
-        )
-        if s.rhodev_p999 > DENSITY_ERROR_LIMIT:  # the bulk of the water, not a splash
-            w += (
-                f"the water was compressed more than weak compressibility allows ({DENSITY_ERROR_LIMIT:.0%}); "
-                f"raise numerics.c0 (it is {s.c0:.3g} m/s)"
-            )
-            case.warnings.append(w)
-            run.log(f"warning: {w}", always=True)
-        else:
-            density_notes.append(
-                w + "only a few particles (an impact, a splash) passed "
-                f"{DENSITY_ERROR_LIMIT:.0%}; the bulk stayed within it"
-            )
+    _warn_no_value(run, metrics)
+    density_notes = _density_notes(run)
     mass = mass_balance(case.particles, final)
     if mass["spray_particles"]:
         density_notes.append(

@@ -28,6 +28,15 @@ from ..settings.schemes import numerics
 from ..validation import martin_moyce, shallow_water
 
 
+def fit_speed(t, x, lo, hi):
+    """The speed of a front x(t) fitted over lo <= x <= hi, clear of the start-up and of the
+    channel's end; NaN under five points."""
+    m = np.isfinite(x) & (x >= lo) & (x <= hi)
+    if m.sum() < 5:
+        return float("nan")
+    return float(np.polyfit(t[m], x[m], 1)[0])
+
+
 def _channel_case(cfg, common, front, a, H, W, hd, dx, margin):
     """Probes, metrics and profiles against Ritter (dry) and Stoker (wet)."""
     geo = cfg.geometry
@@ -67,13 +76,6 @@ def _channel_case(cfg, common, front, a, H, W, hd, dx, margin):
 
     # before the wave reaches the end of the channel, and after the start-up
     t_end_wave = (W - a) / (s if wet else 2 * c0)
-
-    def fit_speed(t, x, lo, hi):
-        # the x window keeps the fit clear of the start-up and of the channel's end
-        m = np.isfinite(x) & (x >= lo) & (x <= hi)
-        if m.sum() < 5:
-            return float("nan")
-        return float(np.polyfit(t[m], x[m], 1)[0])
 
     def metrics(cols):
         t = cols["t"]

@@ -52,6 +52,29 @@ def _plot_profiles(path, profiles, stations, bed_initial):
     save(fig, path)
 
 
+def bed_metrics(c, profiles, bed0, gate):
+    """The surge front and the eroded area at the end; the bed's drop at the gate and the front at
+    0.75 s (the paper's figure's time)."""
+    out = dict(front_x=float(c["front_x"][-1]), eroded_area=float(c["eroded_area"][-1]))
+    for t, b, top in profiles:
+        if abs(t - 0.75) < 1e-6:
+            out["bed_drop_at_gate"] = float(bed0["b"][gate] - b[gate])
+            k = np.argmin(np.abs(c["t"] - t))
+            out["front_x_at_0.75s"] = float(c["front_x"][k])
+    return out
+
+
+def write_profiles(out, metrics, profiles, stations, bed0):
+    """The bed and the free surface at each profile time: profiles/profile_t*.csv and profiles.png."""
+    if not profiles:
+        return
+    d = os.path.join(out, "profiles")
+    os.makedirs(d, exist_ok=True)
+    for t, b, top in profiles:
+        write_csv(os.path.join(d, f"profile_t{t:.2f}.csv"), ("x", "bed", "free_surface"), list(zip(stations, b, top)))
+    _plot_profiles(os.path.join(d, "profiles.png"), profiles, stations, bed0["b"])
+
+
 class ErodibleBed(Scene):
     """Dam break over an erodible bed (paper 000 section 4.3, Tables 3-4, Figs. 12-16)."""
 
@@ -107,14 +130,8 @@ class ErodibleBed(Scene):
 
     def build(self, cfg):
         geo, num = cfg.geometry, cfg.numerics
-        dx, Lf, hs, a, hw, Hw = (
-            num.dx,
-            geo.flume_length,
-            geo.sediment_depth,
-            geo.water_width,
-            geo.water_height,
-            geo.wall_height,
-        )
+        dx, Lf, hs, a = num.dx, geo.flume_length, geo.sediment_depth, geo.water_width
+        hw, Hw = geo.water_height, geo.wall_height
         mats = cfg.materials
         rw, rs = mats.water["rho0"], mats.sediment["rho0"]
         c0, u_max = sound_speed(cfg, 2.0 * math.sqrt(G * hw))  # Ritter's front speed
@@ -166,26 +183,6 @@ class ErodibleBed(Scene):
 
         gate = int(np.argmin(np.abs(stations - a)))
 
-        def metrics(c):
-            out = dict(front_x=float(c["front_x"][-1]), eroded_area=float(c["eroded_area"][-1]))
-            for t, b, top in profiles:
-                if abs(t - 0.75) < 1e-6:
-                    out["bed_drop_at_gate"] = float(bed0["b"][gate] - b[gate])
-                    k = np.argmin(np.abs(c["t"] - t))
-                    out["front_x_at_0.75s"] = float(c["front_x"][k])
-            return out
-
-        def finalize(out, metrics):
-            if not profiles:
-                return
-            d = os.path.join(out, "profiles")
-            os.makedirs(d, exist_ok=True)
-            for t, b, top in profiles:
-                write_csv(
-                    os.path.join(d, f"profile_t{t:.2f}.csv"), ("x", "bed", "free_surface"), list(zip(stations, b, top))
-                )
-            _plot_profiles(os.path.join(d, "profiles.png"), profiles, stations, bed0["b"])
-
         margin = T + dx
         return make_case(
             name=self.NAME,
@@ -198,8 +195,8 @@ class ErodibleBed(Scene):
             u_max=u_max,
             probe_columns=("front_x", "eroded_area"),
             probe=probe,
-            metrics=metrics,
-            finalize=finalize,
+            metrics=partial(bed_metrics, profiles=profiles, bed0=bed0, gate=gate),
+            finalize=partial(write_profiles, profiles=profiles, stations=stations, bed0=bed0),
             events=[(t, on_profile) for t in PROFILE_TIMES],
             container=(0.0, 0.0, Lf, float("inf"), Hw),
             render_modes=("flat", "speed"),

@@ -43,6 +43,32 @@ def discharge_coefficient(t, level, a, b, L, window, g=G):
     return float(np.mean(cd)), float(np.mean(q[ok]))
 
 
+def hatch_metrics(cols, a, b, L, window):
+    """The discharge coefficient against Kirchhoff's contraction, from the reservoir's level."""
+    cd, q = discharge_coefficient(cols["t"], cols["reservoir_level"], a, b, L, window)
+    return dict(
+        discharge_coefficient=cd,
+        mean_discharge=q,
+        contraction_limit=math.pi / (math.pi + 2),
+        reservoir_level_end=float(cols["reservoir_level"][-1]),
+    )
+
+
+def write_surfaces(out, metrics, surfaces, name):
+    """The free surface at each still time: profiles/surface_t*.csv and surface.png."""
+    os.makedirs(os.path.join(out, "profiles"), exist_ok=True)
+    for t, xs, ys in surfaces:
+        write_profile(os.path.join(out, "profiles", f"surface_t{t:.3f}.csv"), xs, ys, names=("x", "y_surface"))
+    if surfaces:
+        plot_profiles(
+            os.path.join(out, "profiles", "surface.png"),
+            [(f"t = {t:.3f} s", xs, ys, None, None) for t, xs, ys in surfaces],
+            "x (m)",
+            "free surface (m)",
+            f"{name}: free surface",
+        )
+
+
 class Hatch(Scene):
     """Outflow through a submerged hatch (paper 000 section 4.1, Table 1, Fig. 3)."""
 
@@ -136,28 +162,6 @@ class Hatch(Scene):
             xs, ys = surface_profile(state, -T, x_end, 2 * dx, dx)
             surfaces.append((t, xs, ys))
 
-        def metrics(cols):
-            cd, q = discharge_coefficient(cols["t"], cols["reservoir_level"], a, b, L, geo.cd_window)
-            return dict(
-                discharge_coefficient=cd,
-                mean_discharge=q,
-                contraction_limit=math.pi / (math.pi + 2),
-                reservoir_level_end=float(cols["reservoir_level"][-1]),
-            )
-
-        def finalize(out, metrics):
-            os.makedirs(os.path.join(out, "profiles"), exist_ok=True)
-            for t, xs, ys in surfaces:
-                write_profile(os.path.join(out, "profiles", f"surface_t{t:.3f}.csv"), xs, ys, names=("x", "y_surface"))
-            if surfaces:
-                plot_profiles(
-                    os.path.join(out, "profiles", "surface.png"),
-                    [(f"t = {t:.3f} s", xs, ys, None, None) for t, xs, ys in surfaces],
-                    "x (m)",
-                    "free surface (m)",
-                    f"{self.NAME}: free surface",
-                )
-
         margin = T + dx
         case = make_case(
             name=self.NAME,
@@ -170,11 +174,11 @@ class Hatch(Scene):
             u_max=u_max,
             probe_columns=("reservoir_level", "discharge", "outflow_mass"),
             probe=probe,
-            metrics=metrics,
+            metrics=partial(hatch_metrics, a=a, b=b, L=L, window=geo.cd_window),
             outflow=tuple(outflow),
             stills=tuple(geo.still_times),
             events=[(t, surface_event) for t in geo.still_times],
-            finalize=finalize,
+            finalize=partial(write_surfaces, surfaces=surfaces, name=self.NAME),
             container=(0.0, 0.0, x_end, float("inf")),
             persist=(surfaces,),
         )

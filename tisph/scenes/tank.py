@@ -53,6 +53,42 @@ def layer_pressure_errors(x, p, dx, rho0, g=G, skip_top=2, expected=None):
     return np.array(out).reshape(-1, 2)
 
 
+def final_metrics(st, dx, W, H, hs, rw, rs, vref, sed0):
+    """The tank at its end: the pressure of each layer against rho g d, the largest speed and
+    density error, particles outside, and over a sediment layer its interface's displacement and
+    pressure jump."""
+    fl = st["kind"] == FLUID
+    x, p, mat = st["x"][fl], st["p"][fl], st["mat"][fl]
+    errs = layer_pressure_errors(x, p, dx, rw, expected=lambda d: layered_pressure(H - d, hs, H, rw, rs))
+    v = st["v"][fl]
+    rho0 = np.where(mat == 0, rw, rs)
+    below_floor = int(np.sum(x[:, 1] < 0.0))
+    outside = int(np.sum((x[:, 0] < 0) | (x[:, 0] > W))) + below_floor
+    out = dict(
+        pressure_error=float(np.abs(errs[:, 1]).max()) if len(errs) else float("nan"),
+        speed_ratio=float(np.sqrt((v * v).sum(1)).max() / vref),
+        density_error=float(np.abs(st["rho"][fl] / rho0 - 1.0).max()),
+        crossed_wall=outside,
+        layers_checked=int(len(errs)),
+    )
+    if hs > 0:
+        # interface: the top row of sediment, per column, against its start
+        ids_top = sed0["top_ids"]
+        y_now = st["x"][ids_top, 1]
+        out["interface_displacement"] = float(np.abs(y_now - sed0["top_y"]).max())
+        out["interface_displacement_over_dx"] = out["interface_displacement"] / dx
+        # pressure continuity: the jump between the last sediment row and the first water row
+        # against the hydrostatic jump over the same distance
+        s_top = (mat == 1) & (np.abs(x[:, 1] - (hs - 0.5 * dx)) < 0.5 * dx)
+        w_bot = (mat == 0) & (np.abs(x[:, 1] - (hs + 0.5 * dx)) < 0.5 * dx)
+        if s_top.any() and w_bot.any():
+            ys, yw = x[s_top, 1].mean(), x[w_bot, 1].mean()
+            jump = p[s_top].mean() - p[w_bot].mean()
+            expect = layered_pressure(ys, hs, H, rw, rs) - layered_pressure(yw, hs, H, rw, rs)
+            out["interface_pressure_jump_error"] = float(abs(jump - expect) / layered_pressure(hs, hs, H, rw, rs))
+    return out
+
+
 class Tank(Scene):
     """Still water in a closed tank, over a sediment layer or not: the hydrostatic check."""
 
@@ -131,40 +167,6 @@ class Tank(Scene):
             v = st["v"][fl]
             return (float(np.sqrt((v * v).sum(1)).max() / vref),)
 
-        def final_metrics(st):
-            fl = st["kind"] == FLUID
-            x, p, mat = st["x"][fl], st["p"][fl], st["mat"][fl]
-            errs = layer_pressure_errors(x, p, dx, rw, expected=lambda d: layered_pressure(H - d, hs, H, rw, rs))
-            v = st["v"][fl]
-            rho0 = np.where(mat == 0, rw, rs)
-            below_floor = int(np.sum(x[:, 1] < 0.0))
-            outside = int(np.sum((x[:, 0] < 0) | (x[:, 0] > W))) + below_floor
-            out = dict(
-                pressure_error=float(np.abs(errs[:, 1]).max()) if len(errs) else float("nan"),
-                speed_ratio=float(np.sqrt((v * v).sum(1)).max() / vref),
-                density_error=float(np.abs(st["rho"][fl] / rho0 - 1.0).max()),
-                crossed_wall=outside,
-                layers_checked=int(len(errs)),
-            )
-            if hs > 0:
-                # interface: the top row of sediment, per column, against its start
-                ids_top = sed0["top_ids"]
-                y_now = st["x"][ids_top, 1]
-                out["interface_displacement"] = float(np.abs(y_now - sed0["top_y"]).max())
-                out["interface_displacement_over_dx"] = out["interface_displacement"] / dx
-                # pressure continuity: the jump between the last sediment row and the first water row
-                # against the hydrostatic jump over the same distance
-                s_top = (mat == 1) & (np.abs(x[:, 1] - (hs - 0.5 * dx)) < 0.5 * dx)
-                w_bot = (mat == 0) & (np.abs(x[:, 1] - (hs + 0.5 * dx)) < 0.5 * dx)
-                if s_top.any() and w_bot.any():
-                    ys, yw = x[s_top, 1].mean(), x[w_bot, 1].mean()
-                    jump = p[s_top].mean() - p[w_bot].mean()
-                    expect = layered_pressure(ys, hs, H, rw, rs) - layered_pressure(yw, hs, H, rw, rs)
-                    out["interface_pressure_jump_error"] = float(
-                        abs(jump - expect) / layered_pressure(hs, hs, H, rw, rs)
-                    )
-            return out
-
         if hs > 0:
             idx = np.nonzero((ps.kind == FLUID) & (ps.mat == 1))[0]
             ys = ps.x[idx, 1]
@@ -187,7 +189,7 @@ class Tank(Scene):
             probe_columns=("speed_ratio",),
             probe=probe,
             metrics=metrics,
-            final_metrics=final_metrics,
+            final_metrics=partial(final_metrics, dx=dx, W=W, H=H, hs=hs, rw=rw, rs=rs, vref=vref, sed0=sed0),
             container=(0.0, 0.0, W, float("inf"), Ht),
         )
 

@@ -10,6 +10,7 @@ u(y) = G (b^2 - y^2) / (2 mu_p) - tau_y (b - |y|) / mu_p. tau_y = 0 is the Newto
 import copy
 import os
 import sys
+from functools import partial
 
 import numpy as np
 
@@ -36,6 +37,38 @@ def fit_plug(y, u, G, b, mu_p):
     cands = np.linspace(0.0, 0.95 * b, 951)
     err = [np.sum((exact(y, G, b, mu_p, G * y0) - u) ** 2) for y0 in cands]
     return float(cands[int(np.argmin(err))])
+
+
+def profile_metrics(cols, result, G, b, mu, tau, y0_exact):
+    """The last velocity profile against the exact one: its L2 error, the plug's half width and
+    the peak speed beside the exact values."""
+    y, u = result["y"], result["u"]
+    ue = exact(y, G, b, mu, tau)
+    l2 = float(np.sqrt(np.nansum((u - ue) ** 2) / np.sum(ue**2)))
+    y0 = fit_plug(y, np.nan_to_num(u), G, b, mu)
+    return dict(
+        velocity_l2_error=l2,
+        plug_half_width=y0,
+        plug_half_width_exact=y0_exact,
+        plug_width_error=abs(y0 - y0_exact) / b,
+        u_max=float(np.nanmax(u)),
+        u_max_exact=float(exact(0.0, G, b, mu, tau)),
+    )
+
+
+def write_profile_figure(out, metrics, result, G, b, mu, tau, dx):
+    """profile.csv and profile.png: the SPH profile over the exact one."""
+    y, u = result["y"], result["u"]
+    write_profile(os.path.join(out, "profile.csv"), y, u, exact(y, G, b, mu, tau), names=("y", "u_sph", "u_exact"))
+    yf = np.linspace(-b, b, 400)
+    label = f"tau_y = {tau:g} Pa, dx = {dx:g} m: L2 error {metrics['velocity_l2_error']:.3%}"
+    plot_profiles(
+        os.path.join(out, "profile.png"),
+        [(label, y, u, yf, exact(yf, G, b, mu, tau))],
+        "y (m)",
+        "u (m/s)",
+        "plane Poiseuille flow: tisph against the exact solution",
+    )
 
 
 class Poiseuille(Scene):
@@ -152,35 +185,6 @@ class Poiseuille(Scene):
             result["y"], result["u"] = yc, u
             return (float(np.nanmax(u)),)
 
-        def metrics(cols):
-            y, u = result["y"], result["u"]
-            ue = exact(y, G, b, mu, tau)
-            l2 = float(np.sqrt(np.nansum((u - ue) ** 2) / np.sum(ue**2)))
-            y0 = fit_plug(y, np.nan_to_num(u), G, b, mu)
-            return dict(
-                velocity_l2_error=l2,
-                plug_half_width=y0,
-                plug_half_width_exact=y0_exact,
-                plug_width_error=abs(y0 - y0_exact) / b,
-                u_max=float(np.nanmax(u)),
-                u_max_exact=float(exact(0.0, G, b, mu, tau)),
-            )
-
-        def finalize(out, metrics):
-            y, u = result["y"], result["u"]
-            write_profile(
-                os.path.join(out, "profile.csv"), y, u, exact(y, G, b, mu, tau), names=("y", "u_sph", "u_exact")
-            )
-            yf = np.linspace(-b, b, 400)
-            label = f"tau_y = {tau:g} Pa, dx = {dx:g} m: L2 error {metrics['velocity_l2_error']:.3%}"
-            plot_profiles(
-                os.path.join(out, "profile.png"),
-                [(label, y, u, yf, exact(yf, G, b, mu, tau))],
-                "y (m)",
-                "u (m/s)",
-                "plane Poiseuille flow: tisph against the exact solution",
-            )
-
         return make_case(
             name=self.NAME,
             particles=ps,
@@ -192,8 +196,8 @@ class Poiseuille(Scene):
             u_max=u_max,
             probe_columns=("u_max",),
             probe=probe,
-            metrics=metrics,
-            finalize=finalize,
+            metrics=partial(profile_metrics, result=result, G=G, b=b, mu=mu, tau=tau, y0_exact=y0_exact),
+            finalize=partial(write_profile_figure, result=result, G=G, b=b, mu=mu, tau=tau, dx=dx),
         )
 
 

@@ -85,29 +85,16 @@ def derive_bedload(cfg, given):
     )
 
 
-def build_bedload(cfg, name, stills):
-    geo, num, p, sed = cfg.geometry, cfg.numerics, cfg.paddle, cfg.sediment
+def _bedload_particles(cfg, stations, z, c0):
+    """The bed-load beach's particles: the water over the bed z at the stations, the rigid floor
+    to the paddle and the end wall, the paddle's, and the bed's BED columns. Returns (particles,
+    the paddle's motion, its parameters, how far behind x = 0 it reaches, the lowest the bed may
+    erode to)."""
+    geo, num = cfg.geometry, cfg.numerics
     dx, Lf, d, ts, Hw = num.dx, geo.length, geo.depth, geo.sand_thickness, geo.wall_height
-    yw = ts + d
-    rw = cfg.materials.water.rho0
-    omega, k, wavelength, cg, hs_ratio = linear_wave(cfg, d)
-    H_biesel = hs_ratio * p.stroke
-    d0_toe = orbital_diameter(H_biesel, k, d)
-    lam_toe, ripple_h_toe, _ = wiberg_harris(d0_toe, geo.grain_diameter)
-    warn_unresolved(lam_toe, dx, "at the toe (Wiberg & Harris for the linear-wave d0)")
-    T_wave = 2.0 * math.pi / omega
-    warn_fast_bed(
-        sed,
-        bed_turnover(d0_toe, T_wave, geo.grain_diameter, sed["grain_density"] / rw, sed),
-        f"at the toe's linear-wave d0 of {d0_toe:.3g} m",
-    )
-    warn_waves(cfg, H_biesel, k, d, linear_metric=False)
-    c0, u_max = sound_speed(cfg, math.sqrt(G * (d + H_biesel)))
-    L, h = num.wall_layers, num.h_factor * dx
+    yw, rw = ts + d, cfg.materials.water.rho0
+    L = num.wall_layers
     T = L * dx
-    stations = RIGID + (np.arange(int(round((Lf - RIGID) / dx))) + 0.5) * dx
-    sed = dict(sed, seed_rms=initial.random_bed_rms(sed, geo.roughness, d0_toe))
-    z = initial.initial_bed(stations, bed_profile(geo, stations), sed, dx, periodic=False, top=yw)
 
     def density(y):
         return density_from_pressure(rw * G * np.maximum(yw - y, 0.0), rw, c0)
@@ -145,6 +132,35 @@ def build_bedload(cfg, name, stills):
         normal=(0.0, 1.0),
         wall_dist=depth,
     )
+    return ps, motion, extra, reach, floor
+
+
+def build_bedload(cfg, name, stills):
+    geo, num, p, sed = cfg.geometry, cfg.numerics, cfg.paddle, cfg.sediment
+    dx, Lf, d, ts, Hw = num.dx, geo.length, geo.depth, geo.sand_thickness, geo.wall_height
+    yw = ts + d
+    rw = cfg.materials.water.rho0
+    omega, k, wavelength, cg, hs_ratio = linear_wave(cfg, d)
+    H_biesel = hs_ratio * p.stroke
+    d0_toe = orbital_diameter(H_biesel, k, d)
+    lam_toe, ripple_h_toe, _ = wiberg_harris(d0_toe, geo.grain_diameter)
+    warn_unresolved(lam_toe, dx, "at the toe (Wiberg & Harris for the linear-wave d0)")
+    T_wave = 2.0 * math.pi / omega
+    warn_fast_bed(
+        sed,
+        bed_turnover(d0_toe, T_wave, geo.grain_diameter, sed["grain_density"] / rw, sed),
+        f"at the toe's linear-wave d0 of {d0_toe:.3g} m",
+    )
+    warn_waves(cfg, H_biesel, k, d, linear_metric=False)
+    c0, u_max = sound_speed(cfg, math.sqrt(G * (d + H_biesel)))
+    L, h = num.wall_layers, num.h_factor * dx
+    T = L * dx
+    stations = RIGID + (np.arange(int(round((Lf - RIGID) / dx))) + 0.5) * dx
+    sed = dict(sed, seed_rms=initial.random_bed_rms(sed, geo.roughness, d0_toe))
+    z = initial.initial_bed(stations, bed_profile(geo, stations), sed, dx, periodic=False, top=yw)
+
+    ps, motion, extra, reach, floor = _bedload_particles(cfg, stations, z, c0)
+    x_left = -reach - 2 * T
 
     params = common_params(cfg, c0, G, depth=yw)
     params.update(extra)

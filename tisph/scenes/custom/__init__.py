@@ -12,7 +12,6 @@ with EurOtop's mean discharge beside it). Every particle sits on one lattice (ti
 """
 
 import math
-import os
 from functools import partial
 
 import numpy as np
@@ -31,7 +30,7 @@ from ...waves.irregular import IRREGULAR
 from ...waves.paddle import PADDLE
 from ...waves.theory import linear_wave
 from .elements import ELEMENTS, entries, numbers
-from .gauges import CaseGauges, check_sites, load_cutoff
+from .gauges import CaseGauges, check_sites, load_cutoff, observers, run_title  # noqa: F401  (run_title: the scene's API)
 from .layout import Layout, who
 from .sand import SAND, SEDIMENT, SandBed, Still
 from .sand import check as check_sand
@@ -160,12 +159,6 @@ def paddle_site(cfg, lay, box):
     return floor, level, parts
 
 
-def run_title(cfg, out):
-    """The gauges figure's title: the case file's name (my_bar.toml: my_bar), else the run's folder."""
-    name = os.path.splitext(os.path.basename(cfg.case_file))[0] if cfg.case_file else ""
-    return f"{name or os.path.basename(os.path.normpath(out))}: gauges"
-
-
 def release_speed(lay, water, u0, g, height):
     """Colour top of a case without a paddle: twice the mean speed the water reaches if all the
     potential energy it holds above its settled state (the same particles filling the box from
@@ -281,29 +274,7 @@ class Custom(Scene):
         _warn(cfg, lay, waters, gauges, depth_at, level - floor if paddle_parts else None, period)
         band = tuple(b / p.tp for b in p.band) if paddle_parts and p.spectrum else None
         cg = CaseGauges(gauges, dx, h, g, wall_side, depth_at, band, load_cutoff(c0, height))
-        parts = dict(
-            probe_columns=cg.columns,
-            probe=cg.read,
-            persist=(cg,),
-            metrics=lambda c: cg.metrics(c, period, still),
-            finalize=lambda out, m: cg.plot(os.path.join(out, "gauges.png"), run_title(cfg, out)),
-        )
-        if sand:
-
-            def finalize(out, m):
-                cg.plot(os.path.join(out, "gauges.png"), run_title(cfg, out))
-                sand.finalize(out)
-
-            parts = dict(
-                probe_columns=cg.columns + ("bed_change_rms",),
-                probe=lambda st: cg.read(st) + sand.probe(st),
-                metrics=lambda c: dict(cg.metrics(c, period, still), **sand.metrics(c)),
-                finalize=finalize,
-                control=sand.coupler.update,
-                control_every=cfg.sediment.update_every,
-                persist=(cg, sand.coupler, sand),
-                **sand.picture(),
-            )
+        parts = observers(cfg, cg, sand, period, still)
         if paddle_parts and p.absorb:  # the absorbing paddle reads its gauge at the same interval
             parts["control"] = with_control(paddle_parts[1], parts.get("control"))
             parts["persist"] += (paddle_parts[1],)

@@ -2,6 +2,7 @@
 overtopping beside a discharge gauge's, from the incident wave at the structure's toe."""
 
 import math
+import os
 
 import numpy as np
 
@@ -156,3 +157,38 @@ def check_sites(gauges, lay, errors):
                         "draw it on that face, corner to corner",
                     )
                 )
+
+
+def run_title(cfg, out):
+    """The gauges figure's title: the case file's name (my_bar.toml: my_bar), else the run's folder."""
+    name = os.path.splitext(os.path.basename(cfg.case_file))[0] if cfg.case_file else ""
+    return f"{name or os.path.basename(os.path.normpath(out))}: gauges"
+
+
+def observers(cfg, cg, sand, period, still):
+    """What the case measures and draws: its gauges (cg), and with a sand bed the bed's probes,
+    metrics and figures beside them, the bed's coupling as the run's control."""
+    parts = dict(
+        probe_columns=cg.columns,
+        probe=cg.read,
+        persist=(cg,),
+        metrics=lambda c: cg.metrics(c, period, still),
+        finalize=lambda out, m: cg.plot(os.path.join(out, "gauges.png"), run_title(cfg, out)),
+    )
+    if sand:
+
+        def finalize(out, m):
+            cg.plot(os.path.join(out, "gauges.png"), run_title(cfg, out))
+            sand.finalize(out)
+
+        parts = dict(
+            probe_columns=cg.columns + ("bed_change_rms",),
+            probe=lambda st: cg.read(st) + sand.probe(st),
+            metrics=lambda c: dict(cg.metrics(c, period, still), **sand.metrics(c)),
+            finalize=finalize,
+            control=sand.coupler.update,
+            control_every=cfg.sediment.update_every,
+            persist=(cg, sand.coupler, sand),
+            **sand.picture(),
+        )
+    return parts

@@ -168,31 +168,39 @@ class FlumeRecord:
                 slope = np.polyfit(np.asarray(xg)[ok] / wavelength, np.log(np.asarray(H1)[ok]), 1)[0]
                 out["decay_per_wavelength"] = float(1 - math.exp(slope))
         if xa:
-            # the array: incident and reflected first harmonics once the wave reflected from the
-            # far end is back over it, and the second harmonic's bound and free parts
-            t0 = records.arrival_time(p, xa[-1], cg)
-            t_back = p.ramp_periods * p.period + (2 * Lf - xa[0]) / cg + p.period
-            amps = [harmonics.harmonics(c["t"], c[col], omega, max(t0, t_back), t_end, 2) for col in acols]
-            if all(a is not None for a in amps):
-                ai, ar, kr = harmonics.reflection(xa, [a[0] for a in amps], k)
-                out.update(
-                    reflection_coefficient=kr,
-                    reflection_window=[max(t0, t_back), t_end],
-                    incident_height=2 * ai,
-                    reflected_height=2 * ar,
-                )
-            # the free second harmonic travels at its own, slower group velocity: fit once it is there
-            t0 = records.arrival_time(p, xa[-1], cg2)
-            amps = [harmonics.harmonics(c["t"], c[col], omega, t0, t_end, 2) for col in acols]
-            if all(a is not None for a in amps):
-                out["second_harmonic_window"] = [t0, t_end]
-                b, f = harmonics.free_second_harmonic(xa, [a[1] for a in amps], k, k2)
-                ai = np.mean([abs(a[0]) for a in amps])
-                out.update(
-                    second_harmonic_bound=b,
-                    second_harmonic_free=f,
-                    second_harmonic_bound_stokes=harmonics.stokes_bound_ratio(k, d) * ai * ai,
-                )
+            out.update(self.array_metrics(c, t_end))
+        return out
+
+    def array_metrics(self, c, t_end):
+        """The reflection array: the incident and reflected first harmonics once the wave the far end
+        reflects is back over it, and the second harmonic's bound and free parts."""
+        geo, p, d, Lf, omega, k, wavelength, cg, hs_ratio, k2, cg2, H_biesel, xg, xa, cols, acols, gauges = (
+            self._names()
+        )
+        out = {}
+        t0 = records.arrival_time(p, xa[-1], cg)
+        t_back = p.ramp_periods * p.period + (2 * Lf - xa[0]) / cg + p.period
+        amps = [harmonics.harmonics(c["t"], c[col], omega, max(t0, t_back), t_end, 2) for col in acols]
+        if all(a is not None for a in amps):
+            ai, ar, kr = harmonics.reflection(xa, [a[0] for a in amps], k)
+            out.update(
+                reflection_coefficient=kr,
+                reflection_window=[max(t0, t_back), t_end],
+                incident_height=2 * ai,
+                reflected_height=2 * ar,
+            )
+        # the free second harmonic travels at its own, slower group velocity: fit once it is there
+        t0 = records.arrival_time(p, xa[-1], cg2)
+        amps = [harmonics.harmonics(c["t"], c[col], omega, t0, t_end, 2) for col in acols]
+        if all(a is not None for a in amps):
+            out["second_harmonic_window"] = [t0, t_end]
+            b, f = harmonics.free_second_harmonic(xa, [a[1] for a in amps], k, k2)
+            ai = np.mean([abs(a[0]) for a in amps])
+            out.update(
+                second_harmonic_bound=b,
+                second_harmonic_free=f,
+                second_harmonic_bound_stokes=harmonics.stokes_bound_ratio(k, d) * ai * ai,
+            )
         return out
 
     def finalize(self, out, metrics):

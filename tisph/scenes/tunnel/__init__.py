@@ -80,6 +80,28 @@ def _particles(cfg, c0, a_seed, n_seed):
     return ps
 
 
+def particle_bed_metrics(c, Um, predicted, dx, Tp):
+    """The particle-sand tunnel: the free stream against its target after the ramp (Tp), and the
+    ripples of the bed change against Wiberg & Harris's (predicted: length, height, regime)."""
+    lam_wh, eta_wh, regime = predicted
+    out = dict(
+        velocity_amplitude=Um,
+        predicted_ripple_length=lam_wh,
+        predicted_ripple_height=eta_wh,
+        predicted_regime=regime,
+        predicted_ripple_length_in_dx=lam_wh / dx,
+    )
+    t = c["t"]
+    after = t >= Tp  # the ramp is over
+    if after.sum() > 4:
+        err = c["u_free"][after] - c["u_target"][after]
+        out["free_stream_error"] = float(np.sqrt(np.mean(err**2)) / Um)  # rms, relative to U_m
+    out.update(last_finite(c, ("ripple_length", "ripple_height", "bed_change_rms")))
+    out["ripple_length_over_prediction"] = out["ripple_length"] / lam_wh if lam_wh > 0 else float("nan")
+    out["bed_change_rms_over_dx"] = out["bed_change_rms"] / dx
+    return out
+
+
 class Tunnel(Scene):
     """Oscillating water tunnel over a sand bed: the laboratory set-up for wave ripples."""
 
@@ -185,24 +207,6 @@ class Tunnel(Scene):
             rms = float(np.sqrt(np.mean((b - bed0["b"]) ** 2)))
             return lam, hr, rms, drive.u_free(st), drive.target(st["t"])
 
-        def metrics(c):
-            out = dict(
-                velocity_amplitude=Um,
-                predicted_ripple_length=lam_wh,
-                predicted_ripple_height=eta_wh,
-                predicted_regime=regime,
-                predicted_ripple_length_in_dx=lam_wh / dx,
-            )
-            t = c["t"]
-            after = t >= Tp  # the ramp is over
-            if after.sum() > 4:
-                err = c["u_free"][after] - c["u_target"][after]
-                out["free_stream_error"] = float(np.sqrt(np.mean(err**2)) / Um)  # rms, relative to U_m
-            out.update(last_finite(c, ("ripple_length", "ripple_height", "bed_change_rms")))
-            out["ripple_length_over_prediction"] = out["ripple_length"] / lam_wh if lam_wh > 0 else float("nan")
-            out["bed_change_rms_over_dx"] = out["bed_change_rms"] / dx
-            return out
-
         def finalize(out, metrics):
             if not bed_rows:
                 return
@@ -220,7 +224,7 @@ class Tunnel(Scene):
             u_max=u_max,
             probe_columns=("ripple_length", "ripple_height", "bed_change_rms", "u_free", "u_target"),
             probe=probe,
-            metrics=metrics,
+            metrics=partial(particle_bed_metrics, Um=Um, predicted=(lam_wh, eta_wh, regime), dx=dx, Tp=Tp),
             finalize=finalize,
             container=(-1e9, -0.5 * dx, 1e9, float("inf")),
             render_modes=("phase",),

@@ -37,6 +37,81 @@ def _ripples_round(zb, Lx, dx):
     return (Lx / n, hr) if n else (float("nan"), float("nan"))
 
 
+class TunnelRecord:
+    """What the tunnel over a bed-load bed measures: the bed at every probe, the ripples of its
+    change against Wiberg & Harris's (predicted: their length, height and regime for d0), the
+    near-bed flow the bed reads, and the bed's figures."""
+
+    def __init__(self, cfg, drive, bed, stations, predicted, turnover, limit):
+        self.geo, self.sed, self.dx = cfg.geometry, cfg.sediment, cfg.numerics.dx
+        self.rw = cfg.materials.water.rho0
+        self.drive, self.bed, self.stations = drive, bed, stations
+        self.lam_wh, self.eta_wh, self.regime = predicted
+        self.turnover, self.limit = turnover, limit
+        self.rows, self.seen = [], {}  # the bed at every probe; the probe columns, for the growth plot
+
+    def probe(self, st):
+        zb, drive = self.bed.bed.z, self.drive
+        self.rows.append((st["t"],) + tuple(zb))
+        lam, hr = _ripples_round(zb, self.geo.length, self.dx)
+        rms = float(np.sqrt(np.mean((zb - self.bed.z0) ** 2)))
+        return (
+            lam,
+            hr,
+            rms,
+            drive.u_free(st),
+            drive.target(st["t"]),
+            float(np.abs(self.bed.tau).max()),
+            float(np.mean(self.bed.u)),
+            float(np.mean(self.bed.u_eff)),
+        )
+
+    def metrics(self, c):
+        self.seen.update(c)
+        geo, sed, Um, lam_wh = self.geo, self.sed, self.drive.Um, self.lam_wh
+        out = dict(
+            velocity_amplitude=Um,
+            predicted_ripple_length=lam_wh,
+            predicted_ripple_height=self.eta_wh,
+            predicted_regime=self.regime,
+            morfac=sed["morfac"],
+            sediment_model="bedload",
+            theta_cr=self.bed.bed.theta_cr,
+            sand_volume_error=self.bed.volume_error(),
+            mobility_number=Um**2 / ((sed["grain_density"] / self.rw - 1) * G * geo.grain_diameter),
+            bed_turnover_periods=self.turnover,
+            morfac_limit=self.limit,
+        )
+        out.update(last_finite(c, ("ripple_length", "ripple_height", "bed_change_rms")))
+        lam = out["ripple_length"]
+        # exact: lam = Lx / count
+        out["ripple_count"] = int(round(geo.length / lam)) if np.isfinite(lam) and lam > 0 else 0
+        out["ripple_length_over_d0"] = lam / geo.orbital_diameter
+        out["ripple_steepness"] = out["ripple_height"] / lam if lam > 0 else float("nan")
+        out["ripple_length_over_prediction"] = lam / lam_wh if lam_wh > 0 else float("nan")
+        out["near_bed_velocity_ratio"] = near_bed_ratio(c["t"], c["u_near_bed"], Um, self.drive.period)
+        out["effective_velocity_ratio"] = near_bed_ratio(c["t"], c["u_bed_effective"], Um, self.drive.period)
+        return unresolved(
+            out, lam_wh, self.dx, ("ripple_length_over_d0", "ripple_length_over_prediction", "ripple_steepness")
+        )
+
+    def finalize(self, out, metrics):
+        if self.rows:
+            geo, st, rows = self.geo, self.stations, self.rows
+            write_station_rows(os.path.join(out, "bed_profile.csv"), st, rows)
+            plot_bed(
+                os.path.join(out, "bed_profile.png"),
+                np.array(rows),
+                st,
+                geo,
+                self.dx,
+                self.lam_wh,
+                self.eta_wh,
+                level=geo.sand_depth,
+            )
+            plot_growth(os.path.join(out, "ripple_growth.png"), self.seen, geo, self.sed["morfac"])
+
+
 def build_bedload(cfg, name):
     """The tunnel over a morphodynamic bed: water only, over BED particles that follow z_b."""
     geo, num, sed = cfg.geometry, cfg.numerics, cfg.sediment
@@ -69,62 +144,11 @@ def build_bedload(cfg, name):
         coupling.Stations(stations, z, dx, h, periodic=True),
         coupling.Drive(amplitude=0.5 * d0, omega=drive.omega, still_level=ytop),
     )
-    rows = []
+    rec = TunnelRecord(cfg, drive, bed, stations, (lam_wh, eta_wh, regime), turnover, limit)
 
     def control(s):
         drive.update(s)
         bed.update(s)
-
-    def probe(st):
-        zb = bed.bed.z
-        rows.append((st["t"],) + tuple(zb))
-        lam, hr = _ripples_round(zb, Lx, dx)
-        rms = float(np.sqrt(np.mean((zb - bed.z0) ** 2)))
-        return (
-            lam,
-            hr,
-            rms,
-            drive.u_free(st),
-            drive.target(st["t"]),
-            float(np.abs(bed.tau).max()),
-            float(np.mean(bed.u)),
-            float(np.mean(bed.u_eff)),
-        )
-
-    seen = {}  # the probe columns, for the growth plot
-
-    def metrics(c):
-        seen.update(c)
-        out = dict(
-            velocity_amplitude=Um,
-            predicted_ripple_length=lam_wh,
-            predicted_ripple_height=eta_wh,
-            predicted_regime=regime,
-            morfac=sed["morfac"],
-            sediment_model="bedload",
-            theta_cr=bed.bed.theta_cr,
-            sand_volume_error=bed.volume_error(),
-            mobility_number=Um**2 / ((sed["grain_density"] / rw - 1) * G * geo.grain_diameter),
-            bed_turnover_periods=turnover,
-            morfac_limit=limit,
-        )
-        out.update(last_finite(c, ("ripple_length", "ripple_height", "bed_change_rms")))
-        lam = out["ripple_length"]
-        out["ripple_count"] = int(round(Lx / lam)) if np.isfinite(lam) and lam > 0 else 0  # exact: lam = Lx / count
-        out["ripple_length_over_d0"] = lam / d0
-        out["ripple_steepness"] = out["ripple_height"] / lam if lam > 0 else float("nan")
-        out["ripple_length_over_prediction"] = lam / lam_wh if lam_wh > 0 else float("nan")
-        out["near_bed_velocity_ratio"] = near_bed_ratio(c["t"], c["u_near_bed"], Um, drive.period)
-        out["effective_velocity_ratio"] = near_bed_ratio(c["t"], c["u_bed_effective"], Um, drive.period)
-        return unresolved(
-            out, lam_wh, dx, ("ripple_length_over_d0", "ripple_length_over_prediction", "ripple_steepness")
-        )
-
-    def finalize(out, metrics):
-        if rows:
-            write_station_rows(os.path.join(out, "bed_profile.csv"), stations, rows)
-            plot_bed(os.path.join(out, "bed_profile.png"), np.array(rows), stations, geo, dx, lam_wh, eta_wh, level=hs)
-            plot_growth(os.path.join(out, "ripple_growth.png"), seen, geo, sed["morfac"])
 
     return make_case(
         name=name,
@@ -145,13 +169,13 @@ def build_bedload(cfg, name):
             "u_near_bed",
             "u_bed_effective",
         ),
-        probe=probe,
-        metrics=metrics,
-        finalize=finalize,
+        probe=rec.probe,
+        metrics=rec.metrics,
+        finalize=rec.finalize,
         container=(-1e9, float(z.min()) - L * dx, 1e9, float("inf")),
         control=control,
         control_every=sed["update_every"],
-        persist=(drive.ctl, bed, rows),
+        persist=(drive.ctl, bed, rec.rows),
         **bed.picture(ripple_height=eta_wh),
     )
 
