@@ -85,6 +85,11 @@ def test_a_case_with_no_random_bed_takes_seeds_of_a_perturbed_start(tmp_path):
     e = json.loads((out / "summary.json").read_text())["ensemble"]
     assert e["key"] == "run.seed" and e["perturbation"] == 0.001 and e["seeds"] == [1, 2] == e["seeds_ok"]
     assert any(m["std"] > 0 for m in e["metrics"].values())
+    # an input the same in every run is not drawn as moving for its mean's rounding (3e-16 of 3.43)
+    from tisph.runner.ensemble import varying
+
+    e["metrics"]["same"] = dict(n=2, mean=3.43, std=3.1e-16, stderr=2.2e-16, values=[3.43, 3.43])
+    assert "same" not in varying(e) and varying(e)
     second = (out / "seeds" / "seed2" / "run.log").read_text()
     assert "perturbation = 0.001" in second and "seed = 2" in second
     assert "run.perturbation = 0.001" in (out / "seeds" / "ensemble.md").read_text()

@@ -149,7 +149,8 @@ def report(entry):
 def varying(entry):
     """The metrics whose value moved between the seeds (the others are the case's inputs or
     deterministic: the table lists them)."""
-    return [k for k, m in entry["metrics"].items() if m["std"]]
+    # a spread under 1e-12 of the mean is the mean's own rounding (an input the same in every run)
+    return [k for k, m in entry["metrics"].items() if m["std"] and m["std"] > 1e-12 * abs(m["mean"])]
 
 
 def figure(entry, path):
@@ -168,4 +169,4 @@ def figure(entry, path):
         ax.set_title(f"{k}\n{fmt(m['mean'], '.3g')}{se}", fontsize=7)
         ax.set_xticks(seeds)
 
-    panels(varying(entry)[:16], path, draw, "sediment.seed")
+    panels(varying(entry)[:16], path, draw, entry.get("key", "sediment.seed"))
