@@ -166,8 +166,9 @@ def run(
     """Run a case (a Case, a case file's path or a built-in scene's name) and return its Result.
     overrides: dotted keys, e.g. run(case, **{"numerics.dx": 0.04}). convergence: also the case at
     1.5 and 2.25 times its dx, each metric's GCI (runner/convergence.py; Result.summary["convergence"]).
-    seeds: N > 1 runs it with N seeds of its random bed, each metric's mean and standard error
-    (runner/ensemble.py; Result.summary["ensemble"])."""
+    seeds: N > 1 runs it with N seeds of its random bed (or, with none, of its start perturbed by
+    run.perturbation), each metric's mean and standard error (runner/ensemble.py;
+    Result.summary["ensemble"])."""
     if isinstance(case, str):
         case = Case.from_toml(case) if os.path.isfile(case) else Case(case)
     ov = dict(overrides)
