@@ -1,7 +1,8 @@
 """Benchmarks and validation runs: python -m tisph.bench (cli.py reads the options and dispatches).
 
 cli.py              the options, and which benchmark runs
-ladder.py           run time against error at a ladder of resolutions, scaling, the kernel profile
+ladder.py           run time against error at a ladder of resolutions
+engine_costs.py     the ladder's scaling, specialisation and kernel-profile sections
 validate.py         --validate: every validation case; validation_cases.py lists them, and
                     validation_page.py writes docs/validation.md and the README's table
 uncertainty.py      each validation case's interval: its GCI, or its seeds' standard error
@@ -12,6 +13,7 @@ gci_examples.py     --convergence: the breakwater and the seawall at three spaci
 shedding.py         --shedding: a pipe's wake over a fixed bed against the gap
 mao_held.py         --mao-held: Mao's measured beds held still under the pipeline's flow
 ripple_sweep.py     --ripples: the tunnel's ripples against the orbital diameter (the Dask sweep)
+ripple_report.py    its report: the band, the table, the figures
 standing.py         --standing: a standing wave's loss per period under each density diffusion
 peers/              PySPH and DualSPHysics beside tisph (a clone only: not in the wheel)
 """

@@ -63,3 +63,47 @@ def vorticity(x, v, dx):
         return np.zeros(len(x))
     curl = np.gradient(w, cell, axis=0) - np.gradient(u, cell, axis=1)
     return curl[ij[:, 0], ij[:, 1]]
+
+
+DECADES = 3  # a concentration panel spans three decades below its top: suspended sand falls off
+
+
+def field_values(field, st, speed, fluid, dx):
+    """Each particle's value of the drawn field (the fluid's vorticity; 0 elsewhere)."""
+    if field == "vorticity":
+        vals = np.zeros(len(st["kind"]))
+        if fluid.any():
+            vals[fluid] = vorticity(st["x"][fluid], st["v"][fluid], dx)
+        return vals
+    return {
+        "speed": speed,
+        "pressure": st["p"],
+        "density": st["rho"],
+        "concentration": 100.0 * st["c"] if "c" in st else np.zeros(len(st["kind"])),
+    }.get(field)
+
+
+def colour_range(field, values, vrange, speed_scale, pressure_scale, dx):
+    """(lo, hi) of a field's colour bar: vrange as given (pressure in kPa), else the scene's top
+    speed, the held pressure scale, a vorticity from the top speed over 10 dx, DECADES of
+    concentration, or the values' percentiles."""
+    if vrange:  # in the unit the colour bar shows: kPa for pressure
+        lo, hi = vrange
+        if field == "concentration" and lo <= 0:  # a log scale: DECADES below the top
+            return hi * 10.0**-DECADES, hi
+        return (1000.0 * lo, 1000.0 * hi) if field == "pressure" else vrange
+    if field == "speed":
+        hi = speed_scale if speed_scale > 0 else float(np.percentile(values, 99)) if len(values) else 1.0
+        return 0.0, max(hi, 1e-6)
+    if field == "pressure":  # the water's, not the walls' (whose pressure can be several times it)
+        return 0.0, max(pressure_scale or 1.0, 1e-6)
+    if field == "vorticity":
+        if speed_scale > 0:  # one range for the movie: the colour bar's top speed over 10 dx
+            return -speed_scale / (10.0 * dx), speed_scale / (10.0 * dx)
+        w = float(np.percentile(np.abs(values), 98)) if len(values) else 1.0
+        return -max(w, 1e-6), max(w, 1e-6)
+    if field == "concentration":
+        hi = max(float(np.percentile(values, 99.5)) if len(values) else 0.0, 1e-6)
+        return hi * 10.0**-DECADES, hi
+    lo, hi = np.percentile(values, [1, 99]) if len(values) else (0.0, 1.0)
+    return float(lo), float(max(hi, lo + 1e-6))

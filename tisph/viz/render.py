@@ -9,7 +9,7 @@ import numpy as np
 
 from ..io import OPTIONAL
 from ..particles import BED, FLUID, WALL
-from .colours import BACKGROUND, BOUNDARY, MODES, SAND, WATER, colormap, diverging, vorticity  # noqa: F401 (re-exported)
+from .colours import BACKGROUND, BOUNDARY, MODES, SAND, WATER, colormap, colour_range, diverging, field_values
 from .interpolate import kernel_image
 from .style import Style, style_of
 from .ticks import draw_axes, nice_ticks  # noqa: F401 (re-exported)
@@ -22,7 +22,6 @@ UNITS = {
     "vorticity": "curl u (1/s)",
     "concentration": "sand (%, log)",
 }
-DECADES = 3  # a concentration panel spans three decades below its top: suspended sand falls off
 # exponentially with height (Rouse), so a linear scale shows only the bed's layer
 STATE = ("x", "v", "p", "rho", "kind", "mat")  # what a frame reads (and io.OPTIONAL where a case has it)
 
@@ -127,28 +126,9 @@ class Renderer:
         return self.strip
 
     def _colour_range(self, field, values):
-        if self.vrange:  # in the unit the colour bar shows: kPa for pressure
-            lo, hi = self.vrange
-            if field == "concentration" and lo <= 0:  # a log scale: DECADES below the top
-                return hi * 10.0**-DECADES, hi
-            return (1000.0 * lo, 1000.0 * hi) if field == "pressure" else self.vrange
-        if field == "speed":
-            hi = self.speed_scale if self.speed_scale > 0 else float(np.percentile(values, 99)) if len(values) else 1.0
-            return 0.0, max(hi, 1e-6)
-        if field == "pressure":  # the water's, not the walls' (whose pressure can be several times it)
-            if not self.pressure_scale and len(values):  # the first frame's (at rest: rho g depth), then held
-                self.pressure_scale = max(float(np.percentile(values, 99.5)), 1e-6)
-            return 0.0, max(self.pressure_scale or 1.0, 1e-6)
-        if field == "vorticity":
-            if self.speed_scale > 0:  # one range for the movie: the colour bar's top speed over 10 dx
-                return -self.speed_scale / (10.0 * self.dx), self.speed_scale / (10.0 * self.dx)
-            w = float(np.percentile(np.abs(values), 98)) if len(values) else 1.0
-            return -max(w, 1e-6), max(w, 1e-6)
-        if field == "concentration":
-            hi = max(float(np.percentile(values, 99.5)) if len(values) else 0.0, 1e-6)
-            return hi * 10.0**-DECADES, hi
-        lo, hi = np.percentile(values, [1, 99]) if len(values) else (0.0, 1.0)
-        return float(lo), float(max(hi, lo + 1e-6))
+        if field == "pressure" and not self.vrange and not self.pressure_scale and len(values):
+            self.pressure_scale = max(float(np.percentile(values, 99.5)), 1e-6)  # the first frame's, then held
+        return colour_range(field, values, self.vrange, self.speed_scale, self.pressure_scale, self.dx)
 
     def _colours(self, mode, st):
         """Each particle's colour, and the field drawn continuous: (which particles, their value
@@ -161,16 +141,7 @@ class Renderer:
         field = {"phase": "speed", "flat": None, "material": None}.get(mode, mode)
         speed = np.hypot(st["v"][:, 0], st["v"][:, 1])
         if field is not None:
-            vals = {
-                "speed": speed,
-                "pressure": st["p"],
-                "density": st["rho"],
-                "concentration": 100.0 * st["c"] if "c" in st else np.zeros(len(kind)),
-            }.get(field)
-            if field == "vorticity":
-                vals = np.zeros(len(kind))
-                if fl.any():
-                    vals[fl] = vorticity(st["x"][fl], st["v"][fl], self.dx)
+            vals = field_values(field, st, speed, fl, self.dx)
             (x0, y0), (x1, y1) = self.view  # the range from what the panel shows
             seen = fl & (st["x"][:, 0] >= x0) & (st["x"][:, 0] <= x1) & (st["x"][:, 1] >= y0) & (st["x"][:, 1] <= y1)
             lo, hi = self._colour_range(field, vals[seen if seen.any() else fl])
