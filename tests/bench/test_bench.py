@@ -426,6 +426,43 @@ def test_dualsphysics_case_and_its_csv_are_read(tmp_path):
         dualsphysics.ensure(str(tmp_path / "cache"), None, print)
 
 
+def test_time_to_the_same_error_takes_tisphs_quickest_run_as_good_as_each_peer_run(tmp_path):
+    from tisph.bench.peers import dambreak_codes
+
+    t = np.linspace(0.0, 0.7, 71)
+
+    def row(code, dx, rms, wall, speed=4.0):
+        return dict(code=code, dx=dx, tf=0.7, rms=rms, wall_s=wall, loop_s=wall / 2, t=t, front=1.0 + speed * t)
+
+    rows = [
+        row("tisph", 0.06, 0.12, 4.0, speed=3.0),
+        row("tisph", 0.03, 0.19, 8.0, speed=3.9),
+        row("tisph", 0.015, 0.17, 20.0, speed=4.0),
+        row("peer", 0.03, 0.26, 9.0, speed=4.2),  # tisph's 0.06 run is better against the experiment
+        row("peer", 0.015, 0.11, 60.0, speed=4.2),  # better than every tisph run
+    ]
+    pairs = dambreak_codes.time_to_error(rows)
+    assert [(p["dx"], o and o["dx"]) for p, o in pairs] == [(0.03, 0.06), (0.015, None)]
+    md = "\n".join(dambreak_codes._time_to_error_md(rows))
+    assert "| peer, dp 0.03 | 0.260 | 9.0 (4.5) | dp 0.06: 0.120 | 4.0 (2.0) | 2.2 | 2.2 |" in md
+    assert "| peer, dp 0.015 | 0.110 | 60.0 (30.0) | none of tisph's runs | - | - | - |" in md
+    # the converged front: the mean of the two codes at dp 0.015 (speed 4.1), while it is at most 3.5 a
+    finest, spread = dambreak_codes.converged(rows)
+    assert [r["code"] for r in finest] == ["tisph", "peer"]
+    grid = np.linspace(0.0, 0.7, 141)  # converged()'s
+    keep = grid[1.0 + 4.1 * grid <= 3.5]
+    assert rows[2]["conv"] == pytest.approx(np.sqrt(np.mean((0.1 * keep) ** 2)), rel=1e-9)
+    assert rows[2]["conv"] == pytest.approx(rows[4]["conv"]) == pytest.approx(spread)
+    assert rows[0]["conv"] > rows[1]["conv"] > rows[2]["conv"]  # the slow front is the furthest off
+    # against it the peer's dp 0.03 run (0.1 t off) is matched only by tisph's finest
+    assert [(p["dx"], o and o["dx"]) for p, o in dambreak_codes.time_to_error(rows, "conv")] == [
+        (0.03, 0.015),
+        (0.015, 0.015),
+    ]
+    dambreak_codes.figure(rows, str(tmp_path / "f.png"))
+    assert (tmp_path / "f.png").stat().st_size > 10_000
+
+
 @pytest.mark.slow
 def test_speed_bench_on_gpu_falls_back_to_the_cpu_with_a_warning(tmp_path):
     import subprocess

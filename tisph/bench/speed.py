@@ -4,6 +4,7 @@ warm compile, and the same cases on another git revision, run back to back.
     python -m tisph.bench --speed [--against REV] [--repeats N] [--threads N] [--quick]
                                   [--peer pysph,dualsphysics] [--arch gpu] [--out renders/bench]
                                   [--sizes 1e4 1e5 1e6]
+    python -m tisph.bench --speed --peer-ladder [--peer pysph,dualsphysics]
 
 --sizes: the dam break and the flume at about these particle counts (the GPU check of
 docs/performance.md: `--speed --arch gpu --sizes 1e4 1e5 1e6 --repeats 1`).
@@ -334,6 +335,8 @@ def report(a, rows, cold, warm):
 def main(a):
     log = lambda m: print(m, file=sys.stderr, flush=True)
     ensure_dir(a.out)
+    if getattr(a, "peer_ladder", False):
+        return peer_ladder(a, log)
     rows, cold, warm = run(a, log)
     lines = report(a, rows, cold, warm)
     if getattr(a, "peer", ()):
@@ -342,5 +345,15 @@ def main(a):
         )
     write_text(os.path.join(a.out, "speed.md"), "\n".join(lines) + "\n")
     write_csv(os.path.join(a.out, "speed.csv"), tuple(rows[0]), [tuple(r.values()) for r in rows])
+    print("\n".join(lines))
+    return 0
+
+
+def peer_ladder(a, log):
+    """--peer-ladder: the three codes' dam breaks over five spacings only (OUT/dambreak_codes.md)."""
+    codes = peers("dambreak_codes")
+    lines = [f"# tisph and its peers on the dam break, {time.strftime('%Y-%m-%d %H:%M')}", ""]
+    lines += codes.compare(a.out, log, a.peer or ("pysph", "dualsphysics"), a.peer_venv, a.dualsphysics, codes.LADDER)
+    write_text(os.path.join(a.out, "dambreak_codes.md"), "\n".join(lines) + "\n")
     print("\n".join(lines))
     return 0
