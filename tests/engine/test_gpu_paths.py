@@ -10,6 +10,7 @@ import numpy as np
 from tisph import runtime
 from tisph.engine import grid, state
 from tisph.engine.solver import Solver
+from tisph.particles import FLUID
 from tisph.runner import Log, build_case, resolve
 from tisph.scenes import dam_break
 
@@ -36,3 +37,24 @@ def test_gpu_layout_and_atomic_maxima_give_the_cpu_state(monkeypatch):
     for k in ("x", "v", "rho"):
         assert np.array_equal(a[k], b[k]), k
     assert np.array_equal(a["kind"].astype(int), b["kind"].astype(int))
+
+
+def test_gpu_prefix_sum_and_mean_velocity_go_by_blocks_and_agree_with_the_cpus(monkeypatch):
+    """A GPU sums the cells' counts in three passes over blocks of cells, and the drive's mean
+    velocity over blocks of particles (one GPU thread over every cell or particle would take it
+    milliseconds): the cells' starts are the same integers as the CPU's serial pass, and the mean
+    agrees with NumPy's to rounding."""
+    runtime.init("cpu", "f32")
+    cpu, _ = _run(20, pair_once=False)
+    monkeypatch.setattr(state, "on_cpu", lambda: False)
+    monkeypatch.setattr(grid, "on_cpu", lambda: False)
+    gpu, _ = _run(20)
+    assert gpu.grid.nscan > 4 and gpu.usum.shape[0] > 4  # several blocks each, so the passes join blocks
+    assert cpu.grid.bsum is None and cpu.usum is None
+    assert np.array_equal(cpu.grid.start.to_numpy(), gpu.grid.start.to_numpy())
+    for s in (cpu, gpu):
+        st = s.state(("x", "v", "kind"))
+        fluid = (st["kind"] == FLUID) & (st["x"][:, 1] > 0.3)
+        want = np.mean(st["v"][fluid, 0].astype(np.float64))
+        assert abs(s.mean_velocity(0, 0.3) - want) <= 1e-12 * np.abs(st["v"][:, 0]).max()
+    assert grid.blocks(1_387_729) == (1179, 1178) and grid.blocks(10) == (256, 1)

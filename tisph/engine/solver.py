@@ -19,7 +19,7 @@ from . import state as st_mod
 from .access import SolverAPI
 from .batch import READ_ELEMENTS
 from .enabled import enabled_modules
-from .grid import Grid
+from .grid import Grid, blocks
 from .smoothing import get_kernel
 from .stepper import Stepper
 from .store import ParticleStore
@@ -101,6 +101,8 @@ class Solver(SolverAPI):
         kernel, its maxima, log and accumulator; each pair once where asked), the modules' own
         fields, then every table written at once."""
         self.cpu = st_mod.on_cpu()  # the CPU-only paths below; a GPU build turns them off
+        self.usum_block, nb = blocks(self.n)  # a GPU's block sums of the mean velocity (access.py)
+        self.usum = None if self.cpu else ti.Vector.field(2, ti.f64, nb)
         setup = Setup(self.dx, self.h, self.c0, materials, self.particles)
         self.table = ParamTable(self.modules, params, setup, self.real)
         self.prm, self.mat, self.stats = self.table.prm, self.table.mat, self.table.stats

@@ -297,11 +297,20 @@ class Stepper:
         ncell = S.grid.ncells
         for i in range(S.n):
             self.advance(i, dt)
-        ti.loop_config(serialize=True)
-        for _ in range(1):
-            S.grid.prefix()
-            if ti.static(self.once):
-                self.pair_once.zones()
+        if ti.static(S.cpu):
+            ti.loop_config(serialize=True)
+            for _ in range(1):
+                S.grid.prefix()
+                if ti.static(self.once):
+                    self.pair_once.zones()
+        else:  # the same integers in three passes: one thread over every cell starves a GPU
+            for b in range(S.grid.nscan):
+                S.grid.block_total(b)
+            ti.loop_config(serialize=True)
+            for _ in range(1):
+                S.grid.block_offsets()
+            for b in range(S.grid.nscan):
+                S.grid.block_prefix(b)
         for i in range(S.n):
             S.grid.scatter(i)
         for c in range(ncell + 1):
