@@ -8,6 +8,7 @@ import os
 import numpy as np
 
 from tisph import runtime
+from tisph import runtime as rt
 from tisph.engine import grid, state
 from tisph.engine.solver import Solver
 from tisph.particles import FLUID
@@ -57,4 +58,4 @@ def test_gpu_prefix_sum_and_mean_velocity_go_by_blocks_and_agree_with_the_cpus(m
         fluid = (st["kind"] == FLUID) & (st["x"][:, 1] > 0.3)
         want = np.mean(st["v"][fluid, 0].astype(np.float64))
         assert abs(s.mean_velocity(0, 0.3) - want) <= 1e-12 * np.abs(st["v"][:, 0]).max()
-    assert grid.blocks(1_387_729) == (1179, 1178) and grid.blocks(10) == (256, 1)
+    assert rt.blocks(1_387_729) == (1179, 1178) and rt.blocks(10) == (256, 1)

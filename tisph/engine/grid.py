@@ -10,16 +10,8 @@ import math
 import numpy as np
 import taichi as ti
 
+from ..runtime import blocks
 from .state import on_cpu, type_bytes
-
-
-def blocks(m):
-    """A two-level pass over m items on a GPU: (items a block, blocks), about sqrt(m) each, so
-    the serial part (one thread over the blocks) and each thread's share stay short: at 1.4e6
-    cells (the dam break at 1e6 particles) about 1,180 of each, where one thread over every cell
-    would take a GPU tenths of a second a step."""
-    b = max(256, int(math.ceil(math.sqrt(max(m, 1)))))
-    return b, (m + b - 1) // b
 
 
 @ti.data_oriented

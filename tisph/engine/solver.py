@@ -14,12 +14,13 @@ import taichi as ti
 
 from ..hooks.health import BAD_NONE
 from ..hooks.module import HOOKS
+from ..runtime import blocks
 from ..settings.config import Physics
 from . import state as st_mod
 from .access import SolverAPI
 from .batch import READ_ELEMENTS
 from .enabled import enabled_modules
-from .grid import Grid, blocks
+from .grid import Grid
 from .smoothing import get_kernel
 from .stepper import Stepper
 from .store import ParticleStore

@@ -25,6 +25,7 @@ import taichi as ti
 from ..constants import KAPPA
 from ..hooks.module import Module, Param
 from ..particles import FLUID
+from ..runtime import blocks
 
 LAYER = 2.0  # particle spacings above the bed that exchange sand with it
 
@@ -47,6 +48,10 @@ class Suspension(Module):
 
     def allocate(self, S):
         self.nst = int(S.params.get("bed_stations", 1))  # the bed's stations, dx apart from x = 0
+        # a GPU sums the layer by blocks of particles, each into its own row of stations
+        # (_layer_sums); the CPU in one serial pass
+        self.blk, nb = blocks(S.n)
+        self.rows = None if S.cpu else ti.field(ti.f64, (nb, self.nst + 1, 2))
 
     def setup(self, S):
         """The initial concentration, where the scene gives one (ParticleSet.concentration)."""
@@ -118,16 +123,48 @@ class Suspension(Module):
     def _layer_sums(
         self, S: ti.template(), zb: ti.types.ndarray(dtype=ti.f64, ndim=1), out: ti.types.ndarray(dtype=ti.f64, ndim=2)
     ):
-        ti.loop_config(serialize=True)  # one order: restarts bit for bit
-        for i in range(S.n):
-            if S.p.kind[i] == FLUID:
-                v = ti.cast(S.p.m[i] / S.mat.rho0[ti.cast(S.p.mat[i], ti.i32)], ti.f64)
-                cv = v * ti.cast(S.p.c[i], ti.f64)
-                k = self.station(S, S.p.x[i][0])
+        # one order whatever the threads: restarts bit for bit. On a GPU, where one thread over
+        # every particle costs milliseconds, each block of particles into its own row, then each
+        # station over the rows in block order
+        if ti.static(S.cpu):
+            ti.loop_config(serialize=True)
+            for i in range(S.n):
+                self._layer_add(S, i, zb, out, 0)
+        else:
+            for b in range(self.rows.shape[0]):
+                for k in range(self.nst + 1):
+                    self.rows[b, k, 0] = 0.0
+                    self.rows[b, k, 1] = 0.0
+                for i in range(b * self.blk, ti.min((b + 1) * self.blk, S.n)):
+                    self._layer_add(S, i, zb, self.rows, b)
+            for k in range(self.nst + 1):
+                s0 = ti.f64(0.0)
+                s1 = ti.f64(0.0)
+                for b in range(self.rows.shape[0]):
+                    s0 += self.rows[b, k, 0]
+                    s1 += self.rows[b, k, 1]
+                out[k, 0] = s0
+                out[k, 1] = s1
+
+    @ti.func
+    def _layer_add(self, S, i, zb: ti.template(), out: ti.template(), b):
+        """Particle i's water volume and sand into its station's near-bed layer, and its sand into
+        the water's total (the last station): out[k, ...] on the CPU, out[b, k, ...] on a GPU."""
+        if S.p.kind[i] == FLUID:
+            v = ti.cast(S.p.m[i] / S.mat.rho0[ti.cast(S.p.mat[i], ti.i32)], ti.f64)
+            cv = v * ti.cast(S.p.c[i], ti.f64)
+            k = self.station(S, S.p.x[i][0])
+            if ti.static(S.cpu):
                 if ti.cast(S.p.x[i][1], ti.f64) - zb[k] < LAYER * S.dx:
                     out[k, 0] += v
                     out[k, 1] += cv
                 out[self.nst, 1] += cv
+            else:
+                # a block's own row: plain loads and stores, no atomics
+                if ti.cast(S.p.x[i][1], ti.f64) - zb[k] < LAYER * S.dx:
+                    out[b, k, 0] = out[b, k, 0] + v
+                    out[b, k, 1] = out[b, k, 1] + cv
+                out[b, self.nst, 1] = out[b, self.nst, 1] + cv
 
     @ti.kernel
     def _layer_apply(
