@@ -16,7 +16,7 @@ Second order, symplectic for the conservative part, half the force passes of pre
 The step's loops, in order:
   1. advance: drift and half kick (fluid), prescribed motion (MOVING), boundary half kick;
      outflow, container and domain checks; cell keys and counts
-  2. prefix sum over the cells (serial)
+  2. prefix sum over the cells (serial on the CPU; by blocks of cells on a GPU)
   3. scatter particle indices into their cells
   4. per cell: order by id, gather every member into the sorted copy, evaluation state
      (predicted velocity and density, Tait pressure, 1/rho)
