@@ -463,6 +463,27 @@ def test_time_to_the_same_error_takes_tisphs_quickest_run_as_good_as_each_peer_r
     assert (tmp_path / "f.png").stat().st_size > 10_000
 
 
+def test_peer_ladder_runs_both_peers_over_five_spacings_and_writes_its_page(tmp_path, monkeypatch):
+    """--speed --peer-ladder runs only the peers' dam breaks (not the engine's speed cases) over
+    the ladder, both peers unless --peer names some, into OUT/dambreak_codes.md."""
+    from tisph.bench.peers import dambreak_codes
+
+    seen = {}
+
+    def compare(out, log, peers, venv, dsph, runs):
+        seen.update(peers=peers, runs=runs)
+        return ["## stub"]
+
+    monkeypatch.setattr(dambreak_codes, "compare", compare)
+    assert cli.main(["--speed", "--peer-ladder", "--out", str(tmp_path)]) == 0
+    assert seen == {"peers": ("pysph", "dualsphysics"), "runs": dambreak_codes.LADDER}
+    assert [dx for dx, _ in dambreak_codes.LADDER] == [0.06, 0.04, 0.03, 0.02, 0.015]
+    assert "## stub" in (tmp_path / "dambreak_codes.md").read_text()
+    assert not (tmp_path / "speed.md").exists()
+    cli.main(["--speed", "--peer-ladder", "--peer", "dualsphysics", "--out", str(tmp_path)])
+    assert seen["peers"] == ("dualsphysics",)
+
+
 @pytest.mark.slow
 def test_speed_bench_on_gpu_falls_back_to_the_cpu_with_a_warning(tmp_path):
     import subprocess
