@@ -63,7 +63,7 @@ def sum_slots(S):
 @ti.data_oriented
 class PairOnce:
     def __init__(self, S, Acc, acc_types):
-        """S: the solver; Acc, acc_types: the stepper's accumulator type and its slots' types."""
+        """S: the kernel view (view.py); Acc, acc_types: the stepper's accumulator type and its slots' types."""
         self.S, self.Acc = S, Acc
         self.slots = sum_slots(S)
         self.names = tuple(self.slots)

@@ -6,8 +6,9 @@ parts and the run's Python API (access.py); each part keeps its own state:
   the grid (grid.py): the cells, the sort, the neighbour loops
   the stepper (stepper.py): one time step as one fused kernel, and its log on the device
 
-Inside the step kernel the modules' hooks take the solver S and reach the parts through it:
-S.p and S.tmp (the store's), S.prm, S.mat and S.stats (the table's), S.grid.
+Inside the step kernel the modules' hooks take the kernel view S (view.py), not the solver, and
+reach the parts through it: S.p and S.tmp (the store's), S.prm, S.mat and S.stats (the table's),
+S.grid.
 """
 
 import taichi as ti

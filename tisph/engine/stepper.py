@@ -27,8 +27,9 @@ The step's loops, in order:
      boundary particles' own pass (dynamic walls)
   6. the next time step (engine/limits.py)
 
-The modules' hooks take the solver S (its store's fields S.p and S.tmp, its table's S.prm,
-S.mat and S.stats, its grid); the stepper reads the same and keeps its own state apart.
+The modules' hooks take the kernel view S (view.py: its store's fields S.p and S.tmp, its table's
+S.prm, S.mat and S.stats, its grid, the kernel's constants), not the solver; the stepper reads the
+same and keeps its own state apart.
 """
 
 import taichi as ti
@@ -42,6 +43,7 @@ from .limits import next_dt
 from .pairs import PairOnce
 from .state import resolve
 from .table import CORE_MAXIMA
+from .view import KernelView
 
 # The base slots of a fluid particle's accumulator (the modules add theirs).
 ACC_CORE = {
@@ -62,8 +64,9 @@ ACC_CORE = {
 class Stepper:
     def __init__(self, S, pair_once):
         """S: the solver, its store, table and grid built; pair_once: whether to visit each pair
-        once where the modules allow it (engine/pairs.py)."""
-        self.S = S
+        once where the modules allow it (engine/pairs.py). The kernels read S through its kernel
+        view (view.py), and pass the view to the hooks."""
+        self.S = KernelView(S, self)
         # the force pass's maxima: on the CPU per block of particles, reduced once on one thread
         # (no atomics in the pass; 1,024 blocks or more, so Taichi's CPU range-for deals them to
         # every thread); on a GPU per particle, by its hardware atomics
@@ -93,7 +96,7 @@ class Stepper:
         # each pair once where asked (run.pair_once, runner/setup.py) and the modules allow it
         # (engine/pairs.py); otherwise the gather pass
         self.pair_once = (
-            PairOnce(S, self.Acc, self.acc_types) if pair_once and pairs.applicable(S) and S.dual is None else None
+            PairOnce(self.S, self.Acc, self.acc_types) if pair_once and pairs.applicable(S) and S.dual is None else None
         )
         self.once = self.pair_once is not None
 

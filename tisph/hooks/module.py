@@ -20,7 +20,8 @@ Declarations (class attributes, all optional):
                  pair hook also gives j's term when called as pair(S, j, i, -r, r2, <j's view
                  of i>, <j's acc>): each pair is then visited once (engine/pairs.py)
 
-Hooks (define only those the module uses; `S` is the solver):
+Hooks (define only those the module uses; `S` is the kernel view, engine/view.py, but in
+after_step, which runs in Python, the solver):
   drift(S, i, u) -> u              fluid drift velocity (XSPH)
   move(S, i, dt)                   a MOVING boundary particle's prescribed motion (paddle)
   boundary_motion(S, i, k, dt)     any other boundary's motion by kind (the moving sand bed)

@@ -32,7 +32,7 @@ class DualCriteria(Module):
         return {"a_adv": ti.types.vector(2, real), "drho_adv": real}
 
     def setup(self, S):
-        self.S = S
+        self.S = S.stepper.S  # the kernel view its sums pass to the hooks (engine/view.py)
 
     @ti.func
     def sums(self, S, i, acc: ti.template(), acc_s: ti.template()):
