@@ -337,7 +337,7 @@ class SolverAPI:
     def _sum_u(self, mat: ti.i32, above: ti.f64) -> ti.types.vector(2, ti.f64):
         """(sum of u, count) over the selected particles, in one order whatever the threads, so
         the drive's feedback restarts bit for bit: serially on the CPU; on a GPU, where one thread
-        over every particle costs milliseconds, by blocks of particles (grid.blocks), then over
+        over every particle costs milliseconds, by blocks of particles (runtime.blocks), then over
         the blocks' sums."""
         s = ti.f64(0.0)
         n = ti.f64(0.0)

@@ -53,12 +53,13 @@ class Grid:
         self.fcnt = ti.field(self.fdtype, self.ncells + 2)
         self.fbytes = type_bytes(self.fdtype)
         self.start = ti.field(ti.i32, self.ncells + 2)
-        # a GPU's prefix sum goes by blocks of cells (prefix_blocks); the CPU's runs serially
+        # a GPU's prefix sum goes by blocks of cells (block_total, block_offsets, block_prefix); the
+        # CPU's runs serially (prefix)
         self.scan_block, self.nscan = blocks(self.ncells + 1)
         self.bsum = None if on_cpu() else ti.field(ti.i32, self.nscan)
 
     def nbytes(self):
-        return (8 + self.fbytes) * (self.ncells + 2) + 2 * self.n * 4 + (4 * self.nscan if self.bsum else 0)
+        return (8 + self.fbytes) * (self.ncells + 2) + 2 * self.n * 4 + (4 * self.nscan if self.bsum is not None else 0)
 
     @ti.func
     def cell_of(self, x):
