@@ -81,8 +81,8 @@ def _peer_options(p):
         "--peer-ladder",
         action="store_true",
         help="with --speed: tisph and the peers (--peer, default both) on the dam break at dp 0.06, 0.04, "
-        "0.03, 0.02 and 0.015, all to 0.7 s: each code's front error against its wall time (OUT/dambreak_codes.png) and tisph's time to each peer "
-        "run's error",
+        "0.03, 0.02 and 0.015, all to 0.7 s: each code's front error against its wall time "
+        "(OUT/dambreak_codes.png) and tisph's time to each peer run's error",
     )
     p.add_argument(
         "--peer-venv", help="PySPH's virtual environment (default ~/.cache/tisph/peers/pysph-venv; made if absent)"

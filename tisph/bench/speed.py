@@ -28,7 +28,7 @@ import tempfile
 import time
 
 from ..io import ensure_dir, write_csv, write_text
-from .common import ROOT, peers
+from .common import PEERS, ROOT, peers
 
 # (name, scene, overrides, steps): sizes from 3.4e3 to 6.5e5 particles, and the flume's paddle
 CASES = [
@@ -353,7 +353,7 @@ def peer_ladder(a, log):
     """--peer-ladder: the three codes' dam breaks over five spacings only (OUT/dambreak_codes.md)."""
     codes = peers("dambreak_codes")
     lines = [f"# tisph and its peers on the dam break, {time.strftime('%Y-%m-%d %H:%M')}", ""]
-    lines += codes.compare(a.out, log, a.peer or ("pysph", "dualsphysics"), a.peer_venv, a.dualsphysics, codes.LADDER)
+    lines += codes.compare(a.out, log, a.peer or PEERS, a.peer_venv, a.dualsphysics, codes.LADDER)
     write_text(os.path.join(a.out, "dambreak_codes.md"), "\n".join(lines) + "\n")
     print("\n".join(lines))
     return 0

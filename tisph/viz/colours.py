@@ -65,7 +65,9 @@ def vorticity(x, v, dx):
     return curl[ij[:, 0], ij[:, 1]]
 
 
-DECADES = 3  # a concentration panel spans three decades below its top: suspended sand falls off
+# a concentration panel spans three decades below its top: suspended sand falls off exponentially
+# with height (Rouse), so a linear scale shows only the bed's layer
+DECADES = 3
 
 
 def field_values(field, st, speed, fluid, dx):

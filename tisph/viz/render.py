@@ -22,7 +22,6 @@ UNITS = {
     "vorticity": "curl u (1/s)",
     "concentration": "sand (%, log)",
 }
-# exponentially with height (Rouse), so a linear scale shows only the bed's layer
 STATE = ("x", "v", "p", "rho", "kind", "mat")  # what a frame reads (and io.OPTIONAL where a case has it)
 
 

@@ -16,6 +16,7 @@ import os
 
 import numpy as np
 
+from ...io import read_csv
 from ...measure.plots import pyplot, save
 from ...runner import resolve
 from ...scenes import dam_break
@@ -31,24 +32,22 @@ CONVERGED_UP_TO = 3.5
 
 
 def run_tisph(out, dx, tf):
-    s, wall = pysph_runs.run_tisph_dam_break(out, dx, tf)
+    s, wall, d = pysph_runs.run_tisph_dam_break(out, dx, tf)
     num = resolve(dam_break, overrides={"numerics.dx": dx}).numerics
     settings = (
         f"{num.kernel}, h = {s['h'] / dx:.2f} dp, velocity Verlet with CFL {num.cfl:g}, "
         f"c0 {s['c0']:.1f} m/s, "
         f"modules: {', '.join(s['modules'])}"
     )
-    probes = np.genfromtxt(
-        os.path.join(out, f"tisph_dam_break_dx{dx:g}_t{tf:g}", "probes.csv"), delimiter=",", names=True
-    )
+    _, probes = read_csv(os.path.join(d, "probes.csv"))
     return dict(
         particles=s["particles"],
         steps=s["steps"],
         wall_s=wall,
         loop_s=s["wall_time_s"],
         rms=s["metrics"]["front_rms_error"],
-        t=probes["t"],
-        front=probes["front_x"],
+        t=np.array(probes["t"]),
+        front=np.array(probes["front_x"]),
         settings=settings,
     )
 

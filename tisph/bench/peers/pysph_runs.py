@@ -180,7 +180,7 @@ def run_tisph_dam_break(out, dx, tf):
     """Our dam break at dx to tf as a peer's is run, from the command line in a fresh process (the
     wall time counts the interpreter, the imports and the compile for both; in the bench's own
     process, after its other work, our start-up measured 2.7-4.2 s against 1.7-1.9 s fresh):
-    (summary, wall seconds)."""
+    (summary, wall seconds, the run's folder)."""
     d = os.path.join(out, f"tisph_dam_break_dx{dx:g}_t{tf:g}")
     t0 = time.perf_counter()
     r = subprocess.run(
@@ -207,13 +207,13 @@ def run_tisph_dam_break(out, dx, tf):
     if r.returncode != 0:
         raise RuntimeError(f"tisph's dam break failed (return code {r.returncode}): {r.stderr[-2000:]}")
     with open(os.path.join(d, "summary.json")) as f:
-        return json.load(f), wall
+        return json.load(f), wall, d
 
 
 def _side_by_side(out, log, dx, tf, p):
     """Our dam break at dx beside PySPH's run p: (table rows, one line of ratios)."""
     rms_p, npts = martin_moyce.front_rms_error(p["t"], p["front"], 1.0)
-    s, wall = run_tisph_dam_break(out, dx, tf)
+    s, wall, _ = run_tisph_dam_break(out, dx, tf)
     rms_t = s["metrics"]["front_rms_error"]
     ratio = p["wall_time_s"] / wall
     ratio_run = p["run_s"] / s["wall_time_s"]

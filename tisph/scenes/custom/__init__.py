@@ -30,7 +30,13 @@ from ...waves.irregular import IRREGULAR
 from ...waves.paddle import PADDLE
 from ...waves.theory import linear_wave
 from .elements import ELEMENTS, entries, numbers
-from .gauges import CaseGauges, check_sites, load_cutoff, observers, run_title  # noqa: F401  (run_title: the scene's API)
+from .gauges import (
+    CaseGauges,
+    check_sites,
+    load_cutoff,
+    observers,
+    run_title,  # noqa: F401 (the scene's API)
+)
 from .layout import Layout, who
 from .sand import SAND, SEDIMENT, SandBed, Still
 from .sand import check as check_sand

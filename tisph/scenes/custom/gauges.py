@@ -8,6 +8,7 @@ import numpy as np
 
 from ...measure import harmonics
 from ...measure.gauge_sets import GaugeSet, case_gauges
+from ...runner import loop
 from ...settings.config import ConfigError
 from ...validation import eurotop
 from ...waves.theory import wavenumber
@@ -160,9 +161,9 @@ def check_sites(gauges, lay, errors):
 
 
 def run_title(cfg, out):
-    """The gauges figure's title: the case file's name (my_bar.toml: my_bar), else the run's folder."""
-    name = os.path.splitext(os.path.basename(cfg.case_file))[0] if cfg.case_file else ""
-    return f"{name or os.path.basename(os.path.normpath(out))}: gauges"
+    """The gauges figure's title: the run's title (the case file's name: my_bar.toml, my_bar), else
+    the run's folder."""
+    return f"{loop.run_title(cfg, os.path.basename(os.path.normpath(out)))}: gauges"
 
 
 def observers(cfg, cg, sand, period, still):

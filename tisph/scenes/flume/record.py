@@ -174,9 +174,9 @@ class FlumeRecord:
     def array_metrics(self, c, t_end):
         """The reflection array: the incident and reflected first harmonics once the wave the far end
         reflects is back over it, and the second harmonic's bound and free parts."""
-        geo, p, d, Lf, omega, k, wavelength, cg, hs_ratio, k2, cg2, H_biesel, xg, xa, cols, acols, gauges = (
-            self._names()
-        )
+        p, geo, xa, acols = self.cfg.paddle, self.cfg.geometry, self.xa, self.acols
+        omega, k, cg, k2, cg2 = self.omega, self.k, self.cg, self.k2, self.cg2
+        d, Lf = geo.depth, geo.length
         out = {}
         t0 = records.arrival_time(p, xa[-1], cg)
         t_back = p.ramp_periods * p.period + (2 * Lf - xa[0]) / cg + p.period
