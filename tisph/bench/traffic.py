@@ -55,6 +55,14 @@ class Counter:
     def __init__(self):
         self.launches = collections.Counter()
         self.transfers = collections.Counter()
+        self.paused = False  # the count's own reads (whether a step parked) are not the run's
+
+    def snapshot(self):
+        return dict(
+            mark=self.total(),
+            launches=collections.Counter(self.launches),
+            transfers=collections.Counter(self.transfers),
+        )
 
     def total(self):
         return sum(self.launches.values()), sum(self.transfers.values())
@@ -69,6 +77,8 @@ class Counter:
         call, acc_init = kernel_impl.Kernel.__call__, field.SNodeHostAccessor.__init__
 
         def counted_call(kernel, *args, **kwargs):
+            if counter.paused:
+                return call(kernel, *args, **kwargs)
             name = kernel.func.__name__
             counter.launches[name] += 1
             if any(isinstance(a, np.ndarray) for a in args):
@@ -82,6 +92,8 @@ class Counter:
             get, put = acc.getter, acc.setter
 
             def getter(*key):  # Taichi reads an element with a small kernel of its own
+                if counter.paused:
+                    return get(*key)
                 counter.launches["element read"] += 1
                 counter.transfers["element read"] += 1
                 return get(*key)
@@ -122,7 +134,8 @@ def measure(case_id, steps=STEPS, arch="cpu"):
         log = Log(os.path.join(out, "run.log"), True)
         case = build_case(scene, cfg, log)
         case.params["paddle_series"] = True  # as a GPU runs it (on the CPU the host gives the paddle,
-        case.params["read_elements"] = 0  # and a short batch's log is read element by element)
+        case.params["read_elements"] = 0  # and a short batch's log is read element by element,
+        case.params["park"] = True  # and a batch of steps stops at the output it was given)
         run = Run(case, cfg, out, log, scene.NAME)
         run.arch = runtime.current_arch()
         wrote = [False]
@@ -137,19 +150,23 @@ def measure(case_id, steps=STEPS, arch="cpu"):
             wrote[0] |= len(run.events) != n
 
         run.fire_events = fire
-        last = {}
+        last, parked = {}, [0]
 
         def step_wrapper(step):
             def stepped(*args):
+                before = counter.snapshot()
+                out = step(*args)
+                counter.paused = True
+                live = run.solver.stepper.live[None]
+                counter.paused = False
+                if not live:  # a parked step's launch is the step's that reached the output
+                    parked[0] += 1
+                    return out
                 if last:  # close the previous step: its kernel, the reads and outputs after it
-                    rows.append(_row(counter, last, wrote[0]))
-                last.update(
-                    mark=counter.total(),
-                    launches=collections.Counter(counter.launches),
-                    transfers=collections.Counter(counter.transfers),
-                )
+                    rows.append(_row(before, last, wrote[0]))
+                last.update(before)
                 wrote[0] = False
-                return step(*args)
+                return out
 
             return stepped
 
@@ -163,7 +180,7 @@ def measure(case_id, steps=STEPS, arch="cpu"):
         run._start = start
         run.execute()
         if last:
-            rows.append(_row(counter, last, wrote[0]))
+            rows.append(_row(counter.snapshot(), last, wrote[0]))
     quiet = [r for r in rows if not r["wrote"]]
     worst = max(quiet, key=lambda r: (r["transfers"], r["launches"])) if quiet else None
     return dict(
@@ -171,6 +188,7 @@ def measure(case_id, steps=STEPS, arch="cpu"):
         scene=scene.NAME,
         particles=len(case.particles),
         steps=len(rows),
+        parked=parked[0],
         quiet_steps=len(quiet),
         launches_quiet=_stats([r["launches"] for r in quiet]),
         transfers_quiet=_stats([r["transfers"] for r in quiet]),
@@ -188,14 +206,13 @@ def _flagging(f, wrote):
     return g
 
 
-def _row(counter, last, wrote):
-    launches, transfers = counter.total()
+def _row(now, last, wrote):
     return dict(
-        launches=launches - last["mark"][0],
-        transfers=transfers - last["mark"][1],
+        launches=now["mark"][0] - last["mark"][0],
+        transfers=now["mark"][1] - last["mark"][1],
         wrote=wrote,
-        which=dict(counter.launches - last["launches"]),
-        what=dict(counter.transfers - last["transfers"]),
+        which=dict(now["launches"] - last["launches"]),
+        what=dict(now["transfers"] - last["transfers"]),
     )
 
 
@@ -206,15 +223,15 @@ def _stats(v):
 def table(results):
     lines = [
         "| case | scene | particles | quiet steps | launches a quiet step (mean, max) | transfers a quiet step "
-        "(mean, max) | launches a step, all (mean) | transfers a step, all (mean) |",
-        "|---|---|---|---|---|---|---|---|",
+        "(mean, max) | launches a step, all (mean) | transfers a step, all (mean) | parked launches |",
+        "|---|---|---|---|---|---|---|---|---|",
     ]
     for r in results:
         lq, tq = r["launches_quiet"], r["transfers_quiet"]
         lines.append(
             f"| {r['case']} | {r['scene']} | {r['particles']:,} | {r['quiet_steps']} of {r['steps']} | "
             f"{lq['mean']:.2f}, {lq['max']} | {tq['mean']:.2f}, {tq['max']} | "
-            f"{r['launches_all']['mean']:.2f} | {r['transfers_all']['mean']:.2f} |"
+            f"{r['launches_all']['mean']:.2f} | {r['transfers_all']['mean']:.2f} | {r['parked']} |"
         )
     return "\n".join(lines)
 

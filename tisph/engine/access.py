@@ -7,7 +7,7 @@ import taichi as ti
 from ..hooks.health import BAD_NONE
 from ..io import OPTIONAL
 from ..particles import FLUID, SPRAY
-from .batch import paddle_fit
+from .batch import STOP_SHORT, paddle_fit
 from .smoothing import CubicSpline2D
 
 
@@ -26,7 +26,7 @@ class SolverAPI:
     def prime(self):
         """Bin the particles and evaluate forces at t = 0 (a zero-length step) to get a^0, dt^0."""
         self.table.set_dt(0.0)
-        self.stepper.step(0, 0, 0.0, 0.0)  # the paddle at rest where it starts
+        self.stepper.step(0, 0, 0.0, 0.0, 0.0)  # the paddle at rest where it starts
         self._dt = float(self.stepper.dtlog[0])
         self._primed = True
 
@@ -59,13 +59,15 @@ class SolverAPI:
             bound = min(bound, float(v["dt_visc"]))
         return bound * (1.0 + 1e-5)
 
-    def step_ahead(self, n=1):
+    def step_ahead(self, n=1, until=None):
         """Advance n steps (1 to self.batch) with one read of the device at the end: each
         step's dt stays on the device until then (the step kernel takes the dt the one before
-        chose). Time, the step count and the health code (self.health) are current on return.
-        A paddle follows a Chebyshev series of its motion over the batch (batch.paddle_fit); where it
-        cannot (steps_ahead_allowed) n must be 1, and where the series does not hold one step
-        is taken. Returns the steps taken."""
+        chose). Given `until` (seconds from now), the steps after the one that reaches it park
+        (stepper.py, step): the host may launch more than it needs. A step after the health has
+        gone bad parks too. Time, the step count and the health code (self.health) are current
+        on return. A paddle follows a Chebyshev series of its motion over the batch
+        (batch.paddle_fit); where it cannot (steps_ahead_allowed) n must be 1, and where the
+        series does not hold one step is taken. Returns the steps taken."""
         if not self._primed:
             self.prime()
         self.dt  # the step's dt, read once after a restart
@@ -82,25 +84,37 @@ class SolverAPI:
             span, cd, cv = fit
             self.stepper.pfit.from_numpy(np.array(list(cd) + list(cv) + [span], dtype=self.np_real))
             args = (1, 0.0, 0.0)
+        # the device's f32 sum of the batch's steps may run ahead of the host's f64 one: it stops
+        # a little short, so no step runs past the one that reaches `until` (a step short costs
+        # one more batch)
+        args += (STOP_SHORT * until if until is not None else 1e30,)
         step = self.stepper.step
         for k in range(n):
             step(k, *args)
             self.steps += 1
             for m in self.hooks["after_step"]:
-                m.after_step(self)
-        if n <= self.read_elements:  # the CPU, a short batch: element by element
-            log = [self.stepper.dtlog[k] for k in range(n)]
-            self.health_read = n > 1 or self.steps % 10 == 0  # a single step: every 10 steps
-            if self.health_read:
-                self.health = int(self.stepper.dtlog[self.batch])
-        else:
-            log = self.stepper.dtlog.to_numpy()  # the batch's one transfer, the health with it
-            self.health_read = True
-            self.health = int(log[-1])
-        for k in range(n):  # the dt each step took, summed in step order
+                m.after_step(self)  # a parked step's after_step parks too (shepard.py)
+        log = self._read_log(n, until is not None)
+        self.steps += len(log) - n
+        for dt in log:  # the dt each step took, summed in step order
             self.time += self._dt
-            self._dt = float(log[k])
-        return n  # the steps taken: fewer than asked where the paddle's series did not hold
+            self._dt = float(dt)
+        return len(log)  # the steps taken: fewer than asked where the paddle's series did not hold
+
+    def _read_log(self, n, parking):
+        """The dt of each step the batch of n took, and the health code: element by element on
+        the CPU for a short batch (5 us a read), else in one transfer."""
+        last = self.stepper.batch + 1
+        if n <= self.read_elements:
+            self.health_read = n > 1 or parking or self.steps % 10 == 0  # a single step: every 10 steps
+            if self.health_read:
+                self.health = int(self.stepper.dtlog[last - 1])
+            taken = int(self.stepper.dtlog[last]) if parking or self.health else n
+            return [self.stepper.dtlog[k] for k in range(taken)]
+        log = self.stepper.dtlog.to_numpy()  # the batch's one transfer, the health with it
+        self.health_read = True
+        self.health = int(log[last - 1])
+        return log[: int(log[last]) if parking or self.health else n]
 
     def read_health(self):
         """The health code as the last step left it (one read of the device)."""

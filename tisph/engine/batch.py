@@ -5,8 +5,13 @@ the host (paddle_fit) and evaluated by the step kernel (chebyshev)."""
 import numpy as np
 import taichi as ti
 
-# the most steps the host launches between two reads of the device
-BATCH = 64
+# the most steps the host launches between two reads of the device: on a GPU, where the steps
+# after an output park (stepper.py), enough for the steps between two outputs; on the CPU the
+# most it takes between two looks at a signal or the progress bar
+BATCH = 512
+BATCH_CPU = 64
+# a batch given a time to reach stops its f32 sum this much short (step_ahead)
+STOP_SHORT = 1.0 - 1e-4
 # on the CPU a batch of up to this many steps reads its log element by element (5 us each); a
 # longer one, and any on a GPU (where each read waits for the device), in one to_numpy (about
 # 100 us on the CPU)

@@ -19,7 +19,7 @@ from ..runtime import blocks
 from ..settings.config import Physics
 from . import state as st_mod
 from .access import SolverAPI
-from .batch import READ_ELEMENTS
+from .batch import BATCH, BATCH_CPU, READ_ELEMENTS
 from .enabled import enabled_modules
 from .grid import Grid
 from .smoothing import get_kernel
@@ -111,7 +111,7 @@ class Solver(SolverAPI):
         self.param_values = self.table.values
         self.cfl = self.table.setup.cfl
         self.stepper = Stepper(self, params.get("pair_once", False))
-        self.batch, self.pair_once = self.stepper.batch, self.stepper.pair_once
+        self.pair_once = self.stepper.pair_once
         for m in self.modules:
             m.allocate(self)  # module fields that are not per particle, if any
         self.table.write()  # every field exists now
@@ -122,6 +122,10 @@ class Solver(SolverAPI):
         # where it costs microseconds, the host's, so the CPU's results stay as they were
         self.paddle_series = bool(params.get("paddle_series", not self.cpu))
         self.read_elements = int(params.get("read_elements", READ_ELEMENTS if self.cpu else 0))
+        # the run loop launches past an output and lets the steps after it park (stepper.py) where
+        # a read waits for the device; on the CPU a read costs 5 us, a parked step a launch
+        self.park = bool(params.get("park", not self.cpu))
+        self.batch = int(params.get("batch", BATCH if self.park else BATCH_CPU))
 
     def has_stat(self, name):
         return self.table.has_stat(name)

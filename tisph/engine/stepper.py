@@ -79,9 +79,12 @@ class Stepper:
         self.bmax = self.MaxT.field(shape=self.nblk if S.cpu else 1)
         # each step k of a batch writes the dt it chose into dtlog[k], and the health code into
         # the last slot: the host reads the batch back in one transfer (access.py, step_ahead)
+        # the slot after it the steps the batch took (the rest parked: a step parks once the batch
+        # has reached the time it was given, or the health has gone bad)
         self.batch = BATCH
-        self.dtlog = ti.field(S.real, shape=BATCH + 1)
-        self.ptau = ti.field(S.real, shape=())  # time into a batch, for the paddle's series
+        self.dtlog = ti.field(S.real, shape=BATCH + 2)
+        self.ptau = ti.field(S.real, shape=())  # time into a batch: the paddle's series, the stop
+        self.live = ti.field(ti.i32, shape=())  # 0 where the last step launched was parked
         self.pfit = ti.field(S.real, shape=2 * CHEB + 3)  # its displacement's, its rate's, the span
         # the maxima a finish hook raises through pt (the pass itself raises amax2 and rhodev)
         self._module_max0 = {
@@ -274,74 +277,101 @@ class Stepper:
             for m in ti.static(S.hooks["boundary_pass"]):
                 m.boundary_pass(S, i, dt)
 
+    @ti.func
+    def force_block(self, b, dt):
+        """Loop 5 over block b of particles; its maxima into bmax[b] (the CPU) or the stats."""
+        S = self.S
+        mx = self.MaxT(0)
+        for i in range(b * self.blk, ti.min((b + 1) * self.blk, S.n)):
+            self.forces(i, dt, mx)
+        if ti.static(S.cpu):
+            self.bmax[b] = mx
+        else:
+            for k in ti.static(self._maxima):
+                ti.atomic_max(S.stats[None][k], mx[k])
+
     # ------------------------------------------------------------------ the step
     @ti.kernel
-    def step(self, k: ti.i32, fit: ti.i32, pd: ti.f64, pv: ti.f64):  # noqa: C901 (one kernel: the step's loops in order)
+    def step(self, k: ti.i32, fit: ti.i32, pd: ti.f64, pv: ti.f64, stop: ti.f64):  # noqa: C901 (one kernel: the step's loops in order)
         """One step; writes the next step's dt into dtlog[k] and the health code into the log's
         last slot (no value returned: a return waits for the device). Where the paddle module
         is on, its displacement and rate at the step's end: pd, pv as given (fit 0; the launch's
         arguments, not a launch of their own), or (fit 1) the Chebyshev series in pfit over the
         batch's span, at the time the batch's steps have taken so far (batch.py, paddle_fit).
-        Four scalar arguments: a vector argument costs about 50 us a launch on the CPU."""
+        Step k > 0 of a batch parks (changes nothing) once the batch's steps have taken `stop`
+        seconds or the health has gone bad: the host launches more steps than an output needs
+        and reads the log once, at the output (access.py, step_ahead). Scalar arguments: a
+        vector argument costs about 50 us a launch on the CPU."""
         S = self.S
         dt = S.prm[None].dt
-        if ti.static(S.table.has("pd")):
-            if fit == 0:
-                S.prm[None].pd = ti.cast(pd, S.real)
-                S.prm[None].pv = ti.cast(pv, S.real)
-            else:
-                tau = dt
-                if k > 0:
-                    tau += self.ptau[None]
-                self.ptau[None] = tau
-                x = 2.0 * tau / self.pfit[2 * CHEB + 2] - 1.0
-                S.prm[None].pd = chebyshev(self.pfit, 0, x)
-                S.prm[None].pv = chebyshev(self.pfit, CHEB + 1, x)
+        tau = dt  # the batch's time at this step's end
+        if k > 0:
+            tau += self.ptau[None]
+        go = 1
+        if k > 0 and (self.ptau[None] >= ti.cast(stop, S.real) or S.stats[None].bad_code != BAD_NONE):
+            go = 0
+        self.live[None] = go
+        if go:
+            self.ptau[None] = tau
+            self.dtlog[BATCH + 1] = ti.cast(k + 1, S.real)
+            if ti.static(S.table.has("pd")):
+                if fit == 0:
+                    S.prm[None].pd = ti.cast(pd, S.real)
+                    S.prm[None].pv = ti.cast(pv, S.real)
+                else:
+                    x = 2.0 * tau / self.pfit[2 * CHEB + 2] - 1.0
+                    S.prm[None].pd = chebyshev(self.pfit, 0, x)
+                    S.prm[None].pv = chebyshev(self.pfit, CHEB + 1, x)
         ncell = S.grid.ncells
         for i in range(S.n):
-            self.advance(i, dt)
+            if go:
+                self.advance(i, dt)
         if ti.static(S.cpu):
             ti.loop_config(serialize=True)
             for _ in range(1):
-                S.grid.prefix()
-                if ti.static(self.once):
-                    self.pair_once.zones()
+                if go:
+                    S.grid.prefix()
+                    if ti.static(self.once):
+                        self.pair_once.zones()
         else:  # the same integers in three passes: one thread over every cell starves a GPU
             for b in range(S.grid.nscan):
-                S.grid.block_total(b)
+                if go:
+                    S.grid.block_total(b)
             ti.loop_config(serialize=True)
             for _ in range(1):
-                S.grid.block_offsets()
+                if go:
+                    S.grid.block_offsets()
             for b in range(S.grid.nscan):
-                S.grid.block_prefix(b)
+                if go:
+                    S.grid.block_prefix(b)
         for i in range(S.n):
-            S.grid.scatter(i)
+            if go:
+                S.grid.scatter(i)
         for c in range(ncell + 1):
-            self.gather(c, dt)
+            if go:
+                self.gather(c, dt)
         if ti.static(self.once):
             for u in range(pairs.ZONES // 2 * pairs.LANE):  # the even zones, then the odd ones
-                self.pair_once.phase(u, 0)
+                if go:
+                    self.pair_once.phase(u, 0)
             for u in range(pairs.ZONES // 2 * pairs.LANE):
-                self.pair_once.phase(u, 1)
+                if go:
+                    self.pair_once.phase(u, 1)
         for b in range(self.nblk):
-            mx = self.MaxT(0)
-            for i in range(b * self.blk, ti.min((b + 1) * self.blk, S.n)):
-                self.forces(i, dt, mx)
-            if ti.static(S.cpu):
-                self.bmax[b] = mx
-            else:
-                for k in ti.static(self._maxima):
-                    ti.atomic_max(S.stats[None][k], mx[k])
+            if go:
+                self.force_block(b, dt)
         # light loops on one CPU thread: a parallel loop's wake-up cost more than zeroing the cells
         # (measured: 0.12 ms a step at 8e3 cells, 4 % of a dam-break step at dx 0.015)
         ti.loop_config(serialize=S.cpu)
         for c in range(ncell + 2):
-            S.grid.fcnt[c] = ti.cast(0, S.grid.fdtype)
+            if go:
+                S.grid.fcnt[c] = ti.cast(0, S.grid.fdtype)
         ti.loop_config(serialize=True)
         for _ in range(1):  # one serial task after the parallel loops
-            for b in range(self.nblk if ti.static(S.cpu) else 0):
-                for k in ti.static(self._maxima):
-                    S.stats[None][k] = ti.max(S.stats[None][k], self.bmax[b][k])
-            next_dt(S)
-            self.dtlog[k] = S.prm[None].dt
+            if go:
+                for b in range(self.nblk if ti.static(S.cpu) else 0):
+                    for k in ti.static(self._maxima):
+                        S.stats[None][k] = ti.max(S.stats[None][k], self.bmax[b][k])
+                next_dt(S)
+                self.dtlog[k] = S.prm[None].dt
             self.dtlog[BATCH] = ti.cast(S.stats[None].bad_code, S.real)

@@ -26,12 +26,12 @@ class Shepard(Module):
     def _filter(self):
         S = self.S
         for i in range(S.n):
-            if S.p.kind[i] == FLUID:
+            if S.stepper.live[None] and S.p.kind[i] == FLUID:  # not after a parked step
                 acc = ti.Struct(num=0.0, den=0.0)  # the self term comes with the neighbours
                 S.grid.for_neighbours(S.p, i, S.p.x[i], self.shepard_pair, acc)
                 S.tmp.rho[i] = acc.num / acc.den
         for i in range(S.n):
-            if S.p.kind[i] == FLUID:
+            if S.stepper.live[None] and S.p.kind[i] == FLUID:
                 S.p.rho[i] = S.tmp.rho[i]
 
     @ti.func
