@@ -119,7 +119,7 @@ t2 = time.perf_counter()
 batch = getattr(s, "steps_ahead_allowed", False)
 left = steps
 while left > 0:   # as the runner steps: in batches with one read each, where no paddle needs the host
-    n = min(left, 64) if batch else 1
+    n = min(left, getattr(s, "batch", 64)) if batch else 1
     s.step_ahead(n) if batch else s.step()
     left -= n
 s.dt
