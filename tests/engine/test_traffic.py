@@ -105,6 +105,9 @@ def test_steps_past_the_time_given_park():
         assert np.array_equal(a[k], b[k]), k
     many.stats[None].bad_code = 1
     assert many.step_ahead(5) == 1 and many.health == 1
+    many.health = 0
+    assert many.read_health() == 1  # the health's own slot, past the host's batch of 64
+    assert many.batch == 64 < many.stepper.slot_health
 
 
 def test_a_run_that_parks_writes_what_one_that_does_not_writes(tmp_path):

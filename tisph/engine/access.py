@@ -99,26 +99,25 @@ class SolverAPI:
         for dt in log:  # the dt each step took, summed in step order
             self.time += self._dt
             self._dt = float(dt)
-        return len(log)  # the steps taken: fewer than asked where the paddle's series did not hold
+        return len(log)  # fewer than asked where the paddle's series did not hold, or steps parked
 
     def _read_log(self, n, parking):
         """The dt of each step the batch of n took, and the health code: element by element on
         the CPU for a short batch (5 us a read), else in one transfer."""
-        last = self.stepper.batch + 1
+        health, taken, log = self.stepper.slot_health, self.stepper.slot_taken, self.stepper.dtlog
         if n <= self.read_elements:
             self.health_read = n > 1 or parking or self.steps % 10 == 0  # a single step: every 10 steps
             if self.health_read:
-                self.health = int(self.stepper.dtlog[last - 1])
-            taken = int(self.stepper.dtlog[last]) if parking or self.health else n
-            return [self.stepper.dtlog[k] for k in range(taken)]
-        log = self.stepper.dtlog.to_numpy()  # the batch's one transfer, the health with it
+                self.health = int(log[health])
+            return [log[k] for k in range(int(log[taken]) if parking or self.health else n)]
+        log = log.to_numpy()  # the batch's one transfer, the health with it
         self.health_read = True
-        self.health = int(log[last - 1])
-        return log[: int(log[last]) if parking or self.health else n]
+        self.health = int(log[health])
+        return log[: int(log[taken]) if parking or self.health else n]
 
     def read_health(self):
         """The health code as the last step left it (one read of the device)."""
-        self.health = int(self.stepper.dtlog[self.batch])
+        self.health = int(self.stepper.dtlog[self.stepper.slot_health])
         self.health_read = True
         return self.health
 

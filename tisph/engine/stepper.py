@@ -77,11 +77,11 @@ class Stepper:
         self.blk = max(1, S.n // 1024) if S.cpu else 1
         self.nblk = (S.n + self.blk - 1) // self.blk
         self.bmax = self.MaxT.field(shape=self.nblk if S.cpu else 1)
-        # each step k of a batch writes the dt it chose into dtlog[k], and the health code into
-        # the last slot: the host reads the batch back in one transfer (access.py, step_ahead)
-        # the slot after it the steps the batch took (the rest parked: a step parks once the batch
-        # has reached the time it was given, or the health has gone bad)
-        self.batch = BATCH
+        # each step k of a batch writes the dt it chose into dtlog[k], the health code into
+        # slot_health and the steps the batch took into slot_taken (the rest parked: a step parks
+        # once the batch has reached the time it was given, or the health has gone bad); the host
+        # reads the batch back in one transfer (access.py, step_ahead)
+        self.slot_health, self.slot_taken = BATCH, BATCH + 1
         self.dtlog = ti.field(S.real, shape=BATCH + 2)
         self.ptau = ti.field(S.real, shape=())  # time into a batch: the paddle's series, the stop
         self.live = ti.field(ti.i32, shape=())  # 0 where the last step launched was parked
@@ -313,7 +313,7 @@ class Stepper:
         self.live[None] = go
         if go:
             self.ptau[None] = tau
-            self.dtlog[BATCH + 1] = ti.cast(k + 1, S.real)
+            self.dtlog[self.slot_taken] = ti.cast(k + 1, S.real)
             if ti.static(S.table.has("pd")):
                 if fit == 0:
                     S.prm[None].pd = ti.cast(pd, S.real)
@@ -374,4 +374,4 @@ class Stepper:
                         S.stats[None][k] = ti.max(S.stats[None][k], self.bmax[b][k])
                 next_dt(S)
                 self.dtlog[k] = S.prm[None].dt
-            self.dtlog[BATCH] = ti.cast(S.stats[None].bad_code, S.real)
+            self.dtlog[self.slot_health] = ti.cast(S.stats[None].bad_code, S.real)
