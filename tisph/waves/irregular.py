@@ -70,8 +70,16 @@ def _key(p, depth, t_end, g):
     )
 
 
+def irregular_components(p, depth, t_end, g=G):
+    """(f, X, phase): the components irregular_series sums, X_i sin(2 pi f_i t + phase_i) before
+    the ramp (read-only arrays). The paddle sums them at each time it is asked for, a smooth
+    function of time that a GPU follows over a batch of steps (engine/batch.py, paddle_fit)."""
+    f, _, _, X, phase = _components(*_key(p, depth, t_end, g))
+    return f, X, phase
+
+
 @functools.lru_cache(maxsize=4)
-def _irregular_series(kind, name, hs, tp, gamma, seed, band, ramp_periods, depth, t_end, g, x_at=None):
+def _components(kind, name, hs, tp, gamma, seed, band, ramp_periods, depth, t_end, g):
     fp = 1.0 / tp
     lo, hi = (b * fp for b in band)
     t_rep = max(t_end, 100.0 * tp)
@@ -82,6 +90,15 @@ def _irregular_series(kind, name, hs, tp, gamma, seed, band, ramp_periods, depth
     kh = np.array([wavenumber(2 * math.pi * v, depth, g) * depth for v in f])
     X = a / np.array([transfer(v) for v in kh])
     phase = np.random.default_rng(seed).uniform(0, 2 * math.pi, n)
+    for v in (f, a, kh, X, phase):
+        v.setflags(write=False)
+    return f, a, kh, X, phase
+
+
+@functools.lru_cache(maxsize=4)
+def _irregular_series(kind, name, hs, tp, gamma, seed, band, ramp_periods, depth, t_end, g, x_at=None):
+    f, a, kh, X, phase = _components(kind, name, hs, tp, gamma, seed, band, ramp_periods, depth, t_end, g)
+    n = len(f)
     t = np.arange(0.0, t_end + 2 * tp, tp / 50.0)
     x = np.zeros_like(t)
     for i in range(0, n, 64):  # in blocks: n x len(t) at once can be large

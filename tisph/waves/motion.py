@@ -14,13 +14,26 @@ from ..settings.config import ConfigError, check_file
 
 
 class Motion:
-    def __init__(self, kind, stroke=0.0, period=1.0, ramp_periods=2.0, lever=1.0, series=None, second=(), duration=0.0):
+    def __init__(
+        self,
+        kind,
+        stroke=0.0,
+        period=1.0,
+        ramp_periods=2.0,
+        lever=1.0,
+        series=None,
+        second=(),
+        duration=0.0,
+        components=None,
+    ):
         """kind: piston | flap; stroke S (m, peak to peak); period T (s); ramp over
         ramp_periods periods (0: none); lever: hinge to still-water level (flap); series:
         (t, X) arrays of surface displacement in metres instead of the sinusoid; second: the
         (sin, cos) amplitudes (m) of the second-order stroke at 2 omega (second_order_stroke);
         duration: the paddle ramps down over the same ramp before this time and stands still
-        after it (0: never)."""
+        after it (0: never); components: (f, X, phase) arrays, the displacement
+        sum X_i sin(2 pi f_i t + phase_i) under the ramp instead of the sinusoid (a spectrum's,
+        waves/irregular.py)."""
         self.kind = kind
         self.duration = float(duration)
         self.second = tuple(float(b) for b in second) if second else ()
@@ -29,6 +42,7 @@ class Motion:
         self.t_ramp = float(ramp_periods) * self.T
         self.lever = float(lever)
         self.series = None
+        self.components = components
         # a smooth function of time alone: the solver may follow it by a series over a batch of
         # steps (engine/access.py, paddle_fit); a measured series is piecewise linear
         self.smooth = series is None
@@ -67,8 +81,14 @@ class Motion:
         if self.series is not None:
             ts, xs, vs = self.series
             return float(np.interp(t, ts, xs)), float(np.interp(t, ts, vs))
-        a, w = 0.5 * self.S, self.omega
         r, dr = self.ramp(t)
+        if self.components is not None:
+            f, A, phase = self.components
+            w = 2 * math.pi * f
+            arg = w * t + phase
+            s = float(A @ np.sin(arg))
+            return r * s, dr * s + r * float((A * w) @ np.cos(arg))
+        a, w = 0.5 * self.S, self.omega
         X = r * a * math.sin(w * t)
         V = dr * a * math.sin(w * t) + r * a * w * math.cos(w * t)
         if self.second:  # second order in the amplitude, so its ramp is r^2

@@ -13,7 +13,7 @@ from ..settings.config import ConfigError
 from ..settings.plausible import check_regular_waves, height_guess, unit_guess
 from ..settings.schema import K, choices, ranges, values
 from .absorb import absorbing, check_absorb
-from .irregular import check_irregular, irregular_series
+from .irregular import check_irregular, irregular_components, irregular_series
 from .motion import Motion, read_series
 from .second_order import second_order_stroke
 from .theory import linear_wave, wavenumber
@@ -156,7 +156,9 @@ def paddle(cfg, depth, height, floor_y=0.0):
     dx, L = num.dx, num.wall_layers
     pts = block(-L * dx, floor_y, 0.0, height, dx)
     series = read_series(p.series) if p.series else None
-    if p.get("spectrum"):
+    components = None
+    if p.get("spectrum"):  # the components summed at each time; their sampled sum for the reach
+        components = irregular_components(p, depth, cfg.run.end_time)
         series = irregular_series(p, depth, cfg.run.end_time)
     second = ()
     if p.order == 2:
@@ -168,9 +170,10 @@ def paddle(cfg, depth, height, floor_y=0.0):
         wave_period(p),
         p.ramp_periods,
         lever=depth,
-        series=series,
+        series=None if components else series,
         duration=p.get("duration", 0.0),
         second=second,
+        components=components,
     )
     reach = 0.5 * (p.stroke if series is None else 2 * float(np.abs(series[1]).max()))
     if p.get("absorb"):  # the correction may take the piston as far again as its stroke
