@@ -241,6 +241,27 @@ def test_irregular_paddle_signal_makes_the_target_spectrum():
     )
 
 
+def test_a_spectrums_paddle_sums_its_components_and_a_batch_can_follow_it():
+    """The paddle sums the components at each time asked: the sampled series at its samples, the
+    exact rate between them, a smooth function a batch's Chebyshev series follows (where the
+    sampled series' linear interpolation has a kink at every sample)."""
+    from tisph.engine.batch import paddle_fit
+
+    p = dict(type="piston", spectrum="jonswap", hs=0.04, tp=0.9, gamma=3.3, seed=1, band=[0.5, 2.0], ramp_periods=2.0)
+    d = 0.25
+    t, x = irregular.irregular_series(p, d, 60.0)
+    m = Motion("piston", 0.0, 0.9, 2.0, lever=d, components=irregular.irregular_components(p, d, 60.0))
+    sampled = Motion("piston", 0.0, 0.9, 2.0, lever=d, series=(t, x))
+    assert m.smooth and m(0.0) == (0.0, 0.0)
+    late = slice(200, 2000)
+    assert np.array([m.surface(v)[0] for v in t[late]]) == pytest.approx(x[late], abs=1e-12)
+    e = 1e-6
+    for tq in (3.01, 7.777, 12.3456):
+        assert m.surface(tq)[1] == pytest.approx((m.surface(tq + e)[0] - m.surface(tq - e)[0]) / (2 * e), rel=1e-5)
+    assert all(paddle_fit(m, 2.0 + 0.37 * i, 0.128) is not None for i in range(20))
+    assert sum(paddle_fit(sampled, 2.0 + 0.37 * i, 0.128) is not None for i in range(20)) == 0
+
+
 def test_irregular_target_is_the_components_waves_where_the_gauge_is():
     """The absorbing paddle's target for a spectrum: at the paddle each component's elevation is
     its stroke times Biesel's transfer, a quarter period ahead (X sin -> eta cos, as the regular
