@@ -250,7 +250,7 @@ def test_a_spectrums_paddle_sums_its_components_and_a_batch_can_follow_it():
     p = dict(type="piston", spectrum="jonswap", hs=0.04, tp=0.9, gamma=3.3, seed=1, band=[0.5, 2.0], ramp_periods=2.0)
     d = 0.25
     t, x = irregular.irregular_series(p, d, 60.0)
-    m = Motion("piston", 0.0, 0.9, 2.0, lever=d, components=irregular.irregular_components(p, d, 60.0))
+    m = Motion("piston", 0.0, 0.9, 2.0, lever=d, series=irregular.irregular_components(p, d, 60.0))
     sampled = Motion("piston", 0.0, 0.9, 2.0, lever=d, series=(t, x))
     assert m.smooth and m(0.0) == (0.0, 0.0)
     late = slice(200, 2000)

@@ -293,8 +293,8 @@ class Stepper:
     # ------------------------------------------------------------------ the step
     @ti.kernel
     def step(self, k: ti.i32, fit: ti.i32, pd: ti.f64, pv: ti.f64, stop: ti.f64):  # noqa: C901 (one kernel: the step's loops in order)
-        """One step; writes the next step's dt into dtlog[k] and the health code into the log's
-        last slot (no value returned: a return waits for the device). Where the paddle module
+        """One step; writes the next step's dt into dtlog[k] and the health code into its
+        slot_health (no value returned: a return waits for the device). Where the paddle module
         is on, its displacement and rate at the step's end: pd, pv as given (fit 0; the launch's
         arguments, not a launch of their own), or (fit 1) the Chebyshev series in pfit over the
         batch's span, at the time the batch's steps have taken so far (batch.py, paddle_fit).

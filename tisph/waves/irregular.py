@@ -9,6 +9,7 @@ import numpy as np
 from ..constants import G
 from ..settings.config import ConfigError
 from ..settings.schema import K, choices, ranges, values
+from .motion import Components
 from .theory import biesel_flap, biesel_piston, wavenumber
 
 IRREGULAR = {
@@ -71,11 +72,11 @@ def _key(p, depth, t_end, g):
 
 
 def irregular_components(p, depth, t_end, g=G):
-    """(f, X, phase): the components irregular_series sums, X_i sin(2 pi f_i t + phase_i) before
-    the ramp (read-only arrays). The paddle sums them at each time it is asked for, a smooth
-    function of time that a GPU follows over a batch of steps (engine/batch.py, paddle_fit)."""
+    """The components irregular_series sums, X_i sin(2 pi f_i t + phase_i) before the ramp
+    (read-only arrays). The paddle sums them at each time it is asked for, a smooth function of
+    time that a GPU follows over a batch of steps (engine/batch.py, paddle_fit)."""
     f, _, _, X, phase = _components(*_key(p, depth, t_end, g))
-    return f, X, phase
+    return Components(f, X, phase)
 
 
 @functools.lru_cache(maxsize=4)

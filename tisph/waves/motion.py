@@ -7,33 +7,29 @@ horizontal excursion at the still-water level, as in Biesel's transfer function.
 """
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 
 from ..settings.config import ConfigError, check_file
 
 
+class Components(NamedTuple):
+    """A displacement sum X_i sin(2 pi f_i t + phase_i) (a spectrum's, waves/irregular.py)."""
+
+    f: np.ndarray
+    X: np.ndarray
+    phase: np.ndarray
+
+
 class Motion:
-    def __init__(
-        self,
-        kind,
-        stroke=0.0,
-        period=1.0,
-        ramp_periods=2.0,
-        lever=1.0,
-        series=None,
-        second=(),
-        duration=0.0,
-        components=None,
-    ):
+    def __init__(self, kind, stroke=0.0, period=1.0, ramp_periods=2.0, lever=1.0, series=None, second=(), duration=0.0):
         """kind: piston | flap; stroke S (m, peak to peak); period T (s); ramp over
         ramp_periods periods (0: none); lever: hinge to still-water level (flap); series:
-        (t, X) arrays of surface displacement in metres instead of the sinusoid; second: the
-        (sin, cos) amplitudes (m) of the second-order stroke at 2 omega (second_order_stroke);
-        duration: the paddle ramps down over the same ramp before this time and stands still
-        after it (0: never); components: (f, X, phase) arrays, the displacement
-        sum X_i sin(2 pi f_i t + phase_i) under the ramp instead of the sinusoid (a spectrum's,
-        waves/irregular.py)."""
+        (t, X) arrays of surface displacement in metres instead of the sinusoid, or Components
+        summed at each time under the ramp; second: the (sin, cos) amplitudes (m) of the
+        second-order stroke at 2 omega (second_order_stroke); duration: the paddle ramps down
+        over the same ramp before this time and stands still after it (0: never)."""
         self.kind = kind
         self.duration = float(duration)
         self.second = tuple(float(b) for b in second) if second else ()
@@ -42,11 +38,11 @@ class Motion:
         self.t_ramp = float(ramp_periods) * self.T
         self.lever = float(lever)
         self.series = None
-        self.components = components
+        self.components = series if isinstance(series, Components) else None
         # a smooth function of time alone: the solver may follow it by a series over a batch of
         # steps (engine/access.py, paddle_fit); a measured series is piecewise linear
-        self.smooth = series is None
-        if series is not None:
+        self.smooth = series is None or self.components is not None
+        if series is not None and self.components is None:
             t, x = (np.asarray(a, float) for a in series)
             self.series = (t, x, np.gradient(x, t) if len(t) > 1 else np.zeros_like(x))
 

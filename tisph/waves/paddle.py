@@ -156,10 +156,8 @@ def paddle(cfg, depth, height, floor_y=0.0):
     dx, L = num.dx, num.wall_layers
     pts = block(-L * dx, floor_y, 0.0, height, dx)
     series = read_series(p.series) if p.series else None
-    components = None
-    if p.get("spectrum"):  # the components summed at each time; their sampled sum for the reach
-        components = irregular_components(p, depth, cfg.run.end_time)
-        series = irregular_series(p, depth, cfg.run.end_time)
+    if p.get("spectrum"):  # the components, summed at each time
+        series = irregular_components(p, depth, cfg.run.end_time)
     second = ()
     if p.order == 2:
         second = second_order_stroke(p.type, p.stroke, 2 * math.pi / p.period, depth)
@@ -170,12 +168,12 @@ def paddle(cfg, depth, height, floor_y=0.0):
         wave_period(p),
         p.ramp_periods,
         lever=depth,
-        series=None if components else series,
+        series=series,
         duration=p.get("duration", 0.0),
         second=second,
-        components=components,
     )
-    reach = 0.5 * (p.stroke if series is None else 2 * float(np.abs(series[1]).max()))
+    sampled = irregular_series(p, depth, cfg.run.end_time) if p.get("spectrum") else series
+    reach = 0.5 * (p.stroke if sampled is None else 2 * float(np.abs(sampled[1]).max()))
     if p.get("absorb"):  # the correction may take the piston as far again as its stroke
         motion, reach = absorbing(motion, cfg, depth, floor_y + depth), 2 * reach
     return pts, motion, dict(motion=motion, pivot=(0.0, floor_y)), reach
