@@ -84,7 +84,7 @@ def test_the_run_loops_quiet_steps_read_nothing():
     assert r["quiet_steps"] > 100
     assert r["transfers_quiet"]["max"] == 0, r  # before batches: 1 a step; before parking: 0.11
     assert r["launches_quiet"]["max"] == 1  # the step kernel alone
-    assert 0 < r["parked"] < 0.4 * r["steps"], r
+    assert 0 < r["parked"] < 0.15 * r["steps"], r  # a probe every ten steps, at most one parked after it
 
 
 def test_steps_past_the_time_given_park():

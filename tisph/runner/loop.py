@@ -291,8 +291,8 @@ class Run(Outputs):
             return 1
         left = self._until(t_end)
         n = math.floor(left / s.dt_bound)
-        if s.park:  # to the horizon at the last step's dt and a tenth more: the steps after it park
-            n = max(n, math.ceil(1.1 * left / s.dt) + 1)
+        if s.park:  # to the horizon at the last step's dt and 3 % more: the steps after it park
+            n = max(n, math.ceil(1.03 * left / s.dt))
         if max_steps:
             n = min(n, max_steps - s.steps)
         if obs.control is not None:
