@@ -68,6 +68,33 @@ def test_the_paddles_series_over_a_batch_follows_its_motion():
     assert np.max(np.abs(a["v"] - b["v"])) < 1e-3 * np.max(np.abs(a["v"]))
 
 
+def test_a_batch_across_the_ramps_end_follows_it_in_two_pieces():
+    """The ramp's end is a kink no one series follows: a batch across it takes one series on each
+    side, and the device's paddle is the host's to round-off, with no step alone. A ramp this
+    steep (0.15 periods) amplifies the series' f32 rounding to 1.5e-3 dx after 300 steps whether
+    the steps across the kink go alone (as they did) or in two pieces (1.8e-3 dx)."""
+    from tisph.engine.batch import CHEB, paddle_fit
+
+    ov = dict(FLUME, **{"paddle.ramp_periods": 0.15})
+    host, dev = _solver(flume, **ov), _solver(flume, **ov)
+    (end,) = dev.motion.breaks
+    assert paddle_fit(dev.motion, end - 0.01, 0.02)[2 * CHEB + 2] == pytest.approx(0.01)  # where it splits
+    dev.paddle_series = True
+    for _ in range(300):
+        host.step()
+    assert host.time > end + 0.01
+    dev.prime()
+    while dev.steps < 300:
+        n = min(dev.batch, 300 - dev.steps)
+        assert dev.step_ahead(n) == n  # none alone, across the kink too
+    assert dev.time == host.time
+    d, _ = dev.motion(dev.time)
+    assert abs(float(dev.prm[None].pd) - d) <= 1e-6 * abs(d) + 1e-9
+    a, b = host.state(("x", "v")), dev.state(("x", "v"))
+    assert np.max(np.abs(a["x"] - b["x"])) < 5e-3 * 0.025
+    assert np.max(np.abs(a["v"] - b["v"])) < 3e-3 * np.max(np.abs(a["v"]))
+
+
 def test_an_absorbing_paddle_steps_one_at_a_time():
     s = _solver(flume, **dict(FLUME, **{"paddle.absorb": True}))
     s.paddle_series = True

@@ -81,8 +81,7 @@ class SolverAPI:
         if fit is None:  # the kernel moves the paddle to t + dt
             args = (0,) + self._paddle_at(self.time + self._dt)
         else:
-            span, cd, cv = fit
-            self.stepper.pfit.from_numpy(np.array(list(cd) + list(cv) + [span], dtype=self.np_real))
+            self.stepper.pfit.from_numpy(np.array(fit, dtype=self.np_real))
             args = (1, 0.0, 0.0)
         # the device's f32 sum of the batch's steps may run ahead of the host's f64 one: it stops
         # a little short, so no step runs past the one that reaches `until` (a step short costs

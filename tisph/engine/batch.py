@@ -20,11 +20,30 @@ READ_ELEMENTS = 16
 CHEB = 8
 
 
+# the device's copy of a fit (pfit): the first piece's displacement and rate series and where it
+# ends, then the second piece's and the batch's span
+PFIT = 4 * CHEB + 6
+
+
 def paddle_fit(motion, t0, span):
     """Chebyshev series of motion(t) = (displacement, rate) over [t0, t0 + span], for the device to
-    evaluate at each step's time: (span, cd, cv), or None where a series misses the motion by
-    more than 3e-8 of its largest value at 4 points between each pair of nodes (a kink: the
-    ramp's end, a ramp down; then the steps go one at a time)."""
+    evaluate at each step's time, in two pieces where one of the motion's kinks (motion.breaks:
+    the ramp's end, the ramp down's) falls inside: the values for pfit (PFIT of them), or None
+    where two kinks do, or a piece misses the motion by more than 3e-8 of its largest value at 4
+    points between each pair of nodes (then the steps go one at a time)."""
+    inside = [b - t0 for b in getattr(motion, "breaks", ()) if t0 < b < t0 + span]
+    if len(inside) > 1:
+        return None
+    split = inside[0] if inside else span
+    first = _series(motion, t0, split)
+    second = _series(motion, t0 + split, span - split) if inside else first
+    if first is None or second is None:
+        return None
+    return first + (split,) + second + (span,)
+
+
+def _series(motion, t0, span):
+    """The displacement's and the rate's series over [t0, t0 + span] (2 (CHEB + 1) values), or None."""
     cheb = np.polynomial.chebyshev
     nodes = np.cos(np.pi * (np.arange(CHEB + 1) + 0.5) / (CHEB + 1))
     at = lambda x: np.array([motion(t0 + 0.5 * span * (u + 1.0)) for u in x], np.float64)
@@ -33,11 +52,11 @@ def paddle_fit(motion, t0, span):
     for c, col in zip(fits, at(check).T):
         if np.max(np.abs(cheb.chebval(check, c) - col)) > 3e-8 * np.max(np.abs(col)) + 1e-30:
             return None
-    return span, tuple(fits[0]), tuple(fits[1])
+    return tuple(fits[0]) + tuple(fits[1])
 
 
 @ti.func
-def chebyshev(c: ti.template(), at: ti.template(), x):
+def chebyshev(c: ti.template(), at, x):
     """sum_j c[at + j] T_j(x), j = 0 .. CHEB, by Clenshaw's recurrence."""
     b1 = 0.0 * x
     b2 = 0.0 * x

@@ -38,7 +38,7 @@ from ..hooks.health import BAD_DENSITY, BAD_LEAK, BAD_NONE, fluid_code, report
 from ..particles import FLUID, MOVING, OUT, OUTFLOW
 from ..terms.pressure import tait
 from . import pairs
-from .batch import BATCH, CHEB, chebyshev
+from .batch import BATCH, CHEB, PFIT, chebyshev
 from .limits import next_dt
 from .pairs import PairOnce
 from .state import resolve
@@ -85,7 +85,7 @@ class Stepper:
         self.dtlog = ti.field(S.real, shape=BATCH + 2)
         self.ptau = ti.field(S.real, shape=())  # time into a batch: the paddle's series, the stop
         self.live = ti.field(ti.i32, shape=())  # 0 where the last step launched was parked
-        self.pfit = ti.field(S.real, shape=2 * CHEB + 3)  # its displacement's, its rate's, the span
+        self.pfit = ti.field(S.real, shape=PFIT)  # its series in one or two pieces (batch.py, paddle_fit)
         # the maxima a finish hook raises through pt (the pass itself raises amax2 and rhodev)
         self._module_max0 = {
             k: 0 if t == "int" else 0.0 for k, t in self.maxima.items() if k not in ("amax2", "rhodev")
@@ -318,10 +318,14 @@ class Stepper:
                 if fit == 0:
                     S.prm[None].pd = ti.cast(pd, S.real)
                     S.prm[None].pv = ti.cast(pv, S.real)
-                else:
-                    x = 2.0 * tau / self.pfit[2 * CHEB + 2] - 1.0
-                    S.prm[None].pd = chebyshev(self.pfit, 0, x)
-                    S.prm[None].pv = chebyshev(self.pfit, CHEB + 1, x)
+                else:  # the first piece to its end, then the second
+                    split = self.pfit[2 * CHEB + 2]
+                    at, t0, span = 0, 0.0, split
+                    if tau > split:
+                        at, t0, span = 2 * CHEB + 3, split, self.pfit[PFIT - 1] - split
+                    x = 2.0 * (tau - t0) / span - 1.0
+                    S.prm[None].pd = chebyshev(self.pfit, at, x)
+                    S.prm[None].pv = chebyshev(self.pfit, at + CHEB + 1, x)
         ncell = S.grid.ncells
         for i in range(S.n):
             if go:

@@ -55,6 +55,14 @@ class Motion:
         a = math.pi * (self.duration - t) / self.t_ramp
         return 0.5 * (1 - math.cos(a)), -0.5 * math.pi / self.t_ramp * math.sin(a)
 
+    @property
+    def breaks(self):
+        """The times where the motion has a kink: the ramp's end, the ramp down's start and end."""
+        b = (self.t_ramp,) if self.t_ramp > 0 else ()
+        if self.duration > 0:
+            b += (self.duration - self.t_ramp, self.duration)
+        return b
+
     def surface(self, t):
         """Horizontal displacement X(t) at the still-water level and its rate X'(t)."""
         e, de = self.envelope(t)
