@@ -103,16 +103,17 @@ class SolverAPI:
     def _read_log(self, n, parking):
         """The dt of each step the batch of n took, and the health code: element by element on
         the CPU for a short batch (5 us a read), else in one transfer."""
-        health, taken, log = self.stepper.slot_health, self.stepper.slot_taken, self.stepper.dtlog
+        log, taken = self.stepper.dtlog, self.stepper.slot_taken
         if n <= self.read_elements:
-            self.health_read = n > 1 or parking or self.steps % 10 == 0  # a single step: every 10 steps
-            if self.health_read:
-                self.health = int(log[health])
+            self.health_read = False
+            if n > 1 or parking or self.steps % 10 == 0:  # a single step: the health every 10 steps
+                self.read_health()
+            # every step taken unless some parked: a read saved
             return [log[k] for k in range(int(log[taken]) if parking or self.health else n)]
-        log = log.to_numpy()  # the batch's one transfer, the health with it
+        log = log.to_numpy()  # the batch's one transfer, the health and the steps taken with it
         self.health_read = True
-        self.health = int(log[health])
-        return log[: int(log[taken]) if parking or self.health else n]
+        self.health = int(log[self.stepper.slot_health])
+        return log[: int(log[taken])]
 
     def read_health(self):
         """The health code as the last step left it (one read of the device)."""

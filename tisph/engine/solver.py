@@ -125,7 +125,7 @@ class Solver(SolverAPI):
         # the run loop launches past an output and lets the steps after it park (stepper.py) where
         # a read waits for the device; on the CPU a read costs 5 us, a parked step a launch
         self.park = bool(params.get("park", not self.cpu))
-        self.batch = min(int(params.get("batch", BATCH if self.park else BATCH_CPU)), BATCH)
+        self.batch = BATCH if self.park else BATCH_CPU
 
     def has_stat(self, name):
         return self.table.has_stat(name)

@@ -246,7 +246,8 @@ class Run(Outputs):
         backed = s.steps
         while s.time < t_end - 1e-12 and (max_steps == 0 or s.steps < max_steps):
             ts = time.perf_counter()
-            s.step_ahead(self._quiet_steps(t_end, max_steps), self._until(t_end) if s.park else None)
+            n, left = self._quiet_steps(t_end, max_steps)
+            s.step_ahead(n, left if s.park else None)
             if obs.control is not None and s.steps % obs.control_every == 0:
                 obs.control(s)
             self.step_s += time.perf_counter() - ts
@@ -282,14 +283,16 @@ class Run(Outputs):
         return bool(self.events) and self.solver.time >= self.events[0][0] - 1e-12
 
     def _quiet_steps(self, t_end, max_steps):
-        """How many steps may run with no read of the device between them (solver.step_ahead):
-        none but the last may reach an output, an event or the end (no step is longer than
-        dt_bound); where the solver parks (a GPU), past it, the steps after it parked. The
-        last is at most a control step or the step cap."""
+        """(n, left): how many steps may run with no read of the device between them
+        (solver.step_ahead), and the seconds left to the next output, event or the end. None
+        but the last step may reach that horizon (no step is longer than dt_bound); where the
+        solver parks (a GPU), past it, the steps after it parked. The last is at most a control
+        step or the step cap."""
         s, obs = self.solver, self.case.observers
+        horizon = min(t_end, self.next_output, self.events[0][0] if self.events else math.inf)
+        left = horizon - 1e-12 - s.time
         if not s.steps_ahead_allowed:
-            return 1
-        left = self._until(t_end)
+            return 1, left
         n = math.floor(left / s.dt_bound)
         if s.park:  # to the horizon at the last step's dt and 3 % more: the steps after it park
             n = max(n, math.ceil(1.03 * left / s.dt))
@@ -297,12 +300,7 @@ class Run(Outputs):
             n = min(n, max_steps - s.steps)
         if obs.control is not None:
             n = min(n, obs.control_every - s.steps % obs.control_every)
-        return max(1, min(n, s.batch))
-
-    def _until(self, t_end):
-        """Seconds to the next output, event or the end: where the batch's steps park."""
-        horizon = min(t_end, self.next_output, self.events[0][0] if self.events else math.inf)
-        return horizon - 1e-12 - self.solver.time
+        return max(1, min(n, s.batch)), left
 
     def _progress_line(self, t_end):
         s = self.solver
