@@ -135,11 +135,12 @@ def init(arch="cpu", precision="f32", quiet=True):
     fp = {"f32": ti.f32, "f64": ti.f64}[precision]
     # auto falls back to the CPU silently; gpu says so (the runner logs it too)
     level = ti.ERROR if arch == "auto" else (ti.WARN if quiet else ti.INFO)
-    # fast_math off: with it LLVM contracts and reorders float operations according to the shape
-    # of the traced code, so moving a term into another function changed results in the last
-    # bit; without it a refactor that keeps the order of the terms keeps every bit, and the
-    # dam break at dx 0.03 ran as fast (2.83e6 against 2.54e6 particle-steps/s, back to back)
-    kwargs = dict(default_fp=fp, log_level=level, random_seed=0, fast_math=False)
+    # fast_math on: the pair loop's sums reassociated into the CPU's vector lanes (engine/grid.py,
+    # lanes). The price: LLVM orders float operations by the shape of the traced code, so moving
+    # a term into another function can change a result in its last bit (the golden states are
+    # re-recorded then). the health check's NaN and infinity tests read the bits
+    # (Taichi's isnan, isinf), which no float flag can fold away
+    kwargs = dict(default_fp=fp, log_level=level, random_seed=0, fast_math=True)
     threads = os.environ.get("TISPH_THREADS")
     if threads:
         kwargs["cpu_max_num_threads"] = int(threads)

@@ -1,7 +1,9 @@
 """The engine's GPU paths, run on the CPU: with the CPU-only choices turned off (byte-sized
-flags, block maxima without atomics, serialised light loops, each pair once) a step gives the
-same state bit for bit as the CPU's gather pass (and each pair once gives it to rounding,
-tests/engine/test_pair_once.py), so a GPU build differs from the CPU build only in rounding."""
+flags, block maxima without atomics, serialised light loops, each pair once, the vector lanes)
+a step gives the CPU's gather pass's state to rounding (and each pair once gives it to rounding,
+tests/engine/test_pair_once.py), so a GPU build differs from the CPU build only in rounding.
+Rounding, not bits: under fast math (runtime.py) LLVM orders a sum by the shape of the code
+around it, and the two builds' code differs."""
 
 import os
 
@@ -27,16 +29,20 @@ def _run(steps, **params):
 
 def test_gpu_layout_and_atomic_maxima_give_the_cpu_state(monkeypatch):
     runtime.init("cpu", "f32")
-    cpu, a = _run(60, pair_once=False)
+    cpu, a = _run(60, pair_once=False, lanes=False)  # a GPU's threads are its lanes: the branch form
     assert cpu.cpu and cpu.stepper.nblk >= min(cpu.n, 1024)  # 1,024 blocks or more: every thread takes a share
     monkeypatch.setattr(state, "on_cpu", lambda: False)
     monkeypatch.setattr(grid, "on_cpu", lambda: False)
     gpu, b = _run(60)
     assert not gpu.cpu and gpu.stepper.blk == 1 and gpu.pair_once is None and gpu.grid.fdtype != cpu.grid.fdtype
     assert gpu.p.kind.dtype != cpu.p.kind.dtype
-    assert gpu.time == cpu.time and gpu.max_density_error == cpu.max_density_error
-    for k in ("x", "v", "rho"):
-        assert np.array_equal(a[k], b[k]), k
+    assert gpu.steps == cpu.steps and not gpu.lanes
+    # 3-10x the differences measured after 60 steps (time 1.6e-5, positions 1.3e-3 dx, densities
+    # 3.9e-3 kg/m3, velocities 4.8e-3 of the top speed); a term missing moves them by order one
+    assert abs(gpu.time - cpu.time) < 1e-4 * cpu.time
+    assert np.abs(a["x"] - b["x"]).max() < 1e-2 * 0.04
+    assert np.abs(a["rho"] - b["rho"]).max() < 2e-2
+    assert np.abs(a["v"] - b["v"]).max() < 2e-2 * np.abs(a["v"]).max()
     assert np.array_equal(a["kind"].astype(int), b["kind"].astype(int))
 
 

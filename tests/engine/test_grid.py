@@ -56,6 +56,23 @@ def test_cell_list_equals_brute_force(seed):
     assert np.array_equal(ids, bi)
 
 
+@pytest.mark.parametrize("width", [0.15, 1.5])
+def test_the_lanes_visit_what_brute_force_finds(width):
+    """The force pass's vector lanes (grid.py): each stencil row padded to whole eights and to
+    at least 32 candidates, the padding out of reach. In a domain three cells wide (0.15 m) a
+    padded row runs on into the next row of cells, within the support: counted only once."""
+    rng = np.random.default_rng(2)
+    lo, hi = np.array([0.0, 0.0]), np.array([width, 1.0])
+    x = lo + rng.random((int(600 * width / 0.15) if width < 1 else 2000, 2)) * (hi - lo)
+    s = make_solver(x, lo, hi, 0.05)
+    assert (s.grid.nx == 3) == (width < 1)
+    cnt, ids = s.neighbour_stats(lanes=True)
+    bc, bi = brute(x, s.support)
+    assert cnt.sum() > 0
+    assert np.array_equal(cnt, bc)
+    assert np.array_equal(ids, bi)
+
+
 def test_particle_outside_domain_is_counted_not_dropped():
     lo, hi = np.array([0.0, 0.0]), np.array([1.0, 1.0])
     x = np.array([[0.5, 0.5], [0.52, 0.5], [1.5, 0.5], [0.5, -0.2]])

@@ -9,9 +9,11 @@ in place of each pair once, the serial loops as one GPU thread) runs there.
 Why a tolerance and not bit for bit: the GPU's pow (SPIR-V's, exp2 of log2) rounds differently
 from the CPU's in about a quarter of its results, and the extrapolated wall's density is
 rho0 (p / B + 1)^(1/7); the impact guard then grows the difference about tenfold every 30 steps
-in a dam break. With walls that use no pow (dynamic, repulsive) the dam break's state after 120
-steps is the CPU's bit for bit. The bounds below are 3-10x the largest differences measured on
-llvmpipe (docs/performance.md); a term missing on the GPU moves the state by order one.
+in a dam break. The CPU adds the pair terms in its vector lanes' order (engine/grid.py), which
+moves a wall particle whose few fluid neighbours barely reach it most (its extrapolated
+pressure a ratio of small sums). The bounds below are 3-10x the largest differences measured on
+llvmpipe after these 60 steps (docs/performance.md); a term missing on the GPU moves the state
+by order one.
 
 Where no GPU backend can be had the tests skip, saying so; TISPH_REQUIRE_GPU=1 (set by .ci/run,
 which installs Mesa's Vulkan driver) makes that a failure."""
@@ -29,9 +31,9 @@ from tests.golden.cases import CASES, STATES
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 GOLDEN = json.load(open(STATES))
 
-# f32 tolerance of a GPU state against the CPU's (set from the differences after 120 steps): positions in units
+# f32 tolerance of a GPU state against the CPU's (set from the differences after the 60 steps below): positions in units
 # of the case's spacing, velocities of its largest speed (at least 0.01 m/s), densities relative
-TOL = {"x_rms": 5e-3, "x_max": 0.1, "v_rms": 5e-3, "v_max": 0.1, "rho_rms": 1e-4, "rho_max": 2e-3}
+TOL = {"x_rms": 5e-3, "x_max": 0.1, "v_rms": 5e-3, "v_max": 0.1, "rho_rms": 5e-4, "rho_max": 1e-2}
 GPU_ARCHES = ("vulkan", "cuda", "metal")
 
 
@@ -68,7 +70,7 @@ def spacing(case_id):
 
 
 # steps a case runs on each backend: half the golden 120 (compiling is most of the test's time;
-# the differences below were measured at 120 and grow with the steps)
+# the differences grow with the steps)
 STEPS = 60
 
 

@@ -4,7 +4,19 @@ error ladder unless another is named)."""
 import argparse
 import os
 
-from . import gci_examples, ladder, mao_held, ripple_sweep, scheme_costs, shedding, speed, standing, traffic, validate
+from . import (
+    gci_examples,
+    ladder,
+    lanes,
+    mao_held,
+    ripple_sweep,
+    scheme_costs,
+    shedding,
+    speed,
+    standing,
+    traffic,
+    validate,
+)
 from .common import PEERS, peers
 from .ladder import __doc__ as LADDER_DOC
 
@@ -134,6 +146,12 @@ def _speed_options(p):
         "(tisph/bench/traffic.py; from a source checkout)",
     )
     p.add_argument(
+        "--lanes",
+        action="store_true",
+        help="the pair loop's terms in the CPU's vector lanes against the engine's branch form "
+        "(tisph/bench/lanes.py; a minute)",
+    )
+    p.add_argument(
         "--sizes",
         type=lambda t: int(float(t)),
         nargs="+",
@@ -253,6 +271,8 @@ def main(argv=None):  # noqa: C901 (one branch a bench the command line names)
         return speed.main(a)
     if a.traffic:
         return traffic.main(a)
+    if a.lanes:
+        return lanes.main(a)
     if a.against:
         p.error("--against needs --speed")
     if a.sizes:

@@ -57,6 +57,7 @@ class ExtrapolatedWall(Module):
 
     name = "extrapolated_wall"
     on = {"wall": "adami"}
+    lanes = True
 
     def fields(self, real):
         vec2 = ti.types.vector(2, real)
@@ -69,7 +70,7 @@ class ExtrapolatedWall(Module):
     def boundary_pass(self, S, i, dt):
         acc = ti.Struct(sw=0.0, sp=0.0, sr=ti.Vector([0.0, 0.0]), sn=ti.Vector([0.0, 0.0]))
         if S.grid.fluid_near(S.tmp.x[i]):
-            S.grid.for_neighbours(S.tmp, i, S.tmp.x[i], self.boundary_pair, acc)
+            S.grid.for_neighbours(S.tmp, i, S.tmp.x[i], self.boundary_pair, acc, S.lanes)
         if acc.sw > 0.0:
             mi = ti.cast(S.tmp.mat[i], ti.i32)
             rho0, B = S.mat.rho0[mi], S.mat.B[mi]
@@ -87,12 +88,12 @@ class ExtrapolatedWall(Module):
         S = self.S
         s = S.tmp
         w = S.K.shape(ti.sqrt(r2) * S.inv_h)
-        if s.kind[j] == FLUID:
-            acc.sw += w
-            acc.sp += s.p[j] * w
-            acc.sr += s.rhoe[j] * r * w
-        elif s.kind[j] >= 0:
-            acc.sn += r * w  # away from the wall's own particles: the wall's normal
+        k = s.kind[j]
+        wf = ti.select(k == FLUID, w, 0.0)  # selects, not branches: the loop stays in lanes
+        acc.sw += wf
+        acc.sp += s.p[j] * wf
+        acc.sr += s.rhoe[j] * r * wf
+        acc.sn += r * ti.select(k >= 0 and k != FLUID, w, 0.0)  # away from the wall's own particles: the wall's normal
 
     def setup(self, S):
         self.S = S
@@ -128,6 +129,7 @@ class WallImpact(Module):
     name = "wall_impact"
     on = {"wall": "adami"}
     pair_once = {}
+    lanes = True
     params = {
         "wall_D": WALL_D,
         "guard_r0": Param(
@@ -140,11 +142,12 @@ class WallImpact(Module):
 
     @ti.func
     def pair(self, S, i, j, r, r2, nb, acc: ti.template()):
-        if nb.kj != FLUID:
-            prm = S.prm[None]
-            pj = riemann_wall_pressure(acc.rhoi, prm.c0, nb.v_ij, S.tmp.nw[j])
-            acc.a += pressure_accel(nb.m_j, 0.0, pj, acc.inv_rhoi, nb.ir_j, nb.gw)
-            acc.a += lennard_jones(prm.wall_D, prm.guard_r0, r, r2)
+        prm = S.prm[None]
+        pj = riemann_wall_pressure(acc.rhoi, prm.c0, nb.v_ij, S.tmp.nw[j])
+        f = pressure_accel(nb.m_j, 0.0, pj, acc.inv_rhoi, nb.ir_j, nb.gw) + lennard_jones(
+            prm.wall_D, prm.guard_r0, r, r2
+        )
+        acc.a += ti.select(nb.kj != FLUID, f, ti.Vector([0.0, 0.0]))  # a wall j only (a select: lanes)
 
     @ti.func
     def pair2(self, S, i, j, r, r2, nb, acc: ti.template(), sj: ti.template()):

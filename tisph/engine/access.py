@@ -230,13 +230,14 @@ class SolverAPI:
         """Bytes the particle and grid fields take on the device (from their shapes and types)."""
         return self.store.nbytes() + self.grid.nbytes()
 
-    def neighbour_stats(self):
-        """Per particle id: how many neighbours the cell grid finds, and the sum of their ids."""
+    def neighbour_stats(self, lanes=False):
+        """Per particle id: how many neighbours the cell grid finds, and the sum of their ids; with
+        lanes, as the force pass's vector lanes visit them (grid.py)."""
         if not self._primed:
             self.prime()
         cnt = np.zeros(self.n, np.int32)
         ids = np.zeros(self.n, np.int32)
-        self._neighbour_stats(cnt, ids)
+        self._neighbour_stats(cnt, ids, bool(lanes))
         return cnt, ids
 
     # ------------------------------------------------------------------ checkpoints and backup
@@ -302,11 +303,11 @@ class SolverAPI:
 
     # ------------------------------------------------------------------ kernels of the API
     @ti.kernel
-    def _neighbour_stats(self, cnt: ti.types.ndarray(), idsum: ti.types.ndarray()):
+    def _neighbour_stats(self, cnt: ti.types.ndarray(), idsum: ti.types.ndarray(), lanes: ti.template()):
         for i in range(self.n):
             if self.p.kind[i] >= 0:
                 acc = ti.Struct(n=0, ids=0)
-                self.grid.for_neighbours(self.p, i, self.p.x[i], self.count_pair, acc)
+                self.grid.for_neighbours(self.p, i, self.p.x[i], self.count_pair, acc, lanes)
                 cnt[self.p.id[i]] = acc.n
                 idsum[self.p.id[i]] = acc.ids
 
@@ -379,6 +380,6 @@ class SolverAPI:
 
     @ti.func
     def count_pair(self, i, j, r, r2, acc: ti.template()):
-        if j != i:
+        if j != i and r2 < self.support * self.support:  # the lanes visit every candidate of a row
             acc.n += 1
             acc.ids += self.p.id[j]

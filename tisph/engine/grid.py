@@ -13,6 +13,8 @@ import taichi as ti
 from ..runtime import blocks
 from .state import on_cpu, type_bytes
 
+LANE_MIN = 32  # a padded row's least length: LLVM's vector loop takes eight lanes four times a pass
+
 
 @ti.data_oriented
 class Grid:
@@ -153,22 +155,40 @@ class Grid:
 
     # ---------------------------------------------------------------- neighbours
     @ti.func
-    def for_neighbours(self, src: ti.template(), i, xi, task: ti.template(), acc: ti.template()):
+    def for_neighbours(
+        self, src: ti.template(), i, xi, task: ti.template(), acc: ti.template(), lanes: ti.template() = False
+    ):
         """Visit every j of `src` within the kernel support of xi: task(i, j, r, r2, acc).
 
         j = i is visited too: a `j != i` test in this loop measured 2.7x slower, and every
         gradient term vanishes at r = 0 anyway; a task that must skip itself tests r2 > 0.
+
+        lanes (the CPU, tasks of lane-safe modules: hooks/module.py): task is called for every
+        candidate of a stencil row, without the support's branch, over the row's range padded
+        to whole eights (at least 32: the vectorised loop's four unrolled eights), the padding's
+        lanes moved out of reach. LLVM then packs eight candidates into each instruction
+        (AVX2); a branch around the terms, a row shorter than the unrolled loop or a float
+        maximum leaves the loop scalar (`python -m tisph.bench --lanes`).
         """
-        self._visit(src, i, xi, task, acc, False)
+        self._visit(src, i, xi, task, acc, False, lanes)
 
     @ti.func
     def for_forward(self, src: ti.template(), i, xi, task: ti.template(), acc: ti.template()):
         """The forward half of i's stencil (engine/pairs.py): its own cell row after i in the
         sorted order, and the rows above; each pair of neighbours is in one of the two halves."""
-        self._visit(src, i, xi, task, acc, True)
+        self._visit(src, i, xi, task, acc, True, False)
 
     @ti.func
-    def _visit(self, src: ti.template(), i, xi, task: ti.template(), acc: ti.template(), forward: ti.template()):  # noqa: C901 (ti.static branches: one is compiled)
+    def _visit(  # noqa: C901 (ti.static branches: one is compiled)
+        self,
+        src: ti.template(),
+        i,
+        xi,
+        task: ti.template(),
+        acc: ti.template(),
+        forward: ti.template(),
+        lanes: ti.template(),
+    ):
         c = self.cell_of(xi)
         dy0 = -self.cdiv
         if ti.static(forward):
@@ -184,11 +204,7 @@ class Grid:
                     if ti.static(forward):
                         if dy == 0:
                             j0 = ti.max(j0, i + 1)
-                    for j in range(j0, self.start[row + x1 + 1]):
-                        r = xi - src.x[j]
-                        r2 = r.dot(r)
-                        if r2 < self.support * self.support:
-                            task(i, j, r, r2, acc)
+                    self._row(src, i, xi, task, acc, j0, self.start[row + x1 + 1], lanes)
         else:
             # periodic in x: a row's five cells are one range, or two where they wrap past the
             # seam (the wrapped part first where it comes first, so the sum runs in the same
@@ -220,12 +236,27 @@ class Grid:
                         if ti.static(forward):
                             if dy == 0:
                                 j0 = ti.max(j0, i + 1)
-                        for j in range(j0, j1):
-                            r = xi - src.x[j]
-                            r[0] -= self.period * ti.round(r[0] * self.inv_period)
-                            r2 = r.dot(r)
-                            if r2 < self.support * self.support:
-                                task(i, j, r, r2, acc)
+                        self._row(src, i, xi, task, acc, j0, j1, lanes)
+
+    @ti.func
+    def _row(self, src: ti.template(), i, xi, task: ti.template(), acc: ti.template(), j0, j1, lanes: ti.template()):
+        """The candidates j0 <= j < j1 of one stencil row (r the nearest image where periodic)."""
+        if ti.static(lanes):
+            jp = ti.min(j0 + ti.max((j1 - j0 + 7) // 8 * 8, LANE_MIN), src.x.shape[0])
+            for j in range(j0, jp):
+                r = xi - src.x[j]
+                if ti.static(self.periodic_x):
+                    r[0] -= self.period * ti.round(r[0] * self.inv_period)
+                r = ti.select(j < j1, r, ti.Vector([2.0 * self.support, 0.0]))  # past the row: no weight
+                task(i, j, r, r.dot(r), acc)
+        else:
+            for j in range(j0, j1):
+                r = xi - src.x[j]
+                if ti.static(self.periodic_x):
+                    r[0] -= self.period * ti.round(r[0] * self.inv_period)
+                r2 = r.dot(r)
+                if r2 < self.support * self.support:
+                    task(i, j, r, r2, acc)
 
     @ti.func
     def fluid_near(self, xi):

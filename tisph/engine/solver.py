@@ -73,6 +73,7 @@ class Solver(SolverAPI):
         state and its sorted copy) and the cell grid."""
         self.K = get_kernel(physics.kernel)
         self.real = ti.lang.impl.get_runtime().default_fp
+        self.bits = st_mod.types(self.real)["bits"]
         self.np_real = st_mod.float_type(self.real)
         # compile-time constants baked into the kernels
         self.inv_h = 1.0 / self.h
@@ -103,6 +104,10 @@ class Solver(SolverAPI):
         kernel, its maxima, log and accumulator; each pair once where asked), the modules' own
         fields, then every table written at once."""
         self.cpu = st_mod.on_cpu()  # the CPU-only paths below; a GPU build turns them off
+        # the force pass's neighbour loops in vector lanes (grid.py): on the CPU, where every
+        # module with a neighbour task has them lane-safe; a GPU's threads are its lanes
+        tasks = [m for m in self.modules if m.has("pair") or m.has("view") or m.has("boundary_pass")]
+        self.lanes = bool(params.get("lanes", self.cpu)) and all(m.lanes for m in tasks)
         self.usum_block, nb = blocks(self.n)  # a GPU's block sums of the mean velocity (access.py)
         self.usum = None if self.cpu else ti.Vector.field(2, ti.f64, nb)
         setup = Setup(self.dx, self.h, self.c0, materials, self.particles)

@@ -13,6 +13,7 @@ def types(real):
     return {
         "real": real,
         "int": ti.i32,
+        "bits": ti.i32 if real == ti.f32 else ti.i64,  # a non-negative float's bits (terms/order.py)
         "vec2": ti.types.vector(2, real),
         "vec3": ti.types.vector(3, real),
         "mat2": ti.types.matrix(2, 2, real),

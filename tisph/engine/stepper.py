@@ -241,7 +241,7 @@ class Stepper:
                 acc_s = acc  # a copy: the slots the advection-rate hooks read
                 full = S.dual.sums(S, i, acc, acc_s)
             else:
-                S.grid.for_neighbours(t, i, t.x[i], self.fluid_pair, acc)
+                S.grid.for_neighbours(t, i, t.x[i], self.fluid_pair, acc, S.lanes)
             a = acc.a + prm.g
             for m in ti.static(S.hooks["body_force"]):
                 a = m.body_force(S, i, mi, a)

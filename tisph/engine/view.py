@@ -7,7 +7,8 @@ nothing else (the solver's Python side, its run state and its API stay out of th
                                    stats (the step's statistics), has_stat
   the grid (grid.py):              grid
   the stepper (stepper.py):        stepper (neighbour_view, for dual time stepping's two passes)
-  the kernel's constants:          K, h, inv_h, w_scale, g_scale, eta2, dx, n, real, cpu
+  the kernel's constants:          K, h, inv_h, w_scale, g_scale, eta2, dx, n, real, bits, cpu,
+                                   lanes (the pair loop in vector lanes, grid.py)
   the step's composition:          physics (the compiled-in switches), hooks, fast, slow (the
                                    hooks by rate, physics/dual.py), dual, outflow, container
 
@@ -21,7 +22,7 @@ NAMES = (
     "table", "prm", "mat", "stats", "has_stat",
     "grid",
     "stepper",
-    "K", "h", "inv_h", "w_scale", "g_scale", "eta2", "dx", "n", "real", "cpu",
+    "K", "h", "inv_h", "w_scale", "g_scale", "eta2", "dx", "n", "real", "bits", "cpu", "lanes",
     "physics", "hooks", "fast", "slow", "dual", "outflow", "container",
 )  # fmt: skip
 

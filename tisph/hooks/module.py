@@ -98,6 +98,10 @@ class Module:
     # "advection": with numerics.time_stepping = "dual", its pair and finish hooks run only on the
     # steps that evaluate the terms that change at the flow's pace, its sums held between (physics/dual.py)
     rate = "acoustic"
+    # True: its pair, view and boundary-pass neighbour tasks are right for any candidate j, a
+    # term past the kernel's support being zero without a branch, and compile to loads and
+    # selects the CPU's vector lanes can take (engine/grid.py, for_neighbours' lanes)
+    lanes = False
 
     def __init__(self, S=None):
         """S: the solver being built (its physics; its fields do not exist yet). A module whose

@@ -44,7 +44,11 @@ class DualCriteria(Module):
         acc_s.a = ti.Vector([0.0, 0.0])
         acc_s.drho = 0.0
         t = S.tmp
-        S.grid.for_neighbours(t, i, t.x[i], self.pair_task, (acc, acc_s, full))
+        # two loops, not one with the test inside: each stays in the CPU's vector lanes (S.lanes)
+        if full:
+            S.grid.for_neighbours(t, i, t.x[i], self.pair_task, (acc, acc_s, True), S.lanes)
+        else:
+            S.grid.for_neighbours(t, i, t.x[i], self.pair_task, (acc, acc_s, False), S.lanes)
         a_adv, drho_adv = t.a_adv[i], t.drho_adv[i]
         if full:
             a_adv, drho_adv = acc_s.a, acc_s.drho
@@ -56,12 +60,13 @@ class DualCriteria(Module):
 
     @ti.func
     def pair_task(self, i, j, r, r2, accs: ti.template()):
-        """accs = (acc, acc_s, full), indexed, not unpacked: a name bound in Taichi scope is a copy."""
+        """accs = (acc, acc_s, full), indexed, not unpacked: a name bound in Taichi scope is a copy;
+        full a Python bool, so the advection terms are compiled into one of the two loops only."""
         S = self.S
         nb = S.stepper.neighbour_view(i, j, r, r2, accs[0])
         for m in ti.static(S.fast["pair"]):
             m.pair(S, i, j, r, r2, nb, accs[0])
-        if accs[2]:
+        if ti.static(accs[2]):
             for m in ti.static(S.slow["pair"]):
                 m.pair(S, i, j, r, r2, nb, accs[1])
 

@@ -16,6 +16,7 @@ from ..terms.diffusion import (
     renormalisation_sums,
     renormalised_correction,
 )
+from ..terms.order import from_bits, to_bits
 from ..terms.pressure import pressure_accel
 from ..terms.rheology import harmonic_pair
 from ..terms.viscosity import artificial_viscosity, laminar_viscosity, monaghan_mu
@@ -38,6 +39,7 @@ class Continuity(Module):
 
     name = "continuity"
     pair_once = {}  # a and drho only (engine/pairs.py)
+    lanes = True
 
     @ti.func
     def pair(self, S, i, j, r, r2, nb, acc: ti.template()):
@@ -57,6 +59,7 @@ class Pressure(Module):
 
     name = "pressure"
     pair_once = {}
+    lanes = True
 
     @ti.func
     def pair(self, S, i, j, r, r2, nb, acc: ti.template()):
@@ -90,8 +93,9 @@ class ArtificialViscosity(Module):
         "alpha_s": KEYED["numerics.artificial_viscosity_surface"],
         "div_s": KEYED["numerics.surface_divergence"],
     }
-    acc = {"mu": "real"}
+    acc = {"mu": "bits"}  # the largest -mu_ij, as bits (terms/order.py)
     SURFACE_DIV = SURFACE_DIV
+    lanes = True
 
     def __init__(self, S=None):
         self.surface = S is not None and S.physics.surface_viscosity
@@ -112,11 +116,8 @@ class ArtificialViscosity(Module):
         prm = S.prm[None]
         a = prm.alpha
         if ti.static(self.surface):
-            fj = 0.0
-            if nb.kj == FLUID:
-                fj = S.tmp.fs[j]
-            if ti.max(acc.fsi, fj) > 0.5:
-                a = prm.alpha_s
+            fj = ti.select(nb.kj == FLUID, S.tmp.fs[j], 0.0)
+            a = ti.select(ti.max(acc.fsi, fj) > 0.5, prm.alpha_s, a)
         return a
 
     @ti.func
@@ -124,7 +125,7 @@ class ArtificialViscosity(Module):
         prm = S.prm[None]
         mu = monaghan_mu(S.h, nb.v_ij, r, nb.ie)
         acc.a += artificial_viscosity(nb.m_j, self.alpha_ij(S, j, nb, acc), prm.c0, mu, acc.inv_rhoi, nb.ir_j, nb.gw)
-        acc.mu = ti.max(acc.mu, -mu)
+        acc.mu = ti.max(acc.mu, to_bits(ti.select(nb.q < 2.0, -mu, 0.0), S.bits))  # a lane past the support: 0
         if ti.static(self.surface):
             acc.dvr -= nb.vol_j * r.dot(nb.gw)
 
@@ -136,8 +137,9 @@ class ArtificialViscosity(Module):
         alpha = self.alpha_ij(S, j, nb, acc)
         acc.a += artificial_viscosity(nb.m_j, alpha, prm.c0, mu, acc.inv_rhoi, nb.ir_j, nb.gw)
         sj.a += artificial_viscosity(nb.m_i, alpha, prm.c0, mu, nb.ir_j, acc.inv_rhoi, -nb.gw)
-        acc.mu = ti.max(acc.mu, -mu)
-        sj.mu = ti.max(sj.mu, -mu)
+        b = to_bits(-mu, S.bits)
+        acc.mu = ti.max(acc.mu, b)
+        sj.mu = ti.max(sj.mu, b)
         if ti.static(self.surface):
             rg = r.dot(nb.gw)  # r_ji . grad W_ji is the same
             acc.dvr -= nb.vol_j * rg
@@ -145,7 +147,7 @@ class ArtificialViscosity(Module):
 
     @ti.func
     def finish(self, S, i, mi, acc: ti.template(), pt: ti.template()):
-        pt.mumax = ti.max(pt.mumax, acc.mu)
+        pt.mumax = ti.max(pt.mumax, from_bits(acc.mu, S.real))
         if ti.static(self.surface):
             S.p.fs[i] = 1.0 if acc.dvr < S.prm[None].div_s else 0.0
 
@@ -157,6 +159,7 @@ class LaminarViscosity(Module):
     name = "laminar_viscosity"
     rate = "advection"
     pair_once = {}
+    lanes = True
     on = {"laminar_viscosity": True}
     params = {
         "dt_visc": Param(
@@ -170,12 +173,12 @@ class LaminarViscosity(Module):
     @ti.func
     def pair(self, S, i, j, r, r2, nb, acc: ti.template()):
         s = S.tmp
-        mu_j = acc.mui  # a wall particle takes the fluid's viscosity
-        if nb.kj == FLUID:
-            if ti.static(S.physics.rheology):
-                mu_j = s.mu[j]
-            else:
-                mu_j = S.mat.mu[ti.cast(s.mat[j], ti.i32)]
+        mu_f = 0.0
+        if ti.static(S.physics.rheology):
+            mu_f = s.mu[j]
+        else:
+            mu_f = S.mat.mu[ti.cast(s.mat[j], ti.i32)]
+        mu_j = ti.select(nb.kj == FLUID, mu_f, acc.mui)  # a wall particle takes the fluid's viscosity
         acc.a += laminar_viscosity(
             nb.m_j, harmonic_pair(acc.mui, mu_j), acc.inv_rhoi, nb.ir_j, nb.v_visc, r, nb.ie, nb.gw
         )
@@ -253,6 +256,7 @@ class DensityDiffusion(Module):
     name = "density_diffusion"
     rate = "advection"
     pair_once = {}  # rho0_c02 is set per particle (init_acc)
+    lanes = True
     on = {"density_diffusion": "molteni"}
     params = {"delta": KEYED["numerics.delta"]}
     acc = {"rho0_c02": "real"}
@@ -296,16 +300,17 @@ class DensityDiffusion(Module):
     @ti.func
     def pair(self, S, i, j, r, r2, nb, acc: ti.template()):
         prm = S.prm[None]
-        if nb.kj == FLUID and S.tmp.mat[j] == acc.mat:
-            hyd = 0.0
-            if ti.static(S.physics.density_diffusion == "fourtakas"):
-                hyd = hydrostatic_density_difference(acc.rho0_c02, prm.g, r)
-            acc.drho += density_diffusion(prm.delta, S.h, prm.c0, nb.vol_j, acc.rhoi, nb.rho_j, hyd, r, nb.ie, nb.gw)
-            if ti.static(self.renormalised):
-                gr, lm = renormalisation_sums(acc.rhoi, nb.rho_j, r, nb.gw)
-                acc.drho -= nb.vol_j * renormalised_correction(prm.delta, S.h, prm.c0, acc.gi, S.tmp.grho[j], nb.gw)
-                acc.gr += nb.vol_j * gr
-                acc.lm += nb.vol_j * lm
+        # within the material only: a select, not a branch, so the pair loop stays in lanes
+        vol = ti.select(nb.kj == FLUID and ti.cast(S.tmp.mat[j], ti.i32) == acc.mat, nb.vol_j, 0.0)
+        hyd = 0.0
+        if ti.static(S.physics.density_diffusion == "fourtakas"):
+            hyd = hydrostatic_density_difference(acc.rho0_c02, prm.g, r)
+        acc.drho += density_diffusion(prm.delta, S.h, prm.c0, vol, acc.rhoi, nb.rho_j, hyd, r, nb.ie, nb.gw)
+        if ti.static(self.renormalised):
+            gr, lm = renormalisation_sums(acc.rhoi, nb.rho_j, r, nb.gw)
+            acc.drho -= vol * renormalised_correction(prm.delta, S.h, prm.c0, acc.gi, S.tmp.grho[j], nb.gw)
+            acc.gr += vol * gr
+            acc.lm += vol * lm
 
     @ti.func
     def pair2(self, S, i, j, r, r2, nb, acc: ti.template(), sj: ti.template()):
