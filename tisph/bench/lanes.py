@@ -27,11 +27,12 @@ import taichi as ti
 
 FORMS = ("branch", "lanes", "lanes, blocked", "lanes, float max", "lanes, integer max")
 BLOCK = 64  # particles a block in the blocked form
+REACHES = (1.3, 1.6, 2.0, 2.5)  # h / dx: the lanes against the branch form by the kernel's reach
 
 
-def lattice(nx_p, ny_p, dx, seed=0):
+def lattice(nx_p, ny_p, dx, seed=0, h_factor=2.5):
     """Particle positions on a jittered lattice, and the cell grid's sort: (x, start, ncx, ncy, cell)."""
-    h = 2.5 * dx
+    h = h_factor * dx
     cell = h  # half the support 2 h, the engine's cells
     rng = np.random.default_rng(seed)
     ij = np.stack(np.meshgrid(np.arange(nx_p), np.arange(ny_p), indexing="ij"), -1).reshape(-1, 2)
@@ -43,9 +44,9 @@ def lattice(nx_p, ny_p, dx, seed=0):
     return x[order], start, ncx, ncy, cell
 
 
-def build(nx_p=200, ny_p=100, dx=0.01, seed=0):
+def build(nx_p=200, ny_p=100, dx=0.01, seed=0, h_factor=2.5):
     """(launch(form), read(), particles): the pass over one lattice (Taichi must be initialised)."""
-    p = PairPass(nx_p, ny_p, dx, seed)
+    p = PairPass(nx_p, ny_p, dx, seed, h_factor)
     return p.launch, p.read, p.n
 
 
@@ -53,10 +54,10 @@ def build(nx_p=200, ny_p=100, dx=0.01, seed=0):
 class PairPass:
     """The lattice's fields and the pass written each way (FORMS)."""
 
-    def __init__(self, nx_p, ny_p, dx, seed):
-        x_np, start_np, self.ncx, self.ncy, self.cell = lattice(nx_p, ny_p, dx, seed)
+    def __init__(self, nx_p, ny_p, dx, seed, h_factor):
+        x_np, start_np, self.ncx, self.ncy, self.cell = lattice(nx_p, ny_p, dx, seed, h_factor)
         n = self.n = len(x_np)
-        self.h = h = 2.5 * dx
+        self.h = h = h_factor * dx
         self.sup2 = (2.0 * h) ** 2
         self.far = 2.0 * 2.0 * h
         self.m = 1000.0 * dx * dx
@@ -184,6 +185,14 @@ def main(a):
         "|---|---|---|---|---|",
     ]
     lines += [f"| {f} | {b * 1e3:.2f} | {m * 1e3:.2f} | {b0 / b:.2f}x | {e:.1e} |" for f, b, m, e in rows]
+    lines += ["", "By the kernel's reach (a row of the stencil holds about 5 (h / dx)^2 candidates):", ""]
+    lines += ["| h / dx | branch ms | lanes, integer max, ms | speed |", "|---|---|---|---|"]
+    for hf in REACHES:
+        launch, read, _ = build(60, 30, h_factor=hf) if a.dry_run else build(h_factor=hf)
+        tb = time_form(launch, read, "branch", sets, calls)[0]
+        tl = time_form(launch, read, "lanes, integer max", sets, calls)[0]
+        lines.append(f"| {hf:g} | {tb * 1e3:.2f} | {tl * 1e3:.2f} | {tb / tl:.2f}x |")
+        print(lines[-1], flush=True)
     ensure_dir(a.out)
     write_text(os.path.join(a.out, "lanes.md"), "\n".join(lines) + "\n")
     print("\n".join(lines))

@@ -14,6 +14,7 @@ from ..runtime import blocks
 from .state import on_cpu, type_bytes
 
 LANE_MIN = 32  # a padded row's least length: LLVM's vector loop takes eight lanes four times a pass
+LANE_CELL = 1.5  # the least cell width, in particle spacings, where the lanes pay (solver.py)
 
 
 @ti.data_oriented
