@@ -1,13 +1,14 @@
 """What the CPU's vector units could give the pair loop: `python -m tisph.bench --lanes`.
 
 Taichi compiles for the host (AVX2 and FMA here: its kernels' code uses ymm registers), and
-LLVM's loop vectoriser packs eight neighbours' arithmetic into one instruction where it can. The
-engine's pair loop is scalar (docs/performance.md, "Where a step goes"). This bench times one
+LLVM's loop vectoriser packs eight neighbours' arithmetic into one instruction where it can; the
+engine's branch form of the pair loop stays scalar, and the default scheme's runs in the lanes
+(engine/grid.py; docs/performance.md, "The pair loop in vector lanes"). This bench times one
 pass of four pair terms of the default scheme's kind (continuity, Tait pressure, Molteni's
 density diffusion, Morris' viscosity: Wendland at h = 2.5 dx, the engine's grid of cells half the
 support wide, the particles sorted by cell) written several ways, on one lattice:
 
-- branch: as the engine does, the terms inside `if r2 < support^2`;
+- branch: the engine's branch form, the terms inside `if r2 < support^2`;
 - lanes: the terms for every candidate, without a branch (the kernel is zero past its
   support), over each stencil row's range padded to whole eights, the lanes past the row's end
   moved out of reach;
@@ -17,7 +18,9 @@ support wide, the particles sorted by cell) written several ways, on one lattice
   signal speed), as a float, or as the integer order of its non-negative IEEE bits.
 
 Each is timed as the best and the median of seven sets of 20 passes; the sums are compared with
-the branch form's (the vector forms add in another order). Writes OUT/lanes.md."""
+the branch form's (the vector forms add in another order). Then the branch form against the
+lanes with the integer maximum at h = 1.3 to 2.5 dx, where the lanes pay (engine/solver.py takes
+them from 1.5 dx). Writes OUT/lanes.md."""
 
 import os
 import time
