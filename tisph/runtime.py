@@ -138,8 +138,8 @@ def init(arch="cpu", precision="f32", quiet=True):
     # fast_math on: the pair loop's sums reassociated into the CPU's vector lanes (engine/grid.py,
     # lanes). The price: LLVM orders float operations by the shape of the traced code, so moving
     # a term into another function can change a result in its last bit (the golden states are
-    # re-recorded then). the health check's NaN and infinity tests read the bits
-    # (Taichi's isnan, isinf), which no float flag can fold away
+    # re-recorded then). The health check's NaN and infinity tests read the bits (Taichi's
+    # isnan, isinf), which no float flag can fold away
     kwargs = dict(default_fp=fp, log_level=level, random_seed=0, fast_math=True)
     threads = os.environ.get("TISPH_THREADS")
     if threads:
