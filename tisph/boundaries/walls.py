@@ -142,12 +142,14 @@ class WallImpact(Module):
 
     @ti.func
     def pair(self, S, i, j, r, r2, nb, acc: ti.template()):
-        prm = S.prm[None]
-        pj = riemann_wall_pressure(acc.rhoi, prm.c0, nb.v_ij, S.tmp.nw[j])
-        f = pressure_accel(nb.m_j, 0.0, pj, acc.inv_rhoi, nb.ir_j, nb.gw) + lennard_jones(
-            prm.wall_D, prm.guard_r0, r, r2
-        )
-        acc.a += ti.select(nb.kj != FLUID, f, ti.Vector([0.0, 0.0]))  # a wall j only (a select: lanes)
+        # a wall j only: the lanes take every j and select, the branch form skips a fluid j's work
+        if ti.static(S.lanes) or nb.kj != FLUID:
+            prm = S.prm[None]
+            pj = riemann_wall_pressure(acc.rhoi, prm.c0, nb.v_ij, S.tmp.nw[j])
+            f = pressure_accel(nb.m_j, 0.0, pj, acc.inv_rhoi, nb.ir_j, nb.gw) + lennard_jones(
+                prm.wall_D, prm.guard_r0, r, r2
+            )
+            acc.a += ti.select(nb.kj != FLUID, f, ti.Vector([0.0, 0.0]))
 
     @ti.func
     def pair2(self, S, i, j, r, r2, nb, acc: ti.template(), sj: ti.template()):

@@ -241,20 +241,19 @@ class Grid:
 
     @ti.func
     def _row(self, src: ti.template(), i, xi, task: ti.template(), acc: ti.template(), j0, j1, lanes: ti.template()):
-        """The candidates j0 <= j < j1 of one stencil row (r the nearest image where periodic)."""
+        """The candidates j0 <= j < j1 of one stencil row (r the nearest image where periodic);
+        with lanes, the row padded and every candidate taken (for_neighbours)."""
+        jp = j1
         if ti.static(lanes):
             jp = ti.min(j0 + ti.max((j1 - j0 + 7) // 8 * 8, LANE_MIN), src.x.shape[0])
-            for j in range(j0, jp):
-                r = xi - src.x[j]
-                if ti.static(self.periodic_x):
-                    r[0] -= self.period * ti.round(r[0] * self.inv_period)
+        for j in range(j0, jp):
+            r = xi - src.x[j]
+            if ti.static(self.periodic_x):
+                r[0] -= self.period * ti.round(r[0] * self.inv_period)
+            if ti.static(lanes):
                 r = ti.select(j < j1, r, ti.Vector([2.0 * self.support, 0.0]))  # past the row: no weight
                 task(i, j, r, r.dot(r), acc)
-        else:
-            for j in range(j0, j1):
-                r = xi - src.x[j]
-                if ti.static(self.periodic_x):
-                    r[0] -= self.period * ti.round(r[0] * self.inv_period)
+            else:
                 r2 = r.dot(r)
                 if r2 < self.support * self.support:
                     task(i, j, r, r2, acc)

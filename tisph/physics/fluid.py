@@ -300,17 +300,20 @@ class DensityDiffusion(Module):
     @ti.func
     def pair(self, S, i, j, r, r2, nb, acc: ti.template()):
         prm = S.prm[None]
-        # within the material only: a select, not a branch, so the pair loop stays in lanes
-        vol = ti.select(nb.kj == FLUID and ti.cast(S.tmp.mat[j], ti.i32) == acc.mat, nb.vol_j, 0.0)
-        hyd = 0.0
-        if ti.static(S.physics.density_diffusion == "fourtakas"):
-            hyd = hydrostatic_density_difference(acc.rho0_c02, prm.g, r)
-        acc.drho += density_diffusion(prm.delta, S.h, prm.c0, vol, acc.rhoi, nb.rho_j, hyd, r, nb.ie, nb.gw)
-        if ti.static(self.renormalised):
-            gr, lm = renormalisation_sums(acc.rhoi, nb.rho_j, r, nb.gw)
-            acc.drho -= vol * renormalised_correction(prm.delta, S.h, prm.c0, acc.gi, S.tmp.grho[j], nb.gw)
-            acc.gr += vol * gr
-            acc.lm += vol * lm
+        # within the material only: the lanes take every j and zero the others' volume, the branch
+        # form skips their work
+        same = nb.kj == FLUID and ti.cast(S.tmp.mat[j], ti.i32) == acc.mat
+        if ti.static(S.lanes) or same:
+            vol = ti.select(same, nb.vol_j, 0.0)
+            hyd = 0.0
+            if ti.static(S.physics.density_diffusion == "fourtakas"):
+                hyd = hydrostatic_density_difference(acc.rho0_c02, prm.g, r)
+            acc.drho += density_diffusion(prm.delta, S.h, prm.c0, vol, acc.rhoi, nb.rho_j, hyd, r, nb.ie, nb.gw)
+            if ti.static(self.renormalised):
+                gr, lm = renormalisation_sums(acc.rhoi, nb.rho_j, r, nb.gw)
+                acc.drho -= vol * renormalised_correction(prm.delta, S.h, prm.c0, acc.gi, S.tmp.grho[j], nb.gw)
+                acc.gr += vol * gr
+                acc.lm += vol * lm
 
     @ti.func
     def pair2(self, S, i, j, r, r2, nb, acc: ti.template(), sj: ti.template()):
