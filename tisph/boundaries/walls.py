@@ -16,6 +16,7 @@ class DynamicWall(Module):
 
     name = "dynamic_wall"
     on = {"wall": "dynamic"}
+    lanes = True
 
     @ti.func
     def boundary_kick(self, S, i, dt):
@@ -29,7 +30,7 @@ class DynamicWall(Module):
     def boundary_pass(self, S, i, dt):
         acc = ti.Struct(drho=0.0, vi=S.tmp.ve[i], rhoi=S.tmp.rhoe[i])
         if S.grid.fluid_near(S.tmp.x[i]):  # most wall particles have no fluid near
-            S.grid.for_neighbours(S.tmp, i, S.tmp.x[i], self.boundary_pair, acc)
+            S.grid.for_neighbours(S.tmp, i, S.tmp.x[i], self.boundary_pair, acc, S.lanes)
         S.p.drho[i] = acc.drho
         S.p.rho[i] = ti.max(S.tmp.rho[i] + 0.5 * dt * acc.drho, S.mat.rho0[ti.cast(S.tmp.mat[i], ti.i32)])
 
@@ -38,9 +39,10 @@ class DynamicWall(Module):
         """Continuity only, from the fluid around the wall particle."""
         S = self.S
         s = S.tmp
-        if s.kind[j] == FLUID:
+        fluid = s.kind[j] == FLUID
+        if ti.static(S.lanes) or fluid:  # the lanes take every j and zero a wall's volume
             gw = S.g_scale * S.K.fshape(ti.sqrt(r2) * S.inv_h) * r
-            acc.drho += continuity(acc.rhoi, s.m[j] * s.ir[j], acc.vi - s.ve[j], gw)
+            acc.drho += continuity(acc.rhoi, ti.select(fluid, s.m[j] * s.ir[j], 0.0), acc.vi - s.ve[j], gw)
 
     def setup(self, S):
         self.S = S
@@ -184,6 +186,7 @@ class NoSlip(Module):
     name = "noslip"
     on = {"noslip": True}
     pair_once = {}  # a wall pair's ghost velocity only (engine/pairs.py gives those pairs the pair hooks)
+    lanes = True
 
     def fields(self, real):
         vec2 = ti.types.vector(2, real)
@@ -199,10 +202,11 @@ class NoSlip(Module):
     @ti.func
     def pair(self, S, i, j, r, r2, nb: ti.template(), acc: ti.template()):
         s = S.tmp
-        if nb.kj != FLUID:
+        wall = nb.kj != FLUID
+        if ti.static(S.lanes) or wall:  # the lanes take every j (a fluid's wd is 0: ratio 0)
             d_i = r.dot(s.wn[j]) - s.wd[j]
             ratio = ti.min(s.wd[j] / ti.max(d_i, 1e-6 * S.h), 1.5)
-            nb.v_visc = (1.0 + ratio) * nb.v_ij
+            nb.v_visc = ti.select(wall, (1.0 + ratio) * nb.v_ij, nb.v_visc)
 
     @ti.func
     def pair2(self, S, i, j, r, r2, nb: ti.template(), acc: ti.template(), sj: ti.template()):

@@ -14,7 +14,7 @@ from ..runtime import blocks
 from .state import on_cpu, type_bytes
 
 LANE_MIN = 32  # a padded row's least length: LLVM's vector loop takes eight lanes four times a pass
-LANE_CELL = 1.5  # the least cell width, in particle spacings, where the lanes pay (solver.py)
+LANE_CELL = 1.55  # the least cell width, in particle spacings, where the lanes pay (solver.py): not paper 000's 1.5
 
 
 @ti.data_oriented
@@ -245,7 +245,8 @@ class Grid:
         with lanes, the row padded and every candidate taken (for_neighbours)."""
         jp = j1
         if ti.static(lanes):
-            jp = ti.min(j0 + ti.max((j1 - j0 + 7) // 8 * 8, LANE_MIN), src.x.shape[0])
+            if j1 > j0:  # an empty row (above the water, beyond a wall) takes no padded lanes
+                jp = ti.min(j0 + ti.max((j1 - j0 + 7) // 8 * 8, LANE_MIN), src.x.shape[0])
         for j in range(j0, jp):
             r = xi - src.x[j]
             if ti.static(self.periodic_x):

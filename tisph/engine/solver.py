@@ -107,7 +107,8 @@ class Solver(SolverAPI):
         # the force pass's neighbour loops in vector lanes (grid.py): on the CPU (a GPU's threads
         # are its lanes), where every module with a neighbour task has them lane-safe and the
         # cells are wide enough that they pay: at h = 1.3 dx (a row of about 8 candidates padded
-        # to 32) they ran 0.84x the branch form, at 1.6 dx 1.36x (python -m tisph.bench --lanes)
+        # to 32) they ran 0.84x the branch form, at 1.6 dx 1.36x (python -m tisph.bench --lanes);
+        # paper 000's dam break (the cubic at 1.5 dx) 0.88-1.01x
         tasks = [m for m in self.modules if m.has("pair") or m.has("view") or m.has("boundary_pass")]
         wide = self.grid.cell >= LANE_CELL * self.dx
         self.lanes = bool(params.get("lanes", self.cpu and wide)) and all(m.lanes for m in tasks)

@@ -27,6 +27,14 @@ from ..terms.xsph import xsph
 SURFACE_DIV = 1.5
 
 
+@ti.func
+def lane_volume(nb, mj, mi):
+    """Neighbour j's volume where it is fluid of i's material, else 0: a term within one material
+    in the CPU's vector lanes. Two selects, not one on `fluid and same`: with the `and` LLVM left
+    the loop scalar where no other term read j's material (the laminar viscosity does)."""
+    return ti.select(mj == mi, ti.select(nb.kj == FLUID, nb.vol_j, 0.0), 0.0)
+
+
 def viscous_step(h, materials):
     """The explicit viscous limit 0.125 h^2 / nu of the most viscous material (1e30: inviscid)."""
     nu_max = max((m.get("viscosity", 0.0) / m["rho0"] for m in materials), default=0.0)
@@ -219,6 +227,7 @@ class VelocityGradient(Module):
     on = {"sps": True}
     acc = {"gv": "mat2"}
     pair_once = {"gv": "sum"}
+    lanes = True
 
     def __init__(self, S=None):
         rate_of_gradient(self, S)
@@ -302,9 +311,9 @@ class DensityDiffusion(Module):
         prm = S.prm[None]
         # within the material only: the lanes take every j and zero the others' volume, the branch
         # form skips their work
-        same = nb.kj == FLUID and ti.cast(S.tmp.mat[j], ti.i32) == acc.mat
-        if ti.static(S.lanes) or same:
-            vol = ti.select(same, nb.vol_j, 0.0)
+        mj = ti.cast(S.tmp.mat[j], ti.i32)
+        if ti.static(S.lanes) or (nb.kj == FLUID and mj == acc.mat):
+            vol = lane_volume(nb, mj, acc.mat)
             hyd = 0.0
             if ti.static(S.physics.density_diffusion == "fourtakas"):
                 hyd = hydrostatic_density_difference(acc.rho0_c02, prm.g, r)
@@ -379,6 +388,7 @@ class XSPH(Module):
     on = {"xsph": True}
     params = {"eps": KEYED["numerics.xsph"]}
     acc = {"xs": "vec2"}
+    lanes = True
 
     def fields(self, real):
         return {"xs": ti.types.vector(2, real)}  # the correction, one step behind
@@ -389,8 +399,9 @@ class XSPH(Module):
 
     @ti.func
     def pair(self, S, i, j, r, r2, nb, acc: ti.template()):
-        if nb.kj == FLUID:
-            w = S.w_scale * S.K.shape(nb.q)
+        fluid = nb.kj == FLUID
+        if ti.static(S.lanes) or fluid:  # the lanes take every j and weigh a wall's zero
+            w = ti.select(fluid, S.w_scale * S.K.shape(nb.q), 0.0)
             acc.xs += xsph(nb.m_j, -nb.v_ij, acc.inv_rhoi, nb.ir_j, w)
 
     @ti.func

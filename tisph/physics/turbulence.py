@@ -21,7 +21,7 @@ from ..terms.tke import (
     tke_stress,
     tke_update,
 )
-from .fluid import rate_of_gradient
+from .fluid import lane_volume, rate_of_gradient
 
 
 @ti.data_oriented
@@ -34,6 +34,7 @@ class SPS(Module):
     maxima = {"numax": "real"}
     params = {"mixing_length": KEYED["numerics.mixing_length"]}
     pair_once = {}  # into a (engine/pairs.py)
+    lanes = True
 
     def __init__(self, S=None):
         # a held Smagorinsky nu_t still bounds the step between its evaluations (the k equation's
@@ -55,7 +56,9 @@ class SPS(Module):
     @ti.func
     def pair(self, S, i, j, r, r2, nb, acc: ti.template()):
         t_j = acc.sps_i  # a wall particle mirrors i's SPS stress
-        if nb.kj == FLUID:
+        if ti.static(S.lanes):
+            t_j = ti.select(nb.kj == FLUID, S.tmp.sps[j], acc.sps_i)
+        elif nb.kj == FLUID:
             t_j = S.tmp.sps[j]
         acc.a += sps_accel(nb.m_j, acc.sps_i, acc.inv_rhoi, t_j, nb.ir_j, nb.gw)
 
@@ -107,6 +110,7 @@ class Omega(Module):
     on = {"sps": True, "turbulence": "k_equation", "tke_length": "omega"}
     acc = {"wi": "real", "dw": "real"}
     pair_once = {"dw": "sum"}
+    lanes = True
 
     def __init__(self, S=None):
         self.held = rate_of_gradient(self, S)
@@ -129,8 +133,9 @@ class Omega(Module):
     @ti.func
     def pair(self, S, i, j, r, r2, nb, acc: ti.template()):
         s = S.tmp
-        if nb.kj == FLUID and s.mat[j] == acc.mat:
-            acc.dw += nb.vol_j * SIGMA_W * (acc.nuti + s.nut[j]) * (acc.wi - s.wt[j]) * r.dot(nb.gw) * nb.ie
+        mj = ti.cast(s.mat[j], ti.i32)
+        if ti.static(S.lanes) or (nb.kj == FLUID and mj == acc.mat):  # the lanes: every j, the others' volume 0
+            acc.dw += lane_volume(nb, mj, acc.mat) * SIGMA_W * (acc.nuti + s.nut[j]) * (acc.wi - s.wt[j]) * r.dot(nb.gw) * nb.ie
 
     @ti.func
     def pair2(self, S, i, j, r, r2, nb, acc: ti.template(), sj: ti.template()):
@@ -169,6 +174,7 @@ class TKE(Module):
     on = {"sps": True, "turbulence": "k_equation"}
     acc = {"ki": "real", "nuti": "real", "dk": "real"}
     pair_once = {"dk": "sum"}
+    lanes = True
     params = {"stress_limiter": KEYED["numerics.stress_limiter"]}
 
     def __init__(self, S=None):
@@ -204,8 +210,9 @@ class TKE(Module):
     def pair(self, S, i, j, r, r2, nb, acc: ti.template()):
         s = S.tmp
         # no flux through walls (k at a wall is the near-wall balance's) or into another material
-        if nb.kj == FLUID and s.mat[j] == acc.mat:
-            acc.dk += nb.vol_j * (acc.nuti + s.nut[j]) * (acc.ki - s.kt[j]) * r.dot(nb.gw) * nb.ie / SIGMA_K
+        mj = ti.cast(s.mat[j], ti.i32)
+        if ti.static(S.lanes) or (nb.kj == FLUID and mj == acc.mat):  # as Omega's
+            acc.dk += lane_volume(nb, mj, acc.mat) * (acc.nuti + s.nut[j]) * (acc.ki - s.kt[j]) * r.dot(nb.gw) * nb.ie / SIGMA_K
 
     @ti.func
     def pair2(self, S, i, j, r, r2, nb, acc: ti.template(), sj: ti.template()):
