@@ -135,7 +135,14 @@ class Omega(Module):
         s = S.tmp
         mj = ti.cast(s.mat[j], ti.i32)
         if ti.static(S.lanes) or (nb.kj == FLUID and mj == acc.mat):  # the lanes: every j, the others' volume 0
-            acc.dw += lane_volume(nb, mj, acc.mat) * SIGMA_W * (acc.nuti + s.nut[j]) * (acc.wi - s.wt[j]) * r.dot(nb.gw) * nb.ie
+            acc.dw += (
+                lane_volume(nb, mj, acc.mat)
+                * SIGMA_W
+                * (acc.nuti + s.nut[j])
+                * (acc.wi - s.wt[j])
+                * r.dot(nb.gw)
+                * nb.ie
+            )
 
     @ti.func
     def pair2(self, S, i, j, r, r2, nb, acc: ti.template(), sj: ti.template()):
@@ -212,7 +219,14 @@ class TKE(Module):
         # no flux through walls (k at a wall is the near-wall balance's) or into another material
         mj = ti.cast(s.mat[j], ti.i32)
         if ti.static(S.lanes) or (nb.kj == FLUID and mj == acc.mat):  # as Omega's
-            acc.dk += lane_volume(nb, mj, acc.mat) * (acc.nuti + s.nut[j]) * (acc.ki - s.kt[j]) * r.dot(nb.gw) * nb.ie / SIGMA_K
+            acc.dk += (
+                lane_volume(nb, mj, acc.mat)
+                * (acc.nuti + s.nut[j])
+                * (acc.ki - s.kt[j])
+                * r.dot(nb.gw)
+                * nb.ie
+                / SIGMA_K
+            )
 
     @ti.func
     def pair2(self, S, i, j, r, r2, nb, acc: ti.template(), sj: ti.template()):
