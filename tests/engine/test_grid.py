@@ -8,13 +8,13 @@ from tisph.particles import WALL, ParticleSet
 from tisph.settings.config import Physics
 
 
-def make_solver(x, lo, hi, h):
+def make_solver(x, lo, hi, h, wall="repulsive"):
+    """wall "repulsive": the branch form (its view hook is not lane-safe), cells half the
+    support wide; "dynamic": the lanes, at h = 1.3 dx in cells of the whole support."""
     ps = ParticleSet()
     ps.add(x, WALL, 0, 1000.0, 1.0)
     mats = [dict(name="w", rho0=1000.0, viscosity=0.0, B=1e5)]
-    return Solver(
-        Physics(wall="repulsive", artificial_viscosity=False), ps, mats, (lo, hi), dict(dx=h / 1.3, h=h, c0=10.0)
-    )
+    return Solver(Physics(wall=wall, artificial_viscosity=False), ps, mats, (lo, hi), dict(dx=h / 1.3, h=h, c0=10.0))
 
 
 def brute(x, support):
@@ -56,15 +56,19 @@ def test_cell_list_equals_brute_force(seed):
     assert np.array_equal(ids, bi)
 
 
-@pytest.mark.parametrize("width", [0.15, 1.5])
-def test_the_lanes_visit_what_brute_force_finds(width):
+@pytest.mark.parametrize(
+    "width, wall, cdiv", [(0.15, "repulsive", 2), (1.5, "repulsive", 2), (0.3, "dynamic", 1), (1.5, "dynamic", 1)]
+)
+def test_the_lanes_visit_what_brute_force_finds(width, wall, cdiv):
     """The force pass's vector lanes (grid.py): each stencil row padded to whole eights and to
-    at least 32 candidates, the padding out of reach. In a domain three cells wide (0.15 m) a
-    padded row runs on into the next row of cells, within the support: counted only once."""
+    at least 32 candidates, the padding out of reach, in cells of half the support (5 x 5) and of
+    the whole (3 x 3). In a domain three cells wide a padded row runs on into the next row of
+    cells, within the support: counted only once."""
     rng = np.random.default_rng(2)
     lo, hi = np.array([0.0, 0.0]), np.array([width, 1.0])
-    x = lo + rng.random((int(600 * width / 0.15) if width < 1 else 2000, 2)) * (hi - lo)
-    s = make_solver(x, lo, hi, 0.05)
+    x = lo + rng.random((int(4000 * width) if width < 1 else 2000, 2)) * (hi - lo)
+    s = make_solver(x, lo, hi, 0.05, wall)
+    assert s.grid.cdiv == cdiv and s.lanes == (wall == "dynamic")
     assert (s.grid.nx == 3) == (width < 1)
     cnt, ids = s.neighbour_stats(lanes=True)
     bc, bi = brute(x, s.support)

@@ -11,7 +11,7 @@ import pytest
 
 from tisph.engine.solver import Solver
 from tisph.runner import Log, build_case, resolve
-from tisph.scenes import dam_break, flume, pipeline_scour
+from tisph.scenes import dam_break, flume, pipeline_scour, tunnel
 
 FLUME = {
     "numerics.dx": 0.025,
@@ -51,8 +51,14 @@ def _pair(scene, steps, fields=(), **ov):
 
 @pytest.mark.parametrize(
     "scene, ov",
-    [(dam_break, {"numerics.dx": 0.06}), (flume, FLUME), (pipeline_scour, PIPE), (dam_break, PAPER000)],
-    ids=["dam_break", "flume", "pipeline", "paper000"],
+    [
+        (dam_break, {"numerics.dx": 0.06}),
+        (flume, FLUME),
+        (pipeline_scour, PIPE),
+        (dam_break, PAPER000),
+        (tunnel, {"numerics.dx": 0.02}),
+    ],
+    ids=["dam_break", "flume", "pipeline", "paper000", "tunnel"],
 )
 def test_the_lanes_sum_what_the_branch_sums(scene, ov):
     # the pipeline's turbulence, against its own terms: measured after ten steps, k 2.3e-10 m2/s2
@@ -73,11 +79,15 @@ def test_the_lanes_sum_what_the_branch_sums(scene, ov):
 
 
 def test_the_lanes_where_they_pay():
-    """The default scheme takes the lanes at its reach; at h = 1.3 dx a row holds about 8
-    candidates, padded to 32 the lanes ran 0.84x the branch form (python -m tisph.bench --lanes)."""
+    """The sand bed's scheme (the cubic, each pair once where asked) at three reaches: the lanes
+    in cells of half a 5 dx support, at h = 1.3 dx in cells of the whole support (rows of about
+    20 candidates; half as wide they held 8, padded to 32), none at h = 1 dx (nothing measured
+    there); each pair once only in the branch form, where the lanes are not taken."""
     built = {}
-    for h in (2.5, 1.3):
-        cfg = resolve(dam_break, overrides={"output.quiet": True, "numerics.dx": 0.06, "numerics.h_factor": h})
-        case = build_case(dam_break, cfg, Log(os.devnull, True))
-        built[h] = Solver(case.physics, case.particles, case.materials, case.domain, case.params).lanes
-    assert built == {2.5: True, 1.3: False}
+    for h in (2.5, 1.3, 1.0):
+        ov = {"output.quiet": True, "numerics.dx": 0.06, "numerics.scheme": "bed", "numerics.h_factor": h}
+        case = build_case(dam_break, resolve(dam_break, overrides=ov), Log(os.devnull, True))
+        case.params["pair_once"] = True
+        s = Solver(case.physics, case.particles, case.materials, case.domain, case.params)
+        built[h] = (s.lanes, s.grid.cdiv, s.pair_once is not None)
+    assert built == {2.5: (True, 2, False), 1.3: (True, 1, False), 1.0: (False, 2, True)}

@@ -14,17 +14,22 @@ from ..runtime import blocks
 from .state import on_cpu, type_bytes
 
 LANE_MIN = 32  # a padded row's least length: LLVM's vector loop takes eight lanes four times a pass
-LANE_CELL = 1.55  # the least cell width, in particle spacings, where the lanes pay (solver.py): not paper 000's 1.5
+# the lanes' cells (solver.py): half the support wide (a 5 x 5 stencil) where the support reaches
+# WHOLE_CELL spacings or more, else the whole support (3 x 3), whose rows are long enough to fill
+# the padded 32; and no lanes under LANE_SUPPORT spacings (the cubic at h = 1.3 dx reaches 2.6)
+WHOLE_CELL = 3.9
+LANE_SUPPORT = 2.55
 
 
 @ti.data_oriented
 class Grid:
-    def __init__(self, n, domain, support, periodic_x):
+    def __init__(self, n, domain, support, periodic_x, cdiv=2):
+        """cdiv: cells a support spans (2: cells half the support wide, a 5 x 5 stencil; 1: 3 x 3)."""
         lo, hi = np.asarray(domain[0], float), np.asarray(domain[1], float)
         self.n = n
         self.periodic_x = periodic_x
         self.support = support
-        self.cdiv = 2
+        self.cdiv = int(cdiv)
         self.cell = support / self.cdiv
         self.cell_y = self.cell
         self.ny = max(1, int(math.ceil((hi[1] - lo[1]) / self.cell)))

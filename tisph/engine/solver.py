@@ -21,7 +21,7 @@ from . import state as st_mod
 from .access import SolverAPI
 from .batch import BATCH, BATCH_CPU, READ_ELEMENTS
 from .enabled import enabled_modules
-from .grid import LANE_CELL, Grid
+from .grid import LANE_SUPPORT, WHOLE_CELL, Grid
 from .smoothing import get_kernel
 from .stepper import Stepper
 from .store import ParticleStore
@@ -94,7 +94,20 @@ class Solver(SolverAPI):
         # modules' hooks reach them as p (the state) and tmp (the sorted copy)
         self.store = ParticleStore(members, st_mod.eval_members(self.real), self.n, self.np_real)
         self.members, self.p, self.tmp, self.pairs = self.store.members, self.store.p, self.store.tmp, self.store.pairs
-        self.grid = Grid(self.n, domain, self.K.support * self.h, physics.periodic_x)
+        support = self.K.support * self.h
+        self.cpu = st_mod.on_cpu()  # the CPU-only paths below; a GPU build turns them off
+        # the force pass's neighbour loops in vector lanes (grid.py): on the CPU (a GPU's threads
+        # are its lanes), where every module with a neighbour task has them lane-safe, and the
+        # support reaches LANE_SUPPORT spacings; their cells the whole support where it reaches
+        # under WHOLE_CELL (rows of about 20-31 candidates at 2.6-3.2 dx, against 8-13 in cells of
+        # half: the tunnel 1.35x, Mao's case 1.1-1.5x, paper 000's dam break 1.3-1.7x, the beach
+        # 1.27x faster than the branch form with each pair once), else half of it (the default
+        # scheme's 5 dx: 0.79-0.86x in cells of the whole) (docs/performance.md)
+        tasks = [m for m in self.modules if m.has("pair") or m.has("view") or m.has("boundary_pass")]
+        reach = support >= LANE_SUPPORT * self.dx
+        self.lanes = bool(self.params.get("lanes", self.cpu and reach)) and all(m.lanes for m in tasks)
+        cdiv = 1 if self.lanes and support < WHOLE_CELL * self.dx else 2
+        self.grid = Grid(self.n, domain, support, physics.periodic_x, cdiv)
         self.domain = (tuple(float(v) for v in domain[0]), tuple(float(v) for v in domain[1]))
         self.lo, self.hi, self.period = self.grid.lo, self.grid.hi, self.grid.period
         self.support = self.grid.support
@@ -103,15 +116,6 @@ class Solver(SolverAPI):
         """The parameter table (runtime parameters, materials, statistics), the stepper (the step
         kernel, its maxima, log and accumulator; each pair once where asked), the modules' own
         fields, then every table written at once."""
-        self.cpu = st_mod.on_cpu()  # the CPU-only paths below; a GPU build turns them off
-        # the force pass's neighbour loops in vector lanes (grid.py): on the CPU (a GPU's threads
-        # are its lanes), where every module with a neighbour task has them lane-safe and the
-        # cells are wide enough that they pay: at h = 1.3 dx (a row of about 8 candidates padded
-        # to 32) they ran 0.84x the branch form, at 1.6 dx 1.36x (python -m tisph.bench --lanes);
-        # paper 000's dam break (the cubic at 1.5 dx) 0.88-1.01x
-        tasks = [m for m in self.modules if m.has("pair") or m.has("view") or m.has("boundary_pass")]
-        wide = self.grid.cell >= LANE_CELL * self.dx
-        self.lanes = bool(params.get("lanes", self.cpu and wide)) and all(m.lanes for m in tasks)
         self.usum_block, nb = blocks(self.n)  # a GPU's block sums of the mean velocity (access.py)
         self.usum = None if self.cpu else ti.Vector.field(2, ti.f64, nb)
         setup = Setup(self.dx, self.h, self.c0, materials, self.particles)
