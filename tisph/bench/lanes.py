@@ -19,8 +19,9 @@ support wide, the particles sorted by cell) written several ways, on one lattice
 
 Each is timed as the best and the median of seven sets of 20 passes; the sums are compared with
 the branch form's (the vector forms add in another order). Then the branch form against the
-lanes with the integer maximum at h = 1.3 to 2.5 dx, where the lanes pay (engine/solver.py takes
-them from 1.5 dx). Writes OUT/lanes.md."""
+lanes with the integer maximum at h = 1.3 to 2.5 dx, in cells of half the support and of the
+whole (a 3 x 3 stencil), which the engine takes under a support of 3.9 dx (engine/solver.py).
+Writes OUT/lanes.md."""
 
 import os
 import time
@@ -33,10 +34,11 @@ BLOCK = 64  # particles a block in the blocked form
 REACHES = (1.3, 1.6, 2.0, 2.5)  # h / dx: the lanes against the branch form by the kernel's reach
 
 
-def lattice(nx_p, ny_p, dx, seed=0, h_factor=2.5):
-    """Particle positions on a jittered lattice, and the cell grid's sort: (x, start, ncx, ncy, cell)."""
+def lattice(nx_p, ny_p, dx, seed=0, h_factor=2.5, cdiv=2):
+    """Particle positions on a jittered lattice, and the cell grid's sort: (x, start, ncx, ncy,
+    cell); cells of the support 2 h over cdiv (the engine's 2, or 1 in the lanes at short reach)."""
     h = h_factor * dx
-    cell = h  # half the support 2 h, the engine's cells
+    cell = 2.0 * h / cdiv
     rng = np.random.default_rng(seed)
     ij = np.stack(np.meshgrid(np.arange(nx_p), np.arange(ny_p), indexing="ij"), -1).reshape(-1, 2)
     x = (ij + 0.5) * dx + rng.uniform(-0.1, 0.1, ij.shape) * dx
@@ -47,9 +49,9 @@ def lattice(nx_p, ny_p, dx, seed=0, h_factor=2.5):
     return x[order], start, ncx, ncy, cell
 
 
-def build(nx_p=200, ny_p=100, dx=0.01, seed=0, h_factor=2.5):
+def build(nx_p=200, ny_p=100, dx=0.01, seed=0, h_factor=2.5, cdiv=2):
     """(launch(form), read(), particles): the pass over one lattice (Taichi must be initialised)."""
-    p = PairPass(nx_p, ny_p, dx, seed, h_factor)
+    p = PairPass(nx_p, ny_p, dx, seed, h_factor, cdiv)
     return p.launch, p.read, p.n
 
 
@@ -57,8 +59,9 @@ def build(nx_p=200, ny_p=100, dx=0.01, seed=0, h_factor=2.5):
 class PairPass:
     """The lattice's fields and the pass written each way (FORMS)."""
 
-    def __init__(self, nx_p, ny_p, dx, seed, h_factor):
-        x_np, start_np, self.ncx, self.ncy, self.cell = lattice(nx_p, ny_p, dx, seed, h_factor)
+    def __init__(self, nx_p, ny_p, dx, seed, h_factor, cdiv):
+        x_np, start_np, self.ncx, self.ncy, self.cell = lattice(nx_p, ny_p, dx, seed, h_factor, cdiv)
+        self.cdiv = cdiv
         n = self.n = len(x_np)
         self.h = h = h_factor * dx
         self.sup2 = (2.0 * h) ** 2
@@ -95,11 +98,12 @@ class PairPass:
         xi, vi, ri, pi = self.x[i], self.v[i], self.rho[i], self.p[i]
         cx, cy = int(xi[0] / self.cell), int(xi[1] / self.cell)
         s = ti.Struct(a=ti.Vector([0.0, 0.0]), d=0.0, f=0.0, b=0)  # sums; the maximum as a float, as bits
-        for dy in range(-2, 3):
+        d = ti.static(self.cdiv)
+        for dy in range(-d, d + 1):
             yy = cy + dy
             if 0 <= yy < self.ncy:
-                j0 = self.start[yy * self.ncx + ti.max(cx - 2, 0)]
-                je = self.start[yy * self.ncx + ti.min(cx + 2, self.ncx - 1) + 1]
+                j0 = self.start[yy * self.ncx + ti.max(cx - d, 0)]
+                je = self.start[yy * self.ncx + ti.min(cx + d, self.ncx - 1) + 1]
                 j1 = je
                 if ti.static(lanes):
                     j1 = ti.min(j0 + ti.max((je - j0 + 7) // 8 * 8, 32), self.n)
@@ -188,13 +192,25 @@ def main(a):
         "|---|---|---|---|---|",
     ]
     lines += [f"| {f} | {b * 1e3:.2f} | {m * 1e3:.2f} | {b0 / b:.2f}x | {e:.1e} |" for f, b, m, e in rows]
-    lines += ["", "By the kernel's reach (a row of the stencil holds about 5 (h / dx)^2 candidates):", ""]
-    lines += ["| h / dx | branch ms | lanes, integer max, ms | speed |", "|---|---|---|---|"]
+    lines += [
+        "",
+        "By the kernel's reach: the branch form in cells of half the support (the engine's), the lanes in cells "
+        "of half (a row holds about 5 (h / dx)^2 candidates) and of the whole support (3 x 3 cells, 12 (h / dx)^2):",
+        "",
+        "| h / dx | branch ms | lanes, integer max, ms | speed | lanes, whole-support cells, ms | speed |",
+        "|---|---|---|---|---|---|",
+    ]
     for hf in REACHES:
-        launch, read, _ = build(60, 30, h_factor=hf) if a.dry_run else build(h_factor=hf)
-        tb = time_form(launch, read, "branch", sets, calls)[0]
-        tl = time_form(launch, read, "lanes, integer max", sets, calls)[0]
-        lines.append(f"| {hf:g} | {tb * 1e3:.2f} | {tl * 1e3:.2f} | {tb / tl:.2f}x |")
+        t = {}
+        for cdiv in (2, 1):
+            launch, read, _ = build(60, 30, h_factor=hf, cdiv=cdiv) if a.dry_run else build(h_factor=hf, cdiv=cdiv)
+            if cdiv == 2:
+                t["b"] = time_form(launch, read, "branch", sets, calls)[0]
+            t[cdiv] = time_form(launch, read, "lanes, integer max", sets, calls)[0]
+        tb = t["b"]
+        lines.append(
+            f"| {hf:g} | {tb * 1e3:.2f} | {t[2] * 1e3:.2f} | {tb / t[2]:.2f}x | {t[1] * 1e3:.2f} | {tb / t[1]:.2f}x |"
+        )
         print(lines[-1], flush=True)
     ensure_dir(a.out)
     write_text(os.path.join(a.out, "lanes.md"), "\n".join(lines) + "\n")

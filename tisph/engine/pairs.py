@@ -18,11 +18,12 @@ every bit of a run, is the same on any number of threads: restarts stay bit for 
 
 It applies where every module with a pair hook has pair2 (Module.pair_once) and none changes how
 i sees j (view hooks): continuity, pressure, artificial and laminar viscosity and density
-diffusion (but the renormalised one) with dynamic or extrapolated walls, as in the dam break, the
-beach and the tunnel; the no-slip walls, the velocity gradient, the SPS stress and the k and
-omega equations, as in the pipeline (not its rheology, drag, DEM or suspended sand). Other cases (the flume's renormalised diffusion), and any GPU, keep the
-gather pass; run.pair_once chooses (by default, runs
-long enough to repay its longer compile, runner/setup.py).
+diffusion (but the renormalised one) with dynamic or extrapolated walls; the no-slip walls, the
+velocity gradient, the SPS stress and the k and omega equations (not the rheology, drag, DEM or
+suspended sand). Other cases (the flume's renormalised diffusion), and any GPU, keep the gather
+pass; run.pair_once chooses (by default, runs long enough to repay its longer compile,
+runner/setup.py). Where the gather pass runs in the CPU's vector lanes (engine/grid.py), which
+beat this pass, it is not taken (engine/stepper.py).
 """
 
 import numpy as np

@@ -101,7 +101,7 @@ class Solver(SolverAPI):
         # support reaches LANE_SUPPORT spacings; their cells the whole support where it reaches
         # under WHOLE_CELL (rows of about 20-31 candidates at 2.6-3.2 dx, against 8-13 in cells of
         # half: the tunnel 1.35x, Mao's case 1.1-1.5x, paper 000's dam break 1.3-1.7x, the beach
-        # 1.27x faster than the branch form with each pair once), else half of it (the default
+        # 1.24-1.30x faster than the branch form with each pair once), else half of it (the default
         # scheme's 5 dx: 0.79-0.86x in cells of the whole) (docs/performance.md)
         tasks = [m for m in self.modules if m.has("pair") or m.has("view") or m.has("boundary_pass")]
         reach = support >= LANE_SUPPORT * self.dx

@@ -98,7 +98,7 @@ class Stepper:
         self.Acc = ti.types.struct(**self.acc_types)
         # each pair once where asked (run.pair_once, runner/setup.py) and the modules allow it
         # (engine/pairs.py), unless the gather pass runs in the lanes (they beat it: the beach
-        # 1.23x, Mao's case 1.1-1.5x); otherwise the gather pass
+        # 1.23x in the same cells); otherwise the gather pass
         self.pair_once = (
             PairOnce(self.S, self.Acc, self.acc_types)
             if pair_once and pairs.applicable(S) and S.dual is None and not S.lanes

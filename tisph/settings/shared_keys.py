@@ -20,7 +20,8 @@ SHARED = {
         "precision": K("f32", "the fields' floating point", choices=("f32", "f64")),
         "pair_once": K(
             "auto",
-            "each pair once on the CPU: auto (where the run is long enough to repay its compile) | on | off",
+            "each pair once on the CPU, where the pair loop does not run in its vector lanes (a support under "
+            "2.55 dx): auto (where the run is long enough to repay its compile) | on | off",
             choices=("auto", "on", "off"),
         ),
         "perturbation": K(
