@@ -26,7 +26,10 @@ class CubicSpline2D(shapes.CubicSpline2D):
         if q < 1.0:
             f = -3.0 + 2.25 * q
         elif q < 2.0:
-            f = -0.75 * (2.0 - q) ** 2 / q
+            # the max: in the CPU's vector lanes both pieces are computed for every candidate,
+            # and 1 / q at i's own q = 0 is infinite, which is poison to LLVM under fast math
+            # (it assumes no infinities), select or not; q >= 1 here, so the max changes nothing
+            f = -0.75 * (2.0 - q) ** 2 / ti.max(q, 0.5)
         return f
 
 
