@@ -21,18 +21,11 @@ from ..terms.pressure import pressure_accel
 from ..terms.rheology import harmonic_pair
 from ..terms.viscosity import artificial_viscosity, laminar_viscosity, monaghan_mu
 from ..terms.xsph import xsph
+from .lanes import lane_volume
 
 # DualSPHysics' 2D free-surface threshold on the position divergence -sum_j V_j r_ij . grad W_ij
 # (2 inside a fluid): the surface alpha and the shifting both read it
 SURFACE_DIV = 1.5
-
-
-@ti.func
-def lane_volume(nb, mj, mi):
-    """Neighbour j's volume where it is fluid of i's material, else 0: a term within one material
-    in the CPU's vector lanes. Two selects, not one on `fluid and same`: with the `and` LLVM left
-    the loop scalar where no other term read j's material (the laminar viscosity does)."""
-    return ti.select(mj == mi, ti.select(nb.kj == FLUID, nb.vol_j, 0.0), 0.0)
 
 
 def viscous_step(h, materials):
@@ -309,8 +302,7 @@ class DensityDiffusion(Module):
     @ti.func
     def pair(self, S, i, j, r, r2, nb, acc: ti.template()):
         prm = S.prm[None]
-        # within the material only: the lanes take every j and zero the others' volume, the branch
-        # form skips their work
+        # within the material only: the lanes zero the others' volume, the branch form skips them
         mj = ti.cast(S.tmp.mat[j], ti.i32)
         if ti.static(S.lanes) or (nb.kj == FLUID and mj == acc.mat):
             vol = lane_volume(nb, mj, acc.mat)
@@ -399,9 +391,8 @@ class XSPH(Module):
 
     @ti.func
     def pair(self, S, i, j, r, r2, nb, acc: ti.template()):
-        fluid = nb.kj == FLUID
-        if ti.static(S.lanes) or fluid:  # the lanes take every j and weigh a wall's zero
-            w = ti.select(fluid, S.w_scale * S.K.shape(nb.q), 0.0)
+        if ti.static(S.lanes) or nb.kj == FLUID:  # the lanes take every j and weigh a wall's zero
+            w = ti.select(nb.kj == FLUID, S.w_scale * S.K.shape(nb.q), 0.0)
             acc.xs += xsph(nb.m_j, -nb.v_ij, acc.inv_rhoi, nb.ir_j, w)
 
     @ti.func

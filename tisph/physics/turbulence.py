@@ -21,7 +21,8 @@ from ..terms.tke import (
     tke_stress,
     tke_update,
 )
-from .fluid import lane_volume, rate_of_gradient
+from .fluid import rate_of_gradient
+from .lanes import lane_volume
 
 
 @ti.data_oriented
