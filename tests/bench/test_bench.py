@@ -655,3 +655,51 @@ def test_schemes_bench_writes_every_run_its_table_and_figure(tmp_path, monkeypat
     assert len(rows) == n and {r["scheme"] for r in rows} == set(schemes.SCHEMES)
     assert (tmp_path / "schemes" / "schemes.png").stat().st_size > 20000
     assert (tmp_path / "schemes" / "schemes.md").read_text().count("| Wave flume") == 2 * len(schemes.SCHEMES)
+
+
+def test_validate_against_a_revision_times_a_whole_case_on_both_trees(tmp_path):
+    """--validate --against REV --only WORD: the still tank run whole at dx 0.05 on this tree and
+    on HEAD; the same case, particles and error on both (the engine is HEAD's), and the row's
+    speed-up is REV's wall time over this tree's."""
+    assert (
+        cli.main(
+            [
+                "--validate",
+                "--against",
+                "HEAD",
+                "--only",
+                "tank",
+                "--dx",
+                "0.05",
+                "--repeats",
+                "1",
+                "--out",
+                str(tmp_path),
+            ]
+        )
+        == 0
+    )
+    with open(tmp_path / "against.csv") as f:
+        (row,) = list(csv.DictReader(f))
+    assert row["case"] == "Still water in a tank" and float(row["dx"]) == 0.05 and int(row["particles"]) == 340
+    assert row["error"] == row["error_against"] and row["same_error"] == "True"
+    assert float(row["speedup"]) == pytest.approx(float(row["wall_against"]) / float(row["wall"]), rel=1e-6)
+    assert "| Still water in a tank | 0.05 | 340 |" in (tmp_path / "against.md").read_text()
+
+
+def test_validate_against_says_when_the_errors_differ_and_refuses_an_unknown_case(capsys):
+    """Where the trees' errors differ the ratio is a cost ratio, and the report says so; a case
+    no validation row names is refused with exit 2, naming the word."""
+    import argparse
+
+    from tisph.bench import against
+
+    new = [dict(case="c", dx=0.1, particles=10, steps=100, wall=w, error=0.05) for w in (10.0, 12.0)]
+    rev = [dict(case="c", dx=0.1, particles=10, steps=120, wall=w, error=0.06) for w in (20.0, 18.0)]
+    row = against.summary(new, rev)
+    assert row["speedup"] == pytest.approx(1.75) and row["speedup_min"] == 1.5 and not row["same_error"]
+    text = against.report(argparse.Namespace(against="abc", repeats=2), [row])
+    assert "1.75x (1.50-2.00): a cost ratio (the errors differ)" in text
+    with pytest.raises(SystemExit) as e:
+        cli.main(["--validate", "--against", "HEAD", "--only", "no-such-case"])
+    assert e.value.code == 2 and "no-such-case" in capsys.readouterr().err

@@ -5,6 +5,7 @@ ladder.py           run time against error at a ladder of resolutions
 engine_costs.py     the ladder's scaling, specialisation and kernel-profile sections
 validate.py         --validate: every validation case; validation_cases.py lists them, and
                     validation_page.py writes docs/validation.md and the README's table
+against.py          --validate --against REV: validation cases run whole on both trees, the time to each error
 uncertainty.py      each validation case's interval: its GCI, or its seeds' standard error
 speed.py            --speed: particle-steps/s, optionally against another revision, back to back
 traffic.py          --traffic: kernel launches and host-device transfers a step

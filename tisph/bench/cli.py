@@ -5,6 +5,7 @@ import argparse
 import os
 
 from . import (
+    against,
     gci_examples,
     ladder,
     lanes,
@@ -159,8 +160,15 @@ def _speed_options(p):
         help="with --speed: the dam break and the flume at about N particles each (1e4 to 1e6: the GPU "
         "check, with --arch gpu)",
     )
-    p.add_argument("--against", metavar="REV", help="with --speed: the same runs on this git revision, back to back")
-    p.add_argument("--repeats", type=int, default=3, help="with --speed: runs (pairs) per case (default 3)")
+    p.add_argument(
+        "--against",
+        metavar="REV",
+        help="with --speed: the same runs on this git revision, back to back; with --validate and --only: "
+        "those validation cases run whole on both trees, the time to each one's error (tisph/bench/against.py)",
+    )
+    p.add_argument(
+        "--repeats", type=int, default=3, help="with --speed or --validate --against: runs (pairs) per case (default 3)"
+    )
     p.add_argument(
         "--threads",
         type=int,
@@ -199,7 +207,8 @@ def _case_bench_options(p):
         "--dx",
         type=float,
         help="with --shedding or --mao-held: particle spacing (default the case "
-        "file's, D/20); with --waves: one dx in place of the ladder",
+        "file's, D/20); with --waves: one dx in place of the ladder; with --validate --against: the "
+        "spacing to run at (default each case's reported one)",
     )
     p.add_argument(
         "--end-time",
@@ -260,6 +269,10 @@ def main(argv=None):  # noqa: C901 (one branch a bench the command line names)
     if a.jobs < 0:
         p.error(f"--jobs {a.jobs}: at least 0 (0: one a core)")
     if a.validate:
+        if a.against:
+            if not a.only:
+                p.error("--validate --against needs --only: the cases to time (a word of each one's name)")
+            return against.main(a)
         return validate.main(a)
     if a.schemes:
         return scheme_costs.main(a)
