@@ -703,3 +703,6 @@ def test_validate_against_says_when_the_errors_differ_and_refuses_an_unknown_cas
     with pytest.raises(SystemExit) as e:
         cli.main(["--validate", "--against", "HEAD", "--only", "no-such-case"])
     assert e.value.code == 2 and "no-such-case" in capsys.readouterr().err
+    with pytest.raises(SystemExit) as e:
+        cli.main(["--validate", "--against", "HEAD", "--only", "tank", "--quick"])
+    assert e.value.code == 2 and "--quick does not apply" in capsys.readouterr().err

@@ -272,6 +272,8 @@ def main(argv=None):  # noqa: C901 (one branch a bench the command line names)
         if a.against:
             if not a.only:
                 p.error("--validate --against needs --only: the cases to time (a word of each one's name)")
+            if a.quick:
+                p.error("--validate --against runs each case whole: --quick does not apply")
             return against.main(a)
         return validate.main(a)
     if a.schemes:
