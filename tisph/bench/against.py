@@ -49,7 +49,7 @@ def run_tree(tree, word, dx):
 
 
 def case_names(words):
-    """The validation cases --only names (one for each word), or a clear error."""
+    """The --only words, each checked to name a validation case (exit 2 naming it where none does)."""
     from .validation_cases import CASES
 
     out = []
@@ -77,7 +77,10 @@ def run(a, log):
                 for k in range(a.repeats):
                     order = ((old, rev), (ROOT, new)) if k % 2 else ((ROOT, new), (old, rev))
                     for tree, into in order:
-                        into.append(run_tree(tree, w, a.dx))
+                        try:
+                            into.append(run_tree(tree, w, a.dx))
+                        except RuntimeError as e:  # a case REV lacks, or a run that failed: said, not a traceback
+                            raise SystemExit(f"python -m tisph.bench --validate --against: {e}") from None
                     log(
                         f"{new[-1]['case']}: {new[-1]['wall']:.1f} s (error {new[-1]['error']:.4g}), "
                         f"{a.against}: {rev[-1]['wall']:.1f} s (error {rev[-1]['error']:.4g})"
