@@ -21,15 +21,14 @@ import tempfile
 
 from ..io import ensure_dir, write_csv, write_text
 from .common import ROOT
-from .speed import worktree
+from .speed import remove_worktree, worktree
 
 # run in the tree under test: its own validation table (an older tree kept it in validate.py)
 CHILD = """
 import json, sys, tempfile
 from tisph.bench import validate
-cases = getattr(validate, "CASES")
 word, dx = sys.argv[1], float(sys.argv[2])
-case = [c for c in cases if word.lower() in c.name.lower()][0]
+case = [c for c in validate.CASES if word.lower() in c.name.lower()][0]
 with tempfile.TemporaryDirectory() as d:
     r = validate.run_one(case, dx if dx > 0 else case.ladder[-1], d, False)
 print(json.dumps(dict(case=case.name, dx=r["dx"], particles=r["particles"], steps=r["steps"],
@@ -87,13 +86,14 @@ def run(a, log):
                     )
                 rows.append(summary(new, rev))
         finally:
-            subprocess.run(["git", "-C", ROOT, "worktree", "remove", "--force", old], capture_output=True)
+            remove_worktree(old)
     return rows
 
 
 def summary(new, rev):
     """One case's row: walls, errors, and the median of the pairs' ratios (REV's time / this tree's)."""
     same = all(n["error"] == r["error"] for n, r in zip(new, rev))
+    ratios = [r["wall"] / n["wall"] for n, r in zip(new, rev)]
     return dict(
         case=new[0]["case"],
         dx=new[0]["dx"],
@@ -105,9 +105,9 @@ def summary(new, rev):
         error=new[0]["error"],
         error_against=rev[0]["error"],
         same_error=same,
-        speedup=statistics.median(r["wall"] / n["wall"] for n, r in zip(new, rev)),
-        speedup_min=min(r["wall"] / n["wall"] for n, r in zip(new, rev)),
-        speedup_max=max(r["wall"] / n["wall"] for n, r in zip(new, rev)),
+        speedup=statistics.median(ratios),
+        speedup_min=min(ratios),
+        speedup_max=max(ratios),
         pairs=len(new),
     )
 

@@ -190,6 +190,11 @@ def worktree(rev, base):
     return path
 
 
+def remove_worktree(path):
+    """Undo worktree(): the checkout and git's record of it."""
+    subprocess.run(["git", "-C", ROOT, "worktree", "remove", "--force", path], capture_output=True)
+
+
 def _measure_old(tree, rev, name, scene, ov, steps, log, arch, whole, threads):
     try:
         return measure(tree, scene, ov, steps, arch=arch, whole=whole, threads=threads)["pps"]
@@ -295,7 +300,7 @@ def run(a, log):
                 rows.append(row)
         finally:
             if old:
-                subprocess.run(["git", "-C", ROOT, "worktree", "remove", "--force", old], capture_output=True)
+                remove_worktree(old)
     return rows, cold, warm
 
 
