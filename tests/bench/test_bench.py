@@ -688,8 +688,9 @@ def test_validate_against_a_revision_times_a_whole_case_on_both_trees(tmp_path):
 
 
 def test_validate_against_says_when_the_errors_differ_and_refuses_an_unknown_case(capsys):
-    """Where the trees' errors differ the ratio is a cost ratio, and the report says so; a case
-    no validation row names is refused with exit 2, naming the word."""
+    """Where the trees' errors differ the ratio is a cost ratio, and the report says so; a word
+    names every case it matches; a case no validation row names is refused with exit 2, naming the
+    word."""
     import argparse
 
     from tisph.bench import against
@@ -700,6 +701,13 @@ def test_validate_against_says_when_the_errors_differ_and_refuses_an_unknown_cas
     assert row["speedup"] == pytest.approx(1.75) and row["speedup_min"] == 1.5 and not row["same_error"]
     text = against.report(argparse.Namespace(against="abc", repeats=2), [row])
     assert "1.75x (1.50-2.00): a cost ratio (the errors differ)" in text
+    # a word names every case it matches, as --validate --only runs them: in the table's order, once
+    assert against.case_names(["Stoker", "poiseuille", "alpha 0.4"]) == [
+        "Poiseuille, Newtonian",
+        "Poiseuille, Bingham 10 Pa",
+        "Dam break on a wet bed, alpha 0.1 (Stoker)",
+        "Dam break on a wet bed, alpha 0.4 (Stoker)",
+    ]
     with pytest.raises(SystemExit) as e:
         cli.main(["--validate", "--against", "HEAD", "--only", "no-such-case"])
     assert e.value.code == 2 and "no-such-case" in capsys.readouterr().err

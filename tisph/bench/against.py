@@ -3,7 +3,7 @@ REV, back to back.
 
     python -m tisph.bench --validate --against REV --only WORD [WORD ...] [--dx DX] [--repeats N]
 
-Each case named by --only (a word of its name in the validation table) runs at --dx (default the
+Every case an --only word names (a word of its name in the validation table) runs at --dx (default the
 spacing its table row reports) on this tree and on REV (a temporary git worktree), alternately,
 every other pair REV first, --repeats pairs, each run a whole process on every core, as the
 validation table runs it alone (each tree its own case file and its own error). Where the two
@@ -27,8 +27,11 @@ from .speed import remove_worktree, worktree
 CHILD = """
 import json, sys, tempfile
 from tisph.bench import validate
-word, dx = sys.argv[1], float(sys.argv[2])
-case = [c for c in validate.CASES if word.lower() in c.name.lower()][0]
+name, dx = sys.argv[1], float(sys.argv[2])
+hit = [c for c in validate.CASES if c.name.lower() == name.lower()]
+if not hit:
+    sys.exit(f"no validation case is named {name!r} in this tree")
+case = hit[0]
 with tempfile.TemporaryDirectory() as d:
     r = validate.run_one(case, dx if dx > 0 else case.ladder[-1], d, False)
 print(json.dumps(dict(case=case.name, dx=r["dx"], particles=r["particles"], steps=r["steps"],
@@ -36,19 +39,20 @@ print(json.dumps(dict(case=case.name, dx=r["dx"], particles=r["particles"], step
 """
 
 
-def run_tree(tree, word, dx):
-    """One whole validation run in a fresh process on the tree at `tree`."""
+def run_tree(tree, name, dx):
+    """One whole validation run of the case named `name` in a fresh process on the tree at `tree`."""
     env = dict(os.environ, PYTHONPATH=tree)
     r = subprocess.run(
-        [sys.executable, "-c", CHILD, word, str(dx or 0.0)], cwd=tree, capture_output=True, text=True, env=env
+        [sys.executable, "-c", CHILD, name, str(dx or 0.0)], cwd=tree, capture_output=True, text=True, env=env
     )
     if r.returncode != 0:
-        raise RuntimeError(f"{word} on {tree}: {(r.stderr or r.stdout).strip()[-800:]}")
+        raise RuntimeError(f"{name} on {tree}: {(r.stderr or r.stdout).strip()[-800:]}")
     return json.loads(r.stdout.strip().splitlines()[-1])
 
 
 def case_names(words):
-    """The --only words, each checked to name a validation case (exit 2 naming it where none does)."""
+    """Every validation case whose name contains one of the --only words, in the table's order, as
+    --validate --only runs them (exit 2 naming a word that names none)."""
     from .validation_cases import CASES
 
     out = []
@@ -61,17 +65,17 @@ def case_names(words):
                 file=sys.stderr,
             )
             raise SystemExit(2)
-        out.append(w)
-    return out
+        out += [n for n in hit if n not in out]
+    return [c.name for c in CASES if c.name in out]
 
 
 def run(a, log):
-    words = case_names(a.only or [])
+    names = case_names(a.only or [])
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
         old = worktree(a.against, tmp)
         try:
-            for w in words:
+            for w in names:
                 new, rev = [], []
                 for k in range(a.repeats):
                     order = ((old, rev), (ROOT, new)) if k % 2 else ((ROOT, new), (old, rev))
