@@ -75,12 +75,12 @@ def test_a_batch_across_the_ramps_end_follows_it_in_two_pieces():
     side, and the device's paddle is the host's to round-off, with no step alone. A ramp this
     steep (0.15 periods) amplifies the series' f32 rounding to 1.5e-3 dx after 300 steps whether
     the steps across the kink go alone (as they did) or in two pieces (1.8e-3 dx)."""
-    from tisph.engine.batch import CHEB, paddle_fit
+    from tisph.engine.batch import CHEB, series_fit
 
     ov = dict(FLUME, **{"paddle.ramp_periods": 0.15})
     host, dev = _solver(flume, **ov), _solver(flume, **ov)
     (end,) = dev.motion.breaks
-    assert paddle_fit(dev.motion, end - 0.01, 0.02)[2 * CHEB + 2] == pytest.approx(0.01)  # where it splits
+    assert series_fit(dev.motion, end - 0.01, 0.02)[2 * CHEB + 2] == pytest.approx(0.01)  # where it splits
     dev.paddle_series = True
     for _ in range(300):
         host.step()
@@ -162,3 +162,70 @@ def test_a_run_that_parks_writes_what_one_that_does_not_writes(tmp_path):
     assert pa == pb and na == nb and ta == tb
     for k in xa:
         assert np.array_equal(xa[k], xb[k]), k
+
+
+def _tunnel(device):
+    """The tunnel's particle bed at dx 0.02, its drive's feedback run by the host (the CPU's
+    default) or, forced as a GPU runs it, by the device; and the case's HeldCurrent."""
+    from tisph.scenes import tunnel
+
+    root = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+    cfg = resolve(tunnel, os.path.join(root, "scenes", "tunnel_bingham.toml"), {"numerics.dx": 0.02})
+    case = build_case(tunnel, cfg, Log(os.devnull, True))
+    if device:
+        case.params["drive_series"] = True
+    s = Solver(case.physics, case.particles, case.materials, case.domain, case.params)
+    return s, case.params["held_current"]
+
+
+def test_a_held_current_runs_on_the_device_with_no_read_and_restarts():
+    """The tunnel's drive: its feedback on the device (engine/drive.py) follows the host's to
+    round-off over 400 steps (40 control steps, the ramp's end not yet reached); a batch of 40
+    steps with 4 control steps in it reads the device once, at its end, besides the law's series
+    uploaded at its start; its state saved as a checkpoint saves it (sync, the observers' pickle)
+    and loaded into a fresh solver (load) continues as the run that was not stopped, bit for bit."""
+    from tisph.runner.outputs import observer_state, restore_observers
+
+    host, hh = _tunnel(False)
+    dev, dh = _tunnel(True)
+    assert host.drive is None and dev.drive is not None
+    host.prime()
+    while host.steps < 400:
+        host.step_ahead(10)
+        hh.update(host)
+    dev.prime()
+    c = Counter()
+    with c.install():
+        assert dev.step_ahead(40) == 40
+        launches, transfers = c.total()
+    assert (launches, transfers) == (46, 2), (c.launches, c.transfers)  # 40 steps, 4 controls, upload and read
+    while dev.steps < 200:
+        dev.step_ahead(40)
+    assert dev.drive.stale and dh.ctl.t == 0.0  # the host's copy untouched until something reads it
+    arrays, scal = dev.raw_state()
+    dev.sync_drive()
+    assert dh.ctl.t == pytest.approx(dev.time, rel=1e-7)  # step 200 was a control step
+    blob = observer_state((dh.ctl,))
+    while dev.steps < 400:
+        dev.step_ahead(40)
+    dev.sync_drive()
+    assert dev.steps == host.steps and dev.time == pytest.approx(host.time, rel=1e-7)
+    assert dh.ctl.t == pytest.approx(hh.ctl.t, rel=1e-7)
+    # measured 5e-7 of the drive and 1.2e-5 of the integral
+    assert dh.ctl.value == pytest.approx(hh.ctl.value, rel=1e-5)
+    assert dh.ctl.integral == pytest.approx(hh.ctl.integral, rel=1e-4)
+    assert float(dev.prm[None].drive[0]) == pytest.approx(dh.ctl.value, rel=1e-6)
+    a, b = host.state(("x", "v")), dev.state(("x", "v", "rho"))
+    assert np.max(np.abs(a["x"] - b["x"])) < 1e-4 * 0.02
+    assert np.max(np.abs(a["v"] - b["v"])) < 1e-2 * np.max(np.abs(a["v"]))
+    two, th = _tunnel(True)
+    two.load_raw_state(arrays, scal)
+    restore_observers((th.ctl,), blob)
+    two.load_drive()
+    while two.steps < 400:
+        two.step_ahead(40)
+    two.sync_drive()
+    assert vars(th.ctl) == vars(dh.ctl) and two.time == dev.time
+    c = two.state(("x", "v", "rho"))
+    for k in c:
+        assert np.array_equal(b[k], c[k]), k

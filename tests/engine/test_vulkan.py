@@ -4,7 +4,8 @@ Mesa's software Vulkan, llvmpipe) end within a stated f32 tolerance of the CPU's
 The set: the golden cases that together compile every module, and for each registered scene
 without one of them, its cheapest golden case; so every scene builds and steps on the GPU, and
 every module's GPU form (32-bit kind and material, per-particle atomic maxima, the gather pass
-in place of each pair once, the serial loops as one GPU thread) runs there.
+in place of each pair once, the serial loops as one GPU thread, the pipeline's drive feedback
+on the device against the CPU's host control) runs there.
 
 Why a tolerance and not bit for bit: the GPU's pow (SPIR-V's, exp2 of log2) rounds differently
 from the CPU's in about a quarter of its results, and the extrapolated wall's density is

@@ -245,7 +245,7 @@ def test_a_spectrums_paddle_sums_its_components_and_a_batch_can_follow_it():
     """The paddle sums the components at each time asked: the sampled series at its samples, the
     exact rate between them, a smooth function a batch's Chebyshev series follows (where the
     sampled series' linear interpolation has a kink at every sample)."""
-    from tisph.engine.batch import paddle_fit
+    from tisph.engine.batch import series_fit
 
     p = dict(type="piston", spectrum="jonswap", hs=0.04, tp=0.9, gamma=3.3, seed=1, band=[0.5, 2.0], ramp_periods=2.0)
     d = 0.25
@@ -258,8 +258,8 @@ def test_a_spectrums_paddle_sums_its_components_and_a_batch_can_follow_it():
     e = 1e-6
     for tq in (3.01, 7.777, 12.3456):
         assert m.surface(tq)[1] == pytest.approx((m.surface(tq + e)[0] - m.surface(tq - e)[0]) / (2 * e), rel=1e-5)
-    assert all(paddle_fit(m, 2.0 + 0.37 * i, 0.128) is not None for i in range(20))
-    assert sum(paddle_fit(sampled, 2.0 + 0.37 * i, 0.128) is not None for i in range(20)) == 0
+    assert all(series_fit(m, 2.0 + 0.37 * i, 0.128) is not None for i in range(20))
+    assert sum(series_fit(sampled, 2.0 + 0.37 * i, 0.128) is not None for i in range(20)) == 0
 
 
 def test_irregular_target_is_the_components_waves_where_the_gauge_is():

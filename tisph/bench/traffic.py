@@ -12,8 +12,9 @@ steps ahead. This counts, in the real run loop (runner/loop.py) of one golden ca
   launch and are not counted apart.
 
 The loop runs as it runs on a GPU: a smooth paddle motion followed on the device by a series
-over each batch of steps (engine/access.py, paddle_fit), where the CPU takes the host's value
-every step. A step runs from its step kernel's launch to the next one's: what the host does after it (the
+over each batch of steps (engine/access.py, series_fit), where the CPU takes the host's value
+every step, and a held current's feedback run by the device (engine/drive.py), where the CPU's
+host reads the mean velocity back. A step runs from its step kernel's launch to the next one's: what the host does after it (the
 read of a batch of steps, the health check, the backup, a control, the next step's paddle) is
 the step's. It "writes nothing" where none of the run's outputs (probes, frames, snapshots,
 checkpoints, the scene's events) was written in it. Printed as a table and written to OUT/traffic.md and traffic.json."""
@@ -134,6 +135,7 @@ def measure(case_id, steps=STEPS, arch="cpu"):
         log = Log(os.path.join(out, "run.log"), True)
         case = build_case(scene, cfg, log)
         case.params["paddle_series"] = True  # as a GPU runs it (on the CPU the host gives the paddle,
+        case.params["drive_series"] = True  # and runs a held current's feedback,
         case.params["read_elements"] = 0  # and a short batch's log is read element by element,
         case.params["park"] = True  # and a batch of steps stops at the output it was given)
         run = Run(case, cfg, out, log, scene.NAME)

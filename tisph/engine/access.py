@@ -7,7 +7,7 @@ import taichi as ti
 from ..hooks.health import BAD_NONE
 from ..io import OPTIONAL
 from ..particles import FLUID, SPRAY
-from .batch import STOP_SHORT, paddle_fit
+from .batch import STOP_SHORT, series_fit
 from .smoothing import CubicSpline2D
 
 
@@ -66,8 +66,10 @@ class SolverAPI:
         (stepper.py, step): the host may launch more than it needs. A step after the health has
         gone bad parks too. Time, the step count and the health code (self.health) are current
         on return. A paddle follows a Chebyshev series of its motion over the batch
-        (batch.paddle_fit); where it cannot (steps_ahead_allowed) n must be 1, and where the
-        series does not hold one step is taken. Returns the steps taken."""
+        (batch.series_fit); where it cannot (steps_ahead_allowed) n must be 1, and where the
+        series does not hold one step is taken. A held current run by the device (drive.py)
+        follows its law's series likewise, its control launched after each control step.
+        Returns the steps taken."""
         if not self._primed:
             self.prime()
         self.dt  # the step's dt, read once after a restart
@@ -75,9 +77,12 @@ class SolverAPI:
             raise ValueError(f"step_ahead takes 1 to {self.batch} steps, not {n}")
         if n > 1 and not self.steps_ahead_allowed:
             raise ValueError("a paddle moved from the host steps one at a time")
-        fit = paddle_fit(self.motion, self.time, n * self.dt_bound) if n > 1 and self.moves_paddle else None
+        fit = series_fit(self.motion, self.time, n * self.dt_bound) if n > 1 and self.moves_paddle else None
         if n > 1 and self.moves_paddle and fit is None:
             n = 1  # the series did not hold: this step alone, its paddle from the host
+        drive = self.drive
+        if drive is not None and (self.steps + n) // drive.every > self.steps // drive.every:
+            n = drive.plan(self.time, n, self.dt_bound, self._dt)  # a control step in the batch
         if fit is None:  # the kernel moves the paddle to t + dt
             args = (0,) + self._paddle_at(self.time + self._dt)
         else:
@@ -93,6 +98,9 @@ class SolverAPI:
             self.steps += 1
             for m in self.hooks["after_step"]:
                 m.after_step(self)  # a parked step's after_step parks too (shepard.py)
+            if drive is not None and self.steps % drive.every == 0:
+                drive.control()  # a parked step's parks too
+                drive.stale = True
         log = self._read_log(n, until is not None)
         self.steps += len(log) - n
         for dt in log:  # the dt each step took, summed in step order
@@ -220,12 +228,6 @@ class SolverAPI:
         """The k equation's turbulent kinetic energy at each point, as sample_velocity(tke=True)."""
         return self.sample_velocity(points, mat, tke=True)[1]
 
-    def mean_velocity(self, mat=0, above=-1e30):
-        """Mean x-velocity of the fluid particles of material `mat` higher than y = above (NaN if
-        there are none), summed on the device in one order."""
-        su, n = self._sum_u(int(mat), float(above))
-        return float(su) / n if n else float("nan")
-
     def field_bytes(self):
         """Bytes the particle and grid fields take on the device (from their shapes and types)."""
         return self.store.nbytes() + self.grid.nbytes()
@@ -346,37 +348,6 @@ class SolverAPI:
     def sample_pair_k(self, k, j, r, r2, acc: ti.template()):
         w = self.sample_pair(k, j, r, r2, acc)
         acc.k += w * ti.cast(self.p.kt[j], ti.f64)
-
-    @ti.kernel
-    def _sum_u(self, mat: ti.i32, above: ti.f64) -> ti.types.vector(2, ti.f64):
-        """(sum of u, count) over the selected particles, in one order whatever the threads, so
-        the drive's feedback restarts bit for bit: serially on the CPU; on a GPU, where one thread
-        over every particle costs milliseconds, by blocks of particles (runtime.blocks), then over
-        the blocks' sums."""
-        s = ti.f64(0.0)
-        n = ti.f64(0.0)
-        if ti.static(self.cpu):
-            ti.loop_config(serialize=True)
-            for i in range(self.n):
-                if self._drives(i, mat, above):
-                    s += ti.cast(self.p.v[i][0], ti.f64)
-                    n += 1.0
-        else:
-            for b in range(self.usum.shape[0]):
-                acc = ti.Vector([0.0, 0.0], ti.f64)
-                for i in range(b * self.usum_block, ti.min((b + 1) * self.usum_block, self.n)):
-                    if self._drives(i, mat, above):
-                        acc += ti.Vector([ti.cast(self.p.v[i][0], ti.f64), 1.0], ti.f64)
-                self.usum[b] = acc
-            ti.loop_config(serialize=True)
-            for b in range(self.usum.shape[0]):
-                s += self.usum[b][0]
-                n += self.usum[b][1]
-        return ti.Vector([s, n])
-
-    @ti.func
-    def _drives(self, i, mat, above):
-        return self.p.kind[i] == FLUID and ti.cast(self.p.mat[i], ti.i32) == mat and self.p.x[i][1] > above
 
     @ti.func
     def count_pair(self, i, j, r, r2, acc: ti.template()):

@@ -1,6 +1,7 @@
 """Steps in batches with no read of the device between them (access.py, step_ahead): the batch's
-size, how its log is read, and the paddle's motion as a Chebyshev series over a batch, fitted on
-the host (paddle_fit) and evaluated by the step kernel (chebyshev)."""
+size, how its log is read, and a smooth function of time (the paddle's motion, a held current's
+law) as a Chebyshev series over a batch, fitted on the host (series_fit) and evaluated by the
+device (series_at)."""
 
 import numpy as np
 import taichi as ti
@@ -16,22 +17,24 @@ STOP_SHORT = 1.0 - 1e-4
 # longer one, and any on a GPU (where each read waits for the device), in one to_numpy (about
 # 100 us on the CPU)
 READ_ELEMENTS = 16
-# the degree of the paddle's Chebyshev series over a batch
+# the degree of the Chebyshev series over a batch
 CHEB = 8
 
 
-# the device's copy of a fit (pfit): the first piece's displacement and rate series and where it
-# ends, then the second piece's and the batch's span
+# the device's copy of a fit: the first piece's two series and where it ends, then the second
+# piece's and the batch's span
 PFIT = 4 * CHEB + 6
 
 
-def paddle_fit(motion, t0, span):
-    """Chebyshev series of motion(t) = (displacement, rate) over [t0, t0 + span], for the device to
-    evaluate at each step's time, in two pieces where one of the motion's kinks (motion.breaks:
-    the ramp's end, the ramp down's) falls inside: the values for pfit (PFIT of them), or None
-    where two kinks do, or a piece misses the motion by more than 3e-8 of its largest value at 4
-    points between each pair of nodes (then the steps go one at a time)."""
-    inside = [b - t0 for b in getattr(motion, "breaks", ()) if t0 < b < t0 + span]
+def series_fit(motion, t0, span, breaks=None):
+    """Chebyshev series of motion(t) = two values (the paddle's displacement and rate; a held
+    current's target and feedforward) over [t0, t0 + span], for the device to evaluate at each
+    step's time, in two pieces where one of its kinks (breaks, else motion.breaks: the ramp's end,
+    the ramp down's) falls inside: the PFIT values of a fit, or None where two kinks do, or a
+    piece misses the motion by more than 3e-8 of its largest value at 4 points between each pair
+    of nodes (then the steps go one at a time)."""
+    breaks = getattr(motion, "breaks", ()) if breaks is None else breaks
+    inside = [b - t0 for b in breaks if t0 < b < t0 + span]
     if len(inside) > 1:
         return None
     split = inside[0] if inside else span
@@ -53,6 +56,24 @@ def _series(motion, t0, span):
         if np.max(np.abs(cheb.chebval(check, c) - col)) > 3e-8 * np.max(np.abs(col)) + 1e-30:
             return None
     return tuple(fits[0]) + tuple(fits[1])
+
+
+def constant_fit(values, span):
+    """A fit (as series_fit's) that holds the two values over the whole span."""
+    piece = (values[0],) + (0.0,) * CHEB + (values[1],) + (0.0,) * CHEB
+    return piece + (span,) + piece + (span,)
+
+
+@ti.func
+def series_at(c: ti.template(), tau):
+    """A fit's two values tau seconds into its span (series_fit): the first piece to its end,
+    then the second."""
+    split = c[2 * CHEB + 2]
+    at, t0, span = 0, 0.0 * split, split
+    if tau > split:
+        at, t0, span = 2 * CHEB + 3, split, c[PFIT - 1] - split
+    x = 2.0 * (tau - t0) / span - 1.0
+    return ti.Vector([chebyshev(c, at, x), chebyshev(c, at + CHEB + 1, x)])
 
 
 @ti.func

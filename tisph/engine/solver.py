@@ -20,6 +20,7 @@ from ..settings.config import Physics
 from . import state as st_mod
 from .access import SolverAPI
 from .batch import BATCH, BATCH_CPU, READ_ELEMENTS
+from .drive import CurrentAPI, DeviceDrive
 from .enabled import enabled_modules
 from .grid import LANE_SUPPORT, WHOLE_CELL, Grid
 from .smoothing import get_kernel
@@ -29,7 +30,7 @@ from .table import ParamTable, Setup
 
 
 @ti.data_oriented
-class Solver(SolverAPI):
+class Solver(SolverAPI, CurrentAPI):
     def __init__(self, physics: Physics, particles, materials, domain, params: dict, outflow=(), container=None):
         """particles: ParticleSet; materials: list of dicts (rho0, B, viscosity and the modules'
         material keys); domain: ((xlo, ylo), (xhi, yhi)); params: dx, h, c0 and the modules'
@@ -116,8 +117,13 @@ class Solver(SolverAPI):
         """The parameter table (runtime parameters, materials, statistics), the stepper (the step
         kernel, its maxima, log and accumulator; each pair once where asked), the modules' own
         fields, then every table written at once."""
-        self.usum_block, nb = blocks(self.n)  # a GPU's block sums of the mean velocity (access.py)
-        self.usum = None if self.cpu else ti.Vector.field(2, ti.f64, nb)
+        # a held current's feedback (measure/control.py) run by the device (engine/drive.py): on a
+        # GPU, where the host's reads of the mean velocity wait for it; the CPU keeps the host's
+        # control, so its results stay as they were
+        held = params.get("held_current")
+        on_device = held is not None and bool(params.get("drive_series", not self.cpu))
+        self.usum_block, nb = blocks(self.n)  # block sums of the mean velocity (drive.py)
+        self.usum = ti.Vector.field(2, ti.f64, nb) if on_device or not self.cpu else None
         setup = Setup(self.dx, self.h, self.c0, materials, self.particles)
         self.table = ParamTable(self.modules, params, setup, self.real)
         self.prm, self.mat, self.stats = self.table.prm, self.table.mat, self.table.stats
@@ -127,10 +133,11 @@ class Solver(SolverAPI):
         self.pair_once = self.stepper.pair_once
         for m in self.modules:
             m.allocate(self)  # module fields that are not per particle, if any
+        self.drive = DeviceDrive(self, held) if on_device else None
         self.table.write()  # every field exists now
         self.motion = params.get("motion")  # motion(t) -> (displacement, rate), for the paddle
         # a smooth paddle motion followed on the device by a series over a batch of steps
-        # (batch.py, paddle_fit), which rounds differently from the host's motion(t) cast to f32:
+        # (batch.py, series_fit), which rounds differently from the host's motion(t) cast to f32:
         # on a GPU, where the host's value every step costs a wait for the device; on the CPU,
         # where it costs microseconds, the host's, so the CPU's results stay as they were
         self.paddle_series = bool(params.get("paddle_series", not self.cpu))

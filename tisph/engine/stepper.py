@@ -38,7 +38,7 @@ from ..hooks.health import BAD_DENSITY, BAD_LEAK, BAD_NONE, fluid_code, report
 from ..particles import FLUID, MOVING, OUT, OUTFLOW
 from ..terms.pressure import tait
 from . import pairs
-from .batch import BATCH, CHEB, PFIT, chebyshev
+from .batch import BATCH, PFIT, series_at
 from .limits import next_dt
 from .pairs import PairOnce
 from .state import resolve
@@ -85,7 +85,7 @@ class Stepper:
         self.dtlog = ti.field(S.real, shape=BATCH + 2)
         self.ptau = ti.field(S.real, shape=())  # time into a batch: the paddle's series, the stop
         self.live = ti.field(ti.i32, shape=())  # 0 where the last step launched was parked
-        self.pfit = ti.field(S.real, shape=PFIT)  # its series in one or two pieces (batch.py, paddle_fit)
+        self.pfit = ti.field(S.real, shape=PFIT)  # its series in one or two pieces (batch.py, series_fit)
         # the maxima a finish hook raises through pt (the pass itself raises amax2 and rhodev)
         self._module_max0 = {
             k: 0 if t == "int" else 0.0 for k, t in self.maxima.items() if k not in ("amax2", "rhodev")
@@ -300,7 +300,7 @@ class Stepper:
         slot_health (no value returned: a return waits for the device). Where the paddle module
         is on, its displacement and rate at the step's end: pd, pv as given (fit 0; the launch's
         arguments, not a launch of their own), or (fit 1) the Chebyshev series in pfit over the
-        batch's span, at the time the batch's steps have taken so far (batch.py, paddle_fit).
+        batch's span, at the time the batch's steps have taken so far (batch.py, series_fit).
         Step k > 0 of a batch parks (changes nothing) once the batch's steps have taken `stop`
         seconds or the health has gone bad: the host launches more steps than an output needs
         and reads the log once, at the output (access.py, step_ahead). Scalar arguments: a
@@ -321,14 +321,10 @@ class Stepper:
                 if fit == 0:
                     S.prm[None].pd = ti.cast(pd, S.real)
                     S.prm[None].pv = ti.cast(pv, S.real)
-                else:  # the first piece to its end, then the second
-                    split = self.pfit[2 * CHEB + 2]
-                    at, t0, span = 0, 0.0, split
-                    if tau > split:
-                        at, t0, span = 2 * CHEB + 3, split, self.pfit[PFIT - 1] - split
-                    x = 2.0 * (tau - t0) / span - 1.0
-                    S.prm[None].pd = chebyshev(self.pfit, at, x)
-                    S.prm[None].pv = chebyshev(self.pfit, at + CHEB + 1, x)
+                else:
+                    motion = series_at(self.pfit, tau)
+                    S.prm[None].pd = motion[0]
+                    S.prm[None].pv = motion[1]
         ncell = S.grid.ncells
         for i in range(S.n):
             if go:

@@ -18,3 +18,22 @@ class PIDrive:
         self.value = feedforward + error / self.Tc + self.integral / self.Tc**2
         solver.set_drive(self.value)
         return self.value
+
+
+class HeldCurrent:
+    """A current held toward law(t) = (target velocity, feedforward drive) by PI feedback (self.ctl,
+    a PIDrive) on the mean x-velocity of the water of material `mat` above y = `above`, every
+    `every` steps. The host runs it (update, as a case's control) on the CPU; on a GPU the solver
+    runs the same arithmetic on the device (engine/drive.py: a case gives it as the solver's
+    held_current parameter), the law followed over each batch of steps by a series (its kinks in
+    `breaks`), so the steps between outputs read nothing back. A subclass sets ctl and law."""
+
+    mat, above, every, breaks = 0, -1e30, 10, ()
+    ctl: PIDrive
+
+    def law(self, t):
+        raise NotImplementedError
+
+    def update(self, s):
+        u_t, feedforward = self.law(s.time)
+        self.ctl.update(s, u_t - s.mean_velocity(self.mat, above=self.above), feedforward)

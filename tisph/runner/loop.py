@@ -112,6 +112,7 @@ class Run(Outputs):
         s.enable_backup()
         if self.restart:
             self.resume()
+            s.load_drive()  # the controller's state as the checkpoint kept it
             self.events = [e for e in self.events if e[0] > s.time + 1e-12]
         else:
             s.prime()
@@ -248,8 +249,8 @@ class Run(Outputs):
             ts = time.perf_counter()
             n, left = self._quiet_steps(t_end, max_steps)
             s.step_ahead(n, left if s.park else None)
-            if obs.control is not None and s.steps % obs.control_every == 0:
-                obs.control(s)
+            if obs.control is not None and s.drive is None and s.steps % obs.control_every == 0:
+                obs.control(s)  # where the device runs the held current, the steps run it
             self.step_s += time.perf_counter() - ts
             if not s.health_read and (s.time >= self.next_output - 1e-12 or self._event_due()):
                 s.read_health()  # a single step reads it every 10 steps, and before anything is written
@@ -298,7 +299,7 @@ class Run(Outputs):
             n = max(n, math.ceil(1.03 * left / s.dt))
         if max_steps:
             n = min(n, max_steps - s.steps)
-        if obs.control is not None:
+        if obs.control is not None and s.drive is None:
             n = min(n, obs.control_every - s.steps % obs.control_every)
         return max(1, min(n, s.batch)), left
 

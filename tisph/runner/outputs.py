@@ -74,6 +74,7 @@ class Outputs:
             cb(st, t)
 
     def sample(self):
+        self.solver.sync_drive()  # a probe may read the drive's controller
         st = self.solver.state(("x", "v", "kind", "rho", "p", "m", "mat"))
         st["t"] = self.solver.time
         self.solver.sample_density_error(st)
@@ -154,6 +155,7 @@ class Outputs:
         if self.frames is not None:
             self.frames.sync()  # the frames it counts on disk first
         arrays, scal = self.solver.raw_state()
+        self.solver.sync_drive()  # the controller's state with the observers'
         try:
             with atomic_path(path) as tmp, h5py.File(tmp, "w") as f:
                 g = f.create_group("particles")

@@ -74,7 +74,7 @@ def _key(p, depth, t_end, g):
 def irregular_components(p, depth, t_end, g=G):
     """The components irregular_series sums, X_i sin(2 pi f_i t + phase_i) before the ramp
     (read-only arrays). The paddle sums them at each time it is asked for, a smooth function of
-    time that a GPU follows over a batch of steps (engine/batch.py, paddle_fit)."""
+    time that a GPU follows over a batch of steps (engine/batch.py, series_fit)."""
     f, _, _, X, phase = _components(*_key(p, depth, t_end, g))
     return Components(f, X, phase)
 

@@ -40,7 +40,7 @@ class Motion:
         self.series = None
         self.components = series if isinstance(series, Components) else None
         # a smooth function of time alone: the solver may follow it by a series over a batch of
-        # steps (engine/access.py, paddle_fit); a measured series is piecewise linear
+        # steps (engine/access.py, series_fit); a measured series is piecewise linear
         self.smooth = series is None or self.components is not None
         if series is not None and self.components is None:
             t, x = (np.asarray(a, float) for a in series)

@@ -268,6 +268,7 @@ class PipelineScour(Scene):
             else (),
         )
         rec = ScourRecord(cfg, g)
+        params["held_current"] = rec  # the drive's feedback: the device's on a GPU (engine/drive.py)
         t_end = cfg.run.end_time
         events = [(t, rec.on_profile_sample) for t in np.arange(0.5 * t_end, t_end + 1e-9, 0.05)]
         stills_at = (0.0, 0.5 * t_end, t_end)
@@ -291,7 +292,7 @@ class PipelineScour(Scene):
             container=(-1e9, -0.5 * dx, 1e9, float("inf")),
             render_modes=("phase", "pressure"),
             mat_colors=(None, SAND),
-            control=rec.control,
+            control=rec.update,
             persist=(rec,),
             pressure_scale=g.rw * G * g.ytop + (g.rs - g.rw) * G * hs,
         )

@@ -256,7 +256,7 @@ class BedScourRecord(ScourRecord):
         return self.t0_mao + self.bed_time(t)
 
     def control(self, s):
-        super().control(s)
+        self.update(s)  # the drive's feedback on the host, at the bed's cadence
         self.bed.update(s)
         if "lt" in s.members:  # the k-equation's length follows the bed
             x = s.p.x.to_numpy()

@@ -8,7 +8,7 @@ import numpy as np
 
 from ...constants import KAPPA, G
 from ...io import write_csv, write_station_rows
-from ...measure.control import PIDrive
+from ...measure.control import HeldCurrent, PIDrive
 from ...measure.field import surface_heights
 from ...measure.plots import pyplot, save
 from ...particles import FLUID
@@ -22,9 +22,10 @@ def water_velocity(st):
     return float(st["v"][w, 0].mean())
 
 
-class ScourRecord:
-    """The drive's control, the bed under and around the pipe, the transport through the
-    section under it, the bed shear, and the velocity profiles of the second half of the run."""
+class ScourRecord(HeldCurrent):
+    """The drive's control (the water's mean velocity held at U), the bed under and around the
+    pipe, the transport through the section under it, the bed shear, and the velocity profiles
+    of the second half of the run."""
 
     def __init__(self, cfg, g):
         self.cfg, self.g = cfg, g
@@ -37,9 +38,9 @@ class ScourRecord:
         self.offsets = cfg.geometry.profile_offsets
         self.prof = {o: [] for o in self.offsets}
 
-    def control(self, s):
-        """The drive's feedback on the water's mean velocity."""
-        self.ctl.update(s, self.g.U - s.mean_velocity(0), self.g0)
+    def law(self, t):
+        """The mean velocity held, and the uniform channel's body force, the feedforward."""
+        return self.g.U, self.g0
 
     def probe(self, st):
         g, dx, stations = self.g, self.g.dx, self.stations

@@ -187,6 +187,7 @@ class Tunnel(Scene):
         ps = _particles(cfg, c0, a_seed, n_seed)
         materials = [dict(dict(mats[n]), name=n, B=tait_B(mats[n]["rho0"], c0)) for n in ("water", "sand")]
         params = common_params(cfg, c0, G, depth=ytop)
+        params["held_current"] = drive  # the drive's feedback: the device's on a GPU (engine/drive.py)
         pad = 4 * h
         domain = ((0.0, -L * dx - pad), (Lx, 2.0 * ytop + pad))
         physics = physics_from_config(cfg, periodic_x=True)
@@ -230,7 +231,7 @@ class Tunnel(Scene):
             render_modes=("phase",),
             mat_colors=(None, SAND),
             control=drive.update,
-            control_every=10,
+            control_every=drive.every,
             persist=(drive.ctl, bed_rows, bed0),
         )
 

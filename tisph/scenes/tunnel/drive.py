@@ -3,7 +3,7 @@ rate (the random bed's roughness, the seeded ripples, the turnover against the c
 
 import math
 
-from ...measure.control import PIDrive
+from ...measure.control import HeldCurrent, PIDrive
 from ...particles import FLUID
 from ...sediment import initial, morfac
 from ...sediment.morfac import bed_turnover
@@ -12,16 +12,17 @@ BED_PERIODS = 200
 CREST_SPEED = 2.0  # the fastest water over grown ripples / U_m, for c0 (1.95 measured at mobility 145)
 
 
-class TunnelDrive:
-    """The drive is dU/dt plus PI feedback on the free stream, as a tunnel's piston holds the
-    flow: friction on the bed drains momentum during the ramp, and without feedback a mean
-    current of 7 % of U_m was left (measured at dx 0.02)."""
+class TunnelDrive(HeldCurrent):
+    """The drive is dU/dt plus PI feedback on the free stream (the water above the lower half of
+    the layer), as a tunnel's piston holds the flow: friction on the bed drains momentum during
+    the ramp, and without feedback a mean current of 7 % of U_m was left (measured at dx 0.02)."""
 
     def __init__(self, geo):
         self.period = geo["period"]
         self.omega = 2.0 * math.pi / self.period
         self.Um = 0.5 * geo["orbital_diameter"] * self.omega
-        self.y_free = geo["sand_depth"] + 0.5 * geo["water_depth"]
+        self.y_free = self.above = geo["sand_depth"] + 0.5 * geo["water_depth"]
+        self.breaks = (self.period,)  # the ramp's end
         self.ctl = PIDrive(0.1 * self.period)
 
     def u_free(self, st):
@@ -33,9 +34,9 @@ class TunnelDrive:
     def target(self, t):
         return free_stream(t, self.Um, self.omega, self.period)[0]
 
-    def update(self, s):
-        u_t, dudt = free_stream(s.time, self.Um, self.omega, self.period)
-        self.ctl.update(s, u_t - s.mean_velocity(0, above=self.y_free), dudt)
+    def law(self, t):
+        """The free stream's U(t) and its dU/dt, the feedforward."""
+        return free_stream(t, self.Um, self.omega, self.period)
 
 
 def turnover_periods(cfg):
