@@ -97,6 +97,25 @@ def test_a_batch_across_the_ramps_end_follows_it_in_two_pieces():
     assert np.max(np.abs(a["v"] - b["v"])) < 3e-3 * np.max(np.abs(a["v"]))
 
 
+def test_a_batch_no_series_follows_halves_until_one_does():
+    """batch.fit_steps: a motion too fast for one series over the batch, or with two kinks in it,
+    is followed over half the steps, or a quarter, not one step at a time."""
+    import math
+
+    from tisph.engine.batch import fit_steps, series_fit
+
+    def fast(t):
+        return math.sin(50.0 * t), 50.0 * math.cos(50.0 * t)
+
+    n, fit = fit_steps(fast, 0.3, 512, 1e-3)
+    assert 1 < n < 512 and fit is not None
+    assert series_fit(fast, 0.3, 2 * n * 1e-3) is None  # the largest that holds
+    kinks = lambda t: (min(t, 0.1) + max(t - 0.2, 0.0), 1.0)  # noqa: E731
+    assert series_fit(kinks, 0.05, 64 * 0.004, breaks=(0.1, 0.2)) is None
+    assert fit_steps(kinks, 0.05, 64, 0.004, breaks=(0.1, 0.2))[0] == 32  # one kink in half the span
+    assert fit_steps(fast, 0.3, 1, 1e-3) == (1, None)
+
+
 def test_an_absorbing_paddle_steps_one_at_a_time():
     s = _solver(flume, **dict(FLUME, **{"paddle.absorb": True}))
     s.paddle_series = True

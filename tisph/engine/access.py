@@ -7,7 +7,7 @@ import taichi as ti
 from ..hooks.health import BAD_NONE
 from ..io import OPTIONAL
 from ..particles import FLUID, SPRAY
-from .batch import STOP_SHORT, series_fit
+from .batch import STOP_SHORT, fit_steps
 from .smoothing import CubicSpline2D
 
 
@@ -67,7 +67,7 @@ class SolverAPI:
         gone bad parks too. Time, the step count and the health code (self.health) are current
         on return. A paddle follows a Chebyshev series of its motion over the batch
         (batch.series_fit); where it cannot (steps_ahead_allowed) n must be 1, and where the
-        series does not hold one step is taken. A held current run by the device (drive.py)
+        series does not hold fewer steps are taken (batch.fit_steps). A held current run by the device (drive.py)
         follows its law's series likewise, its control launched after each control step.
         Returns the steps taken."""
         if not self._primed:
@@ -77,9 +77,9 @@ class SolverAPI:
             raise ValueError(f"step_ahead takes 1 to {self.batch} steps, not {n}")
         if n > 1 and not self.steps_ahead_allowed:
             raise ValueError("a paddle moved from the host steps one at a time")
-        fit = series_fit(self.motion, self.time, n * self.dt_bound) if n > 1 and self.moves_paddle else None
-        if n > 1 and self.moves_paddle and fit is None:
-            n = 1  # the series did not hold: this step alone, its paddle from the host
+        fit = None
+        if n > 1 and self.moves_paddle:  # where no series holds, this step alone, its paddle from the host
+            n, fit = fit_steps(self.motion, self.time, n, self.dt_bound)
         drive = self.drive
         if drive is not None and (self.steps + n) // drive.every > self.steps // drive.every:
             n = drive.plan(self.time, n, self.dt_bound, self._dt)  # a control step in the batch

@@ -32,7 +32,7 @@ def series_fit(motion, t0, span, breaks=None):
     step's time, in two pieces where one of its kinks (breaks, else motion.breaks: the ramp's end,
     the ramp down's) falls inside: the PFIT values of a fit, or None where two kinks do, or a
     piece misses the motion by more than 3e-8 of its largest value at 4 points between each pair
-    of nodes (then the steps go one at a time)."""
+    of nodes (fit_steps then tries fewer steps)."""
     breaks = getattr(motion, "breaks", ()) if breaks is None else breaks
     inside = [b - t0 for b in breaks if t0 < b < t0 + span]
     if len(inside) > 1:
@@ -56,6 +56,18 @@ def _series(motion, t0, span):
         if np.max(np.abs(cheb.chebval(check, c) - col)) > 3e-8 * np.max(np.abs(col)) + 1e-30:
             return None
     return tuple(fits[0]) + tuple(fits[1])
+
+
+def fit_steps(motion, t0, n, step_bound, breaks=None):
+    """(steps, fit): the most steps, n or n halved until its series holds (series_fit, over the
+    longest those steps can take, step_bound each), and that series; (1, None) where none holds
+    over two steps (then the step goes alone, its value from the host)."""
+    while n > 1:
+        fit = series_fit(motion, t0, n * step_bound, breaks)
+        if fit is not None:
+            return n, fit
+        n //= 2
+    return 1, None
 
 
 def constant_fit(values, span):

@@ -19,7 +19,7 @@ import numpy as np
 import taichi as ti
 
 from ..particles import FLUID
-from .batch import PFIT, constant_fit, series_at, series_fit
+from .batch import PFIT, constant_fit, fit_steps, series_at, series_fit
 
 INTEGRAL, T, VALUE = 0, 1, 2
 
@@ -107,12 +107,11 @@ class DeviceDrive:
 
     def plan(self, t0, n, step_bound, dt):
         """Upload the law's series over a batch of n steps from t0 (step_bound: the longest a step
-        can be); returns n, or 1 where no series holds over n steps (then over the one step, whose
-        dt is known: a series, or the law's value at its end)."""
+        can be); returns n, or fewer where no series holds over n (batch.fit_steps; over one step,
+        whose dt is known, a series or the law's value at its end)."""
         held = self.held
-        fit = series_fit(held.law, t0, n * step_bound, held.breaks)
+        n, fit = fit_steps(held.law, t0, n, step_bound, held.breaks)
         if fit is None:
-            n = 1
             fit = series_fit(held.law, t0, dt, held.breaks) or constant_fit(held.law(t0 + dt), dt)
         self.fit.from_numpy(np.array(fit + (t0,), np.float64))
         return n
