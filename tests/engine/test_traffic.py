@@ -135,6 +135,20 @@ def test_the_run_loops_quiet_steps_read_nothing():
     assert 0 < r["parked"] < 0.15 * r["steps"], r  # a probe every ten steps, at most one parked after it
 
 
+def test_the_tunnels_quiet_steps_read_nothing_with_its_drive_on_the_device(capsys):
+    """The tunnel's run loop as a GPU runs it: its drive's feedback on the device, no quiet step
+    reads the device; on the host (--host-drive, the CPU's way) one step in ten reads the mean
+    velocity and the batch's log."""
+    from tisph.bench import cli
+
+    dev, host = measure("tunnel", steps=60), measure("tunnel", steps=60, device_drive=False)
+    assert dev["transfers_quiet"]["max"] == 0 and dev["launches_quiet"]["max"] == 2, dev  # the step, the control
+    assert host["transfers_quiet"]["max"] == 2, host
+    with pytest.raises(SystemExit) as e:
+        cli.main(["--host-drive"])
+    assert e.value.code == 2 and "--host-drive needs --traffic" in capsys.readouterr().err
+
+
 def test_steps_past_the_time_given_park():
     """A batch given `until` takes the steps single steps take to reach it and parks the rest,
     bit for bit; with Shepard's filter every 3 steps, whose kernel parks with them; a step after

@@ -147,6 +147,12 @@ def _speed_options(p):
         "(tisph/bench/traffic.py; from a source checkout)",
     )
     p.add_argument(
+        "--host-drive",
+        action="store_true",
+        help="with --traffic: a held current's feedback (the tunnel's, the pipeline's) on the host, as the CPU "
+        "runs it, not on the device",
+    )
+    p.add_argument(
         "--lanes",
         action="store_true",
         help="the pair loop's terms in the CPU's vector lanes against the engine's branch form "
@@ -286,6 +292,8 @@ def main(argv=None):  # noqa: C901 (one branch a bench the command line names)
         return speed.main(a)
     if a.traffic:
         return traffic.main(a)
+    if a.host_drive:
+        p.error("--host-drive needs --traffic")
     if a.lanes:
         return lanes.main(a)
     if a.against:

@@ -115,9 +115,10 @@ class Counter:
             field.SNodeHostAccessor.__init__ = acc_init
 
 
-def measure(case_id, steps=STEPS, arch="cpu"):
+def measure(case_id, steps=STEPS, arch="cpu", device_drive=True):
     """Launches and transfers of each of a golden case's first `steps` steps, as its run loop takes
-    them; returns the per-step records and what the costliest quiet step did."""
+    them (device_drive False: a held current's feedback on the host, as the CPU runs it); returns
+    the per-step records and what the costliest quiet step did."""
     from tests.golden.cases import CASES as GOLDEN
     from tests.golden.cases import FAST, ROOT
 
@@ -135,7 +136,7 @@ def measure(case_id, steps=STEPS, arch="cpu"):
         log = Log(os.path.join(out, "run.log"), True)
         case = build_case(scene, cfg, log)
         case.params["paddle_series"] = True  # as a GPU runs it (on the CPU the host gives the paddle,
-        case.params["drive_series"] = True  # and runs a held current's feedback,
+        case.params["drive_series"] = device_drive  # and runs a held current's feedback,
         case.params["read_elements"] = 0  # and a short batch's log is read element by element,
         case.params["park"] = True  # and a batch of steps stops at the output it was given)
         run = Run(case, cfg, out, log, scene.NAME)
@@ -251,7 +252,7 @@ def main(a):
     steps = 40 if a.dry_run else STEPS
     results = []
     for c in names:
-        r = measure(c, steps, a.arch)
+        r = measure(c, steps, a.arch, not a.host_drive)
         results.append(r)
         w = r["worst_quiet"]
         print(
