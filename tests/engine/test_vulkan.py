@@ -1,5 +1,6 @@
 """The GPU path run on a GPU backend: golden cases stepped 60 steps with `--arch gpu` (Vulkan; in CI
-Mesa's software Vulkan, llvmpipe) end within a stated f32 tolerance of the CPU's states.
+Mesa's software Vulkan, llvmpipe) end within a stated f32 tolerance of the CPU's states; a run
+whose drive's feedback the device runs restarts bit for bit.
 
 The set: the golden cases that together compile every module, and for each registered scene
 without one of them, its cheapest golden case; so every scene builds and steps on the GPU, and
@@ -139,3 +140,33 @@ def test_the_gpu_set_covers_every_scene_and_module():
     assert scenes == set(registry.REGISTRY.values())
     every = {m for v in GOLDEN.values() for m in v["modules"]}
     assert every == {m for c in chosen for m in GOLDEN[c]["modules"]}
+
+
+def test_a_gpu_run_with_its_drive_on_the_device_restarts_bit_for_bit(tmp_path):
+    """The tunnel's particle bed on the GPU, its drive's feedback run by the device (engine/drive.py):
+    stopped at a checkpoint and restarted, it writes the probes of the run that was not stopped,
+    byte for byte (the controller's state saved with the checkpoint and loaded back)."""
+    args = [
+        sys.executable,
+        "-m",
+        "tisph.scenes.tunnel",
+        "--config",
+        os.path.join(ROOT, "scenes", "tunnel_bingham.toml"),
+    ]
+    args += ["--dx", "0.02", "--arch", "gpu", "--no-render", "--quiet"]
+    whole, part = tmp_path / "whole", tmp_path / "part"
+    for extra in (
+        ["--end-time", "0.4", "--out", str(whole)],
+        ["--end-time", "0.2", "--checkpoint-every", "0.2", "--out", str(part)],
+        ["--end-time", "0.4", "--out", str(part), "--restart", str(part / "checkpoint.h5")],
+    ):
+        r = subprocess.run(args + extra, cwd=ROOT, capture_output=True, text=True, timeout=600)
+        assert r.returncode == 0, (r.stdout + r.stderr)[-3000:]
+    log = (part / "run.log").read_text()
+    if not any(f"arch {a}" in log for a in GPU_ARCHES):
+        msg = "no GPU backend here: apt-get install mesa-vulkan-drivers"
+        if os.environ.get("TISPH_REQUIRE_GPU") == "1":
+            pytest.fail(msg)
+        pytest.skip(msg)
+    assert "restarted from" in log
+    assert (whole / "probes.csv").read_bytes() == (part / "probes.csv").read_bytes()
