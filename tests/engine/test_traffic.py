@@ -149,6 +149,23 @@ def test_the_tunnels_quiet_steps_read_nothing_with_its_drive_on_the_device(capsy
     assert e.value.code == 2 and "--host-drive needs --traffic" in capsys.readouterr().err
 
 
+def test_only_the_held_currents_own_control_leaves_the_host():
+    """The run loop skips the case's control only where it is the held current's update that
+    the device runs; any other control (a coupled bed's, say) still runs on the host."""
+    from types import SimpleNamespace as NS
+
+    from tisph.measure.control import HeldCurrent
+    from tisph.runner.loop import Run
+
+    held = HeldCurrent()
+    run = lambda control, drive: NS(case=NS(observers=NS(control=control)), solver=NS(drive=drive))  # noqa: E731
+    other = lambda s: None  # noqa: E731
+    assert Run._host_control(run(held.update, NS(held=held))) is None
+    assert Run._host_control(run(other, NS(held=held))) is other
+    assert Run._host_control(run(held.update, None)) == held.update  # the CPU: the host runs it
+    assert Run._host_control(run(None, NS(held=held))) is None
+
+
 def test_steps_past_the_time_given_park():
     """A batch given `until` takes the steps single steps take to reach it and parks the rest,
     bit for bit; with Shepard's filter every 3 steps, whose kernel parks with them; a step after

@@ -245,12 +245,13 @@ class Run(Outputs):
 
         t_report = next_pct()
         backed = s.steps
+        control = self._host_control()
         while s.time < t_end - 1e-12 and (max_steps == 0 or s.steps < max_steps):
             ts = time.perf_counter()
             n, left = self._quiet_steps(t_end, max_steps)
             s.step_ahead(n, left if s.park else None)
-            if obs.control is not None and s.drive is None and s.steps % obs.control_every == 0:
-                obs.control(s)  # where the device runs the held current, the steps run it
+            if control is not None and s.steps % obs.control_every == 0:
+                control(s)
             self.step_s += time.perf_counter() - ts
             if not s.health_read and (s.time >= self.next_output - 1e-12 or self._event_due()):
                 s.read_health()  # a single step reads it every 10 steps, and before anything is written
@@ -280,6 +281,12 @@ class Run(Outputs):
         if not self.probes or self.probes[-1][0] < s.time:
             self.sample()
 
+    def _host_control(self):
+        """The case's control where the host runs it: not a held current's feedback that the
+        device runs after its control steps (engine/drive.py)."""
+        control, drive = self.case.observers.control, self.solver.drive
+        return None if control is None or (drive is not None and control == drive.held.update) else control
+
     def _event_due(self):
         return bool(self.events) and self.solver.time >= self.events[0][0] - 1e-12
 
@@ -299,7 +306,7 @@ class Run(Outputs):
             n = max(n, math.ceil(1.03 * left / s.dt))
         if max_steps:
             n = min(n, max_steps - s.steps)
-        if obs.control is not None and s.drive is None:
+        if self._host_control() is not None:
             n = min(n, obs.control_every - s.steps % obs.control_every)
         return max(1, min(n, s.batch)), left
 
