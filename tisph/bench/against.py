@@ -53,20 +53,17 @@ def run_tree(tree, name, dx):
 def case_names(words):
     """Every validation case whose name contains one of the --only words, in the table's order, as
     --validate --only runs them (exit 2 naming a word that names none)."""
-    from .validation_cases import CASES
+    from .validation_cases import CASES, named
 
-    out = []
     for w in words:
-        hit = [c.name for c in CASES if w.lower() in c.name.lower()]
-        if not hit:
+        if not named([w]):
             names = "; ".join(c.name for c in CASES)
             print(
                 f"python -m tisph.bench: error: --only {w!r}: no validation case's name contains it ({names})",
                 file=sys.stderr,
             )
             raise SystemExit(2)
-        out += [n for n in hit if n not in out]
-    return [c.name for c in CASES if c.name in out]
+    return [c.name for c in named(words)]
 
 
 def run(a, log):
@@ -75,13 +72,13 @@ def run(a, log):
     with tempfile.TemporaryDirectory() as tmp:
         old = worktree(a.against, tmp)
         try:
-            for w in names:
+            for name in names:
                 new, rev = [], []
                 for k in range(a.repeats):
                     order = ((old, rev), (ROOT, new)) if k % 2 else ((ROOT, new), (old, rev))
                     for tree, into in order:
                         try:
-                            into.append(run_tree(tree, w, a.dx))
+                            into.append(run_tree(tree, name, a.dx))
                         except RuntimeError as e:  # a case REV lacks, or a run that failed: said, not a traceback
                             raise SystemExit(f"python -m tisph.bench --validate --against: {e}") from None
                     log(

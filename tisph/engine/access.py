@@ -100,7 +100,6 @@ class SolverAPI:
                 m.after_step(self)  # a parked step's after_step parks too (shepard.py)
             if drive is not None and self.steps % drive.every == 0:
                 drive.control()  # a parked step's parks too
-                drive.stale = True
         log = self._read_log(n, until is not None)
         self.steps += len(log) - n
         for dt in log:  # the dt each step took, summed in step order

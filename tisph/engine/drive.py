@@ -60,9 +60,9 @@ class CurrentAPI:
             for b in range(self.usum.shape[0]):
                 self.usum[b] = self._block_u(b, mat, above)
             ti.loop_config(serialize=True)
-            for b in range(self.usum.shape[0]):
-                s += self.usum[b][0]
-                n += self.usum[b][1]
+            for _ in range(1):
+                su = self._usum_total()
+                s, n = su[0], su[1]
         return ti.Vector([s, n])
 
     @ti.func
@@ -73,6 +73,14 @@ class CurrentAPI:
             if self._drives(i, mat, above):
                 acc += ti.Vector([ti.cast(self.p.v[i][0], ti.f64), 1.0], ti.f64)
         return acc
+
+    @ti.func
+    def _usum_total(self):
+        """The blocks' (sum of u, count) summed in block order (one thread)."""
+        su = ti.Vector([0.0, 0.0], ti.f64)
+        for b in range(self.usum.shape[0]):
+            su += self.usum[b]
+        return su
 
     @ti.func
     def _drives(self, i, mat, above):
@@ -116,8 +124,13 @@ class DeviceDrive:
         self.fit.from_numpy(np.array(fit + (t0,), np.float64))
         return n
 
-    @ti.kernel
     def control(self):
+        """The control after a control step; the host's PIDrive is behind the device's from here."""
+        self._control()
+        self.stale = True
+
+    @ti.kernel
+    def _control(self):
         """After a control step (a parked step's launch changes nothing): the selected water's
         mean x-velocity, e = target - mean at the step's time t, integral += e (t - t_last),
         drive = feedforward + e / Tc + integral / Tc^2 (measure/control.py, PIDrive)."""
@@ -128,9 +141,7 @@ class DeviceDrive:
         ti.loop_config(serialize=True)
         for _ in range(1):
             if S.stepper.live[None]:
-                su = ti.Vector([0.0, 0.0], ti.f64)
-                for b in range(S.usum.shape[0]):
-                    su += S.usum[b]
+                su = S._usum_total()
                 if su[1] > 0:
                     tau = ti.cast(S.stepper.ptau[None], ti.f64)
                     law = series_at(self.fit, tau)

@@ -245,7 +245,7 @@ class Run(Outputs):
 
         t_report = next_pct()
         backed = s.steps
-        control = self._host_control()
+        control = self._control = self._host_control()
         while s.time < t_end - 1e-12 and (max_steps == 0 or s.steps < max_steps):
             ts = time.perf_counter()
             n, left = self._quiet_steps(t_end, max_steps)
@@ -306,7 +306,7 @@ class Run(Outputs):
             n = max(n, math.ceil(1.03 * left / s.dt))
         if max_steps:
             n = min(n, max_steps - s.steps)
-        if self._host_control() is not None:
+        if self._control is not None:
             n = min(n, obs.control_every - s.steps % obs.control_every)
         return max(1, min(n, s.batch)), left
 

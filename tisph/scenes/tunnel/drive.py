@@ -21,14 +21,14 @@ class TunnelDrive(HeldCurrent):
         self.period = geo["period"]
         self.omega = 2.0 * math.pi / self.period
         self.Um = 0.5 * geo["orbital_diameter"] * self.omega
-        self.y_free = self.above = geo["sand_depth"] + 0.5 * geo["water_depth"]
+        self.above = geo["sand_depth"] + 0.5 * geo["water_depth"]  # the free stream's water
         self.breaks = (self.period,)  # the ramp's end
         self.ctl = PIDrive(0.1 * self.period)
 
     def u_free(self, st):
         """Mean velocity of the water above the lower half of the layer (out of the boundary layer)
         in a state read (the probes); the drive reads the same on the device."""
-        free = (st["kind"] == FLUID) & (st["mat"] == 0) & (st["x"][:, 1] > self.y_free)
+        free = (st["kind"] == FLUID) & (st["mat"] == 0) & (st["x"][:, 1] > self.above)
         return float(st["v"][free, 0].mean())
 
     def target(self, t):
