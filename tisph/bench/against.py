@@ -20,7 +20,7 @@ import sys
 import tempfile
 
 from ..io import ensure_dir, write_csv, write_text
-from .common import ROOT
+from .common import ROOT, named
 from .speed import remove_worktree, worktree
 
 # run in the tree under test: its own validation table (an older tree kept it in validate.py)
@@ -53,17 +53,17 @@ def run_tree(tree, name, dx):
 def case_names(words):
     """Every validation case whose name contains one of the --only words, in the table's order, as
     --validate --only runs them (exit 2 naming a word that names none)."""
-    from .validation_cases import CASES, named
+    from .validation_cases import CASES
 
     for w in words:
-        if not named([w]):
+        if not named(CASES, [w]):
             names = "; ".join(c.name for c in CASES)
             print(
                 f"python -m tisph.bench: error: --only {w!r}: no validation case's name contains it ({names})",
                 file=sys.stderr,
             )
             raise SystemExit(2)
-    return [c.name for c in named(words)]
+    return [c.name for c in named(CASES, words)]
 
 
 def run(a, log):

@@ -41,6 +41,12 @@ def cache_dir():
     return os.path.join(base, "tisph", "peers")
 
 
+def named(cases, words):
+    """The cases whose name contains one of the words (any case), in their order; every case where
+    there are no words (the benches' --only)."""
+    return [c for c in cases if not words or any(w.lower() in c.name.lower() for w in words)]
+
+
 def table(header, rows):
     """A Markdown table."""
     md = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]

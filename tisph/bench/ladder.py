@@ -25,7 +25,7 @@ import numpy as np
 from ..io import ensure_dir, write_csv, write_text
 from ..measure.plots import pyplot, save
 from ..sweep import execute
-from .common import peers, run_case, table
+from .common import named, peers, run_case, table
 from .engine_costs import engine_sections
 
 
@@ -212,7 +212,7 @@ def run(a):
     ensure_dir(a.out)
     log = lambda m: print(m, file=sys.stderr, flush=True)
     rows = []
-    cases = [c for c in CASES if not a.only or any(w.lower() in c.name.lower() for w in a.only)]
+    cases = named(CASES, a.only)
     if a.dry_run:
         cases = [dataclasses.replace(CASES[0], quick=CASES[0].quick[:2], quick_overrides={"run.end_time": 0.2})]
         a.quick = True

@@ -119,9 +119,3 @@ CASES = [
 
 
 CASES_BY_NAME = {c.name: c for c in CASES}
-
-
-def named(words):
-    """The cases whose name contains one of the words (any case), in the table's order; every case
-    where there are no words (--validate --only)."""
-    return [c for c in CASES if not words or any(w.lower() in c.name.lower() for w in words)]
